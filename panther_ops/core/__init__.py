@@ -1,0 +1,1 @@
+"""Domain logic: readers, pure planners and appliers. No typer, no rich."""
