@@ -154,3 +154,28 @@ def stack_from_version(text: str) -> Stack:
     version = parse_version(text)
     repo = UGV_REPO if version >= (2, 2, 0) else PANTHER_REPO
     return parse_image(f"{repo}:humble-{text.strip()}")
+
+
+DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
+
+
+def find_driver(compose: object) -> tuple[str, str] | None:
+    """(service, image) of the driver in a parsed compose document, or None.
+
+    The driver is the ``panther_ros`` / ``husarion_ugv_ros`` service, else the first
+    service whose image is a Panther driver image.
+    """
+    if not isinstance(compose, dict):
+        return None
+    services = compose.get("services")
+    if not isinstance(services, dict):
+        return None
+    for name in DRIVER_SERVICES:
+        svc = services.get(name)
+        if isinstance(svc, dict) and isinstance(svc.get("image"), str):
+            return name, svc["image"]
+    for name, svc in services.items():
+        image = svc.get("image") if isinstance(svc, dict) else None
+        if isinstance(image, str) and image.split(":")[0].endswith((PANTHER_REPO, UGV_REPO)):
+            return str(name), image
+    return None

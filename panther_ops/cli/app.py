@@ -1,0 +1,118 @@
+"""panther-ops: the typer application and the error funnel.
+
+Only typer is imported at start-up; each command imports the core when it runs, so
+``panther-ops --help`` stays instant.
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+from typing import Annotated, Optional
+
+import typer
+
+from panther_ops import __version__
+from panther_ops.cli.context import Settings
+
+HELP = """Fleet operations and configuration for Husarion Panther robots (ROS 2 Humble).
+
+Works on one robot or a whole fleet from an inventory (-i FILE|DIR, else
+$PANTHER_OPS_INVENTORY, else ./inventory/). Choose robots with --robot/-r (globs),
+--group/-g or --all; a one-robot inventory needs none.
+
+Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots failed,
+rolled back or were unreachable, 4 every robot unreachable, 130 interrupted.
+
+Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+"""
+
+app = typer.Typer(
+    name="panther-ops",
+    help=HELP,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+    add_completion=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"panther-ops {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def root(
+    ctx: typer.Context,
+    inventory: Annotated[
+        Optional[str],  # noqa: UP045
+        typer.Option("--inventory", "-i", help="Inventory file or directory.", envvar=None),
+    ] = None,
+    verbose: Annotated[int, typer.Option("--verbose", "-v", count=True, help="More detail on stderr.")] = 0,
+    debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks of unexpected errors.")] = False,
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
+    ] = False,
+) -> None:
+    """Global options come before the command: panther-ops -i fleet.yaml status --all."""
+    ctx.obj = Settings(inventory=inventory, verbose=verbose, debug=debug)
+    level = logging.DEBUG if debug else (logging.INFO if verbose else logging.WARNING)
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
+    if not debug:
+        logging.getLogger("paramiko").setLevel(logging.CRITICAL)
+
+
+def _register() -> None:
+    from panther_ops.cli.commands import demo, fleet, inventory, trust
+
+    fleet.register(app)
+    trust.register(app)
+    app.add_typer(inventory.app, name="inventory")
+    app.add_typer(demo.app, name="demo")
+
+
+_register()
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: runs the app and turns every outcome into the documented exit code."""
+    import click
+
+    from panther_ops.errors import ExitCode, OpsError
+
+    try:
+        rv = app(args=argv, standalone_mode=False, prog_name="panther-ops")
+    except OpsError as exc:
+        from panther_ops.cli.render import error
+
+        error(str(exc))
+        return int(exc.exit_code)
+    except click.exceptions.Exit as exc:
+        return int(exc.exit_code)
+    except click.exceptions.Abort:
+        sys.stderr.write("aborted\n")
+        return int(ExitCode.INTERRUPTED)
+    except click.ClickException as exc:
+        exc.show()
+        return int(ExitCode.USAGE)
+    except KeyboardInterrupt:
+        sys.stderr.write("interrupted\n")
+        return int(ExitCode.INTERRUPTED)
+    except Exception:
+        if "--debug" in (argv if argv is not None else sys.argv):
+            raise
+        import tempfile
+        import traceback
+
+        with tempfile.NamedTemporaryFile("w", prefix="panther-ops-debug-", suffix=".log", delete=False) as fh:
+            traceback.print_exc(file=fh)
+        sys.stderr.write(f"internal error (a bug): traceback written to {fh.name}; please report it\n")
+        return int(ExitCode.ERROR)
+    return int(rv) if isinstance(rv, int) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""One module per command group; each imports the core lazily, inside its commands."""

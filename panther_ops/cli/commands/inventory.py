@@ -1,0 +1,114 @@
+"""`panther-ops inventory list|show|validate`."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.options import All, Groups, Json, Robots
+
+app = typer.Typer(help="Read and check the inventory (nothing is contacted).", no_args_is_help=True)
+
+
+def _robot_json(r: Any, inv: Any) -> dict[str, Any]:
+    return {
+        "name": r.name,
+        "host": r.host,
+        "port": r.port,
+        "user": r.user,
+        "transport": r.transport,
+        "root": str(r.root) if r.root else None,
+        "jump": r.jump,
+        "identity_file": r.identity_file,
+        "namespace": r.namespace,
+        "stack": r.stack,
+        "groups": list(r.groups),
+        "compose_file": r.compose_file,
+        "vars": r.vars,
+        "desired": r.desired,
+        "defined_at": r.source,
+    }
+
+
+@app.command("list")
+def list_(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+) -> int:
+    """List robots with how each is reached. With no selection, every robot is listed.
+
+    Example: panther-ops inventory list -g warehouse
+    """
+    inv = context.load(ctx)
+    chosen = inv.select(robot or [], group or [], True) if not (robot or group) else inv.select(
+        robot or [], group or [], all_)
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "inventory": str(inv.path), "origin": inv.origin,
+                   "robots": [_robot_json(r, inv) for r in chosen], "groups": sorted(inv.groups)})
+        return 0
+    from rich.table import Table
+
+    from panther_ops.cli.render import _console
+
+    table = Table(title=f"inventory {inv.path}")
+    for col in ("robot", "reached as", "via", "groups", "stack"):
+        table.add_column(col)
+    for r in chosen:
+        if r.transport == "local":
+            where = f"local dir {r.root}"
+        else:
+            where = f"{r.user}@{r.host}" + (f":{r.port}" if r.port else "")
+        table.add_row(r.name, where, r.jump or "", ", ".join(r.groups), r.stack)
+    _console().print(table)
+    return 0
+
+
+@app.command("show")
+def show(
+    ctx: typer.Context,
+    name: Annotated[str, typer.Argument(help="Robot name.")],
+    json_out: Json = False,
+) -> int:
+    """Show one robot with defaults and group values applied (its effective desired state).
+
+    Example: panther-ops inventory show panther-01
+    """
+    inv = context.load(ctx)
+    (robot,) = inv.select([name], [], False)[:1]
+    doc = _robot_json(robot, inv)
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "robot": doc})
+        return 0
+    import yaml
+
+    typer.echo(yaml.safe_dump(doc, sort_keys=False).rstrip())
+    return 0
+
+
+@app.command("validate")
+def validate(ctx: typer.Context, json_out: Json = False) -> int:
+    """Check the inventory: syntax, keys, values, groups, jump hosts, no plaintext secrets.
+
+    Errors name the file, line and key, with what is allowed; exit code 2.
+
+    Example: panther-ops -i inventory/ inventory validate
+    """
+    inv = context.load(ctx)
+    msg = f"{inv.path}: {len(inv.robots)} robots, {len(inv.groups)} groups, valid"
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "inventory": str(inv.path), "valid": True, "robots": len(inv.robots),
+                   "groups": len(inv.groups), "files": [str(f) for f in inv.files]})
+    else:
+        typer.echo(msg)
+    return 0

@@ -1,0 +1,58 @@
+"""`panther-ops trust ROBOT`: show a robot's host key fingerprint and record it on request."""
+
+from __future__ import annotations
+
+import sys
+from typing import Annotated
+
+import typer
+
+from panther_ops.cli import context
+
+
+def trust(
+    ctx: typer.Context,
+    name: Annotated[str, typer.Argument(help="Robot name from the inventory.")],
+    yes: Annotated[bool, typer.Option("--yes", "-y", help="Record without asking.")] = False,
+    replace: Annotated[
+        bool, typer.Option("--replace", help="Replace a key that CHANGED (after checking it on the robot).")
+    ] = False,
+) -> int:
+    """Show ROBOT's SSH host key fingerprint and record it in known_hosts when you confirm.
+
+    Compare the fingerprint with the robot's own (on the robot:
+    `ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub`). A changed key is refused unless
+    --replace. Host keys are never accepted silently.
+
+    Example: panther-ops trust panther-07
+    """
+    from panther_ops.core.trust import plan_trust
+    from panther_ops.errors import ExitCode, HostKeyError
+
+    inv = context.load(ctx)
+    (robot,) = inv.select([name], [], False)[:1]
+    plan = plan_trust(inv, robot)
+    typer.echo(f"{plan.robot} ({plan.address}) offers {plan.key_type} {plan.fingerprint}")
+    if plan.state == "known":
+        typer.echo(f"already trusted in {plan.known_hosts_file}")
+        return 0
+    if plan.state == "changed":
+        typer.echo(f"WARNING: {plan.known_hosts_file} has a different key: {', '.join(plan.known_fingerprints)}",
+                   err=True)
+        if not replace:
+            raise HostKeyError(robot.name, "host key changed: refused",
+                               offered=plan.fingerprint, expected=", ".join(plan.known_fingerprints),
+                               hint="if you reinstalled the robot and checked the fingerprint, add --replace")
+    if not yes:
+        if not sys.stdin.isatty():
+            typer.echo("not recording: pass --yes when not interactive", err=True)
+            return int(ExitCode.USAGE)
+        if not typer.confirm(f"Record this key in {plan.known_hosts_file}?", default=False):
+            return int(ExitCode.USAGE)
+    plan.record()
+    typer.echo(f"recorded in {plan.known_hosts_file}")
+    return 0
+
+
+def register(app: typer.Typer) -> None:
+    app.command("trust")(trust)

@@ -1,0 +1,29 @@
+"""Options shared by fleet commands (targets, output, parallelism)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Optional
+
+import typer
+
+Robots = Annotated[
+    Optional[list[str]],  # noqa: UP045 - typer needs Optional on Python 3.10
+    typer.Option("--robot", "-r", help="Robot name or glob (repeatable), e.g. -r 'panther-0*'."),
+]
+Groups = Annotated[
+    Optional[list[str]],  # noqa: UP045
+    typer.Option("--group", "-g", help="Inventory group (repeatable)."),
+]
+All = Annotated[bool, typer.Option("--all", help="Every robot of the inventory.")]
+Json = Annotated[bool, typer.Option("--json", help="One versioned JSON document on stdout (docs/json.md).")]
+Forks = Annotated[
+    Optional[int],  # noqa: UP045
+    typer.Option("--forks", "-f", min=1, max=500, help="Robots worked on at once (default: inventory's forks, 10)."),
+]
+Canary = Annotated[
+    int, typer.Option("--canary", min=0, help="Run N robots first; stop if one of them fails.")
+]
+MaxFail = Annotated[
+    Optional[float],  # noqa: UP045
+    typer.Option("--max-fail", min=0, max=100, help="Stop starting robots once more than PCT % failed."),
+]

@@ -1,0 +1,129 @@
+"""Rendering: rich tables and diffs on a terminal, one JSON document with --json.
+
+Data goes to stdout, progress and messages to stderr, so ``--json | jq`` works.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import sys
+import threading
+from collections.abc import Callable, Iterator
+from typing import Any
+
+from panther_ops.errors import ExitCode
+from panther_ops.results import FleetResult, Outcome, RobotResult
+
+STYLE = {
+    Outcome.OK: "green",
+    Outcome.CHANGED: "yellow",
+    Outcome.FAILED: "red",
+    Outcome.ROLLED_BACK: "magenta",
+    Outcome.UNREACHABLE: "red",
+    Outcome.SKIPPED: "dim",
+}
+
+
+def _console(stderr: bool = False) -> Any:
+    from rich.console import Console
+
+    stream = sys.stderr if stderr else sys.stdout
+    width = None if stream.isatty() else 160
+    return Console(stderr=stderr, highlight=False, soft_wrap=False, width=width)
+
+
+@contextlib.contextmanager
+def progress_printer(total: int, *, enabled: bool) -> Iterator[Callable[[RobotResult], None]]:
+    """Progress on stderr: a live counter on a terminal, nothing otherwise."""
+    if not enabled or total <= 1 or not sys.stderr.isatty():
+        yield lambda _r: None
+        return
+    from rich.progress import Progress
+
+    lock = threading.Lock()
+    with Progress(console=_console(stderr=True), transient=True) as bar:
+        task = bar.add_task("robots", total=total)
+
+        def step(result: RobotResult) -> None:
+            with lock:
+                bar.update(task, advance=1, description=f"{result.robot}: {result.outcome.value}")
+
+        yield step
+
+
+def emit_json(doc: dict[str, Any]) -> None:
+    sys.stdout.write(json.dumps(doc, indent=2, default=str) + "\n")
+
+
+def human_bytes(n: int | None) -> str:
+    if n is None:
+        return "-"
+    value = float(n)
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if value < 1024 or unit == "TiB":
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
+        value /= 1024
+    return f"{n} B"
+
+
+def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: bool = True) -> None:
+    """The generic per-robot table: robot, outcome, message; then diffs and warnings."""
+    from rich.table import Table
+
+    out = _console()
+    table = Table(title=title, show_lines=False)
+    table.add_column("robot", style="bold")
+    table.add_column("result")
+    table.add_column("message", overflow="fold")
+    for r in fleet.results:
+        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", r.message)
+    out.print(table)
+    if show_diffs:
+        print_diffs(fleet)
+    print_warnings(fleet)
+    print_summary(fleet)
+
+
+def print_diffs(fleet: FleetResult) -> None:
+    from rich.syntax import Syntax
+
+    out = _console()
+    for r in fleet.results:
+        for d in r.diffs:
+            out.print(f"[bold]{r.robot}[/]: {d.path}")
+            out.print(Syntax(d.unified, "diff", theme="ansi_dark", background_color="default"))
+
+
+def print_warnings(fleet: FleetResult) -> None:
+    err = _console(stderr=True)
+    for r in fleet.results:
+        for w in r.warnings:
+            err.print(f"[yellow]warning[/] {r.robot}: {w}")
+        if "hint" in r.data:
+            err.print(f"[dim]hint[/] {r.robot}: {r.data['hint']}")
+    for n in fleet.notes:
+        err.print(f"[yellow]note[/] {n}")
+
+
+def print_summary(fleet: FleetResult) -> None:
+    counts = {o: len(fleet.by_outcome(o)) for o in Outcome}
+    parts = [f"[{STYLE[o]}]{n} {o.value}[/]" for o, n in counts.items() if n]
+    code = fleet.exit_code
+    tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
+    _console(stderr=True).print(
+        f"{len(fleet.results)} robots: " + ", ".join(parts) + f" in {fleet.duration_s:.1f} s{tail}"
+    )
+
+
+def finish(fleet: FleetResult, json_out: bool, human: Callable[[FleetResult], None]) -> int:
+    """Render a fleet result one way or the other; returns its exit code."""
+    if json_out:
+        emit_json(fleet.to_json())
+    else:
+        human(fleet)
+    return int(fleet.exit_code)
+
+
+def error(message: str) -> None:
+    _console(stderr=True).print(f"[bold red]error[/] {message}", markup=True, highlight=False)

@@ -1,0 +1,158 @@
+"""The fleet runner: bounded parallelism, canaries, a failure budget, one connection per robot.
+
+A task is a function ``(RobotContext) -> RobotResult``. The runner opens the robot's
+transport (one connection), hands it to the task, closes it, and turns every error into
+the shared result vocabulary; one robot's failure never stops the others.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+from dataclasses import dataclass, field
+from panther_ops.core.inventory import Inventory, Robot
+from panther_ops.errors import OpsError, UnreachableError
+from panther_ops.results import FleetResult, Outcome, RobotResult
+from panther_ops.transport.base import Transport
+
+log = logging.getLogger("panther_ops")
+
+
+@dataclass
+class RobotContext:
+    """What a task gets: the robot, its open transport, and the inventory."""
+
+    robot: Robot
+    transport: Transport
+    inventory: Inventory
+    warnings: list[str] = field(default_factory=list)
+
+
+Task = Callable[[RobotContext], RobotResult]
+Progress = Callable[[RobotResult], None]
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    forks: int = 10
+    canary: int = 0
+    """Run this many robots first; if any of them fails, do not start the rest."""
+    max_fail_pct: float | None = None
+    """Stop starting robots once failures exceed this share (0-100) of the targeted robots."""
+
+
+def open_transport(inventory: Inventory, robot: Robot) -> Transport:
+    """The transport for a robot (not yet connected)."""
+    if robot.transport == "local":
+        from panther_ops.transport.local import LocalTransport
+
+        assert robot.root is not None
+        return LocalTransport(robot.name, robot.root, robot.user)
+    from panther_ops.transport.ssh import SshTransport
+
+    return SshTransport(inventory.endpoint(robot))
+
+
+def run_one(inventory: Inventory, robot: Robot, task: Task) -> RobotResult:
+    """Connect, run the task, close; every error becomes a result."""
+    start = time.monotonic()
+    transport = open_transport(inventory, robot)
+    try:
+        transport.connect()
+        ctx = RobotContext(robot, transport, inventory)
+        result = task(ctx)
+        result.warnings[:0] = ctx.warnings
+    except UnreachableError as exc:
+        result = RobotResult(robot.name, Outcome.UNREACHABLE, _strip(exc, robot.name))
+        if exc.hint:
+            result.data["hint"] = exc.hint
+    except OpsError as exc:
+        result = RobotResult(robot.name, Outcome.FAILED, _strip(exc, robot.name))
+        if exc.hint:
+            result.data["hint"] = exc.hint
+    except Exception as exc:
+        log.exception("internal error on %s", robot.name)
+        result = RobotResult(robot.name, Outcome.FAILED, f"internal error: {exc!r} (a bug: see --debug)")
+    finally:
+        try:
+            transport.close()
+        except Exception:  # closing must never hide the result
+            log.debug("close failed on %s", robot.name, exc_info=True)
+    result.duration_s = time.monotonic() - start
+    return result
+
+
+def _strip(exc: OpsError, robot: str) -> str:
+    msg = exc.message
+    return msg[len(robot) + 2 :] if msg.startswith(f"{robot}: ") else msg
+
+
+def run_fleet(
+    command: str,
+    inventory: Inventory,
+    robots: list[Robot],
+    task: Task,
+    options: RunOptions | None = None,
+    progress: Progress | None = None,
+) -> FleetResult:
+    """Run ``task`` on every robot, ``forks`` at a time; results in inventory order."""
+    opts = options or RunOptions(forks=inventory.forks)
+    start = time.monotonic()
+    fleet = FleetResult(command)
+    results: dict[str, RobotResult] = {}
+    lock = threading.Lock()
+    stop_reason: list[str] = []
+
+    def note(res: RobotResult) -> None:
+        with lock:
+            results[res.robot] = res
+        if progress:
+            progress(res)
+
+    def batch(todo: list[Robot], budget: int | None) -> None:
+        pending: set[Future[RobotResult]] = set()
+        queue = list(todo)
+        failures = 0
+        with ThreadPoolExecutor(max_workers=max(1, min(opts.forks, len(todo) or 1))) as pool:
+            while queue or pending:
+                while queue and len(pending) < opts.forks and not stop_reason:
+                    r = queue.pop(0)
+                    pending.add(pool.submit(run_one, inventory, r, task))
+                if not pending:
+                    break
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    res = fut.result()
+                    note(res)
+                    if res.outcome.is_failure:
+                        failures += 1
+                        if budget is not None and failures > budget and not stop_reason:
+                            stop_reason.append(f"max-fail reached ({failures} failed)")
+            for r in queue:
+                note(RobotResult(r.name, Outcome.SKIPPED, f"not started: {stop_reason[0]}"))
+
+    budget: int | None = None
+    if opts.max_fail_pct is not None:
+        budget = int(len(robots) * opts.max_fail_pct / 100.0)
+    canaries = robots[: opts.canary] if opts.canary > 0 else []
+    rest = robots[len(canaries):]
+    if canaries:
+        batch(canaries, budget)
+        failed = [results[r.name] for r in canaries if results[r.name].outcome.is_failure]
+        if failed:
+            stop_reason.append(f"canary {failed[0].robot} {failed[0].outcome.value}")
+            fleet.notes.append(f"stopped after the canary: {failed[0].robot} {failed[0].outcome.value}")
+    if rest:
+        if stop_reason:
+            for r in rest:
+                note(RobotResult(r.name, Outcome.SKIPPED, f"not started: {stop_reason[0]}"))
+        else:
+            batch(rest, budget)
+    if stop_reason and not fleet.notes:
+        fleet.notes.append(f"stopped early: {stop_reason[0]}")
+    fleet.results = [results[r.name] for r in robots]
+    fleet.duration_s = time.monotonic() - start
+    return fleet

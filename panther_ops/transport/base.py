@@ -1,0 +1,160 @@
+"""The one transport interface: run a command, read a file, write a file atomically, close.
+
+Commands are argv lists, quoted with :func:`shlex.join` when they reach a shell; secrets
+are :class:`Secret` values that show as ``****`` in every printed form.
+"""
+
+from __future__ import annotations
+
+import shlex
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Protocol, Union
+
+if TYPE_CHECKING:
+    from docker import DockerClient
+
+
+class Secret:
+    """A value that must reach the robot but never a log, a table or a diff."""
+
+    __slots__ = ("_value",)
+
+    def __init__(self, value: str) -> None:
+        self._value = value
+
+    def reveal(self) -> str:
+        return self._value
+
+    def __repr__(self) -> str:
+        return "Secret('****')"
+
+    def __str__(self) -> str:
+        return "****"
+
+
+Arg = Union[str, Secret]
+
+
+def quote_command(argv: Sequence[Arg], *, reveal: bool) -> str:
+    """Join an argv into one shell-safe string; secrets are masked unless ``reveal``."""
+    parts: list[str] = []
+    for a in argv:
+        if isinstance(a, Secret):
+            parts.append(shlex.quote(a.reveal()) if reveal else "'****'")
+        else:
+            parts.append(shlex.quote(a))
+    return " ".join(parts)
+
+
+@dataclass(frozen=True)
+class Command:
+    """A command to run on a robot.
+
+    ``argv`` is quoted piece by piece; ``login`` runs it in ``bash -l -c`` as Husarion's
+    tools do (so ``docker compose`` sees the robot user's login environment); ``cwd`` changes
+    directory first; ``script`` is a fixed shell snippet of ours (never user input) run by
+    ``sh -c`` with ``argv`` as its positional parameters.
+    """
+
+    argv: tuple[Arg, ...]
+    login: bool = False
+    cwd: str | None = None
+    script: str | None = None
+
+    @classmethod
+    def of(cls, *argv: Arg, login: bool = False, cwd: str | None = None) -> Command:
+        return cls(tuple(argv), login=login, cwd=cwd)
+
+    @classmethod
+    def sh(cls, script: str, *args: Arg, login: bool = False) -> Command:
+        return cls(tuple(args), login=login, script=script)
+
+    def render(self, *, reveal: bool) -> str:
+        """The exact string a remote shell receives (``reveal=False``: masked for logs)."""
+        if self.script is not None:
+            inner = quote_command(("sh", "-c", self.script, "sh", *self.argv), reveal=reveal)
+        else:
+            inner = quote_command(self.argv, reveal=reveal)
+        if self.cwd:
+            inner = f"cd {shlex.quote(self.cwd)} && {inner}"
+        if self.login:
+            inner = quote_command(("bash", "-l", "-c", inner), reveal=True)
+        return inner
+
+    def __str__(self) -> str:
+        return self.render(reveal=False)
+
+
+@dataclass(frozen=True)
+class CommandResult:
+    """What a command did: mirrors invoke's Result."""
+
+    command: str
+    exit_status: int
+    stdout: str
+    stderr: str
+    duration_s: float = 0.0
+    raw_stdout: bytes = b""
+
+    @property
+    def ok(self) -> bool:
+        return self.exit_status == 0
+
+
+@dataclass(frozen=True)
+class Endpoint:
+    """How to reach one robot's Built-in Computer."""
+
+    name: str
+    host: str
+    port: int | None = None
+    user: str | None = None
+    identity_files: tuple[str, ...] = ()
+    jump: Endpoint | None = None
+    connect_timeout: float = 10.0
+    command_timeout: float = 120.0
+    ssh_config: str | None = None
+    known_hosts: tuple[str, ...] = field(default_factory=tuple)
+
+
+class Transport(Protocol):
+    """Everything panther-ops does to a robot goes through one of these."""
+
+    name: str
+
+    def connect(self) -> None:
+        """Open the connection (raises UnreachableError); every later step reuses it."""
+        ...
+
+    def run(
+        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None
+    ) -> CommandResult: ...
+
+    def read_file(self, path: str) -> bytes:
+        """Read a file; raises FileNotFoundError when it does not exist."""
+        ...
+
+    def exists(self, path: str) -> bool: ...
+
+    def stage_file(self, path: str, data: bytes, *, mode: int | None = None) -> str:
+        """Upload ``data`` to a temp file beside ``path`` (fsynced); returns its name."""
+        ...
+
+    def commit_staged(self, staged: str, path: str) -> None:
+        """Rename a staged file over ``path`` (atomic on POSIX file systems)."""
+        ...
+
+    def write_file_atomic(self, path: str, data: bytes, *, mode: int | None = None) -> None:
+        """stage_file + commit_staged."""
+        ...
+
+    def home(self) -> str:
+        """The robot user's home directory (``/home/husarion`` on a Panther)."""
+        ...
+
+    def docker(self, api_version: str | None = None) -> DockerClient | None:
+        """A docker SDK client riding this transport, or None when the robot has no engine."""
+        ...
+
+    def close(self) -> None: ...

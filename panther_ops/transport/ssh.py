@@ -1,0 +1,314 @@
+"""SSH transport: one paramiko connection per robot per command, strict host keys.
+
+Every step of a command (commands, file reads and writes, the docker SDK) rides the same
+connection; a jump host is reached first and the robot through a ``direct-tcpip`` channel
+of it, so the robot's sshd sees exactly one connection.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+import socket
+import time
+from typing import TYPE_CHECKING, Any
+
+from panther_ops.errors import HostKeyError, TransportError, UnreachableError
+from panther_ops.transport import scripts
+from panther_ops.transport.base import Command, CommandResult, Endpoint
+from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
+from panther_ops.transport.ssh_config import Hop, resolve
+
+if TYPE_CHECKING:
+    import paramiko
+    from docker import DockerClient
+
+
+def _refuse_unknown_policy() -> Any:
+    """A missing-host-key policy that refuses, naming the offered fingerprint."""
+    import paramiko
+
+    class RefuseUnknown(paramiko.MissingHostKeyPolicy):
+        def missing_host_key(self, client: paramiko.SSHClient, hostname: str, key: Any) -> None:
+            raise HostKeyError(
+                hostname,
+                f"host key {key.get_name()} {fingerprint(key)} is not in known_hosts: refused",
+                offered=fingerprint(key),
+                hint="check the fingerprint on the robot, then run `panther-ops trust ROBOT`",
+            )
+
+    return RefuseUnknown()
+
+
+def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> paramiko.SSHClient:
+    """Connect one hop (through its jump chain); every client opened is appended to ``clients``."""
+    import paramiko
+
+    sock: Any = None
+    if hop.jump is not None:
+        via = open_client(hop.jump, robot, clients)
+        vt = via.get_transport()
+        assert vt is not None
+        try:
+            sock = vt.open_channel(
+                "direct-tcpip", (hop.hostname, hop.port), ("127.0.0.1", 0),
+                timeout=hop.connect_timeout,
+            )
+        except (paramiko.SSHException, OSError) as exc:
+            raise UnreachableError(
+                robot, f"jump host {hop.jump.hostname} could not reach {hop.hostname}:{hop.port}: {exc}"
+            ) from exc
+    client = paramiko.SSHClient()
+    keys = client.get_host_keys()
+    for path in hop.known_hosts:
+        if os.path.exists(path):
+            keys.load(path)
+    client.set_missing_host_key_policy(_refuse_unknown_policy())
+    try:
+        client.connect(
+            hop.hostname,
+            port=hop.port,
+            username=hop.user,
+            key_filename=list(hop.key_files) or None,
+            timeout=hop.connect_timeout,
+            banner_timeout=hop.connect_timeout,
+            auth_timeout=hop.connect_timeout,
+            sock=sock,
+            allow_agent=True,
+            look_for_keys=not hop.key_files,
+        )
+    except HostKeyError as exc:
+        client.close()
+        raise HostKeyError(
+            robot, f"{hop.hostname}:{hop.port}: {exc.message}", offered=exc.offered, hint=exc.hint
+        ) from None
+    except paramiko.BadHostKeyException as exc:
+        client.close()
+        got, want = fingerprint(exc.key), fingerprint(exc.expected_key)
+        raise HostKeyError(
+            robot,
+            f"HOST KEY CHANGED for {known_hosts_name(hop.hostname, hop.port)}: offered {got}, "
+            f"known_hosts has {want}. Refused: this may be a reinstalled robot or an attack.",
+            offered=got,
+            expected=want,
+            hint="if the robot was reinstalled, remove the old key (ssh-keygen -R HOST) "
+            "and run `panther-ops trust ROBOT`",
+        ) from None
+    except paramiko.AuthenticationException as exc:
+        client.close()
+        raise UnreachableError(
+            robot, f"authentication as {hop.user}@{hop.hostname} failed: {exc}",
+            hint="panther-ops uses keys only: set identity_file or load the key into ssh-agent",
+        ) from None
+    except (OSError, paramiko.SSHException, EOFError) as exc:
+        client.close()
+        what = "timed out" if isinstance(exc, (socket.timeout, TimeoutError)) else str(exc)
+        raise UnreachableError(robot, f"cannot connect to {hop.hostname}:{hop.port}: {what}") from None
+    clients.append(client)
+    return client
+
+
+class SshTransport:
+    """A robot reached over SSH. Connects on :meth:`connect`; every step reuses it."""
+
+    def __init__(self, endpoint: Endpoint) -> None:
+        self.name = endpoint.name
+        self.endpoint = endpoint
+        self._clients: list[paramiko.SSHClient] = []
+        self._client: paramiko.SSHClient | None = None
+        self._home: str | None = None
+        self._docker: DockerClient | None = None
+        self._docker_checked = False
+
+    # -- connection ---------------------------------------------------------------
+    def connect(self) -> None:
+        if self._client is None:
+            self._client = open_client(resolve(self.endpoint), self.name, self._clients)
+
+    @property
+    def client(self) -> paramiko.SSHClient:
+        self.connect()
+        assert self._client is not None
+        return self._client
+
+    def close(self) -> None:
+        if self._docker is not None:
+            self._docker.close()
+            self._docker = None
+        for c in reversed(self._clients):
+            c.close()
+        self._clients.clear()
+        self._client = None
+
+    # -- commands -----------------------------------------------------------------
+    def run(
+        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None
+    ) -> CommandResult:
+        import paramiko
+
+        text = command.render(reveal=True)
+        shown = command.render(reveal=False)
+        limit = timeout if timeout is not None else self.endpoint.command_timeout
+        start = time.monotonic()
+        transport = self.client.get_transport()
+        if transport is None or not transport.is_active():
+            raise UnreachableError(self.name, "connection lost")
+        try:
+            chan = transport.open_session(timeout=limit)
+            chan.settimeout(limit)
+            chan.exec_command(text)
+            if stdin is not None:
+                chan.sendall(stdin)
+            chan.shutdown_write()
+            out, err = bytearray(), bytearray()
+            while True:
+                data = chan.recv(65536)
+                while chan.recv_stderr_ready():
+                    err += chan.recv_stderr(65536)
+                if not data:
+                    break
+                out += data
+            status = chan.recv_exit_status()
+            while chan.recv_stderr_ready():
+                err += chan.recv_stderr(65536)
+            chan.close()
+        except (socket.timeout, TimeoutError):
+            raise TransportError(self.name, f"`{shown}` timed out after {limit:.0f} s") from None
+        except (paramiko.SSHException, OSError, EOFError) as exc:
+            raise UnreachableError(self.name, f"connection lost during `{shown}`: {exc}") from None
+        return CommandResult(
+            shown, status, out.decode(errors="replace"), err.decode(errors="replace"),
+            time.monotonic() - start, bytes(out),
+        )
+
+    # -- files ----------------------------------------------------------------------
+    def read_file(self, path: str) -> bytes:
+        res = self.run(Command.sh(scripts.READ, path))
+        if res.exit_status == scripts.MISSING_EXIT:
+            raise FileNotFoundError(path)
+        if not res.ok:
+            raise TransportError(self.name, f"cannot read {path}: {res.stderr.strip()}")
+        return res.raw_stdout
+
+    def exists(self, path: str) -> bool:
+        return self.run(Command.sh(scripts.EXISTS, path)).ok
+
+    def stage_file(self, path: str, data: bytes, *, mode: int | None = None) -> str:
+        """Upload ``data`` to a temp file beside ``path``; returns the temp file's name."""
+        suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
+        res = self.run(
+            Command.sh(scripts.STAGE, path, suffix, f"{mode:o}" if mode is not None else ""),
+            stdin=data,
+        )
+        if not res.ok:
+            raise TransportError(self.name, f"cannot stage {path}: {res.stderr.strip()}")
+        return res.stdout.strip()
+
+    def commit_staged(self, staged: str, path: str) -> None:
+        """Rename a staged temp file over ``path`` (atomic)."""
+        res = self.run(Command.sh(scripts.COMMIT, staged, path))
+        if not res.ok:
+            self.run(Command.sh(scripts.DISCARD, staged))
+            raise TransportError(self.name, f"cannot rename into {path}: {res.stderr.strip()}")
+
+    def write_file_atomic(self, path: str, data: bytes, *, mode: int | None = None) -> None:
+        self.commit_staged(self.stage_file(path, data, mode=mode), path)
+
+    def home(self) -> str:
+        if self._home is None:
+            self._home = self.run(Command.sh('printf %s "$HOME"')).stdout or "/home/husarion"
+        return self._home
+
+    # -- docker ---------------------------------------------------------------------
+    def docker(self, api_version: str | None = None) -> DockerClient | None:
+        """The robot's docker engine through ``docker system dial-stdio`` on this connection.
+
+        ``api_version`` (the engine's, when a probe already read it) saves a round trip.
+        """
+        if not self._docker_checked:
+            self._docker_checked = True
+            if api_version is None:
+                probe = self.run(
+                    Command.sh("command -v docker >/dev/null && docker version -f '{{.Server.APIVersion}}'")
+                )
+                api_version = probe.stdout.strip() if probe.ok else None
+            if api_version:
+                from panther_ops.transport.docker_client import client_over_ssh
+
+                self._docker = client_over_ssh(self.client, api_version)
+        return self._docker
+
+
+def default_password_accepted(endpoint: Endpoint, password: str) -> bool:
+    """Try one password login on a fresh connection (host key still verified strictly)."""
+    import paramiko
+
+    hop = resolve(endpoint)
+    clients: list[paramiko.SSHClient] = []
+    try:
+        sock: Any = None
+        if hop.jump is not None:
+            via = open_client(hop.jump, endpoint.name, clients)
+            vt = via.get_transport()
+            assert vt is not None
+            sock = vt.open_channel("direct-tcpip", (hop.hostname, hop.port), ("127.0.0.1", 0))
+        client = paramiko.SSHClient()
+        for path in hop.known_hosts:
+            if os.path.exists(path):
+                client.get_host_keys().load(path)
+        client.set_missing_host_key_policy(_refuse_unknown_policy())
+        clients.append(client)
+        try:
+            client.connect(
+                hop.hostname, port=hop.port, username=hop.user, password=password, sock=sock,
+                timeout=hop.connect_timeout, allow_agent=False, look_for_keys=False,
+                banner_timeout=hop.connect_timeout, auth_timeout=hop.connect_timeout,
+            )
+        except paramiko.AuthenticationException:
+            return False
+        return True
+    finally:
+        for c in reversed(clients):
+            c.close()
+
+
+def fetch_host_key(endpoint: Endpoint) -> tuple[Hop, Any]:
+    """Ask a robot for its host key without authenticating (jump hosts verified strictly)."""
+    import paramiko
+
+    hop = resolve(endpoint)
+    clients: list[paramiko.SSHClient] = []
+    try:
+        if hop.jump is not None:
+            via = open_client(hop.jump, endpoint.name, clients)
+            vt = via.get_transport()
+            assert vt is not None
+            sock: Any = vt.open_channel("direct-tcpip", (hop.hostname, hop.port), ("127.0.0.1", 0))
+        else:
+            try:
+                sock = socket.create_connection((hop.hostname, hop.port), timeout=hop.connect_timeout)
+            except OSError as exc:
+                raise UnreachableError(endpoint.name, f"cannot connect to {hop.hostname}:{hop.port}: {exc}") from None
+        t = paramiko.Transport(sock)
+        try:
+            t.start_client(timeout=hop.connect_timeout)
+            return hop, t.get_remote_server_key()
+        except (paramiko.SSHException, EOFError, OSError) as exc:
+            raise UnreachableError(endpoint.name, f"SSH handshake with {hop.hostname} failed: {exc}") from None
+        finally:
+            t.close()
+    finally:
+        for c in reversed(clients):
+            c.close()
+
+
+def known_keys(hop: Hop) -> list[Any]:
+    """Keys known_hosts holds for a hop (any key type)."""
+    import paramiko
+
+    keys = paramiko.HostKeys()
+    for path in hop.known_hosts:
+        if os.path.exists(path):
+            keys.load(path)
+    entry = keys.lookup(known_hosts_name(hop.hostname, hop.port))
+    return list(entry.values()) if entry else []

@@ -1,0 +1,107 @@
+"""Resolve how to reach a robot from the inventory and ``~/.ssh/config``.
+
+Inventory values win over ssh_config (as command-line options win in OpenSSH); ssh_config
+gives HostName, User, Port, IdentityFile, ProxyJump, UserKnownHostsFile and ConnectTimeout.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, replace
+
+from panther_ops.transport.base import Endpoint
+
+DEFAULT_KNOWN_HOSTS = "~/.ssh/known_hosts"
+
+
+@dataclass(frozen=True)
+class Hop:
+    """One resolved SSH hop: where to connect and how to authenticate."""
+
+    label: str
+    hostname: str
+    port: int
+    user: str
+    key_files: tuple[str, ...]
+    known_hosts: tuple[str, ...]
+    connect_timeout: float
+    jump: Hop | None = None
+
+
+def _lookup(config_path: str | None, alias: str) -> dict[str, object]:
+    import paramiko
+
+    path = os.path.expanduser(config_path or "~/.ssh/config")
+    if not os.path.exists(path):
+        return {}
+    conf = paramiko.SSHConfig.from_path(path)
+    return dict(conf.lookup(alias))
+
+
+def _parse_jump_spec(spec: str) -> tuple[str | None, str, int | None]:
+    user: str | None = None
+    hostport = spec
+    if "@" in spec:
+        user, hostport = spec.rsplit("@", 1)
+    port: int | None = None
+    if hostport.startswith("["):
+        host, _, rest = hostport[1:].partition("]")
+        if rest.startswith(":"):
+            port = int(rest[1:])
+    elif hostport.count(":") == 1:
+        host, p = hostport.split(":")
+        port = int(p)
+    else:
+        host = hostport
+    return user, host, port
+
+
+def resolve(endpoint: Endpoint) -> Hop:
+    """Turn an inventory endpoint into a chain of hops, consulting ssh_config."""
+    cfg = _lookup(endpoint.ssh_config, endpoint.host)
+    hostname = str(cfg.get("hostname", endpoint.host))
+    port = endpoint.port or int(str(cfg.get("port", 22)))
+    user = endpoint.user or str(cfg.get("user", os.environ.get("USER", "husarion")))
+    cfg_keys = cfg.get("identityfile", [])
+    keys = endpoint.identity_files or tuple(
+        os.path.expanduser(k) for k in (cfg_keys if isinstance(cfg_keys, list) else [cfg_keys])
+    )
+    cfg_known = cfg.get("userknownhostsfile")
+    known = list(endpoint.known_hosts)
+    if isinstance(cfg_known, str):
+        known.extend(os.path.expanduser(k) for k in cfg_known.split())
+    if not known:
+        known.append(os.path.expanduser(DEFAULT_KNOWN_HOSTS))
+    timeout = endpoint.connect_timeout
+    if "connecttimeout" in cfg and endpoint.connect_timeout == Endpoint.connect_timeout:
+        timeout = float(str(cfg["connecttimeout"]))
+
+    jump: Hop | None = None
+    if endpoint.jump is not None:
+        jump = resolve(endpoint.jump)
+    elif "proxyjump" in cfg and str(cfg["proxyjump"]).lower() != "none":
+        # A chain "a,b": connect to a, then through it to b, then to the target.
+        for spec in str(cfg["proxyjump"]).split(","):
+            juser, jhost, jport = _parse_jump_spec(spec.strip())
+            hop_ep = Endpoint(
+                name=f"{endpoint.name} (jump {jhost})",
+                host=jhost,
+                port=jport,
+                user=juser,
+                ssh_config=endpoint.ssh_config,
+                known_hosts=endpoint.known_hosts,
+                connect_timeout=endpoint.connect_timeout,
+            )
+            hop = resolve(hop_ep)
+            jump = hop if jump is None else replace(hop, jump=jump)
+    return Hop(
+        label=endpoint.name,
+        hostname=hostname,
+        port=port,
+        user=user,
+        key_files=tuple(keys),
+        known_hosts=tuple(dict.fromkeys(known)),
+        connect_timeout=timeout,
+        jump=jump,
+    )
+
