@@ -79,7 +79,10 @@ _register()
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: runs the app and turns every outcome into the documented exit code."""
-    import click
+    try:  # typer >= 0.2x vendors click
+        from typer._click.exceptions import ClickException
+    except ImportError:  # pragma: no cover - older typer on plain click
+        from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
     from panther_ops.errors import ExitCode, OpsError
 
@@ -90,12 +93,12 @@ def main(argv: list[str] | None = None) -> int:
 
         error(str(exc))
         return int(exc.exit_code)
-    except click.exceptions.Exit as exc:
-        return int(exc.exit_code)
-    except click.exceptions.Abort:
+    except typer.Exit as exc:
+        return int(getattr(exc, "exit_code", 0))
+    except typer.Abort:
         sys.stderr.write("aborted\n")
         return int(ExitCode.INTERRUPTED)
-    except click.ClickException as exc:
+    except ClickException as exc:
         exc.show()
         return int(ExitCode.USAGE)
     except KeyboardInterrupt:

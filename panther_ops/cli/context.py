@@ -10,7 +10,7 @@ import typer
 
 if TYPE_CHECKING:
     from panther_ops.core.inventory import Inventory, Robot
-    from panther_ops.core.runner import RunOptions, Task
+    from panther_ops.core.runner import Task
     from panther_ops.results import FleetResult
 
 
@@ -40,7 +40,9 @@ def load(ctx: typer.Context) -> Inventory:
     return inv
 
 
-def targets(ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool) -> tuple[Inventory, list[Robot]]:
+def targets(
+    ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool
+) -> tuple[Inventory, list[Robot]]:
     inv = load(ctx)
     return inv, inv.select(robots or [], groups or [], all_)
 

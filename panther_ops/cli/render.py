@@ -52,6 +52,13 @@ def progress_printer(total: int, *, enabled: bool) -> Iterator[Callable[[RobotRe
         yield step
 
 
+def esc(text: object) -> str:
+    """Text from robots or users, shown literally (no rich markup)."""
+    from rich.markup import escape
+
+    return escape(str(text))
+
+
 def emit_json(doc: dict[str, Any]) -> None:
     sys.stdout.write(json.dumps(doc, indent=2, default=str) + "\n")
 
@@ -77,7 +84,7 @@ def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: b
     table.add_column("result")
     table.add_column("message", overflow="fold")
     for r in fleet.results:
-        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", r.message)
+        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message))
     out.print(table)
     if show_diffs:
         print_diffs(fleet)
@@ -99,11 +106,11 @@ def print_warnings(fleet: FleetResult) -> None:
     err = _console(stderr=True)
     for r in fleet.results:
         for w in r.warnings:
-            err.print(f"[yellow]warning[/] {r.robot}: {w}")
+            err.print(f"[yellow]warning[/] {r.robot}: {esc(w)}")
         if "hint" in r.data:
-            err.print(f"[dim]hint[/] {r.robot}: {r.data['hint']}")
+            err.print(f"[dim]hint[/] {r.robot}: {esc(r.data['hint'])}")
     for n in fleet.notes:
-        err.print(f"[yellow]note[/] {n}")
+        err.print(f"[yellow]note[/] {esc(n)}")
 
 
 def print_summary(fleet: FleetResult) -> None:
@@ -126,4 +133,6 @@ def finish(fleet: FleetResult, json_out: bool, human: Callable[[FleetResult], No
 
 
 def error(message: str) -> None:
-    _console(stderr=True).print(f"[bold red]error[/] {message}", markup=True, highlight=False)
+    from rich.markup import escape
+
+    _console(stderr=True).print(f"[bold red]error[/] {escape(message)}", highlight=False)

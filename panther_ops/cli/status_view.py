@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from panther_ops.cli.render import STYLE, _console, human_bytes, print_summary, print_warnings
+from panther_ops.cli.render import STYLE, _console, esc, human_bytes, print_summary, print_warnings
 from panther_ops.results import FleetResult, Outcome
 
 
@@ -16,11 +16,11 @@ def print_status(fleet: FleetResult) -> None:
     for r in fleet.results:
         d = r.data
         if r.outcome is not Outcome.OK:
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", r.message, *[""] * 7)
+            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), *[""] * 7)
             continue
         ctrs = d.get("containers")
         if ctrs is None:
-            ctr_text = f"[dim]skipped ({d.get('docker_skipped')})[/]"
+            ctr_text = f"[dim]skipped ({esc(d.get('docker_skipped'))})[/]"
         else:
             ctr_text = "\n".join(
                 f"{c['name']} {c['state']}" + (f" ({c['restart_count']} restarts)" if c["restart_count"] else "")
@@ -54,11 +54,11 @@ def print_doctor(fleet: FleetResult) -> None:
     for r in fleet.results:
         findings = r.data.get("findings")
         if not findings:
-            table.add_row(r.robot, "-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", r.message, "")
+            table.add_row(r.robot, "-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), "")
             continue
         for i, f in enumerate(findings):
             table.add_row(r.robot if i == 0 else "", f["check"], f"[{colour[f['state']]}]{f['state']}[/]",
-                          f["detail"], f.get("fix") or "")
+                          esc(f["detail"]), esc(f.get("fix") or ""))
     _console().print(table)
     for note in fleet.data.get("fleet_findings", []):
         _console(stderr=True).print(f"[{colour[note['state']]}]{note['state']}[/] fleet {note['check']}: "

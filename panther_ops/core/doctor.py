@@ -18,7 +18,7 @@ from panther_ops.results import FleetResult, Outcome, RobotResult
 CLOCK_LIMIT_S = 1.0
 DISK_MIN_BYTES = 2 * 1024**3
 DISK_MIN_SHARE = 0.10
-DEFAULT_PASSWORD = "husarion"  # noqa: S105 - the factory default we warn about, not a credential of ours
+DEFAULT_PASSWORD = "husarion"  # the factory default we warn about, not a credential of ours
 
 
 @dataclass(frozen=True)
@@ -103,7 +103,7 @@ def _password(ctx: RobotContext) -> Finding:
     if accepted:
         return Finding(
             "default password", "warn", f"sshd accepts the default password for {ctx.robot.user}",
-            f"change it (`passwd` on the robot) or set `PasswordAuthentication no` in /etc/ssh/sshd_config",
+            "change it (`passwd` on the robot) or set `PasswordAuthentication no` in /etc/ssh/sshd_config",
         )
     return Finding("default password", "ok", "the default password is not accepted")
 

@@ -17,11 +17,20 @@ r="${PANTHER_OPS_ROOT:-}"; c="$1"; case "$c" in "~/"*) c="$HOME/${c#"~/"}";; esa
 echo @@time; date +%s.%N
 echo @@hostname; if [ -n "$r" ] && [ -f "$r/etc/hostname" ]; then cat "$r/etc/hostname"; else hostname; fi
 echo @@home; printf '%s\n' "$HOME"
-echo @@env; for f in "$r/run/husarion/robot_config.env" "$r/run/husarion/panther_config.env"; do [ -f "$f" ] && { echo "#file $f"; cat "$f"; echo; }; done
+echo @@env
+for f in "$r/run/husarion/robot_config.env" "$r/run/husarion/panther_config.env"; do
+  [ -f "$f" ] && { echo "#file $f"; cat "$f"; echo; }
+done
 echo @@os; [ -f "$r/etc/os-release" ] && grep '^PRETTY_NAME=' "$r/etc/os-release"
 echo @@compose; [ -f "$r$c" ] && cat "$r$c"
 echo @@df; df -Pk "$r$HOME" 2>/dev/null | tail -n 1
-echo @@docker; if command -v docker >/dev/null 2>&1 && [ -z "$r" ]; then docker version -f '{{.Server.Version}} {{.Server.APIVersion}}' 2>&1 | head -n 1; docker compose version --short 2>&1 | head -n 1; else echo none; fi
+echo @@docker
+if command -v docker >/dev/null 2>&1 && [ -z "$r" ]; then
+  docker version -f '{{.Server.Version}} {{.Server.APIVersion}}' 2>&1 | head -n 1
+  docker compose version --short 2>&1 | head -n 1
+else
+  echo none
+fi
 echo @@end
 """
 

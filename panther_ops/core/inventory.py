@@ -264,6 +264,16 @@ class _Loader:
                     raise self.err(f"{k!r} cannot be a fleet-wide default", f, d, f"defaults.{k}", k,
                                    hint=f"allowed: {', '.join(sorted(DEFAULT_KEYS))}")
             self.defaults.update(self.fields(d, f, "defaults"))
+        self.read_groups(doc, f)
+        robots = self.mapping(doc.get("robots", LineDict()), f, doc, "robots")
+        for name, rdoc in robots.items():
+            self.check_name(name, f, robots, f"robots.{name}")
+            if name in self.raw_robots:
+                raise self.err(f"robot {name!r} is defined twice (also in {self.raw_robots[name][1]})",
+                               f, robots, f"robots.{name}", name)
+            self.raw_robots[name] = (self.mapping(rdoc, f, robots, f"robots.{name}"), f)
+
+    def read_groups(self, doc: LineDict, f: Path) -> None:
         for name, gdoc in self.mapping(doc.get("groups", LineDict()), f, doc, "groups").items():
             g = self.mapping(gdoc if gdoc is not None else LineDict(), f, doc["groups"], f"groups.{name}")
             self.check_name(name, f, doc["groups"], f"groups.{name}")
@@ -274,13 +284,6 @@ class _Loader:
             if "desired" in g:
                 self.check_desired(g["desired"], f, g, f"groups.{name}.desired")
             self.groups[name] = dict(g)
-        robots = self.mapping(doc.get("robots", LineDict()), f, doc, "robots")
-        for name, rdoc in robots.items():
-            self.check_name(name, f, robots, f"robots.{name}")
-            if name in self.raw_robots:
-                raise self.err(f"robot {name!r} is defined twice (also in {self.raw_robots[name][1]})",
-                               f, robots, f"robots.{name}", name)
-            self.raw_robots[name] = (self.mapping(rdoc, f, robots, f"robots.{name}"), f)
 
     def read_settings(self, value: Any, f: Path, parent: LineDict) -> None:
         s = self.mapping(value, f, parent, "settings")
@@ -323,58 +326,26 @@ class _Loader:
         """Validate the robot fields present in ``d``; returns them normalised."""
         out: dict[str, Any] = {}
         for k, v in d.items():
-            key = f"{prefix}.{k}"
-            bad = lambda msg, hint=None, k=k, key=key: self.err(msg, f, d, key, k, hint=hint)  # noqa: E731
             if k not in ROBOT_KEYS:
-                raise bad(f"unknown key {k!r}", ", ".join(sorted(ROBOT_KEYS)))
-            if k in ("host", "jump", "identity_file", "compose_file", "description", "root"):
-                if not isinstance(v, str) or not v.strip():
-                    raise bad(f"{k} must be a non-empty string")
-                out[k] = v.strip()
-                if k in ("identity_file", "root"):
-                    out[k] = str(_rel(f, v.strip()))
-            elif k == "port":
-                if not isinstance(v, int) or isinstance(v, bool) or not 1 <= v <= 65535:
-                    raise bad(f"port {v!r} is not a TCP port", "a whole number from 1 to 65535")
-                out[k] = v
-            elif k == "connect_timeout":
-                if not isinstance(v, (int, float)) or isinstance(v, bool) or v <= 0:
-                    raise bad("connect_timeout must be a number of seconds > 0")
-                out[k] = float(v)
-            elif k == "user":
-                if not isinstance(v, str) or not POSIX_USER.match(v):
-                    raise bad(f"user {v!r} is not a POSIX user name", "lowercase letters, digits, '_' and '-'")
-                out[k] = v
-            elif k == "namespace":
-                if not isinstance(v, str) or not ROS_NAMESPACE.match(v):
-                    raise bad(f"namespace {v!r} is not a ROS namespace", "letters, digits and '_', e.g. panther")
-                out[k] = v
-            elif k == "stack":
-                if not isinstance(v, str) or not (v == "auto" or VERSION.match(v)):
-                    raise bad(f"stack {v!r} is not allowed", "auto, or a version such as 2.1.1 or 2.2.2")
-                if v != "auto":
-                    from panther_ops.core.stack import stack_from_version
-                    from panther_ops.errors import RemoteStateError
-
-                    try:
-                        stack_from_version(v)
-                    except RemoteStateError as exc:
-                        raise bad(exc.message, exc.hint) from None
-                out[k] = v
-            elif k == "groups":
-                if not isinstance(v, list) or not all(isinstance(g, str) and NAME.match(g) for g in v):
-                    raise bad("groups must be a list of group names")
-                out[k] = tuple(v)
-            elif k == "vars":
-                out[k] = dict(self.mapping(v, f, d, key))
-            elif k == "desired":
-                self.check_desired(v, f, d, key)
-                out[k] = _plain(v)
-            elif k == "transport":
-                if v not in ("ssh", "local"):
-                    raise bad(f"transport {v!r} is not allowed", "ssh or local")
-                out[k] = v
+                raise self.err(f"unknown key {k!r}", f, d, f"{prefix}.{k}", k, hint=", ".join(sorted(ROBOT_KEYS)))
+            try:
+                out[k] = self.field(k, v, f, d, f"{prefix}.{k}")
+            except _Bad as bad:
+                raise self.err(bad.message, f, d, f"{prefix}.{k}", k, hint=bad.hint) from None
         return out
+
+    def field(self, k: str, v: Any, f: Path, d: LineDict, key: str) -> Any:
+        """One robot field, checked and normalised (raises _Bad)."""
+        if k in ("host", "jump", "identity_file", "compose_file", "description", "root"):
+            if not isinstance(v, str) or not v.strip():
+                raise _Bad(f"{k} must be a non-empty string")
+            return str(_rel(f, v.strip())) if k in ("identity_file", "root") else v.strip()
+        if k == "vars":
+            return dict(self.mapping(v, f, d, key))
+        if k == "desired":
+            self.check_desired(v, f, d, key)
+            return _plain(v)
+        return _SCALAR_FIELDS[k](v)
 
     def check_desired(self, value: Any, f: Path, parent: LineDict, key: str) -> None:
         d = self.mapping(value, f, parent, key)
@@ -387,12 +358,12 @@ class _Loader:
                 for sk, sv in m.items():
                     if isinstance(sv, (LineDict, LineList)) and k in ("launch_args", "controller"):
                         raise self.err(f"{k}.{sk} must be a single value", f, m, f"{key}.{k}.{sk}", sk)
-            elif k == "image":
-                if not isinstance(v, str) or ":" not in v:
-                    raise self.err("image must be REPOSITORY:TAG", f, d, f"{key}.image", k)
-            elif k == "shutdown_hosts":
-                if not isinstance(v, LineList) or not all(isinstance(h, LineDict) for h in v):
-                    raise self.err("shutdown_hosts must be a list of mappings (ip, username, ...)",
+            elif k == "image" and (not isinstance(v, str) or ":" not in v):
+                raise self.err("image must be REPOSITORY:TAG", f, d, f"{key}.image", k)
+            elif k == "shutdown_hosts" and (
+                not isinstance(v, LineList) or not all(isinstance(h, LineDict) for h in v)
+            ):
+                raise self.err("shutdown_hosts must be a list of mappings (ip, username, ...)",
                                    f, d, f"{key}.{k}", k)
 
     def robot(self, name: str, doc: LineDict, f: Path) -> Robot:
@@ -430,6 +401,74 @@ class _Loader:
             connect_timeout=merged.get("connect_timeout", 10.0),
             source=f"{f}:{doc.line}",
         )
+
+
+class _Bad(Exception):
+    def __init__(self, message: str, hint: str | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.hint = hint
+
+
+def _port(v: Any) -> int:
+    if not isinstance(v, int) or isinstance(v, bool) or not 1 <= v <= 65535:
+        raise _Bad(f"port {v!r} is not a TCP port", "a whole number from 1 to 65535")
+    return v
+
+
+def _timeout(v: Any) -> float:
+    if not isinstance(v, (int, float)) or isinstance(v, bool) or v <= 0:
+        raise _Bad("connect_timeout must be a number of seconds > 0")
+    return float(v)
+
+
+def _user(v: Any) -> str:
+    if not isinstance(v, str) or not POSIX_USER.match(v):
+        raise _Bad(f"user {v!r} is not a POSIX user name", "lowercase letters, digits, '_' and '-'")
+    return v
+
+
+def _namespace(v: Any) -> str:
+    if not isinstance(v, str) or not ROS_NAMESPACE.match(v):
+        raise _Bad(f"namespace {v!r} is not a ROS namespace", "letters, digits and '_', e.g. panther")
+    return v
+
+
+def _stack(v: Any) -> str:
+    if not isinstance(v, str) or not (v == "auto" or VERSION.match(v)):
+        raise _Bad(f"stack {v!r} is not allowed", "auto, or a version such as 2.1.1 or 2.2.2")
+    if v != "auto":
+        from panther_ops.core.stack import stack_from_version
+        from panther_ops.errors import RemoteStateError
+
+        try:
+            stack_from_version(v)
+        except RemoteStateError as exc:
+            raise _Bad(exc.message, exc.hint) from None
+    return v
+
+
+def _groups(v: Any) -> tuple[str, ...]:
+    if not isinstance(v, list) or not all(isinstance(g, str) and NAME.match(g) for g in v):
+        raise _Bad("groups must be a list of group names")
+    return tuple(v)
+
+
+def _transport(v: Any) -> str:
+    if v not in ("ssh", "local"):
+        raise _Bad(f"transport {v!r} is not allowed", "ssh or local")
+    return str(v)
+
+
+_SCALAR_FIELDS: dict[str, Any] = {
+    "port": _port,
+    "connect_timeout": _timeout,
+    "user": _user,
+    "namespace": _namespace,
+    "stack": _stack,
+    "groups": _groups,
+    "transport": _transport,
+}
 
 
 def _rel(f: Path, value: str) -> Path:

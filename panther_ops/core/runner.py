@@ -13,6 +13,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
+
 from panther_ops.core.inventory import Inventory, Robot
 from panther_ops.errors import OpsError, UnreachableError
 from panther_ops.results import FleetResult, Outcome, RobotResult
@@ -90,6 +91,49 @@ def _strip(exc: OpsError, robot: str) -> str:
     return msg[len(robot) + 2 :] if msg.startswith(f"{robot}: ") else msg
 
 
+class _Fleet:
+    """One run: schedules robots ``forks`` at a time and records every result."""
+
+    def __init__(self, inventory: Inventory, task: Task, opts: RunOptions, progress: Progress | None) -> None:
+        self.inventory = inventory
+        self.task = task
+        self.opts = opts
+        self.progress = progress
+        self.results: dict[str, RobotResult] = {}
+        self.lock = threading.Lock()
+        self.stop_reason: str | None = None
+        self.failures = 0
+
+    def note(self, res: RobotResult) -> None:
+        with self.lock:
+            self.results[res.robot] = res
+        if self.progress:
+            self.progress(res)
+
+    def skip(self, robots: list[Robot]) -> None:
+        for r in robots:
+            self.note(RobotResult(r.name, Outcome.SKIPPED, f"not started: {self.stop_reason}"))
+
+    def batch(self, todo: list[Robot], budget: int | None) -> None:
+        queue = list(todo)
+        pending: set[Future[RobotResult]] = set()
+        with ThreadPoolExecutor(max_workers=max(1, min(self.opts.forks, len(todo)))) as pool:
+            while queue or pending:
+                while queue and len(pending) < self.opts.forks and self.stop_reason is None:
+                    pending.add(pool.submit(run_one, self.inventory, queue.pop(0), self.task))
+                if not pending:
+                    break
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    res = fut.result()
+                    self.note(res)
+                    if res.outcome.is_failure:
+                        self.failures += 1
+                        if budget is not None and self.failures > budget and self.stop_reason is None:
+                            self.stop_reason = f"max-fail reached ({self.failures} failed)"
+        self.skip(queue)
+
+
 def run_fleet(
     command: str,
     inventory: Inventory,
@@ -102,57 +146,23 @@ def run_fleet(
     opts = options or RunOptions(forks=inventory.forks)
     start = time.monotonic()
     fleet = FleetResult(command)
-    results: dict[str, RobotResult] = {}
-    lock = threading.Lock()
-    stop_reason: list[str] = []
-
-    def note(res: RobotResult) -> None:
-        with lock:
-            results[res.robot] = res
-        if progress:
-            progress(res)
-
-    def batch(todo: list[Robot], budget: int | None) -> None:
-        pending: set[Future[RobotResult]] = set()
-        queue = list(todo)
-        failures = 0
-        with ThreadPoolExecutor(max_workers=max(1, min(opts.forks, len(todo) or 1))) as pool:
-            while queue or pending:
-                while queue and len(pending) < opts.forks and not stop_reason:
-                    r = queue.pop(0)
-                    pending.add(pool.submit(run_one, inventory, r, task))
-                if not pending:
-                    break
-                done, pending = wait(pending, return_when=FIRST_COMPLETED)
-                for fut in done:
-                    res = fut.result()
-                    note(res)
-                    if res.outcome.is_failure:
-                        failures += 1
-                        if budget is not None and failures > budget and not stop_reason:
-                            stop_reason.append(f"max-fail reached ({failures} failed)")
-            for r in queue:
-                note(RobotResult(r.name, Outcome.SKIPPED, f"not started: {stop_reason[0]}"))
-
-    budget: int | None = None
-    if opts.max_fail_pct is not None:
-        budget = int(len(robots) * opts.max_fail_pct / 100.0)
+    run = _Fleet(inventory, task, opts, progress)
+    budget = None if opts.max_fail_pct is None else int(len(robots) * opts.max_fail_pct / 100.0)
     canaries = robots[: opts.canary] if opts.canary > 0 else []
     rest = robots[len(canaries):]
     if canaries:
-        batch(canaries, budget)
-        failed = [results[r.name] for r in canaries if results[r.name].outcome.is_failure]
+        run.batch(canaries, budget)
+        failed = [run.results[r.name] for r in canaries if run.results[r.name].outcome.is_failure]
         if failed:
-            stop_reason.append(f"canary {failed[0].robot} {failed[0].outcome.value}")
+            run.stop_reason = f"canary {failed[0].robot} {failed[0].outcome.value}"
             fleet.notes.append(f"stopped after the canary: {failed[0].robot} {failed[0].outcome.value}")
     if rest:
-        if stop_reason:
-            for r in rest:
-                note(RobotResult(r.name, Outcome.SKIPPED, f"not started: {stop_reason[0]}"))
+        if run.stop_reason:
+            run.skip(rest)
         else:
-            batch(rest, budget)
-    if stop_reason and not fleet.notes:
-        fleet.notes.append(f"stopped early: {stop_reason[0]}")
-    fleet.results = [results[r.name] for r in robots]
+            run.batch(rest, budget)
+    if run.stop_reason and not fleet.notes:
+        fleet.notes.append(f"stopped early: {run.stop_reason}")
+    fleet.results = [run.results[r.name] for r in robots]
     fleet.duration_s = time.monotonic() - start
     return fleet

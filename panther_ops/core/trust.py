@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from panther_ops.core.inventory import Inventory, Robot
 from panther_ops.errors import UsageError
@@ -23,15 +24,16 @@ class TrustPlan:
     state: str  # "known" | "new" | "changed"
     known_fingerprints: tuple[str, ...]
     known_hosts_file: str
-    _record: object
+    hostname: str
+    port: int
+    key: Any
 
     def record(self) -> None:
         """Record the offered key (replacing the old one when it changed)."""
-        hop, key = self._record  # type: ignore[misc]
         if self.state == "changed":
-            replace_known_host(self.known_hosts_file, hop.hostname, hop.port, key)
+            replace_known_host(self.known_hosts_file, self.hostname, self.port, self.key)
         else:
-            append_known_host(self.known_hosts_file, hop.hostname, hop.port, key)
+            append_known_host(self.known_hosts_file, self.hostname, self.port, self.key)
 
 
 def plan_trust(inventory: Inventory, robot: Robot) -> TrustPlan:
@@ -53,5 +55,5 @@ def plan_trust(inventory: Inventory, robot: Robot) -> TrustPlan:
     return TrustPlan(
         robot=robot.name, address=known_hosts_name(hop.hostname, hop.port), key_type=key.get_name(),
         fingerprint=fp, state=state, known_fingerprints=known_fps,
-        known_hosts_file=hop.known_hosts[0], _record=(hop, key),
+        known_hosts_file=hop.known_hosts[0], hostname=hop.hostname, port=hop.port, key=key,
     )

@@ -9,7 +9,7 @@ from __future__ import annotations
 import shlex
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol, Union
+from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
     from docker import DockerClient
@@ -33,7 +33,7 @@ class Secret:
         return "****"
 
 
-Arg = Union[str, Secret]
+Arg = str | Secret
 
 
 def quote_command(argv: Sequence[Arg], *, reveal: bool) -> str:

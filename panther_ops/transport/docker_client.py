@@ -41,7 +41,7 @@ def client_over_ssh(ssh: paramiko.SSHClient, server_api: str, timeout: int = 60)
             self.ssh_params: dict[str, Any] = {}
             self.timeout = timeout
             self.max_pool_size = 4
-            self.pools = RecentlyUsedContainer(2, dispose_func=lambda p: p.close())
+            self.pools: Any = RecentlyUsedContainer(2, dispose_func=lambda p: p.close())
             BaseHTTPAdapter.__init__(self)
 
         def _connect(self) -> None:  # the transport owns the connection
@@ -57,7 +57,9 @@ def client_over_ssh(ssh: paramiko.SSHClient, server_api: str, timeout: int = 60)
                     self.pools[url] = pool
             return pool
 
-        def get_connection_with_tls_context(self, request: Any, verify: Any, proxies: Any = None, cert: Any = None) -> Any:
+        def get_connection_with_tls_context(
+            self, request: Any, verify: Any, proxies: Any = None, cert: Any = None
+        ) -> Any:
             return self.get_connection(request.url, proxies)
 
         def close(self) -> None:

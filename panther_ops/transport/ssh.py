@@ -69,7 +69,7 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
             hop.hostname,
             port=hop.port,
             username=hop.user,
-            key_filename=list(hop.key_files) or None,
+            key_filename=list(hop.key_files) or None,  # type: ignore[arg-type]  # paramiko takes a list too
             timeout=hop.connect_timeout,
             banner_timeout=hop.connect_timeout,
             auth_timeout=hop.connect_timeout,
@@ -172,7 +172,7 @@ class SshTransport:
             while chan.recv_stderr_ready():
                 err += chan.recv_stderr(65536)
             chan.close()
-        except (socket.timeout, TimeoutError):
+        except TimeoutError:
             raise TransportError(self.name, f"`{shown}` timed out after {limit:.0f} s") from None
         except (paramiko.SSHException, OSError, EOFError) as exc:
             raise UnreachableError(self.name, f"connection lost during `{shown}`: {exc}") from None

@@ -64,7 +64,7 @@ def resolve(endpoint: Endpoint) -> Hop:
     user = endpoint.user or str(cfg.get("user", os.environ.get("USER", "husarion")))
     cfg_keys = cfg.get("identityfile", [])
     keys = endpoint.identity_files or tuple(
-        os.path.expanduser(k) for k in (cfg_keys if isinstance(cfg_keys, list) else [cfg_keys])
+        os.path.expanduser(str(k)) for k in (cfg_keys if isinstance(cfg_keys, list) else [cfg_keys])
     )
     cfg_known = cfg.get("userknownhostsfile")
     known = list(endpoint.known_hosts)

@@ -1,0 +1,90 @@
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from panther_ops.cli.app import main
+
+
+@pytest.fixture
+def demo(tmp_path: Path) -> Path:
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    return tmp_path / "demo"
+
+
+def test_status_json_on_demo_fleet(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    capsys.readouterr()
+    assert main(["-i", str(demo), "status", "--all", "--json"]) == 0
+    out, err = capsys.readouterr()
+    doc = json.loads(out)
+    assert doc["schema"] == 1 and doc["command"] == "status" and doc["exit_code"] == 0
+    assert [r["data"]["stack_version"] for r in doc["robots"]] == ["2.1.1", "2.0.4", "2.2.2"]
+    assert f"inventory: {demo} (from -i)" in err
+
+
+def test_status_table(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["-i", str(demo), "status", "-g", "warehouse"]) == 0
+    out = capsys.readouterr().out
+    assert "panther-01" in out and "panther-02" in out and "panther-03" not in out
+    assert "panther_ros 2.1.1" in out
+
+
+def test_no_selection_on_a_fleet_is_a_usage_error(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["-i", str(demo), "status"]) == 2
+    assert "choose with --robot" in capsys.readouterr().err
+
+
+def test_bad_inventory_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("robots:\n  r1: {host: a, port: nope}\n")
+    assert main(["-i", str(bad), "inventory", "validate"]) == 2
+    err = capsys.readouterr().err
+    assert f"{bad}:2 [robots.r1.port]" in err
+
+
+def test_unknown_option_is_usage(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["status", "--nope"]) == 2
+
+
+def test_inventory_commands(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    capsys.readouterr()
+    assert main(["-i", str(demo), "inventory", "list", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [r["name"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03"]
+    assert main(["-i", str(demo), "inventory", "show", "panther-01", "--json"]) == 0
+    shown = json.loads(capsys.readouterr().out)["robot"]
+    assert shown["desired"] == {"launch_args": {"wheel_type": "WH02"}}
+    assert main(["-i", str(demo), "inventory", "validate"]) == 0
+    assert "3 robots, 2 groups, valid" in capsys.readouterr().out
+
+
+def test_doctor_on_demo(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    capsys.readouterr()
+    assert main(["-i", str(demo), "doctor", "--all", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    checks = {f["check"]: f["state"] for f in doc["robots"][0]["data"]["findings"]}
+    assert checks["clock"] == "ok" and checks["stack"] == "ok"
+    assert doc["data"]["fleet_findings"][0]["check"] == "time sync"
+
+
+def test_cli_import_is_light() -> None:
+    code = (
+        "import sys, panther_ops.cli.app; "
+        "bad = [m for m in ('paramiko', 'fabric', 'docker', 'ruamel', 'ruamel.yaml', 'rich', 'invoke') "
+        "if m in sys.modules]; print(','.join(bad))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == ""
+
+
+def test_help_texts_are_complete(capsys: pytest.CaptureFixture[str]) -> None:
+    for argv in (["--help"], ["status", "--help"], ["doctor", "--help"], ["trust", "--help"],
+                 ["inventory", "--help"], ["inventory", "validate", "--help"], ["demo", "init", "--help"]):
+        assert main(argv) == 0
+        out = capsys.readouterr().out
+        assert "Usage:" in out
+        assert "Example:" in out or (argv[-1] == "--help" and len(argv) <= 2)

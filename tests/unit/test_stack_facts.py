@@ -1,0 +1,81 @@
+from __future__ import annotations
+
+import pytest
+
+from panther_ops.core.facts import parse_env, parse_probe
+from panther_ops.core.stack import Family, Generation, find_driver, parse_image
+from panther_ops.errors import RemoteStateError
+
+
+@pytest.mark.parametrize(
+    ("image", "version", "gen", "service", "controller"),
+    [
+        ("husarion/panther:humble-2.0.0-20240402", "2.0.0", Generation.G2_0_0, "panther_ros", "panther_base_controller"),
+        ("husarion/panther:humble-2.0.1-20240410", "2.0.1", Generation.G2_0_0, "panther_ros", "panther_base_controller"),
+        ("husarion/panther:humble-2.0.4-20240628", "2.0.4", Generation.G2_0_2, "panther_ros", "panther_base_controller"),
+        ("husarion/panther:humble-2.1.0-20240723", "2.1.0", Generation.G2_1_0, "panther_ros", "drive_controller"),
+        ("husarion/panther:humble-2.1.1-20240828", "2.1.1", Generation.G2_1_1, "panther_ros", "drive_controller"),
+        ("husarion/panther:humble-2.1.2-20241125-stable", "2.1.2", Generation.G2_1_1, "panther_ros", "drive_controller"),
+        ("husarion/husarion-ugv:humble-2.2.0-20240227", "2.2.0", Generation.G2_2_0, "husarion_ugv_ros", "drive_controller"),
+        ("docker.io/husarion/husarion-ugv:humble-2.2.2-20250702", "2.2.2", Generation.G2_2_1, "husarion_ugv_ros",
+         "drive_controller"),
+    ],
+)
+def test_stack_from_image(image: str, version: str, gen: Generation, service: str, controller: str) -> None:
+    s = parse_image(image)
+    assert s.version_str == version
+    assert s.generation is gen
+    assert s.driver_service == service
+    assert s.controller_key == controller
+    assert s.shutdown_over_http is (s.version >= (2, 2, 1))
+    assert (s.family is Family.HUSARION_UGV) is (s.version >= (2, 2, 0))
+
+
+@pytest.mark.parametrize(
+    ("image", "why"),
+    [
+        ("husarion/husarion-ugv:jazzy-2.3.1-20250701", "not supported yet"),
+        ("husarion/panther:humble-1.0.0-20231205", "ROS 1"),
+        ("husarion/panther:latest", "does not follow"),
+        ("husarion/panther", "no tag"),
+        ("nginx:1.25", "not a Panther driver image"),
+    ],
+)
+def test_unsupported_images(image: str, why: str) -> None:
+    with pytest.raises(RemoteStateError, match=why):
+        parse_image(image)
+
+
+def test_find_driver() -> None:
+    assert find_driver({"services": {"x": {"image": "a:b"}, "panther_ros": {"image": "husarion/panther:t"}}}) == (
+        "panther_ros", "husarion/panther:t")
+    assert find_driver({"services": {"drv": {"image": "husarion/husarion-ugv:humble-2.2.2-20250702"}}}) == (
+        "drv", "husarion/husarion-ugv:humble-2.2.2-20250702")
+    assert find_driver({"services": {"x": {"image": "a:b"}}}) is None
+    assert find_driver("nonsense") is None
+
+
+def test_parse_env() -> None:
+    env = parse_env('# c\nexport A=1\nB="two words"\nC=\'x\' # tail\nbad line\n')
+    assert env == {"A": "1", "B": "two words", "C": "x"}
+
+
+def test_parse_probe() -> None:
+    out = "\n".join([
+        "@@time", "1700000000.25", "@@hostname", "r01", "@@home", "/home/husarion",
+        "@@env", "#file /run/husarion/panther_config.env", "PANTHER_SERIAL_NO=1234", "PANTHER_ROBOT_VERSION=1.2",
+        "@@os", 'PRETTY_NAME="Ubuntu 22.04.4 LTS"', "@@compose", "services: {}", "@@df",
+        "/dev/root 1000 400 600 40% /", "@@docker", "20.10.24 1.41", "2.40.3", "@@end",
+    ])
+    f = parse_probe(out)
+    assert f.remote_time == 1700000000.25
+    assert (f.hostname, f.serial, f.robot_model, f.robot_version) == ("r01", "1234", "panther", "1.2")
+    assert f.os_name == "Ubuntu 22.04.4 LTS"
+    assert f.compose_text == "services: {}\n"
+    assert (f.disk_total_bytes, f.disk_free_bytes) == (1000 * 1024, 600 * 1024)
+    assert (f.docker_server, f.docker_api, f.compose_version) == ("20.10.24", "1.41", "2.40.3")
+
+
+def test_parse_probe_without_docker_compose() -> None:
+    f = parse_probe("@@docker\n20.10.24 1.41\ndocker: 'compose' is not a docker command.\n@@end\n")
+    assert f.compose_version is None and f.compose_error is not None
