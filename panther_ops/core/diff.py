@@ -1,0 +1,45 @@
+"""Unified diffs of configuration files, as shown to the operator before a change."""
+
+from __future__ import annotations
+
+import difflib
+
+NO_NEWLINE = "\\ No newline at end of file"
+
+
+def _header_path(path: str) -> str:
+    """``/home/husarion/compose.yaml`` -> ``home/husarion/compose.yaml`` (so ``a/`` + it reads well)."""
+    return path.lstrip("/")
+
+
+def unified_diff(before: str, after: str, path: str, *, context: int = 3) -> str:
+    """A unified diff from ``before`` to ``after`` with ``a/`` and ``b/`` headers.
+
+    ``path`` is the file's path on the robot; a leading ``/`` is dropped, so
+    ``/home/husarion/compose.yaml`` gives ``--- a/home/husarion/compose.yaml`` and
+    ``+++ b/home/husarion/compose.yaml`` (``patch -p1`` applies it from ``/``).
+    Identical texts give ``""``. A last line without a newline is marked with
+    ``\\ No newline at end of file`` as diff(1) and git do. The result ends with a newline.
+    """
+    if before == after:
+        return ""
+    name = _header_path(path)
+    a = before.splitlines(keepends=True)
+    b = after.splitlines(keepends=True)
+    out: list[str] = []
+    for line in difflib.unified_diff(a, b, f"a/{name}", f"b/{name}", n=context):
+        if line.endswith("\n"):
+            out.append(line)
+        else:
+            out.append(line + "\n")
+            out.append(NO_NEWLINE + "\n")
+    return "".join(out)
+
+
+def changed_lines(diff: str) -> list[str]:
+    """The ``-``/``+`` lines of a unified diff (without the ``---``/``+++`` headers)."""
+    return [
+        line
+        for line in diff.splitlines()
+        if line[:1] in "+-" and not line.startswith(("--- ", "+++ "))
+    ]

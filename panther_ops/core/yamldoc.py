@@ -1,0 +1,1265 @@
+"""Round-trip YAML documents edited in place: every byte not edited stays as it was.
+
+`YamlDocument` parses the text with ruamel.yaml (round-trip composer, YAML 1.2) only to
+learn where each node lives (line, column, character span, quoting style, anchors, merge
+keys). Edits are then spliced into the original text: replacing a value rewrites exactly
+that scalar, adding a key inserts its lines after the last entry of the mapping at the
+mapping's own column, deleting removes exactly the lines of the entry. Comments, key order,
+quoting, flow/block style, anchors, merge keys (``<<: *common``), blank lines and
+indentation of the rest of the file are therefore byte-identical, and nothing is re-wrapped.
+
+After each edit the new text is parsed again and compared with what the edit should have
+produced (the whole document, with aliases kept as references); an edit that would change
+anything else is refused with `DocumentError` and the text is left untouched.
+
+Merge keys: `get` resolves ``<<`` like YAML does. `set` (and `append`, `delete`) never
+write through a merge: editing ``services.panther_ros.environment`` when the service only
+inherits ``environment`` from ``<<: *common-config`` creates an explicit ``environment``
+key in the service (a copy of the inherited value with the edit applied) and leaves the
+anchor as it was; `notes` records it. To change the shared value, edit the anchor's own
+path (e.g. ``x-common-config.environment``).
+
+Paths are dotted strings (``services.panther_ros.image``, ``hosts.0.ip``, ``a.list[2]``;
+escape a literal dot as ``\\.``) or sequences of keys and indices
+(``("/**", "drive_controller", "ros__parameters")``).
+"""
+
+from __future__ import annotations
+
+import builtins
+import copy
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from datetime import date
+from typing import Any, cast
+
+from ruamel.yaml import YAML
+from ruamel.yaml.error import MarkedYAMLError, YAMLError
+from ruamel.yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from panther_ops.core.yamlrender import (
+    Alias,
+    Flow,
+    Folded,
+    Indentation,
+    Literal,
+    Quoted,
+    block_scalar_lines,
+    is_collection,
+    render_entry,
+    render_inline,
+    render_item,
+    render_scalar,
+    render_value_lines,
+)
+from panther_ops.errors import InputError
+
+__all__ = [
+    "Alias",
+    "AliasRef",
+    "DocumentError",
+    "Flow",
+    "Folded",
+    "Indentation",
+    "Literal",
+    "NodeInfo",
+    "PathError",
+    "PathLike",
+    "Quoted",
+    "YamlDocument",
+    "parse_path",
+]
+
+PathPart = str | int
+PathLike = str | Sequence[PathPart]
+
+_MERGE_TAG = "tag:yaml.org,2002:merge"
+_IdSet = set[int]  # `set` is a method name inside YamlDocument
+_MISSING: Any = object()
+_yaml = YAML(typ="rt")
+
+
+class DocumentError(InputError):
+    """A YAML document cannot be parsed, or cannot be edited as asked (names file and line)."""
+
+
+class PathError(DocumentError):
+    """A path does not exist in the document, or goes through a scalar."""
+
+
+@dataclass(frozen=True)
+class AliasRef:
+    """An alias (``*anchor``) in the unresolved view of a document."""
+
+    anchor: str
+
+
+@dataclass(frozen=True)
+class NodeInfo:
+    """Where and how a value is written.
+
+    Attributes:
+        kind: ``scalar``, ``mapping``, ``sequence`` or ``alias``.
+        style: scalars: None (plain), ``'``, ``"``, ``|``, ``>``; collections: ``flow`` or
+            ``block``.
+        start, end: character span of the value text (scalars: without anchor/tag; block
+            scalars: the header through the last content character).
+        line: 1-based line of the value.
+        column: 0-based column.
+        anchor: anchor defined on the value, if any.
+        merged_from: the value is not in the mapping itself but inherited through ``<<``
+            from this anchor.
+    """
+
+    kind: str
+    style: str | None
+    start: int
+    end: int
+    line: int
+    column: int
+    anchor: str | None
+    merged_from: str | None = None
+    raw: str = ""
+
+
+def parse_path(path: PathLike) -> tuple[PathPart, ...]:
+    """Split a dotted path (``a.b[0].c``, ``a\\.b`` for a literal dot) into parts."""
+    if not isinstance(path, str):
+        return tuple(path)
+    parts: list[PathPart] = []
+    buf = ""
+    i = 0
+    while i < len(path):
+        c = path[i]
+        if c == "\\" and i + 1 < len(path):
+            buf += path[i + 1]
+            i += 2
+            continue
+        if c == ".":
+            parts.append(buf)
+            buf = ""
+        elif c == "[":
+            close = path.find("]", i)
+            if close < 0:
+                raise PathError(f"path {path!r}: unclosed '['")
+            if buf:
+                parts.append(buf)
+                buf = ""
+            parts.append(int(path[i + 1 : close]))
+            i = close + 1
+            if i < len(path) and path[i] == ".":
+                i += 1
+            continue
+        else:
+            buf += c
+        i += 1
+    if buf or (path and path[-1] == "."):
+        parts.append(buf)
+    return tuple(parts)
+
+
+def format_path(parts: Sequence[PathPart]) -> str:
+    out = ""
+    for p in parts:
+        if isinstance(p, int):
+            out += f"[{p}]"
+        else:
+            out += ("." if out else "") + p.replace(".", "\\.")
+    return out
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equality that tells bool from int and int from float (types matter to ROS params)."""
+    if isinstance(a, bool) or isinstance(b, bool):
+        return type(a) is type(b) and a == b
+    if isinstance(a, float) and isinstance(b, float):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    if isinstance(a, int | float) and isinstance(b, int | float):
+        return type(a) is type(b) and a == b
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    return type(a) is type(b) and bool(a == b)
+
+
+def _plain_value(value: Any) -> Any:
+    """A Python value as it reads back from YAML (tuples -> lists, markers -> content)."""
+    if isinstance(value, Quoted):
+        return value.text
+    if isinstance(value, Folded | Literal):
+        return _block_value(value)
+    if isinstance(value, Flow):
+        return _plain_value(value.value)
+    if isinstance(value, Alias):
+        return AliasRef(value.anchor)
+    if isinstance(value, Mapping):
+        return {k: _plain_value(v) for k, v in value.items()}
+    if is_collection(value):
+        return [_plain_value(v) for v in value]
+    return value
+
+
+def _flow(node: Node) -> bool:
+    return bool(getattr(node, "flow_style", False))
+
+
+def _block_value(value: Folded | Literal) -> str:
+    """The string a rendered block scalar reads back as (folding applied)."""
+    header, lines = block_scalar_lines(value, 2)
+    node = _yaml.compose("k: " + header + "\n" + "\n".join(lines) + "\n")
+    return cast("str", _construct_scalar(node.value[0][1]))
+
+
+def _construct_scalar(node: ScalarNode) -> Any:
+    tag = node.tag
+    value = node.value.replace("\a", "") if node.style == ">" else node.value
+    if tag == "tag:yaml.org,2002:null":
+        return None
+    if tag == "tag:yaml.org,2002:bool":
+        return value.lower() == "true"
+    if tag == "tag:yaml.org,2002:int":
+        text = value.replace("_", "")
+        try:
+            return int(text, 0)
+        except ValueError:
+            return int(text, 10)
+    if tag == "tag:yaml.org,2002:float":
+        text = value.replace("_", "").lower()
+        if text.endswith(".nan"):
+            return math.nan
+        if text.endswith(".inf"):
+            return -math.inf if text.startswith("-") else math.inf
+        return float(text)
+    return value
+
+
+class YamlDocument:
+    """A YAML document (one per file) that is edited in place. See the module docstring."""
+
+    def __init__(self, text: str, path: str | None = None) -> None:
+        self.path = path
+        self.original = text
+        self.notes: list[str] = []
+        self._text = text
+        self._root = self._compose(text)
+        self._index()
+
+    @classmethod
+    def load(cls, text: str, path: str | None = None) -> YamlDocument:
+        return cls(text, path)
+
+    # ----------------------------------------------------------------- reading
+
+    @property
+    def text(self) -> str:
+        """The current text (the original text plus the edits made so far)."""
+        return self._text
+
+    def dump(self) -> str:
+        return self._text
+
+    @property
+    def changed(self) -> bool:
+        return self._text != self.original
+
+    @property
+    def indentation(self) -> Indentation:
+        return self._indent
+
+    def to_plain(self) -> Any:
+        """The whole document as plain Python values, merges and aliases resolved."""
+        return None if self._root is None else self._resolved(self._root)
+
+    def get(self, path: PathLike, default: Any = _MISSING) -> Any:
+        """The value at ``path`` as plain Python (merges resolved).
+
+        Raises:
+            PathError: the path does not exist and no ``default`` was given.
+        """
+        found = self._find(parse_path(path))
+        if found is None:
+            if default is _MISSING:
+                raise self._path_error(parse_path(path), "not found")
+            return default
+        return self._resolved(found[0])
+
+    def exists(self, path: PathLike) -> bool:
+        return self._find(parse_path(path)) is not None
+
+    def info(self, path: PathLike) -> NodeInfo:
+        """Where and how the value at ``path`` is written (see `NodeInfo`)."""
+        parts = parse_path(path)
+        found = self._find(parts)
+        if found is None:
+            raise self._path_error(parts, "not found")
+        node, merged_from, span = found
+        start, end = span
+        if isinstance(node, ScalarNode):
+            kind, style = "scalar", node.style
+        else:
+            kind = "mapping" if isinstance(node, MappingNode) else "sequence"
+            style = "flow" if _flow(node) else "block"
+        if self._text[start : start + 1] == "*":
+            kind = "alias"
+        line = self._text.count("\n", 0, start) + 1
+        column = start - (self._text.rfind("\n", 0, start) + 1)
+        return NodeInfo(
+            kind=kind,
+            style=style,
+            start=start,
+            end=end,
+            line=line,
+            column=column,
+            anchor=node.anchor if kind != "alias" else None,
+            merged_from=merged_from,
+            raw=self._text[start:end],
+        )
+
+    def line_of(self, path: PathLike) -> int | None:
+        """1-based line of the value at ``path`` (None if it does not exist)."""
+        try:
+            return self.info(path).line
+        except PathError:
+            return None
+
+    def origin(self, path: PathLike) -> str | None:
+        """``own``, ``merged:<anchor>``, or None when the path does not exist.
+
+        ``merged`` means some key on the path is inherited through ``<<``.
+        """
+        found = self._find(parse_path(path))
+        if found is None:
+            return None
+        return "own" if found[1] is None else f"merged:{found[1]}"
+
+    def keys(self, path: PathLike = ()) -> list[Any]:
+        """Keys of the mapping at ``path`` (own keys first, then inherited ones)."""
+        value = self.get(path) if parse_path(path) else self.to_plain()
+        if not isinstance(value, dict):
+            raise self._path_error(parse_path(path), "is not a mapping")
+        return list(value)
+
+    def anchors(self) -> dict[str, int]:
+        """Anchors defined in the document and their 1-based line."""
+        return {name: self._text.count("\n", 0, n.start_mark.index) + 1 for name, n in self._anchors.items()}
+
+    # ----------------------------------------------------------------- editing
+
+    def set(self, path: PathLike, value: Any) -> bool:
+        """Set the value at ``path``; returns False when it already had that value.
+
+        Missing mapping keys on the way are created (as block mappings at the file's
+        indentation); a sequence index equal to the length appends. Setting a key that is
+        inherited through ``<<`` creates an explicit override key in that mapping (a copy of
+        the inherited value with the change); the anchor is never rewritten.
+
+        Scalars keep their quoting style; the case of booleans (``True``) is kept.
+
+        Raises:
+            PathError: an index is out of range or the path goes through a scalar.
+            DocumentError: the edit cannot be made without changing other content.
+        """
+        parts = parse_path(path)
+        if not parts:
+            raise PathError("cannot replace the whole document", path=self.path)
+        found = self._find(parts)
+        if found is not None and _same(self._resolved(found[0]), _plain_value(value)):
+            return False
+        self._edit_set(parts, value)
+        return True
+
+    def delete(self, path: PathLike, *, missing_ok: bool = True) -> bool:
+        """Remove a mapping key or sequence item; returns False when it did not exist.
+
+        The entry's lines go, with comment lines directly above it at its column and one
+        blank separator line when entries are separated by blank lines. Removing the last
+        entry of a collection leaves ``{}`` / ``[]``.
+
+        Raises:
+            DocumentError: the key is only inherited through ``<<`` (nothing to delete in
+                this mapping; override it or edit the anchor).
+        """
+        parts = parse_path(path)
+        if not parts:
+            raise PathError("cannot delete the whole document", path=self.path)
+        parent_found = self._find(parts[:-1]) if parts[:-1] else self._root_found()
+        if parent_found is None:
+            if missing_ok:
+                return False
+            raise self._path_error(parts, "not found")
+        parent, merged_from, _span = parent_found
+        slot = self._slot(parent, parts[-1])
+        if slot is None:
+            if isinstance(parent, MappingNode) and self._merged_lookup(parent, parts[-1]):
+                _node, anchor = self._merged_lookup(parent, parts[-1]) or (None, None)
+                raise DocumentError(
+                    f"{format_path(parts)} is inherited from &{anchor} through '<<'; "
+                    "it is not written in this mapping",
+                    path=self.path,
+                    line=self.line_of(parts[:-1]),
+                    hint=f"edit the anchor &{anchor} to change it for every service that merges it",
+                )
+            if missing_ok:
+                return False
+            raise self._path_error(parts, "not found")
+        if merged_from is not None:
+            full = copy.deepcopy(self._resolved_at(parts[:-1]))
+            _py_delete(full, parts[-1])
+            self._materialize(parts[:-1], full)
+            return True
+        self._edit_delete(parts, parent, slot)
+        return True
+
+    def append(self, path: PathLike, value: Any) -> bool:
+        """Append ``value`` to the sequence at ``path`` (created when missing). Always True."""
+        parts = parse_path(path)
+        found = self._find(parts)
+        if found is None:
+            self.set(parts, [value])
+            return True
+        node, merged_from, _ = found
+        if not isinstance(node, SequenceNode):
+            raise self._path_error(parts, "is not a sequence")
+        if merged_from is not None or self._is_alias_path(parts):
+            full = copy.deepcopy(self._resolved(node))
+            full.append(_plain_value(value))
+            self._materialize(parts, full)
+            return True
+        self._edit_set((*parts, len(node.value)), value)
+        return True
+
+    def materialize(self, path: PathLike) -> bool:
+        """Make the inherited (``<<``) or aliased value at ``path`` an explicit copy.
+
+        Returns False when the value is already written in place.
+        """
+        parts = parse_path(path)
+        found = self._find(parts)
+        if found is None:
+            raise self._path_error(parts, "not found")
+        if found[1] is None and not self._is_alias_path(parts):
+            return False
+        self._materialize(parts, copy.deepcopy(self._resolved(found[0])))
+        return True
+
+    def replace_span(
+        self,
+        start: int,
+        end: int,
+        new_text: str,
+        *,
+        path: PathLike,
+        expected: Any,
+    ) -> bool:
+        """Low-level splice of ``text[start:end]`` for edits inside one scalar.
+
+        The result must parse and differ from before only in that the value at ``path`` is
+        now ``expected``; otherwise `DocumentError` is raised and nothing changes.
+        """
+        if self._text[start:end] == new_text:
+            return False
+        parts = parse_path(path)
+        expected_tree = self._unresolved_with(parts, expected)
+        self._commit(self._text[:start] + new_text + self._text[end:], expected_tree, parts)
+        return True
+
+    def diff(self, path: str | None = None) -> str:
+        """Unified diff from the original text to the current text."""
+        from panther_ops.core.diff import unified_diff
+
+        return unified_diff(self.original, self._text, path or self.path or "document.yaml")
+
+    # ----------------------------------------------------------- parse & index
+
+    def _compose(self, text: str) -> Node | None:
+        try:
+            return cast("Node | None", _yaml.compose(text))
+        except MarkedYAMLError as exc:
+            mark = exc.problem_mark or exc.context_mark
+            line = mark.line + 1 if mark is not None else None
+            problem = exc.problem or exc.context or "invalid YAML"
+            raise DocumentError(f"invalid YAML: {problem}", path=self.path, line=line) from exc
+        except YAMLError as exc:
+            raise DocumentError(f"invalid YAML: {exc}", path=self.path) from exc
+
+    def _index(self) -> None:
+        """Record alias slots and anchors; detect indentation; refuse duplicate keys."""
+        self._alias_slots: builtins.set[tuple[int, int]] = builtins.set()
+        self._anchors: dict[str, Node] = {}
+        seen: _IdSet = builtins.set()
+        map_steps: dict[int, int] = {}
+        seq_offsets: dict[int, int] = {}
+
+        def walk(node: Node) -> None:
+            if id(node) in seen:
+                return
+            seen.add(id(node))
+            if node.anchor:
+                self._anchors[node.anchor] = node
+            if isinstance(node, MappingNode):
+                keys: dict[str, int] = {}
+                for i, (k, v) in enumerate(node.value):
+                    if isinstance(k, ScalarNode) and k.tag != _MERGE_TAG:
+                        if k.value in keys:
+                            raise DocumentError(
+                                f"duplicate key {k.value!r} (first at line {keys[k.value]})",
+                                path=self.path,
+                                line=k.start_mark.line + 1,
+                                key=k.value,
+                            )
+                        keys[k.value] = k.start_mark.line + 1
+                    if id(v) in seen:
+                        self._alias_slots.add((id(node), i))
+                        continue
+                    if not _flow(node) and not getattr(v, "flow_style", True):
+                        col = k.start_mark.column
+                        if isinstance(v, MappingNode) and v.value:
+                            step = v.value[0][0].start_mark.column - col
+                            if step > 0:
+                                map_steps[step] = map_steps.get(step, 0) + 1
+                        elif isinstance(v, SequenceNode) and v.value:
+                            dash = self._dash_col(v.value[0])
+                            if dash is not None and dash >= col:
+                                seq_offsets[dash - col] = seq_offsets.get(dash - col, 0) + 1
+                    walk(v)
+            elif isinstance(node, SequenceNode):
+                for i, item in enumerate(node.value):
+                    if id(item) in seen:
+                        self._alias_slots.add((id(node), i))
+                        continue
+                    walk(item)
+
+        if self._root is not None:
+            walk(self._root)
+        mapping = max(map_steps, key=lambda s: (map_steps[s], -s)) if map_steps else 2
+        offset = max(seq_offsets, key=lambda s: (seq_offsets[s], s)) if seq_offsets else 2
+        self._indent = Indentation(mapping=mapping, offset=offset)
+
+    def _dash_col(self, item: Node) -> int | None:
+        pos = self._dash_pos(item.start_mark.index)
+        if pos is None:
+            return None
+        return pos - (self._text.rfind("\n", 0, pos) + 1)
+
+    def _dash_pos(self, item_start: int) -> int | None:
+        """Position of the ``-`` introducing a block sequence item starting at ``item_start``."""
+        i = item_start - 1
+        text = self._text
+        while i >= 0 and text[i] in " \t":
+            i -= 1
+        if i >= 0 and text[i] == "-":
+            return i
+        # the item may start on a later line ("-\n  key: v"); search backwards for the dash
+        j = i
+        while j >= 0 and text[j] in " \t\r\n":
+            j -= 1
+        return j if j >= 0 and text[j] == "-" else None
+
+    # ------------------------------------------------------------- navigation
+
+    def _root_found(self) -> tuple[Node, str | None, tuple[int, int]] | None:
+        if self._root is None:
+            return None
+        return self._root, None, (self._root.start_mark.index, self._content_end(self._root))
+
+    def _slot(self, node: Node, part: PathPart) -> int | None:
+        """Index of the own entry/item for ``part`` in a collection node."""
+        if isinstance(node, MappingNode):
+            want = str(part)
+            for i, (k, _v) in enumerate(node.value):
+                if isinstance(k, ScalarNode) and k.tag != _MERGE_TAG and k.value == want:
+                    return i
+            return None
+        if isinstance(node, SequenceNode):
+            idx = _as_index(part)
+            if idx is None:
+                return None
+            if idx < 0:
+                idx += len(node.value)
+            return idx if 0 <= idx < len(node.value) else None
+        return None
+
+    def _merge_sources(self, node: MappingNode) -> list[MappingNode]:
+        sources: list[MappingNode] = []
+        for k, v in node.value:
+            if isinstance(k, ScalarNode) and k.tag == _MERGE_TAG:
+                if isinstance(v, MappingNode):
+                    sources.append(v)
+                elif isinstance(v, SequenceNode):
+                    sources.extend(m for m in v.value if isinstance(m, MappingNode))
+        return sources
+
+    def _merged_lookup(self, node: MappingNode, part: PathPart) -> tuple[Node, str] | None:
+        for source in self._merge_sources(node):
+            slot = self._slot(source, part)
+            if slot is not None:
+                return source.value[slot][1], source.anchor or "?"
+            deeper = self._merged_lookup(source, part)
+            if deeper is not None:
+                return deeper
+        return None
+
+    def _find(self, parts: Sequence[PathPart]) -> tuple[Node, str | None, tuple[int, int]] | None:
+        """Node at ``parts``, the anchor it is inherited from (if any), and its text span."""
+        found = self._root_found()
+        if found is None:
+            return None
+        node, merged_from, span = found
+        for part in parts:
+            slot = self._slot(node, part)
+            if slot is not None:
+                if merged_from is None:
+                    span = self._slot_span(node, slot)
+                node = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
+                if merged_from is not None:
+                    span = (node.start_mark.index, self._content_end(node))
+                continue
+            if isinstance(node, MappingNode):
+                inherited = self._merged_lookup(node, part)
+                if inherited is not None:
+                    node, anchor = inherited
+                    merged_from = merged_from or anchor
+                    span = (node.start_mark.index, self._content_end(node))
+                    continue
+            return None
+        return node, merged_from, span
+
+    def _is_alias_path(self, parts: Sequence[PathPart]) -> bool:
+        """Whether some slot on the path is an alias (``*anchor``) occurrence."""
+        node = self._root
+        for part in parts:
+            if node is None:
+                return False
+            slot = self._slot(node, part)
+            if slot is None:
+                return False
+            if (id(node), slot) in self._alias_slots:
+                return True
+            node = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
+        return False
+
+    def _path_error(self, parts: Sequence[PathPart], what: str) -> PathError:
+        line = None
+        for n in range(len(parts) - 1, -1, -1):
+            found = self._find(parts[:n])
+            if found is not None:
+                line = self._text.count("\n", 0, found[2][0]) + 1 if n else None
+                break
+        return PathError(f"{format_path(parts)}: {what}", path=self.path, line=line, key=format_path(parts))
+
+    # ------------------------------------------------------------ plain views
+
+    def _resolved(self, node: Node) -> Any:
+        if isinstance(node, ScalarNode):
+            return _construct_scalar(node)
+        if isinstance(node, SequenceNode):
+            return [self._resolved(n) for n in node.value]
+        out: dict[Any, Any] = {}
+        for source in reversed(self._merge_sources(cast("MappingNode", node))):
+            out.update(self._resolved(source))
+        for k, v in node.value:
+            if isinstance(k, ScalarNode) and k.tag == _MERGE_TAG:
+                continue
+            out[self._key(k)] = self._resolved(v)
+        # own keys first, in file order, then inherited ones
+        own = [self._key(k) for k, _ in node.value if not (isinstance(k, ScalarNode) and k.tag == _MERGE_TAG)]
+        return {**{k: out[k] for k in own}, **{k: v for k, v in out.items() if k not in own}}
+
+    def _resolved_at(self, parts: Sequence[PathPart]) -> Any:
+        return self.get(parts) if parts else self.to_plain()
+
+    def _key(self, node: Node) -> Any:
+        if isinstance(node, ScalarNode):
+            return node.value
+        return repr(self._resolved(node))
+
+    def _unresolved(self, node: Node | None, seen: _IdSet | None = None) -> Any:
+        """Plain view with aliases as `AliasRef` (``<<`` kept as a key)."""
+        if node is None:
+            return None
+        seen = builtins.set() if seen is None else seen
+        if id(node) in seen:
+            return AliasRef(node.anchor or "?")
+        seen.add(id(node))
+        if isinstance(node, ScalarNode):
+            value = _construct_scalar(node)
+            return value.isoformat() if isinstance(value, date) else value
+        if isinstance(node, SequenceNode):
+            return [self._unresolved(n, seen) for n in node.value]
+        out: dict[Any, Any] = {}
+        for k, v in node.value:
+            key = "<<" if isinstance(k, ScalarNode) and k.tag == _MERGE_TAG else self._key(k)
+            out[key] = self._unresolved(v, seen)
+        return out
+
+    def _unresolved_with(self, parts: Sequence[PathPart], value: Any) -> Any:
+        tree = self._unresolved(self._root)
+        if tree is None:
+            tree = {}
+        _py_set(tree, parts, _plain_value(value))
+        return tree
+
+    # ----------------------------------------------------------- text geometry
+
+    def _eol(self, pos: int) -> int:
+        """Index just past the newline ending the line that contains ``pos - 1``."""
+        j = self._text.find("\n", max(pos, 0))
+        return len(self._text) if j < 0 else j + 1
+
+    def _bol(self, pos: int) -> int:
+        return self._text.rfind("\n", 0, pos) + 1
+
+    def _colon_after(self, key: Node) -> int:
+        """Index just past the ``:`` that follows a mapping key."""
+        pos = key.end_mark.index
+        j = self._text.find(":", pos)
+        return j + 1 if j >= 0 else pos
+
+    def _scalar_span(self, node: ScalarNode) -> tuple[int, int]:
+        start, end = node.start_mark.index, node.end_mark.index
+        text = self._text
+        # skip an anchor (&a) and/or a tag (!!str) written before the scalar
+        while start < end and text[start] in "&!":
+            while start < end and text[start] not in " \t\r\n":
+                start += 1
+            while start < end and text[start] in " \t\r\n":
+                start += 1
+        if node.style in ("|", ">"):
+            while end > start and text[end - 1] in " \t\r\n":
+                end -= 1
+        return start, end
+
+    def _content_end(self, node: Node) -> int:
+        """End (exclusive) of the last character that belongs to ``node``'s content."""
+        if isinstance(node, ScalarNode):
+            start, end = self._scalar_span(node)
+            return end
+        if _flow(node) or not node.value:
+            return cast("int", node.end_mark.index)
+        last = len(node.value) - 1
+        return self._slot_span(node, last)[1]
+
+    def _slot_span(self, node: Node, slot: int) -> tuple[int, int]:
+        """Text span of the value in a collection slot (alias token, empty value, ...)."""
+        if isinstance(node, MappingNode):
+            key, value = node.value[slot]
+            after = self._colon_after(key)
+        else:
+            value = node.value[slot]
+            if slot:
+                after = self._slot_span(node, slot - 1)[1]
+            else:
+                after = node.start_mark.index + (1 if _flow(node) else 0)
+        if (id(node), slot) in self._alias_slots:
+            token = "*" + (value.anchor or "")
+            start = self._find_token(token, after)
+            return start, start + len(token)
+        if isinstance(value, ScalarNode) and value.tag == "tag:yaml.org,2002:null" and value.value == "":
+            if isinstance(node, SequenceNode) and not _flow(node):
+                dash = self._find_token("-", after if slot else node.start_mark.index)
+                return dash + 1, dash + 1
+            return after, after
+        if isinstance(value, ScalarNode):
+            return self._scalar_span(value)
+        return value.start_mark.index, self._content_end(value)
+
+    def _find_token(self, token: str, pos: int) -> int:
+        """First occurrence of ``token`` at or after ``pos`` outside comments."""
+        text = self._text
+        i = pos
+        while i < len(text):
+            if text.startswith(token, i):
+                return i
+            if text[i] == "#" and (i == 0 or text[i - 1] in " \t\n"):
+                nl = text.find("\n", i)
+                i = len(text) if nl < 0 else nl + 1
+                continue
+            i += 1
+        raise DocumentError(f"internal: {token!r} not found after offset {pos}", path=self.path)
+
+    def _in_flow(self, parts: Sequence[PathPart]) -> bool:
+        node = self._root
+        for part in parts:
+            if node is None or isinstance(node, ScalarNode):
+                return False
+            if _flow(node):
+                return True
+            slot = self._slot(node, part)
+            if slot is None:
+                return False
+            node = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
+        return False
+
+    # --------------------------------------------------------------- commits
+
+    def _commit(self, new_text: str, expected: Any, parts: Sequence[PathPart]) -> None:
+        """Adopt ``new_text`` if it parses to ``expected`` (unresolved view); else refuse."""
+        try:
+            root = self._compose(new_text)
+        except DocumentError as exc:
+            raise DocumentError(
+                f"internal: editing {format_path(parts)} would make the file invalid YAML ({exc.message})",
+                path=self.path,
+                line=self.line_of(parts),
+            ) from exc
+        probe = object.__new__(YamlDocument)
+        probe._text = new_text
+        probe._root = root
+        probe.path = self.path
+        got = probe._unresolved(root)
+        if got is None and expected == {}:
+            got = {}
+        if not _same(_normalise(got), _normalise(expected)):
+            raise DocumentError(
+                f"internal: editing {format_path(parts)} would change more than that value; "
+                "the file was left as it was",
+                path=self.path,
+                line=self.line_of(parts),
+            )
+        self._text = new_text
+        self._root = root
+        self._index()
+
+    def _splice(self, start: int, end: int, new: str) -> str:
+        return self._text[:start] + new + self._text[end:]
+
+    # ------------------------------------------------------------ set engine
+
+    def _edit_set(self, parts: tuple[PathPart, ...], value: Any) -> None:
+        if self._root is None:
+            self._create_root(parts, value)
+            return
+        node: Node = self._root
+        for depth, part in enumerate(parts):
+            here, rest = parts[: depth + 1], parts[depth + 1 :]
+            if isinstance(node, ScalarNode):
+                raise self._path_error(here, "goes through a scalar value")
+            slot = self._slot(node, part)
+            if slot is not None:
+                if (id(node), slot) in self._alias_slots:
+                    if rest:
+                        full = copy.deepcopy(self.get(here))
+                        self._py_set_checked(full, rest, value, here)
+                    else:
+                        full = value
+                    self._materialize(here, full)
+                    return
+                if not rest:
+                    self._replace_slot(parts, node, slot, value)
+                    return
+                node = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
+                continue
+            if isinstance(node, SequenceNode):
+                idx = _as_index(part)
+                if idx is not None and idx == len(node.value):
+                    new_value = _nest(rest, value)
+                    self._append_item(here[:-1], node, new_value, parts)
+                    return
+                raise self._path_error(here, f"index out of range (the sequence has {len(node.value)} items)")
+            inherited = self._merged_lookup(cast("MappingNode", node), part)
+            if inherited is not None:
+                if rest:
+                    full = copy.deepcopy(self.get(here))
+                    self._py_set_checked(full, rest, value, here)
+                else:
+                    full = value
+                self._materialize(here, full)
+                return
+            self._insert_entry(here[:-1], cast("MappingNode", node), part, _nest(rest, value), parts)
+            return
+
+    def _py_set_checked(self, tree: Any, rest: Sequence[PathPart], value: Any, here: Sequence[PathPart]) -> None:
+        if not rest:
+            raise DocumentError(f"{format_path(here)}: nothing to set", path=self.path)
+        try:
+            _py_set(tree, rest, value, allow_create=True)
+        except (KeyError, IndexError, TypeError) as exc:
+            raise self._path_error((*here, *rest), f"cannot be set ({exc})") from exc
+
+    def _materialize(self, parts: Sequence[PathPart], full: Any) -> None:
+        """Write ``full`` as an explicit value at ``parts`` (inherited or aliased before)."""
+        parts = tuple(parts)
+        # walk to the first inherited/aliased step and write the copy there
+        node: Node | None = self._root
+        for depth, part in enumerate(parts):
+            assert node is not None
+            slot = self._slot(node, part)
+            here = parts[: depth + 1]
+            if slot is None:
+                anchor = self._merged_lookup(cast("MappingNode", node), part)
+                source = anchor[1] if anchor else "?"
+                sub = copy.deepcopy(self.get(here))
+                rest = parts[depth + 1 :]
+                if rest:
+                    _py_set(sub, rest, full)
+                else:
+                    sub = full
+                self.notes.append(
+                    f"{format_path(here)} was inherited from &{source} through '<<': "
+                    f"wrote an explicit override in {format_path(here[:-1]) or 'the document'}; "
+                    f"&{source} is unchanged"
+                )
+                self._insert_entry(here[:-1], cast("MappingNode", node), part, sub, here)
+                return
+            if (id(node), slot) in self._alias_slots:
+                sub = copy.deepcopy(self.get(here))
+                rest = parts[depth + 1 :]
+                if rest:
+                    _py_set(sub, rest, full)
+                else:
+                    sub = full
+                anchor_name = (node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]).anchor
+                self.notes.append(
+                    f"{format_path(here)} was an alias of &{anchor_name}: replaced it with an "
+                    f"explicit copy; &{anchor_name} is unchanged"
+                )
+                self._replace_slot(here, node, slot, sub)
+                return
+            node = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
+        raise DocumentError(f"{format_path(parts)}: nothing inherited to override", path=self.path)
+
+    def _replace_slot(self, parts: Sequence[PathPart], node: Node, slot: int, value: Any) -> None:
+        """Replace the value in a slot with ``value``, keeping the scalar style where it can."""
+        parts = tuple(parts)
+        old = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
+        start, end = self._slot_span(node, slot)
+        flow = bool(_flow(node))
+        expected = self._unresolved_with(parts, value)
+        is_alias = (id(node), slot) in self._alias_slots
+        old_block = isinstance(old, MappingNode | SequenceNode) and not _flow(old) and not is_alias
+        if isinstance(node, MappingNode):
+            head = self._colon_after(node.value[slot][0])
+            base_col = node.value[slot][0].start_mark.column
+        else:
+            dash = self._dash_pos(start) if not flow else None
+            head = dash + 1 if dash is not None else start
+            base_col = (dash - self._bol(dash)) if dash is not None else 0
+        if (
+            not is_alias
+            and isinstance(old, ScalarNode)
+            and old.style in ("|", ">")
+            and isinstance(value, str)
+        ):
+            self._commit(self._splice(start, end, self._block_scalar_text(old, start, end, value)), expected, parts)
+            return
+        if flow:
+            inline: str | None = render_inline(value, flow=True)
+        elif isinstance(old, ScalarNode) and not is_alias and not is_collection(value):
+            style = old.style if old.style in ("'", '"') else None
+            inline = render_scalar(value, style=style, raw=self._text[start:end]) if not isinstance(
+                value, Folded | Literal
+            ) else None
+        elif isinstance(old, MappingNode | SequenceNode) and _flow(old) and not is_alias:
+            inline = render_inline(value, flow=True)
+        else:
+            inline = render_inline(value)
+        if inline is not None:
+            if start == end or old_block:
+                self._commit(self._splice(head, end, " " + inline), expected, parts)
+            else:
+                self._commit(self._splice(start, end, inline), expected, parts)
+            return
+        # block rendering after the key's colon (or the item's dash)
+        if isinstance(value, Folded | Literal):
+            header, lines = block_scalar_lines(value, base_col + max(self._indent.mapping, 2))
+            self._commit(self._splice(head, end, " " + header + "\n" + "\n".join(lines)), expected, parts)
+            return
+        if isinstance(node, MappingNode):
+            col = self._existing_child_col(old, base_col) if old_block else base_col
+            lines = render_value_lines(value, col, self._indent)
+            self._commit(self._splice(head, end, "\n" + "\n".join(lines)), expected, parts)
+            return
+        lines = render_item(value, base_col, self._indent)
+        new = " " + lines[0][base_col + 2 :] + "".join("\n" + line for line in lines[1:])
+        self._commit(self._splice(head, end, new), expected, parts)
+
+    def _block_scalar_text(self, old: ScalarNode, start: int, end: int, value: str) -> str:
+        """New text of a ``|``/``>`` scalar holding ``value``: same indicator and indentation."""
+        text = self._text
+        nl = text.find("\n", start)
+        header = text[start:nl] if 0 <= nl < end else text[start:end]
+        body = text[nl + 1 : end] if 0 <= nl < end else ""
+        first = next((line for line in body.split("\n") if line.strip()), "")
+        col = len(first) - len(first.lstrip(" ")) if first else self._bol(start) + 2 - self._bol(start)
+        one_line = "\n" not in value.rstrip("\n")
+        marker: Folded | Literal = Folded(value) if old.style == ">" and one_line else Literal(value)
+        new_header, lines = block_scalar_lines(marker, col)
+        token = header.split("#", 1)[0].strip()
+        keep = (
+            token[:1] == new_header[:1]
+            and ("-" in token) == ("-" in new_header)
+            and "+" not in token
+            and not any(c.isdigit() for c in token)
+        )
+        return (header if keep else new_header) + "\n" + "\n".join(lines)
+
+    def _existing_child_col(self, old: Node, key_col: int) -> int:
+        """Column to use as the 'key column' when re-rendering a block value in place."""
+        if isinstance(old, MappingNode) and old.value and not _flow(old):
+            return cast("int", old.value[0][0].start_mark.column) - self._indent.mapping
+        if isinstance(old, SequenceNode) and old.value and not _flow(old):
+            dash = self._dash_col(old.value[0])
+            if dash is not None:
+                return dash - self._indent.offset
+        return key_col
+
+    def _child_col(self, parts: Sequence[PathPart]) -> int:
+        info = self.info(parts)
+        return info.column + self._indent.mapping
+
+    def _blank_separated(self, node: Node) -> bool:
+        """Whether the last two entries of a block collection are separated by a blank line."""
+        if len(node.value) < 2:
+            return False
+        prev_end = self._slot_span(node, len(node.value) - 2)[1]
+        last_start = self._entry_start(node, len(node.value) - 1)
+        between = self._text[self._eol(prev_end) : self._bol(last_start)]
+        return any(not line.strip() for line in between.split("\n")[:-1]) if between else False
+
+    def _entry_start(self, node: Node, slot: int) -> int:
+        if isinstance(node, MappingNode):
+            return cast("int", node.value[slot][0].start_mark.index)
+        start = self._slot_span(node, slot)[0]
+        dash = self._dash_pos(start)
+        return dash if dash is not None else start
+
+    def _insert_entry(
+        self,
+        parent_parts: Sequence[PathPart],
+        node: MappingNode,
+        key: PathPart,
+        value: Any,
+        full_parts: Sequence[PathPart],
+    ) -> None:
+        key_parts = (*tuple(parent_parts), key)
+        expected = self._unresolved_with(key_parts, value)
+        if _flow(node):
+            close = node.end_mark.index - 1
+            entry = f"{render_scalar(str(key), flow=True)}: {render_inline(value, flow=True)}"
+            sep = ", " if node.value else ""
+            new_text = self._splice(close, close, sep + entry)
+            self._commit(new_text, expected, full_parts)
+            return
+        if not node.value:
+            raise DocumentError(f"{format_path(parent_parts)}: empty block mapping", path=self.path)
+        col = node.value[0][0].start_mark.column
+        lines = render_entry(str(key) if isinstance(key, int) else key, value, col, self._indent)
+        last_end = self._slot_span(node, len(node.value) - 1)[1]
+        at = self._eol(last_end)
+        prefix = ""
+        if at == len(self._text) and not self._text.endswith("\n"):
+            prefix = "\n"
+        if self._blank_separated(node):
+            prefix += "\n"
+        self._commit(self._splice(at, at, prefix + "\n".join(lines) + "\n"), expected, full_parts)
+
+    def _append_item(
+        self, seq_parts: Sequence[PathPart], node: SequenceNode, value: Any, full_parts: Sequence[PathPart]
+    ) -> None:
+        expected = self._unresolved_with((*tuple(seq_parts), len(node.value)), value)
+        text = self._text
+        if _flow(node):
+            rendered = render_inline(value, flow=True) or ""
+            if not node.value:
+                close = node.end_mark.index - 1
+                self._commit(self._splice(close, close, rendered), expected, full_parts)
+                return
+            last_end = self._slot_span(node, len(node.value) - 1)[1]
+            if len(node.value) >= 2:
+                prev_end = self._slot_span(node, len(node.value) - 2)[1]
+            else:
+                prev_end = node.start_mark.index
+            last_start = self._slot_span(node, len(node.value) - 1)[0]
+            if "\n" in text[prev_end:last_start]:
+                line_start = self._bol(last_start)
+                indent = text[line_start:last_start]
+                sep = ",\n" + (indent if not indent.strip() else " " * (last_start - line_start))
+            else:
+                sep = ", "
+            self._commit(self._splice(last_end, last_end, sep + rendered), expected, full_parts)
+            return
+        dash_col = self._dash_col(node.value[0]) or 0
+        lines = render_item(value, dash_col, self._indent)
+        last_end = self._slot_span(node, len(node.value) - 1)[1]
+        at = self._eol(last_end)
+        prefix = "\n" if at == len(text) and not text.endswith("\n") else ""
+        if self._blank_separated(node):
+            prefix += "\n"
+        self._commit(self._splice(at, at, prefix + "\n".join(lines) + "\n"), expected, full_parts)
+
+    def _create_root(self, parts: tuple[PathPart, ...], value: Any) -> None:
+        if isinstance(parts[0], int):
+            raise PathError("an empty document can only get mapping keys", path=self.path)
+        tree = _nest(parts[1:], value)
+        lines = render_entry(parts[0], tree, 0, self._indent)
+        text = self._text
+        if text and not text.endswith("\n"):
+            text += "\n"
+        expected = {parts[0]: _plain_value(tree)}
+        self._commit(text + "\n".join(lines) + "\n", expected, parts)
+
+    # --------------------------------------------------------- delete engine
+
+    def _edit_delete(self, parts: tuple[PathPart, ...], parent: Node, slot: int) -> None:
+        text = self._text
+        tree = self._unresolved(self._root)
+        _py_delete_path(tree, parts)
+        if _flow(parent):
+            start = self._entry_start(parent, slot)
+            end = self._slot_span(parent, slot)[1]
+            if slot + 1 < len(parent.value):
+                end = self._entry_start(parent, slot + 1)
+            elif slot > 0:
+                start = self._slot_span(parent, slot - 1)[1]
+            self._commit(self._splice(start, end, ""), tree, parts)
+            return
+        own = [i for i, (k, _) in enumerate(parent.value)] if isinstance(parent, MappingNode) else list(
+            range(len(parent.value))
+        )
+        if len(own) == 1 and parent is not self._root:
+            # last entry: leave an empty flow collection after the parent key / dash
+            empty = "{}" if isinstance(parent, MappingNode) else "[]"
+            grand_parts = parts[:-2]
+            grand_found = self._find(grand_parts) if grand_parts else self._root_found()
+            assert grand_found is not None
+            grand = grand_found[0]
+            gslot = self._slot(grand, parts[-2])
+            assert gslot is not None
+            if isinstance(grand, MappingNode):
+                start = self._colon_after(grand.value[gslot][0])
+                lead = " "
+            else:
+                start = self._slot_span(grand, gslot)[0]
+                lead = ""
+            end = self._content_end(parent)
+            self._commit(self._splice(start, end, lead + empty), tree, parts)
+            return
+        entry_start = self._entry_start(parent, slot)
+        line_start = self._bol(entry_start)
+        end = self._eol(self._slot_span(parent, slot)[1])
+        if text[line_start:entry_start].strip():
+            # first key of a compact "- key: v" item: pull the next key up onto the dash line
+            if isinstance(parent, MappingNode) and slot + 1 < len(parent.value):
+                nxt = parent.value[slot + 1][0].start_mark.index
+                self._commit(self._splice(entry_start, nxt, ""), tree, parts)
+                return
+            raise DocumentError(
+                f"{format_path(parts)}: cannot remove an entry written on its parent's line",
+                path=self.path,
+                line=self.line_of(parts),
+            )
+        col = entry_start - line_start
+        start = line_start
+        # comment lines directly above, at the entry's column, belong to it
+        while start > 0:
+            prev = self._bol(start - 1)
+            line = text[prev : start - 1]
+            if line.strip().startswith("#") and len(line) - len(line.lstrip(" ")) == col:
+                start = prev
+            else:
+                break
+        prev_blank = start > 0 and not text[self._bol(start - 1) : start - 1].strip()
+        next_line_end = text.find("\n", end)
+        next_blank = end < len(text) and not text[end : next_line_end if next_line_end >= 0 else len(text)].strip()
+        is_last = slot == len(parent.value) - 1
+        is_first = slot == 0
+        if prev_blank and (next_blank or is_last):
+            while start > 0 and not text[self._bol(start - 1) : start - 1].strip():
+                start = self._bol(start - 1)
+        elif is_first and next_blank and not prev_blank:
+            while end < len(text):
+                nl = text.find("\n", end)
+                line = text[end : nl if nl >= 0 else len(text)]
+                if line.strip():
+                    break
+                end = nl + 1 if nl >= 0 else len(text)
+        self._commit(self._splice(start, end, ""), tree, parts)
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def _as_index(part: PathPart) -> int | None:
+    if isinstance(part, int):
+        return part
+    if re.fullmatch(r"-?\d+", part):
+        return int(part)
+    return None
+
+
+def _nest(rest: Sequence[PathPart], value: Any) -> Any:
+    out = value
+    for part in reversed(rest):
+        if isinstance(part, int):
+            raise PathError(f"cannot create a sequence index [{part}]; set the list instead")
+        out = {part: out}
+    return out
+
+
+def _py_set(tree: Any, parts: Sequence[PathPart], value: Any, *, allow_create: bool = True) -> None:
+    node = tree
+    for i, part in enumerate(parts):
+        last = i == len(parts) - 1
+        if isinstance(node, list):
+            idx = _as_index(part)
+            if idx is None:
+                raise TypeError(f"{part!r} is not an index")
+            if idx == len(node) and last:
+                node.append(_plain_value(value))
+                return
+            if last:
+                node[idx] = _plain_value(value)
+                return
+            node = node[idx]
+        elif isinstance(node, dict):
+            key = _dict_key(node, part)
+            if last:
+                node[key] = _plain_value(value)
+                return
+            if key not in node:
+                if not allow_create:
+                    raise KeyError(part)
+                node[key] = {}
+            node = node[key]
+        else:
+            raise TypeError("goes through a scalar")
+
+
+def _dict_key(node: dict[Any, Any], part: PathPart) -> Any:
+    if part in node:
+        return part
+    for k in node:
+        if str(k) == str(part):
+            return k
+    return str(part) if isinstance(part, int) else part
+
+
+def _py_delete(tree: Any, part: PathPart) -> None:
+    if isinstance(tree, list):
+        idx = _as_index(part)
+        if idx is None:
+            raise PathError(f"{part!r} is not an index")
+        del tree[idx]
+    elif isinstance(tree, dict):
+        del tree[_dict_key(tree, part)]
+
+
+def _py_delete_path(tree: Any, parts: Sequence[PathPart]) -> None:
+    node = tree
+    for part in parts[:-1]:
+        node = node[_as_index(part) or 0] if isinstance(node, list) else node[_dict_key(node, part)]
+    _py_delete(node, parts[-1])
+
+
+def _normalise(value: Any) -> Any:
+    """Make `_same` comparisons insensitive to key order and date objects."""
+    if isinstance(value, dict):
+        return {str(k): _normalise(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_normalise(v) for v in value]
+    if isinstance(value, date):
+        return value.isoformat()
+    return value
