@@ -14,7 +14,6 @@ from panther_ops.transport.base import Command
 
 PROBE = r"""
 r="${PANTHER_OPS_ROOT:-}"; c="$1"; case "$c" in "~/"*) c="$HOME/${c#"~/"}";; esac
-echo @@time; date +%s.%N
 echo @@hostname; if [ -n "$r" ] && [ -f "$r/etc/hostname" ]; then cat "$r/etc/hostname"; else hostname; fi
 echo @@home; printf '%s\n' "$HOME"
 echo @@env
@@ -26,8 +25,8 @@ echo @@compose; [ -f "$r$c" ] && cat "$r$c"
 echo @@df; df -Pk "$r$HOME" 2>/dev/null | tail -n 1
 echo @@docker
 if command -v docker >/dev/null 2>&1 && [ -z "$r" ]; then
-  docker version -f '{{.Server.Version}} {{.Server.APIVersion}}' 2>&1 | head -n 1
-  docker compose version --short 2>&1 | head -n 1
+  docker version -f '{{.Server.Version}} {{.Server.APIVersion}}' 2>&1 | grep -v '^$' | head -n 1
+  docker compose version --short 2>&1 | grep -v '^$' | head -n 1
 else
   echo none
 fi
@@ -47,7 +46,6 @@ class RobotFacts:
     compose_text: str | None = None
     disk_free_bytes: int | None = None
     disk_total_bytes: int | None = None
-    remote_time: float | None = None
     docker_server: str | None = None
     docker_api: str | None = None
     docker_error: str | None = None
@@ -110,14 +108,26 @@ def parse_env(text: str) -> dict[str, str]:
     return env
 
 
+def _float(lines: list[str] | None) -> float | None:
+    try:
+        return float(lines[0].strip()) if lines else None
+    except ValueError:
+        return None
+
+
+def clock_offset(remote_stdout: str, sent: float, received: float) -> float | None:
+    """Robot clock minus ours, from ``date +%s.%N`` run between ``sent`` and ``received``.
+
+    The robot read its clock about half-way through the round trip; the error is at most
+    half the round trip (milliseconds on a warm connection).
+    """
+    remote = _float(remote_stdout.split()[:1])
+    return None if remote is None else remote - (sent + received) / 2
+
+
 def parse_probe(stdout: str) -> RobotFacts:
     s = _sections(stdout)
     facts = RobotFacts()
-    if s.get("time"):
-        try:
-            facts.remote_time = float(s["time"][0].strip())
-        except ValueError:
-            facts.remote_time = None
     facts.hostname = "\n".join(s.get("hostname", [])).strip()
     facts.home = "\n".join(s.get("home", [])).strip()
     env_lines: list[str] = []

@@ -5,7 +5,8 @@ from __future__ import annotations
 import time
 from typing import Any
 
-from panther_ops.core.facts import RobotFacts, parse_probe, probe_command
+from panther_ops.core.facts import RobotFacts, clock_offset, parse_probe, probe_command
+from panther_ops.transport.base import Command
 from panther_ops.core.runner import RobotContext
 from panther_ops.core.stack import Stack, find_driver, parse_image, stack_from_version
 from panther_ops.errors import OpsError, TransportError
@@ -14,14 +15,15 @@ from panther_ops.results import Outcome, RobotResult
 
 def gather_facts(ctx: RobotContext) -> tuple[RobotFacts, float | None]:
     """Run the probe; returns the facts and the clock offset (robot - here, seconds)."""
-    t0 = time.time()
     res = ctx.transport.run(probe_command(ctx.robot.compose_file), timeout=30)
-    t1 = time.time()
     if "@@end" not in res.stdout:
         raise TransportError(ctx.robot.name, f"probe failed (exit {res.exit_status}): {res.stderr.strip()[:200]}")
     facts = parse_probe(res.stdout)
-    offset = None if facts.remote_time is None else facts.remote_time - (t0 + t1) / 2
-    return facts, offset
+    # The clock is read apart, on the now warm connection: one short round trip bounds the error.
+    t0 = time.time()
+    clock = ctx.transport.run(Command.of("date", "+%s.%N"), timeout=10)
+    t1 = time.time()
+    return facts, clock_offset(clock.stdout, t0, t1)
 
 
 def detect_stack(ctx: RobotContext, facts: RobotFacts) -> tuple[Stack | None, str | None, str | None]:

@@ -2,7 +2,7 @@ from __future__ import annotations
 
 import pytest
 
-from panther_ops.core.facts import parse_env, parse_probe
+from panther_ops.core.facts import clock_offset, parse_env, parse_probe
 from panther_ops.core.stack import Family, Generation, find_driver, parse_image
 from panther_ops.errors import RemoteStateError
 
@@ -62,13 +62,14 @@ def test_parse_env() -> None:
 
 def test_parse_probe() -> None:
     out = "\n".join([
-        "@@time", "1700000000.25", "@@hostname", "r01", "@@home", "/home/husarion",
+        "@@hostname", "r01", "@@home", "/home/husarion",
         "@@env", "#file /run/husarion/panther_config.env", "PANTHER_SERIAL_NO=1234", "PANTHER_ROBOT_VERSION=1.2",
         "@@os", 'PRETTY_NAME="Ubuntu 22.04.4 LTS"', "@@compose", "services: {}", "@@df",
         "/dev/root 1000 400 600 40% /", "@@docker", "20.10.24 1.41", "2.40.3", "@@end",
     ])
     f = parse_probe(out)
-    assert f.remote_time == 1700000000.25
+    assert clock_offset("1700000010.5\n", 1700000000.0, 1700000001.0) == 10.0
+    assert clock_offset("garbage", 1.0, 2.0) is None
     assert (f.hostname, f.serial, f.robot_model, f.robot_version) == ("r01", "1234", "panther", "1.2")
     assert f.os_name == "Ubuntu 22.04.4 LTS"
     assert f.compose_text == "services: {}\n"
