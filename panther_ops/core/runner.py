@@ -57,13 +57,58 @@ def open_transport(inventory: Inventory, robot: Robot) -> Transport:
     return SshTransport(inventory.endpoint(robot))
 
 
-def run_one(inventory: Inventory, robot: Robot, task: Task) -> RobotResult:
-    """Connect, run the task, close; every error becomes a result."""
+class Connections:
+    """One open transport per robot, kept across the phases of a command (plan, then apply).
+
+    A robot that could not be reached is remembered and not tried again in a later phase.
+    """
+
+    def __init__(self, inventory: Inventory) -> None:
+        self.inventory = inventory
+        self._open: dict[str, Transport] = {}
+        self._failed: dict[str, UnreachableError] = {}
+        self._lock = threading.Lock()
+
+    def get(self, robot: Robot) -> Transport:
+        with self._lock:
+            if robot.name in self._failed:
+                raise self._failed[robot.name]
+            existing = self._open.get(robot.name)
+        if existing is not None:
+            return existing
+        transport = open_transport(self.inventory, robot)
+        try:
+            transport.connect()
+        except UnreachableError as exc:
+            with self._lock:
+                self._failed[robot.name] = exc
+            raise
+        with self._lock:
+            self._open[robot.name] = transport
+        return transport
+
+    def close(self) -> None:
+        with self._lock:
+            opened = list(self._open.values())
+            self._open.clear()
+        for t in opened:
+            try:
+                t.close()
+            except Exception:  # closing must never hide a result
+                log.debug("close failed on %s", t.name, exc_info=True)
+
+    def __enter__(self) -> Connections:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def run_one(connections: Connections, robot: Robot, task: Task) -> RobotResult:
+    """Run the task on the robot's (shared) connection; every error becomes a result."""
     start = time.monotonic()
-    transport = open_transport(inventory, robot)
     try:
-        transport.connect()
-        ctx = RobotContext(robot, transport, inventory)
+        ctx = RobotContext(robot, connections.get(robot), connections.inventory)
         result = task(ctx)
         result.warnings[:0] = ctx.warnings
     except UnreachableError as exc:
@@ -77,11 +122,6 @@ def run_one(inventory: Inventory, robot: Robot, task: Task) -> RobotResult:
     except Exception as exc:
         log.exception("internal error on %s", robot.name)
         result = RobotResult(robot.name, Outcome.FAILED, f"internal error: {exc!r} (a bug: see --debug)")
-    finally:
-        try:
-            transport.close()
-        except Exception:  # closing must never hide the result
-            log.debug("close failed on %s", robot.name, exc_info=True)
     result.duration_s = time.monotonic() - start
     return result
 
@@ -94,8 +134,8 @@ def _strip(exc: OpsError, robot: str) -> str:
 class _Fleet:
     """One run: schedules robots ``forks`` at a time and records every result."""
 
-    def __init__(self, inventory: Inventory, task: Task, opts: RunOptions, progress: Progress | None) -> None:
-        self.inventory = inventory
+    def __init__(self, connections: Connections, task: Task, opts: RunOptions, progress: Progress | None) -> None:
+        self.connections = connections
         self.task = task
         self.opts = opts
         self.progress = progress
@@ -120,7 +160,7 @@ class _Fleet:
         with ThreadPoolExecutor(max_workers=max(1, min(self.opts.forks, len(todo)))) as pool:
             while queue or pending:
                 while queue and len(pending) < self.opts.forks and self.stop_reason is None:
-                    pending.add(pool.submit(run_one, self.inventory, queue.pop(0), self.task))
+                    pending.add(pool.submit(run_one, self.connections, queue.pop(0), self.task))
                 if not pending:
                     break
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -141,12 +181,20 @@ def run_fleet(
     task: Task,
     options: RunOptions | None = None,
     progress: Progress | None = None,
+    connections: Connections | None = None,
 ) -> FleetResult:
-    """Run ``task`` on every robot, ``forks`` at a time; results in inventory order."""
+    """Run ``task`` on every robot, ``forks`` at a time; results in inventory order.
+
+    With ``connections`` the robots' transports stay open for a later phase (the caller
+    closes them); otherwise they are closed when this returns.
+    """
+    if connections is None:
+        with Connections(inventory) as own:
+            return run_fleet(command, inventory, robots, task, options, progress, own)
     opts = options or RunOptions(forks=inventory.forks)
     start = time.monotonic()
     fleet = FleetResult(command)
-    run = _Fleet(inventory, task, opts, progress)
+    run = _Fleet(connections, task, opts, progress)
     budget = None if opts.max_fail_pct is None else int(len(robots) * opts.max_fail_pct / 100.0)
     canaries = robots[: opts.canary] if opts.canary > 0 else []
     rest = robots[len(canaries):]
