@@ -1,0 +1,247 @@
+"""The apply pipeline every mutating command goes through, per robot.
+
+read -> plan (pure, with exact diffs) -> [confirm, in the CLI] -> backup on the robot ->
+stage every file (temp file beside it, fsynced) -> rename each into place (atomic) ->
+``docker compose up -d --force-recreate`` of the affected services as the robot user in a
+login shell -> verify (the container runs the planned command, its state and restart count
+hold for a settle window) -> on failure restore the backup, recreate, report
+``rolled-back``. A plan with nothing to change reports ``ok`` with the reason and writes
+nothing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import posixpath
+import secrets
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from typing import Any
+
+from panther_ops.core.diff import unified_diff
+from panther_ops.core.runner import RobotContext
+from panther_ops.errors import OpsError, TransportError
+from panther_ops.results import Diff, Outcome, RobotResult
+from panther_ops.transport import scripts_backup
+from panther_ops.transport.base import Command
+
+BACKUP_ROOT = scripts_backup.BACKUP_ROOT
+
+
+@dataclass(frozen=True)
+class FileEdit:
+    """One file to write on the robot."""
+
+    path: str
+    before: bytes | None
+    """What the plan read (None: the file does not exist yet)."""
+    after: bytes
+    mode: int | None = None
+
+    def diff(self) -> Diff:
+        old = (self.before or b"").decode(errors="replace")
+        return Diff(self.path, unified_diff(old, self.after.decode(errors="replace"), self.path))
+
+
+@dataclass(frozen=True)
+class Verify:
+    """What must hold after the services are recreated."""
+
+    service: str
+    cmd_contains: tuple[str, ...] = ()
+    cmd_lacks: tuple[str, ...] = ()
+
+
+@dataclass
+class RobotPlan:
+    """What a command will do to one robot."""
+
+    robot: str
+    summary: str
+    edits: list[FileEdit] = field(default_factory=list)
+    recreate: tuple[str, ...] = ()
+    compose_file: str = "~/compose.yaml"
+    verify: list[Verify] = field(default_factory=list)
+    noop: str | None = None
+    """Why nothing needs to change (then ``edits`` is empty)."""
+    warnings: list[str] = field(default_factory=list)
+    data: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def diffs(self) -> list[Diff]:
+        return [e.diff() for e in self.edits]
+
+
+@dataclass(frozen=True)
+class ApplyOptions:
+    dry_run: bool = False
+    restart: bool = True
+    settle_s: float = 5.0
+    command: str = ""
+    on_staged: Callable[[str], None] | None = None
+    """Called with the robot name after every file is staged and before any rename (tests)."""
+
+
+def _sha(data: bytes | None) -> str | None:
+    return None if data is None else hashlib.sha256(data).hexdigest()
+
+
+def new_backup_id(now: datetime | None = None) -> str:
+    stamp = (now or datetime.now(timezone.utc)).strftime("%Y%m%dT%H%M%SZ")
+    return f"{stamp}-{secrets.token_hex(2)}"
+
+
+def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+    """Carry out one robot's plan; every outcome is a RobotResult."""
+    name = ctx.robot.name
+    diffs = plan.diffs
+    result = RobotResult(name, Outcome.OK, plan.noop or plan.summary, diffs=diffs,
+                         warnings=list(plan.warnings), data=dict(plan.data))
+    if not plan.edits:
+        result.message = plan.noop or "nothing to change"
+        return result
+    if opts.dry_run:
+        result.outcome = Outcome.CHANGED
+        result.message = f"would change (dry run): {plan.summary}"
+        result.data["dry_run"] = True
+        return result
+    t = ctx.transport
+    for e in plan.edits:  # optimistic concurrency: the robot must still hold what we planned on
+        try:
+            now = t.read_file(e.path)
+        except FileNotFoundError:
+            now = None
+        if now != e.before:
+            result.outcome = Outcome.FAILED
+            result.message = f"{e.path} changed on the robot since it was read; nothing written, run again"
+            return result
+    backup_id = new_backup_id()
+    backup_dir = f"{BACKUP_ROOT}/{backup_id}"
+    manifest = {
+        "id": backup_id,
+        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "robot": name,
+        "command": opts.command,
+        "summary": plan.summary,
+        "compose_file": plan.compose_file,
+        "recreate": list(plan.recreate),
+        "files": [
+            {"path": e.path, "backup": f"files/{i}" if e.before is not None else None,
+             "sha256_before": _sha(e.before), "sha256_after": _sha(e.after), "diff": d.unified}
+            for i, (e, d) in enumerate(zip(plan.edits, diffs, strict=True))
+        ],
+    }
+    _save_backup(ctx, backup_dir, plan, manifest)
+    result.data["backup"] = backup_id
+    staged = [t.stage_file(e.path, e.after, mode=e.mode) for e in plan.edits]
+    if opts.on_staged:
+        opts.on_staged(name)
+    for tmp, e in zip(staged, plan.edits, strict=True):
+        t.commit_staged(tmp, e.path)
+    if not plan.recreate or not opts.restart:
+        result.outcome = Outcome.CHANGED
+        result.message = plan.summary + ("; not recreated (--no-restart)" if plan.recreate else "")
+        return result
+    problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
+    if problem is None:
+        result.outcome = Outcome.CHANGED
+        result.message = plan.summary
+        return result
+    return _roll_back(ctx, plan, opts, result, problem, backup_id)
+
+
+def _save_backup(ctx: RobotContext, backup_dir: str, plan: RobotPlan, manifest: dict[str, Any]) -> None:
+    res = ctx.transport.run(
+        Command.sh(scripts_backup.SAVE, backup_dir, *[e.path for e in plan.edits]),
+        stdin=json.dumps(manifest, indent=2).encode(),
+    )
+    if not res.ok:
+        raise TransportError(ctx.robot.name, f"backup failed, nothing written: {res.stderr.strip()}")
+
+
+def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
+               backup_id: str) -> RobotResult:
+    t = ctx.transport
+    try:
+        for e in plan.edits:
+            if e.before is None:
+                t.run(Command.sh('r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; '
+                                 'esac; rm -f -- "$r$p"', e.path))
+            else:
+                t.write_file_atomic(e.path, e.before)
+        restore = RobotPlan(plan.robot, "restore", [], plan.recreate, plan.compose_file, [])
+        again = recreate_and_verify(ctx, restore, min(opts.settle_s, 3.0), RobotResult(plan.robot, Outcome.OK, ""))
+    except OpsError as exc:
+        result.outcome = Outcome.FAILED
+        result.message = f"{problem}; ROLLBACK FAILED: {exc.message} (backup {backup_id} on the robot)"
+        return result
+    result.outcome = Outcome.ROLLED_BACK
+    result.message = f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
+    _mark(ctx, backup_id, "rolled-back", problem)
+    return result
+
+
+def _mark(ctx: RobotContext, backup_id: str, status: str, reason: str) -> None:
+    """Record in the backup's manifest how the attempt ended (best effort)."""
+    path = f"{BACKUP_ROOT}/{backup_id}/manifest.json"
+    try:
+        doc = json.loads(ctx.transport.read_file(path))
+        doc["status"] = status
+        doc["reason"] = reason
+        ctx.transport.write_file_atomic(path, json.dumps(doc, indent=2).encode())
+    except (OpsError, FileNotFoundError, ValueError):
+        return
+
+
+def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, result: RobotResult) -> str | None:
+    """Recreate the plan's services and watch them; returns a problem, or None when all is well."""
+    client = ctx.transport.docker()
+    if client is None:
+        result.warnings.append("no docker engine on this robot: services not recreated")
+        return None
+    compose = plan.compose_file
+    cdir = posixpath.dirname(compose) or "~"
+    res = ctx.transport.run(
+        Command.of("docker", "compose", "-f", posixpath.basename(compose), "up", "-d", "--force-recreate",
+                   *plan.recreate, login=True, cwd=cdir),
+        timeout=300,
+    )
+    if not res.ok:
+        return f"docker compose up failed: {res.stderr.strip()[-400:]}"
+    return _watch(client, plan, settle_s)
+
+
+def _containers(client: Any, service: str) -> list[Any]:
+    return list(client.containers.list(all=True, filters={"label": f"com.docker.compose.service={service}"}))
+
+
+def _watch(client: Any, plan: RobotPlan, settle_s: float) -> str | None:
+    deadline = time.monotonic() + settle_s
+    checks = plan.verify or [Verify(s) for s in plan.recreate]
+    while True:
+        for v in checks:
+            ctrs = _containers(client, v.service)
+            if not ctrs:
+                return f"service {v.service}: no container after recreate"
+            c = ctrs[0]
+            state = c.attrs.get("State", {})
+            cmd = c.attrs.get("Config", {}).get("Cmd") or []
+            missing = [x for x in v.cmd_contains if x not in cmd]
+            if missing:
+                return f"service {v.service}: container command lacks {', '.join(missing)}"
+            present = [x for x in v.cmd_lacks if x in cmd]
+            if present:
+                return f"service {v.service}: container command still has {', '.join(present)}"
+            status, restarts = state.get("Status", "?"), int(c.attrs.get("RestartCount", 0))
+            if status not in ("running", "created") or state.get("Restarting"):
+                code = state.get("ExitCode")
+                return f"service {v.service}: container {status} (exit code {code}) after recreate"
+            if restarts > 0:  # a recreated container starts at 0; restart: always hides crashes
+                return f"service {v.service}: container restarted {restarts} time(s) after recreate (exit code " \
+                    f"{state.get('ExitCode')})"
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(0.5)
