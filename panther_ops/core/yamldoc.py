@@ -30,7 +30,7 @@ import builtins
 import copy
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import date
 from typing import Any, cast
@@ -452,19 +452,54 @@ class YamlDocument:
         new_text: str,
         *,
         path: PathLike,
-        expected: Any,
+        expected: Any = _MISSING,
+        check: Callable[[Any], bool] | None = None,
     ) -> bool:
-        """Low-level splice of ``text[start:end]`` for edits inside one scalar.
+        """Low-level splice of ``text[start:end]`` for an edit inside the value at ``path``.
 
-        The result must parse and differ from before only in that the value at ``path`` is
-        now ``expected``; otherwise `DocumentError` is raised and nothing changes.
+        The result must parse, and differ from before only in the value at ``path``, which
+        must now be ``expected`` (when given) and satisfy ``check`` (when given); otherwise
+        `DocumentError` is raised and nothing changes.
         """
         if self._text[start:end] == new_text:
             return False
         parts = parse_path(path)
-        expected_tree = self._unresolved_with(parts, expected)
-        self._commit(self._text[:start] + new_text + self._text[end:], expected_tree, parts)
+        new = self._text[:start] + new_text + self._text[end:]
+        if expected is _MISSING:
+            probe = YamlDocument(new, self.path)
+            expected = probe.get(parts)
+        if check is not None and not check(expected):
+            raise DocumentError(
+                f"internal: the edit of {format_path(parts)} does not give the intended value",
+                path=self.path,
+                line=self.line_of(parts),
+            )
+        self._commit(new, self._unresolved_with(parts, expected), parts)
         return True
+
+    def anchor_path(self, anchor: str) -> tuple[PathPart, ...] | None:
+        """Path of the value that defines ``&anchor`` (None when not defined)."""
+
+        def walk(node: Node, here: tuple[PathPart, ...], seen: _IdSet) -> tuple[PathPart, ...] | None:
+            if id(node) in seen:
+                return None
+            seen.add(id(node))
+            if node.anchor == anchor:
+                return here
+            if isinstance(node, MappingNode):
+                for k, v in node.value:
+                    if isinstance(k, ScalarNode) and k.tag != _MERGE_TAG:
+                        hit = walk(v, (*here, k.value), seen)
+                        if hit is not None:
+                            return hit
+            elif isinstance(node, SequenceNode):
+                for i, item in enumerate(node.value):
+                    hit = walk(item, (*here, i), seen)
+                    if hit is not None:
+                        return hit
+            return None
+
+        return None if self._root is None else walk(self._root, (), builtins.set())
 
     def diff(self, path: str | None = None) -> str:
         """Unified diff from the original text to the current text."""
