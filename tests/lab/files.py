@@ -1,0 +1,420 @@
+"""Contents of the files a simulated robot and the lab's operator side are made of.
+
+Pure functions (text in, text out) except for the host-file readers at the top, so the
+shape of every generated file can be checked without root.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+REPO = Path(__file__).resolve().parents[2]
+TEMPLATES = REPO / "templates" / "compose"
+DATA = Path(__file__).resolve().parent / "data"
+
+USER = "husarion"
+UID = 1000
+GID = 1000
+HOME = f"/home/{USER}"
+
+
+# ---------------------------------------------------------------------------------------
+# Stack images
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class StackImage:
+    """One driver stack a lab robot can run (one compose template)."""
+
+    key: str  # "2.1.1"
+    template: str  # file name in templates/compose
+    system_build_version: str  # SYSTEM_BUILD_VERSION of the robot's OS (lab assumption <2.2)
+
+    @property
+    def ugv(self) -> bool:
+        """husarion_ugv 2.2+ layout (robot_config.env, /home/husarion/config)."""
+        return tuple(int(x) for x in self.key.split(".")) >= (2, 2, 0)
+
+    @property
+    def group(self) -> str:
+        return f"stack-{self.key}"
+
+    def template_text(self) -> str:
+        return (TEMPLATES / self.template).read_text()
+
+    def images(self) -> list[str]:
+        return re.findall(r"^\s*image:\s*(\S+)", self.template_text(), flags=re.M)
+
+
+STACKS = {
+    "2.0.4": StackImage("2.0.4", "panther-2.0.4.yaml", "v2.0.0"),
+    "2.1.1": StackImage("2.1.1", "panther-2.1.1.yaml", "v2.1.0"),
+    "2.2.2": StackImage("2.2.2", "husarion-ugv-2.2.2.yaml", "v2.2.0"),
+}
+_ALIASES = {"2.0": "2.0.4", "2.1": "2.1.1", "2.2": "2.2.2"}
+
+
+def stack(key: str) -> StackImage:
+    """`2.0`, `2.0.4`, `2.1`, `2.1.1`, `2.2`, `2.2.2` -> the lab's stack image."""
+    k = _ALIASES.get(key.strip(), key.strip())
+    if k not in STACKS:
+        raise ValueError(f"unknown image version {key!r}: use one of 2.0, 2.1.1, 2.2")
+    return STACKS[k]
+
+
+def all_image_tags() -> list[str]:
+    """Every image tag used by the compose templates (driver and gamepad images)."""
+    tags: list[str] = []
+    for s in STACKS.values():
+        tags += [t for t in s.images() if t not in tags]
+    return tags
+
+
+# ---------------------------------------------------------------------------------------
+# Compose file made runnable in the lab
+# ---------------------------------------------------------------------------------------
+#: keys removed from every service: they name hardware the lab lacks
+DROPPED_KEYS = ("devices", "device_cgroup_rules")
+#: volume entries removed: the host paths do not exist in the lab
+DROPPED_VOLUME_SOURCES = ("/sys/bus/iio", "/run/dbus")
+
+
+def lab_compose(text: str, *, drop_ulimits: bool = False) -> str:
+    """The template with only what cannot exist in the lab removed, line by line.
+
+    Everything else (anchors, comments, command, the id_rsa and /run/husarion mounts,
+    restart: always, security_opt, ...) is kept byte for byte. `ulimits` (rtprio 99,
+    memlock) is kept too unless `drop_ulimits`: on a machine whose root lacks
+    CAP_SYS_RESOURCE runc cannot raise those hard limits and no container would start.
+    """
+    keys = DROPPED_KEYS + (("ulimits",) if drop_ulimits else ())
+    drop_key = re.compile(r"^(" + "|".join(keys) + r"):\s*(#.*)?$")
+    out: list[str] = []
+    skip_indent: int | None = None
+    for line in text.splitlines(keepends=True):
+        body = line.lstrip(" ")
+        indent = len(line) - len(body)
+        if skip_indent is not None:
+            if not body.strip():
+                continue
+            if indent > skip_indent or (indent == skip_indent and body.startswith("- ")):
+                continue
+            skip_indent = None
+        if drop_key.match(body):
+            skip_indent = indent
+            continue
+        if body.startswith("- ") and any(src in body for src in DROPPED_VOLUME_SOURCES):
+            continue
+        out.append(line)
+    result = "".join(out)
+    doc = yaml.safe_load(result)  # still valid YAML with the same services
+    assert set(doc["services"]) == set(yaml.safe_load(text)["services"])
+    return result
+
+
+# ---------------------------------------------------------------------------------------
+# Accounts (the robot's own /etc/passwd, group, shadow; the host's are only read)
+# ---------------------------------------------------------------------------------------
+def robot_passwd(host_passwd: str) -> str:
+    keep = []
+    for line in host_passwd.splitlines():
+        f = line.split(":")
+        if len(f) < 7 or f[0] == USER or f[2] == str(UID):
+            continue
+        keep.append(line)
+    keep.append(f"{USER}:x:{UID}:{GID}:Husarion,,,:{HOME}:/bin/bash")
+    return "\n".join(keep) + "\n"
+
+
+def robot_group(host_group: str) -> str:
+    lines = []
+    have_docker = False
+    used = set()
+    for line in host_group.splitlines():
+        f = line.split(":")
+        if len(f) < 4 or f[0] == USER or f[2] == str(GID):
+            continue
+        used.add(f[2])
+        if f[0] == "docker":
+            have_docker = True
+            members = [m for m in f[3].split(",") if m]
+            f[3] = ",".join([*members, USER])
+        lines.append(":".join(f))
+    if not have_docker:
+        gid = next(g for g in range(999, 100, -1) if str(g) not in used)
+        lines.append(f"docker:x:{gid}:{USER}")
+    lines.append(f"{USER}:x:{GID}:")
+    return "\n".join(lines) + "\n"
+
+
+def robot_shadow(passwd: str, husarion_hash: str = "*") -> str:
+    """A shadow file for the robot's passwd: every account locked (`*`), no host hash copied.
+
+    `*` rather than `!`: sshd with `UsePAM no` refuses accounts whose field starts with `!`.
+    """
+    out = []
+    for line in passwd.splitlines():
+        name = line.split(":", 1)[0]
+        pw = husarion_hash if name == USER else "*"
+        out.append(f"{name}:{pw}:19900:0:99999:7:::")
+    return "\n".join(out) + "\n"
+
+
+# ---------------------------------------------------------------------------------------
+# sshd
+# ---------------------------------------------------------------------------------------
+def sshd_config(ip: str, *, password: bool = False, setenv: dict[str, str] | None = None) -> str:
+    lines = [
+        "# sshd of one panther-ops lab robot (tests/lab); robot view of the paths",
+        f"ListenAddress {ip}:22",
+        "HostKey /etc/ssh/ssh_host_ed25519_key",
+        "PidFile /run/sshd.pid",
+        "AuthorizedKeysFile .ssh/authorized_keys",
+        "PubkeyAuthentication yes",
+        f"PasswordAuthentication {'yes' if password else 'no'}",
+        "KbdInteractiveAuthentication no",
+        "PermitEmptyPasswords no",
+        "UsePAM no",
+        "PermitRootLogin no",
+        f"AllowUsers {USER}",
+        "LogLevel VERBOSE",
+        "X11Forwarding no",
+        "PrintMotd no",
+        "AcceptEnv LANG LC_*",
+        "Subsystem sftp /usr/lib/openssh/sftp-server",
+    ]
+    if setenv:
+        lines.append("SetEnv " + " ".join(f"{k}={v}" for k, v in setenv.items()))
+    return "\n".join(lines) + "\n"
+
+
+# ---------------------------------------------------------------------------------------
+# Robot configuration (what the Built-in Computer's OS provides)
+# ---------------------------------------------------------------------------------------
+def robot_env(st: StackImage, serial: str) -> tuple[str, str, str, str]:
+    """(env path, env text, yaml path, yaml text) under /run/husarion for this stack."""
+    if st.ugv:
+        env = (
+            "# Robot configuration from EEPROM (panther-ops lab stand-in)\n"
+            "ROBOT_MODEL_NAME=panther\n"
+            f"ROBOT_SERIAL_NO={serial}\n"
+            "ROBOT_VERSION=1.2\n"
+            f"SYSTEM_BUILD_VERSION={st.system_build_version}\n"
+        )
+        yml = (
+            "# Robot configuration from EEPROM (panther-ops lab stand-in)\n"
+            "robot_model_name: panther\n"
+            f'robot_serial_no: "{serial}"\n'
+            "robot_version: 1.2\n"
+            f"system_build_version: {st.system_build_version}\n"
+        )
+        return "/run/husarion/robot_config.env", env, "/run/husarion/robot_config.yaml", yml
+    env = (
+        f"# Setup envs from eeprom (panther-ops lab stand-in)\nPANTHER_ROBOT_VERSION=1.2\nPANTHER_SERIAL_NO={serial}\n"
+    )
+    yml = f'# Robot configuration from EEPROM (panther-ops lab stand-in)\npanther_version: 1.2\nserial_no: "{serial}"\n'
+    return "/run/husarion/panther_config.env", env, "/run/husarion/panther_config.yaml", yml
+
+
+def login_profile(st: StackImage, skel_profile: str) -> str:
+    """~/.profile: Debian's skeleton plus the robot's environment in every login shell."""
+    env_path = robot_env(st, "")[0]
+    return (
+        skel_profile.rstrip("\n")
+        + "\n\n# panther-ops lab: the robot's configuration in the login environment\n"
+        + f"if [ -f {env_path} ]; then\n    set -a\n    . {env_path}\n    set +a\nfi\n"
+        + f"export SYSTEM_BUILD_VERSION=${{SYSTEM_BUILD_VERSION:-{st.system_build_version}}}\n"
+    )
+
+
+def _controller_yaml(drive: str, wheel: str) -> str:
+    sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
+    return f"""# {wheel}_controller.yaml (panther-ops lab stand-in of the husarion_ugv_controller file)
+/**:
+  controller_manager:
+    ros__parameters:
+      update_rate: 100
+      joint_state_broadcaster:
+        type: joint_state_broadcaster/JointStateBroadcaster
+      {drive}:
+        type: diff_drive_controller/DiffDriveController
+      imu_broadcaster:
+        type: imu_sensor_broadcaster/IMUSensorBroadcaster
+
+  imu_broadcaster:
+    ros__parameters:
+      sensor_name: imu
+      frame_id: imu_link
+
+  {drive}:
+    ros__parameters:
+      left_wheel_names: [fl_wheel_joint, rl_wheel_joint]
+      right_wheel_names: [fr_wheel_joint, rr_wheel_joint]
+      wheel_separation: {sep}
+      wheel_radius: {radius}
+      wheel_separation_multiplier: {mult}
+      publish_rate: 100.0
+      odom_frame_id: odom
+      base_frame_id: base_link
+      enable_odom_tf: false
+      cmd_vel_timeout: 0.2
+      linear:
+        x:
+          has_velocity_limits: true
+          has_acceleration_limits: true
+          max_velocity: 2.0
+          max_acceleration: 2.7
+      angular:
+        z:
+          has_velocity_limits: true
+          has_acceleration_limits: true
+          max_velocity: 4.0
+          max_acceleration: 5.74
+"""
+
+
+def ugv_config_tree(namespace: str = "panther") -> dict[str, str]:
+    """/home/husarion/config for 2.2 robots: relative path -> content (stand-in contents)."""
+    tree = {
+        "common/.env": (f"ROS_DOMAIN_ID=0\nRMW_IMPLEMENTATION=rmw_cyclonedds_cpp\nROBOT_NAMESPACE={namespace}\n"),
+        "husarion_ugv_bringup/config/joy2twist_panther.yaml": (
+            "# panther-ops lab stand-in\n/**:\n  joy2twist_node:\n    ros__parameters:\n"
+            "      linear_velocity_factor:\n        fast: 1.0\n        regular: 0.5\n        slow: 0.2\n"
+        ),
+        "husarion_ugv_description/config/components.yaml": "components: []\n",
+        "husarion_ugv_lights/config/user_animations.yaml": "user_animations: []\n",
+        "husarion_ugv_lights/config/panther_animations.yaml": (
+            "# panther-ops lab stand-in\npanels:\n  - channel: 1\n    number_of_leds: 46\n"
+            "  - channel: 2\n    number_of_leds: 46\nsegments: []\nsegments_map: {}\n"
+            "led_animations: []\n"
+        ),
+        "husarion_ugv_localization/config/relative_localization.yaml": (
+            "# panther-ops lab stand-in\n/**:\n  ekf_filter:\n    ros__parameters:\n      frequency: 25.0\n"
+        ),
+        "husarion_ugv_manager/behavior_trees/lights.xml": (
+            '<?xml version="1.0"?>\n<!-- panther-ops lab stand-in -->\n'
+            '<root BTCPP_format="4" main_tree_to_execute="Lights">\n'
+            '  <BehaviorTree ID="Lights"><AlwaysSuccess/></BehaviorTree>\n</root>\n'
+        ),
+        "husarion_ugv_manager/behavior_trees/LightsBT.btproj": (
+            '<?xml version="1.0"?>\n<!-- panther-ops lab stand-in -->\n'
+            '<root BTCPP_format="4" project_name="LightsBT">\n'
+            '  <include path="lights.xml"/>\n</root>\n'
+        ),
+        # the real default names 10.15.20.3; the lab keeps it empty (no traffic outside the lab)
+        "husarion_ugv_manager/config/shutdown_hosts.yaml": (
+            "# panther-ops lab: no user computer to shut down\nhosts: []\n"
+        ),
+    }
+    for wheel in ("WH01", "WH04"):
+        tree[f"husarion_ugv_controller/config/{wheel}_controller.yaml"] = _controller_yaml("drive_controller", wheel)
+    return tree
+
+
+def etc_hosts(name: str, ip: str) -> str:
+    return f"127.0.0.1\tlocalhost\n127.0.1.1\t{name}\n{ip}\t{name}\n::1\tlocalhost ip6-localhost ip6-loopback\n"
+
+
+SUDOERS = (
+    "# panther-ops lab: as on the Built-in Computer for the shutdown of hosts\n"
+    f"{USER} ALL=(ALL) NOPASSWD: /sbin/poweroff, /sbin/reboot, /sbin/shutdown\n"
+)
+
+
+# ---------------------------------------------------------------------------------------
+# Keys
+# ---------------------------------------------------------------------------------------
+def ed25519_keypair(comment: str = "") -> tuple[bytes, str]:
+    """(private key in OpenSSH format, public key line)."""
+    from cryptography.hazmat.primitives import serialization as ser
+    from cryptography.hazmat.primitives.asymmetric import ed25519
+
+    key = ed25519.Ed25519PrivateKey.generate()
+    priv = key.private_bytes(ser.Encoding.PEM, ser.PrivateFormat.OpenSSH, ser.NoEncryption())
+    pub = key.public_key().public_bytes(ser.Encoding.OpenSSH, ser.PublicFormat.OpenSSH).decode()
+    return priv, (f"{pub} {comment}".strip())
+
+
+def rsa_keypair(comment: str = "") -> tuple[bytes, str]:
+    from cryptography.hazmat.primitives import serialization as ser
+    from cryptography.hazmat.primitives.asymmetric import rsa
+
+    key = rsa.generate_private_key(public_exponent=65537, key_size=2048)
+    priv = key.private_bytes(ser.Encoding.PEM, ser.PrivateFormat.OpenSSH, ser.NoEncryption())
+    pub = key.public_key().public_bytes(ser.Encoding.OpenSSH, ser.PublicFormat.OpenSSH).decode()
+    return priv, (f"{pub} {comment}".strip())
+
+
+def public_key_of(private_pem: bytes) -> str:
+    from cryptography.hazmat.primitives import serialization as ser
+
+    key = ser.load_ssh_private_key(private_pem, password=None)
+    return key.public_key().public_bytes(ser.Encoding.OpenSSH, ser.PublicFormat.OpenSSH).decode()
+
+
+# ---------------------------------------------------------------------------------------
+# Operator side: inventory.yaml, ssh_config, known_hosts
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class InventoryRobot:
+    name: str
+    host: str
+    port: int
+    groups: tuple[str, ...]
+    jump: str | None
+    host_key: str  # "ssh-ed25519 AAAA..."
+
+
+def known_hosts_host(host: str, port: int) -> str:
+    return host if port == 22 else f"[{host}]:{port}"
+
+
+def inventory_yaml(robots: list[InventoryRobot]) -> str:
+    lines = [
+        "version: 1",
+        "settings:",
+        "  ssh_config: ssh_config        # relative to this file",
+        "  known_hosts: known_hosts",
+        "defaults:",
+        f"  user: {USER}",
+        "  identity_file: id_ed25519",
+        "robots:",
+    ]
+    for r in robots:
+        lines += [
+            f"  {r.name}:",
+            f"    host: {r.host}",
+            f"    port: {r.port}",
+            f"    groups: [{', '.join(r.groups)}]",
+        ]
+        if r.jump:
+            lines.append(f"    jump: {r.jump}")
+    return "\n".join(lines) + "\n"
+
+
+def known_hosts(robots: list[InventoryRobot]) -> str:
+    return "".join(f"{known_hosts_host(r.host, r.port)} {r.host_key}\n" for r in robots)
+
+
+def ssh_config(robots: list[InventoryRobot], identity: Path, known: Path) -> str:
+    blocks = [f"# panther-ops test lab: ssh -F {identity.parent / 'ssh_config'} <robot>\n"]
+    for r in robots:
+        lines = [
+            f"Host {r.name}",
+            f"    HostName {r.host}",
+            f"    User {USER}",
+            f"    Port {r.port}",
+            f"    IdentityFile {identity}",
+            "    IdentitiesOnly yes",
+            f"    UserKnownHostsFile {known}",
+            "    GlobalKnownHostsFile /dev/null",
+            "    StrictHostKeyChecking yes",
+            "    ConnectTimeout 5",
+        ]
+        if r.jump:
+            lines.append(f"    ProxyJump {r.jump}")
+        blocks.append("\n".join(lines) + "\n")
+    return "\n".join(blocks)

@@ -1,0 +1,117 @@
+"""The lab's container image: a busybox-static root file system with a `ros2` stand-in.
+
+Built once per lab as a ~2 MB tarball, then `docker import`ed into each robot's dockerd and
+tagged with every image name the compose templates use (nothing can be pulled here).
+"""
+
+from __future__ import annotations
+
+import io
+import shutil
+import struct
+import subprocess
+import tarfile
+from pathlib import Path
+
+from ._sys import LabError
+from .files import DATA
+
+#: `docker import --change` instructions. The real images have STOPSIGNAL SIGINT, which
+#: `docker import` of engine 20.10 refuses; the ros2 stand-in ends at once on SIGINT and
+#: SIGTERM alike, so recreating a container never waits for the 10 s stop timeout.
+IMPORT_CHANGES = (
+    'ENTRYPOINT ["/ros_entrypoint.sh"]',
+    'CMD ["ros2", "launch", "--help"]',
+    "ENV PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin",
+    "ENV ROS_DISTRO=humble",
+    "LABEL org.panther-ops.lab=stand-in",
+)
+
+
+def find_static_busybox() -> Path:
+    for cand in ("/bin/busybox", "/usr/bin/busybox"):
+        p = Path(cand)
+        if p.is_file() and _is_static_elf(p):
+            return p
+    found = shutil.which("busybox")
+    if found and _is_static_elf(Path(found)):
+        return Path(found)
+    raise LabError("no statically linked busybox found: apt-get install busybox-static")
+
+
+def _is_static_elf(path: Path) -> bool:
+    """True if the ELF file has no PT_INTERP program header (no dynamic loader)."""
+    with open(path, "rb") as f:
+        head = f.read(64)
+        if head[:4] != b"\x7fELF" or head[4] != 2:  # 64-bit only
+            return False
+        (phoff,) = struct.unpack_from("<Q", head, 0x20)
+        phentsize, phnum = struct.unpack_from("<HH", head, 0x36)
+        f.seek(phoff)
+        table = f.read(phentsize * phnum)
+    return all(
+        struct.unpack_from("<I", table, i * phentsize)[0] != 3  # PT_INTERP
+        for i in range(phnum)
+    )
+
+
+def build_rootfs(dest: Path) -> Path:
+    """Write the image's root file system as a tarball to `dest` (~2 MB)."""
+    busybox = find_static_busybox()
+    applets = subprocess.run([str(busybox), "--list"], capture_output=True, text=True, check=True).stdout.split()
+
+    def add_dir(tar: tarfile.TarFile, name: str, mode: int = 0o755) -> None:
+        ti = tarfile.TarInfo(name)
+        ti.type = tarfile.DIRTYPE
+        ti.mode = mode
+        tar.addfile(ti)
+
+    def add_file(tar: tarfile.TarFile, name: str, data: bytes, mode: int = 0o644) -> None:
+        ti = tarfile.TarInfo(name)
+        ti.size = len(data)
+        ti.mode = mode
+        tar.addfile(ti, io.BytesIO(data))
+
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    tmp = dest.with_suffix(".tmp")
+    with tarfile.open(tmp, "w") as tar:
+        for d in (
+            "bin",
+            "sbin",
+            "usr",
+            "usr/bin",
+            "usr/sbin",
+            "usr/local",
+            "usr/local/bin",
+            "etc",
+            "proc",
+            "sys",
+            "dev",
+            "run",
+            "run/husarion",
+            "var",
+            "var/log",
+            "opt",
+            "opt/ros",
+            "opt/ros/humble",
+            "root/.ssh",
+            "config",
+        ):
+            add_dir(tar, d)
+        add_dir(tar, "root", 0o700)
+        add_dir(tar, "tmp", 0o1777)
+        add_file(tar, "bin/busybox", busybox.read_bytes(), 0o755)
+        for a in applets:
+            if a == "busybox":
+                continue
+            ti = tarfile.TarInfo(f"bin/{a}")
+            ti.type = tarfile.SYMTYPE
+            ti.linkname = "busybox"
+            tar.addfile(ti)
+        add_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
+        add_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
+        add_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")
+        add_file(tar, "etc/group", b"root:x:0:\n")
+        add_file(tar, "etc/lab-image", b"panther-ops test lab stand-in image (busybox, no ROS)\n")
+    tmp.replace(dest)
+    return dest

@@ -1,0 +1,1365 @@
+"""The simulated robot lab: real Linux hosts (netns + mount/UTS/PID namespaces, OpenSSH sshd,
+optionally a dockerd running the robot's compose stack) on one machine.
+
+See docs/lab.md. Facts this follows: /work/shared/reference/fleet-lab-notes.md.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import glob
+import json
+import os
+import posixpath
+import re
+import shlex
+import shutil
+import signal
+import subprocess
+import threading
+import time
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from . import files as F
+from ._sys import (
+    LabError,
+    alive,
+    clean_env,
+    run,
+    signal_recorded,
+    start_time,
+    terminate,
+    wait_child,
+    wait_for,
+    wait_gone,
+)
+from .image import IMPORT_CHANGES, build_rootfs
+from .state import DEFAULT_BASE, LabState, Proc, RobotState, all_states, base_lock
+
+SUBNET_BASE = "10.200"
+CGROUP_ROOT = "/panther-ops-lab"
+JUMP_BRIDGE = "jbr0"
+MAX_ROBOTS = 99
+SSHD = "/usr/sbin/sshd"
+_PREFIX_RE = re.compile(r"^[a-z][a-z0-9]{0,7}$")
+
+#: robot path -> path relative to the robot directory (the bind mounts of robot-init.sh)
+_BIND_DIRS = {
+    "/home": "home",
+    "/run": "run",
+    "/var/run": "run",
+    "/var/log": "var/log",
+    "/tmp": "tmp",
+    "/etc/ssh": "etc/ssh",
+    "/etc/sudoers.d": "etc/sudoers.d",
+    "/etc/docker": "etc/docker",
+}
+_BIND_FILES = {f"/etc/{f}": f"etc/{f}" for f in ("passwd", "group", "shadow", "hostname", "hosts")}
+
+REQUIRED_BINARIES = ("ip", "unshare", "nsenter", "setpriv", SSHD, "ssh", "mount", "bash")
+DOCKER_BINARIES = ("dockerd", "containerd", "runc")
+
+
+def missing_requirements(docker: bool = False) -> list[str]:
+    """Why the lab cannot run here (empty list: it can)."""
+    why = []
+    if os.geteuid() != 0:
+        why.append("the lab needs root (network, mount and PID namespaces)")
+    for b in REQUIRED_BINARIES + (DOCKER_BINARIES if docker else ()):
+        if not (os.path.isabs(b) and os.access(b, os.X_OK)) and shutil.which(b, path=_path()) is None:
+            why.append(f"missing binary {b}")
+    if docker and compose_plugin() is None:
+        why.append("missing docker compose v2 CLI plugin (scripts/install-test-deps.sh)")
+    if docker and docker_cli() is None:
+        why.append("missing binary docker")
+    return why
+
+
+def _path() -> str:
+    return os.environ.get("PATH", "") + ":" + clean_env()["PATH"]
+
+
+def docker_cli() -> str | None:
+    """The docker CLI talking to the robots' engines (Debian's, matching engine 20.10)."""
+    if os.access("/usr/bin/docker", os.X_OK):
+        return "/usr/bin/docker"
+    return shutil.which("docker", path=_path())
+
+
+def compose_plugin() -> str | None:
+    dirs = [
+        os.path.expanduser("~/.docker/cli-plugins"),
+        "/usr/local/lib/docker/cli-plugins",
+        "/usr/local/libexec/docker/cli-plugins",
+        "/usr/lib/docker/cli-plugins",
+        "/usr/libexec/docker/cli-plugins",
+    ]
+    for d in dirs:
+        p = os.path.join(d, "docker-compose")
+        if os.access(p, os.X_OK):
+            return p
+    return None
+
+
+def can_raise_rlimits() -> bool:
+    """Can root raise RLIMIT_RTPRIO to 99 and RLIMIT_MEMLOCK to unlimited (compose ulimits)?
+
+    Not on machines whose root lacks CAP_SYS_RESOURCE (as on the lab's reference machine).
+    """
+    cp = run(["prlimit", "--rtprio=99:99", "--memlock=unlimited:unlimited", "true"], check=False)
+    return cp.returncode == 0
+
+
+def faketime_library() -> str | None:
+    found = sorted(glob.glob("/usr/lib/*/faketime/libfaketime.so.1"))
+    return found[0] if found else None
+
+
+@dataclass(frozen=True)
+class Robot:
+    """Read-only view of one robot (names and addresses as the operator sees them)."""
+
+    name: str
+    index: int
+    ip: str
+    port: int
+    ns: str
+    dir: Path
+    stack: F.StackImage
+    docker: bool
+    jump: str | None
+    serial: str
+
+    @property
+    def host(self) -> str:
+        return self.ip
+
+    @property
+    def driver_container(self) -> str:
+        return "husarion_ugv_ros" if self.stack.ugv else "panther_ros"
+
+
+class Lab:
+    """A lab of `n` simulated robots named r01..rNN.
+
+    Args:
+        n: number of robots (1..99).
+        docker: run a dockerd in each robot and bring its compose stack up.
+        images: stack versions cycled over the robots ("2.0", "2.1.1", "2.2").
+        prefix: names of namespaces/bridge/lab dir; default: the first free `plN`.
+        jumps: robot -> jump robot, for robots reachable only through another robot.
+        base: directory holding the labs (default /root/.cache/panther-ops-lab).
+        ephemeral: the lab belongs to this process (pytest); a later auto-prefixed `up`
+            may reclaim it once this process is gone. CLI labs are persistent.
+    """
+
+    def __init__(
+        self,
+        n: int = 5,
+        *,
+        docker: bool = False,
+        images: Sequence[str] = ("2.1.1",),
+        prefix: str | None = None,
+        jumps: Mapping[str, str] | None = None,
+        base: Path | str = DEFAULT_BASE,
+        ephemeral: bool = False,
+        log: Callable[[str], None] | None = None,
+    ) -> None:
+        if not 1 <= n <= MAX_ROBOTS:
+            raise ValueError(f"n must be within 1..{MAX_ROBOTS}")
+        if prefix is not None and not _PREFIX_RE.match(prefix):
+            raise ValueError("prefix: 1-8 characters, a-z then a-z0-9")
+        self.n = n
+        self.docker_enabled = docker
+        self.images = [F.stack(i).key for i in images] or ["2.1.1"]
+        self.prefix = prefix
+        self.jumps = dict(jumps or {})
+        self.base = Path(base)
+        self.ephemeral = ephemeral
+        self._log_cb = log
+        self.state: LabState | None = None
+        self.timings: dict[str, float] = {}
+        self._lock = threading.RLock()
+        self._popen: dict[int, subprocess.Popen] = {}  # type: ignore[type-arg]
+        names = [self._name(i) for i in range(1, n + 1)]
+        for hidden, jump in self.jumps.items():
+            if hidden not in names or jump not in names or hidden == jump:
+                raise ValueError(f"jump {hidden} -> {jump}: both must be robots of the lab")
+            if jump in self.jumps:
+                raise ValueError(f"jump robot {jump} cannot itself be behind a jump host")
+
+    @staticmethod
+    def _name(i: int) -> str:
+        return f"r{i:02d}"
+
+    # ===================================================================================
+    # attach / context manager
+    # ===================================================================================
+    @classmethod
+    def attach(cls, prefix: str, base: Path | str = DEFAULT_BASE) -> Lab:
+        """The lab `prefix` brought up earlier (by another process, e.g. the CLI)."""
+        path = Path(base) / prefix / "state.json"
+        if not path.is_file():
+            raise LabError(f"no lab {prefix!r} under {base}")
+        st = LabState.load(path)
+        lab = cls(len(st.robots) or 1, docker=st.docker, prefix=st.prefix, base=base)
+        lab.images = sorted({r.image for r in st.robots.values()})
+        lab.jumps = {r.name: r.jump for r in st.robots.values() if r.jump}
+        lab.state = st
+        return lab
+
+    def __enter__(self) -> Lab:
+        if self.state is None:
+            self.up()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.down()
+
+    # ===================================================================================
+    # paths and robots
+    # ===================================================================================
+    @property
+    def st(self) -> LabState:
+        if self.state is None:
+            raise LabError("the lab is not up")
+        return self.state
+
+    @property
+    def dir(self) -> Path:
+        return Path(self.st.dir)
+
+    @property
+    def inventory_path(self) -> Path:
+        return self.dir / "inventory.yaml"
+
+    @property
+    def ssh_config_path(self) -> Path:
+        return self.dir / "ssh_config"
+
+    @property
+    def known_hosts_path(self) -> Path:
+        return self.dir / "known_hosts"
+
+    @property
+    def identity_file(self) -> Path:
+        return self.dir / "id_ed25519"
+
+    @property
+    def names(self) -> list[str]:
+        return sorted(self.st.robots)
+
+    @property
+    def robots(self) -> list[Robot]:
+        return [self.robot(n) for n in self.names]
+
+    def robot(self, name: str) -> Robot:
+        r = self._rs(name)
+        return Robot(
+            name=r.name,
+            index=r.index,
+            ip=r.ip,
+            port=22,
+            ns=r.ns,
+            dir=Path(r.dir),
+            stack=F.stack(r.image),
+            docker=r.docker,
+            jump=r.jump,
+            serial=r.serial,
+        )
+
+    def _rs(self, name: str) -> RobotState:
+        try:
+            return self.st.robots[name]
+        except KeyError:
+            raise LabError(f"no robot {name!r} in lab {self.st.prefix}") from None
+
+    def _log(self, msg: str) -> None:
+        line = f"{time.strftime('%H:%M:%S')} {msg}"
+        if self._log_cb:
+            self._log_cb(line)
+        if self.state is not None:
+            with contextlib.suppress(OSError), open(self.dir / "lab.log", "a") as f:
+                f.write(line + "\n")
+
+    def _save(self) -> None:
+        with self._lock:
+            self.st.save()
+
+    def _record(self, r: RobotState, role: str, pid: int) -> Proc:
+        p = Proc(role, pid, start_time(pid))
+        with self._lock:
+            r.drop(role)
+            r.procs.append(p)
+            self.st.save()
+        return p
+
+    def _init_pid(self, r: RobotState) -> int:
+        p = r.proc("init")
+        if p is None or not alive(p.pid, p.start):
+            raise LabError(f"robot {r.name} is not running (no init process)")
+        return p.pid
+
+    # ===================================================================================
+    # up
+    # ===================================================================================
+    def up(self) -> Lab:
+        """Create every robot (tearing down leftovers of a crashed run of the same prefix)."""
+        why = missing_requirements(self.docker_enabled)
+        if why:
+            raise LabError("; ".join(why))
+        t0 = time.monotonic()
+        self._plan()
+        try:
+            self._create()
+        except BaseException:
+            self._log("up failed: tearing down")
+            with contextlib.suppress(Exception):
+                self.down()
+            raise
+        self.timings["up"] = time.monotonic() - t0
+        self._log(f"up: {self.n} robots in {self.timings['up']:.2f} s")
+        return self
+
+    def _plan(self) -> None:
+        """Choose prefix and subnets and write the state file, before creating anything."""
+        with base_lock(self.base):
+            prefix = self.prefix or self._free_prefix()
+            labdir = self.base / prefix
+            old = labdir / "state.json"
+            if old.is_file():
+                teardown(LabState.load(old), log=self._log_cb)
+            elif labdir.exists():
+                _rmtree_lab(labdir, self.base)
+            used = _used_subnets(self.base)
+            subnet = _free_subnet(used)
+            used.add(subnet)
+            st = LabState(
+                prefix=prefix,
+                dir=str(labdir),
+                subnet=subnet,
+                bridge=f"{prefix}-br",
+                cgroup_parent=f"{CGROUP_ROOT}/{prefix}",
+                docker=self.docker_enabled,
+                created=time.time(),
+            )
+            if self.ephemeral:
+                st.owner = Proc("owner", os.getpid(), start_time(os.getpid()))
+            for jump in sorted(set(self.jumps.values())):
+                w = _free_subnet(used)
+                used.add(w)
+                st.jump_subnets[jump] = w
+                st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
+            for i in range(1, self.n + 1):
+                name = self._name(i)
+                jump = self.jumps.get(name)
+                w = st.jump_subnets[jump] if jump else subnet
+                st.robots[name] = RobotState(
+                    name=name,
+                    index=i,
+                    ns=f"{prefix}-{name}",
+                    ip=f"{SUBNET_BASE}.{w}.{10 + i}",
+                    dir=str(labdir / name),
+                    image=self.images[(i - 1) % len(self.images)],
+                    serial=f"{1000 + i:04d}",
+                    docker=self.docker_enabled,
+                    jump=jump,
+                    link=f"v-{name}" if jump else f"{prefix}-{name}",
+                )
+            self.state = st
+            self.prefix = prefix
+            st.save()  # claims prefix and subnets for other lab processes
+
+    def _free_prefix(self) -> str:
+        netns = set(_netns_list())
+        links = set(_host_links())
+        for i in range(1, 1000):
+            p = f"pl{i}"
+            labdir = self.base / p
+            in_use = any(n.startswith(p + "-") for n in netns) or f"{p}-br" in links
+            if labdir.exists():
+                stf = labdir / "state.json"
+                st = None
+                with contextlib.suppress(Exception):
+                    st = LabState.load(stf)
+                if st is not None and st.owner is not None and not alive(st.owner.pid, st.owner.start):
+                    teardown(st, log=self._log_cb)  # ephemeral lab whose process is gone
+                else:
+                    continue
+            if not in_use:
+                return p
+        raise LabError("no free lab prefix")
+
+    def _create(self) -> None:
+        st = self.st
+        d = self.dir
+        d.mkdir(parents=True, exist_ok=True, mode=0o700)
+        (d / "bin").mkdir(exist_ok=True)
+        shutil.copy(F.DATA / "robot-init.sh", d / "bin" / "robot-init.sh")
+        os.chmod(d / "bin" / "robot-init.sh", 0o755)
+        priv, pub = F.ed25519_keypair(f"panther-ops-lab-{st.prefix}")
+        _write(self.identity_file, priv, 0o600)
+        _write(d / "id_ed25519.pub", (pub + "\n").encode(), 0o644)
+        self._operator_pub = pub
+        self._id_rsa = F.rsa_keypair(f"husarion@panther-ops-lab-{st.prefix}")
+        self._cgroups = _cgroup_mounts()
+        self._rlimits_ok = can_raise_rlimits()
+        if self.docker_enabled:
+            self._rootfs = build_rootfs(d / "image" / "rootfs.tar").read_bytes()
+
+        # network: bridge, host routes, namespaces, jump bridges
+        run(["ip", "link", "add", st.bridge, "type", "bridge"])
+        run(["ip", "addr", "add", f"{SUBNET_BASE}.{st.subnet}.1/24", "dev", st.bridge])
+        run(["ip", "link", "set", st.bridge, "up"])
+        for route in st.routes:
+            run(["ip", "route", "add", *route.split()])
+        for r in st.robots.values():
+            run(["ip", "netns", "add", r.ns])
+        for jump, w in st.jump_subnets.items():
+            self._jump_bridge(st.robots[jump], w)
+
+        workers = min(len(st.robots), 16)
+        with ThreadPoolExecutor(max_workers=workers) as ex:
+            list(ex.map(self._build_robot, st.robots.values()))
+        self._write_operator_files()
+
+    def _build_robot(self, r: RobotState) -> None:
+        t0 = time.monotonic()
+        self._write_robot_files(r)
+        self._wire(r)
+        self._start_init(r)
+        self._start_sshd(r)
+        if r.docker:
+            self._start_dockerd(r)
+            self._import_images(r)
+            cp = self.compose(r.name, "up", "-d")
+            if cp.returncode != 0:
+                raise LabError(f"{r.name}: docker compose up -d failed:\n{cp.stderr.strip()}")
+        self._log(f"{r.name}: up in {time.monotonic() - t0:.2f} s ({r.ip}, {r.image})")
+
+    # -- files -------------------------------------------------------------------------
+    def _write_robot_files(self, r: RobotState) -> None:
+        d = Path(r.dir)
+        st_img = F.stack(r.image)
+        for sub, mode in (
+            ("etc/ssh/ssh_config.d", 0o755),
+            ("etc/ssh/sshd_config.d", 0o755),
+            ("etc/sudoers.d", 0o755),
+            ("etc/docker", 0o755),
+            ("var/log", 0o755),
+            ("home", 0o755),
+            ("run/sshd", 0o755),
+            ("run/husarion", 0o755),
+            ("tmp", 0o1777),
+        ):
+            (d / sub).mkdir(parents=True, exist_ok=True)
+            os.chmod(d / sub, mode)
+        passwd = F.robot_passwd(Path("/etc/passwd").read_text())
+        _write(d / "etc/passwd", passwd.encode(), 0o644)
+        _write(d / "etc/group", F.robot_group(Path("/etc/group").read_text()).encode(), 0o644)
+        _write(d / "etc/shadow", F.robot_shadow(passwd).encode(), 0o640)
+        _write(d / "etc/hostname", f"{r.name}\n".encode(), 0o644)
+        _write(d / "etc/hosts", F.etc_hosts(r.name, r.ip).encode(), 0o644)
+        _write(d / "etc/sudoers.d/husarion", F.SUDOERS.encode(), 0o440)
+        for f in ("ssh_config", "moduli"):
+            if os.path.exists(f"/etc/ssh/{f}"):
+                shutil.copy(f"/etc/ssh/{f}", d / "etc/ssh" / f)
+        priv, pub = F.ed25519_keypair(f"root@{r.name}")
+        _write(d / "etc/ssh/ssh_host_ed25519_key", priv, 0o600)
+        _write(d / "etc/ssh/ssh_host_ed25519_key.pub", (pub + "\n").encode(), 0o644)
+        self._known_key(r, set_to=pub)
+        _write(d / "etc/ssh/sshd_config", self._sshd_config(r).encode(), 0o644)
+        _write(d / "var/log/power-standin.log", b"", 0o622)
+        shutil.copy(F.DATA / "poweroff-standin.sh", d / "poweroff-standin")
+        os.chmod(d / "poweroff-standin", 0o755)
+        _write(d / "cgroups", self._cgroups.encode(), 0o644)
+        with contextlib.suppress(FileNotFoundError):
+            (d / "ready").unlink()
+
+        env_path, env_text, yml_path, yml_text = F.robot_env(st_img, r.serial)
+        _write(d / env_path.lstrip("/"), env_text.encode(), 0o644)
+        _write(d / yml_path.lstrip("/"), yml_text.encode(), 0o644)
+
+        home = d / "home" / F.USER
+        files: dict[str, tuple[bytes, int]] = {}
+        skel = Path("/etc/skel")
+        for f in (".bashrc", ".bash_logout"):
+            if (skel / f).is_file():
+                files[f] = ((skel / f).read_bytes(), 0o644)
+        skel_profile = (skel / ".profile").read_text() if (skel / ".profile").is_file() else ""
+        files[".profile"] = (F.login_profile(st_img, skel_profile).encode(), 0o644)
+        files[".ssh/authorized_keys"] = ((self._operator_pub + "\n").encode(), 0o600)
+        files[".ssh/id_rsa"] = (self._id_rsa[0], 0o600)
+        files[".ssh/id_rsa.pub"] = ((self._id_rsa[1] + "\n").encode(), 0o644)
+        files["compose.yaml"] = (
+            F.lab_compose(st_img.template_text(), drop_ulimits=not self._rlimits_ok).encode(),
+            0o644,
+        )
+        if st_img.ugv:
+            for rel, text in F.ugv_config_tree().items():
+                files[f"config/{rel}"] = (text.encode(), 0o644)
+        home.mkdir(mode=0o750, exist_ok=True)
+        os.chmod(home, 0o750)
+        os.chown(home, F.UID, F.GID)
+        for rel, (data, mode) in files.items():
+            p = home / rel
+            _mkdirs_owned(p.parent, home, 0o700 if rel.startswith(".ssh/") else 0o755)
+            _write(p, data, mode)
+            os.chown(p, F.UID, F.GID)
+
+    def _sshd_config(self, r: RobotState) -> str:
+        setenv = None
+        if r.clock_offset:
+            lib = faketime_library()
+            if lib is None:
+                raise LabError("libfaketime not found: apt-get install faketime")
+            setenv = {
+                "LD_PRELOAD": lib,
+                "FAKETIME": f"{r.clock_offset:+d}",
+                "FAKETIME_DONT_FAKE_MONOTONIC": "1",
+            }
+        return F.sshd_config(r.ip, password=r.password, setenv=setenv)
+
+    def _known_key(self, r: RobotState, set_to: str | None = None) -> str:
+        path = Path(r.dir) / "known_host_key"
+        if set_to is not None:
+            path.write_text(set_to + "\n")
+            return set_to
+        return path.read_text().strip()
+
+    # -- network -----------------------------------------------------------------------
+    def _jump_bridge(self, jump: RobotState, w: int) -> None:
+        cmds = (
+            f"link add {JUMP_BRIDGE} type bridge\n"
+            f"addr add {SUBNET_BASE}.{w}.1/24 dev {JUMP_BRIDGE}\n"
+            f"link set {JUMP_BRIDGE} up\n"
+        )
+        run(["ip", "-n", jump.ns, "-batch", "-"], input=cmds)
+
+    def _wire(self, r: RobotState) -> None:
+        """Connect the robot's eth0: to the lab bridge, or to its jump robot's bridge."""
+        if r.jump:
+            jump = self.st.robots[r.jump]
+            run(
+                ["ip", "-n", jump.ns, "-batch", "-"],
+                input=(
+                    f"link add {r.link} type veth peer name eth0 netns {r.ns}\n"
+                    f"link set {r.link} master {JUMP_BRIDGE} up\n"
+                ),
+            )
+        else:
+            run(
+                ["ip", "-batch", "-"],
+                input=(
+                    f"link add {r.link} type veth peer name eth0 netns {r.ns}\n"
+                    f"link set {r.link} master {self.st.bridge} up\n"
+                ),
+            )
+        run(
+            ["ip", "-n", r.ns, "-batch", "-"],
+            input=(f"addr add {r.ip}/24 dev eth0\nlink set eth0 up\nlink set lo up\n"),
+        )
+
+    # -- processes ---------------------------------------------------------------------
+    def _spawn(self, argv: list[str], logfile: Path) -> subprocess.Popen:  # type: ignore[type-arg]
+        with open(logfile, "ab") as out:
+            p = subprocess.Popen(
+                argv,
+                stdin=subprocess.DEVNULL,
+                stdout=out,
+                stderr=subprocess.STDOUT,
+                start_new_session=True,
+                env=clean_env(),
+                close_fds=True,
+            )
+        self._popen[p.pid] = p
+        return p
+
+    def _nsenter(self, r: RobotState) -> list[str]:
+        return ["nsenter", "-t", str(self._init_pid(r)), "-n", "-m", "-u", "-p", "--"]
+
+    def _start_init(self, r: RobotState) -> None:
+        d = Path(r.dir)
+        argv = [
+            "ip",
+            "netns",
+            "exec",
+            r.ns,
+            "unshare",
+            "--mount",
+            "--uts",
+            "--pid",
+            "--fork",
+            "--propagation",
+            "private",
+            str(self.dir / "bin" / "robot-init.sh"),
+            str(d),
+            r.name,
+        ]
+        p = self._spawn(argv, d / "init.log")
+        self._record(r, "unshare", p.pid)
+        self._record(r, "init", wait_child(p.pid))
+
+        def ready() -> bool:
+            if p.poll() is not None:
+                raise LabError(f"{r.name}: robot-init.sh failed:\n{_tail(d / 'init.log')}")
+            return (d / "ready").exists()
+
+        wait_for(ready, 10.0, f"{r.name} to boot")
+
+    def _sshd_listening(self, r: RobotState) -> int:
+        return _count(Path(r.dir) / "var/log/sshd.log", "Server listening on")
+
+    def _start_sshd(self, r: RobotState) -> None:
+        before = self._sshd_listening(r)
+        argv = [*self._nsenter(r), SSHD, "-D", "-f", "/etc/ssh/sshd_config", "-E", "/var/log/sshd.log"]
+        p = self._spawn(argv, Path(r.dir) / "sshd.out")
+        self._record(r, "sshd-nsenter", p.pid)
+        self._record(r, "sshd", wait_child(p.pid))
+
+        def listening() -> bool:
+            if p.poll() is not None:
+                raise LabError(f"{r.name}: sshd exited:\n{_tail(Path(r.dir) / 'var/log/sshd.log')}")
+            return self._sshd_listening(r) > before
+
+        wait_for(listening, 10.0, f"sshd of {r.name}")
+
+    def _reload_sshd(self, r: RobotState) -> None:
+        """SIGHUP: sshd re-executes itself (same PID) and reads its configuration again."""
+        p = r.proc("sshd")
+        if p is None or not alive(p.pid, p.start):
+            return  # not running: the new configuration applies at the next start
+        before = self._sshd_listening(r)
+        signal_recorded(p.pid, p.start, signal.SIGHUP)
+        wait_for(lambda: self._sshd_listening(r) > before, 10.0, f"sshd of {r.name} to reload")
+
+    def _stop_sshd(self, r: RobotState) -> None:
+        sshd, wrapper = r.proc("sshd"), r.proc("sshd-nsenter")
+        if sshd is not None:
+            terminate([sshd.key()], timeout=5.0)
+        if wrapper is not None:  # exits by itself once sshd is reaped
+            self._reap()
+            terminate(wait_gone([wrapper.key()], 2.0), timeout=2.0)
+        self._reap()
+        with self._lock:
+            r.drop("sshd")
+            r.drop("sshd-nsenter")
+            self.st.save()
+
+    def _reap(self) -> None:
+        for pid, p in list(self._popen.items()):
+            if p.poll() is not None:
+                del self._popen[pid]
+
+    # -- docker ------------------------------------------------------------------------
+    def docker_socket(self, name: str) -> Path:
+        """Host path of the robot's /run/docker.sock."""
+        return Path(self._rs(name).dir) / "run" / "docker.sock"
+
+    def _start_dockerd(self, r: RobotState) -> None:
+        d = Path(r.dir)
+        argv = [
+            *self._nsenter(r),
+            "dockerd",
+            "--data-root",
+            str(d / "docker"),
+            "--exec-root",
+            str(d / "dx"),
+            "--pidfile",
+            str(d / "dockerd.pid"),
+            "-H",
+            "unix:///run/docker.sock",
+            "--group",
+            "docker",
+            "--iptables=false",
+            "--ip-forward=false",
+            "--ip-masq=false",
+            "--bridge=none",
+            "--cgroup-parent",
+            f"{self.st.cgroup_parent}/{r.name}",
+            "--log-level",
+            "warn",
+        ]
+        p = self._spawn(argv, d / "var/log/dockerd.log")
+        self._record(r, "dockerd-nsenter", p.pid)
+        self._record(r, "dockerd", wait_child(p.pid))
+        sock = d / "run" / "docker.sock"
+
+        def ready() -> bool:
+            if p.poll() is not None:
+                raise LabError(f"{r.name}: dockerd exited:\n{_tail(d / 'var/log/dockerd.log')}")
+            if not sock.exists():
+                return False
+            try:
+                return self.docker_client(r.name, timeout=2).ping()
+            except Exception:
+                return False
+
+        wait_for(ready, 30.0, f"dockerd of {r.name}")
+
+    def docker_client(self, name: str, timeout: float = 30) -> Any:
+        """docker SDK client for the robot's engine, through its socket from the host."""
+        import docker
+
+        return docker.DockerClient(base_url=f"unix://{self.docker_socket(name)}", version="1.41", timeout=timeout)
+
+    def _import_images(self, r: RobotState) -> None:
+        client = self.docker_client(r.name, timeout=60)
+        try:
+            tags = F.all_image_tags()
+            first_repo, first_tag = tags[0].rsplit(":", 1)
+            client.api.import_image_from_data(
+                self._rootfs, repository=first_repo, tag=first_tag, changes=list(IMPORT_CHANGES)
+            )
+            for t in tags[1:]:
+                repo, tag = t.rsplit(":", 1)
+                client.api.tag(tags[0], repo, tag)
+        finally:
+            client.close()
+
+    def docker(self, name: str, *args: str, check: bool = False, timeout: float = 60) -> subprocess.CompletedProcess:  # type: ignore[type-arg]
+        """`docker ARGS` against the robot's engine, from the host (through its socket)."""
+        cli = docker_cli()
+        if cli is None:
+            raise LabError("docker CLI not found")
+        return run([cli, "-H", f"unix://{self.docker_socket(name)}", *args], check=check, timeout=timeout)
+
+    def compose(self, name: str, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:  # type: ignore[type-arg]
+        """`docker compose ARGS` as the real robot runs it: user husarion, login shell, in ~."""
+        cmd = "docker compose " + " ".join(shlex.quote(a) for a in args)
+        return self.exec(name, ["bash", "-lc", cmd], user=F.USER, timeout=timeout)
+
+    # ===================================================================================
+    # operator files
+    # ===================================================================================
+    def _inventory_robots(self) -> list[F.InventoryRobot]:
+        out = []
+        for r in sorted(self.st.robots.values(), key=lambda x: x.index):
+            out.append(
+                F.InventoryRobot(
+                    name=r.name,
+                    host=r.ip,
+                    port=22,
+                    groups=("lab", F.stack(r.image).group),
+                    jump=r.jump,
+                    host_key=" ".join(self._known_key(r).split()[:2]),
+                )
+            )
+        return out
+
+    def _write_operator_files(self) -> None:
+        with self._lock:
+            robots = self._inventory_robots()
+            _write(self.known_hosts_path, F.known_hosts(robots).encode(), 0o644)
+            _write(
+                self.ssh_config_path, F.ssh_config(robots, self.identity_file, self.known_hosts_path).encode(), 0o644
+            )
+            _write(self.inventory_path, F.inventory_yaml(robots).encode(), 0o644)
+
+    # ===================================================================================
+    # down
+    # ===================================================================================
+    def down(self) -> None:
+        """Tear down everything the lab owns (the state file says what)."""
+        if self.state is None:
+            return
+        t0 = time.monotonic()
+        teardown(self.state, log=self._log_cb)
+        for p in self._popen.values():
+            with contextlib.suppress(Exception):
+                p.wait(timeout=2)
+        self._popen.clear()
+        self.timings["down"] = time.monotonic() - t0
+        self.state = None
+
+    # ===================================================================================
+    # inside a robot
+    # ===================================================================================
+    def exec(
+        self,
+        name: str,
+        argv: Sequence[str],
+        user: str | None = None,
+        *,
+        input: str | bytes | None = None,
+        timeout: float = 60.0,
+        check: bool = False,
+        env: Mapping[str, str] | None = None,
+        text: bool = True,
+    ) -> subprocess.CompletedProcess:  # type: ignore[type-arg]
+        """Run `argv` inside the robot's namespaces (as root, or as `user` in its home).
+
+        A `user` gets a fresh environment from the robot's passwd (setpriv --reset-env) and
+        the robot's clock offset, if one is set (see clock_offset).
+        """
+        r = self._rs(name)
+        cmd = self._nsenter(r)
+        if user is not None and user != "root":
+            extra = dict(self._clock_env(r))
+            extra.update(env or {})
+            cmd += [
+                "setpriv",
+                f"--reuid={user}",
+                f"--regid={_robot_gid(r, user)}",
+                "--init-groups",
+                "--reset-env",
+                "--",
+                "env",
+                *(f"{k}={v}" for k, v in extra.items()),
+                "sh",
+                "-c",
+                'cd "$HOME" 2>/dev/null; exec "$@"',
+                "sh",
+                *argv,
+            ]
+            return run(cmd, check=check, input=input, timeout=timeout, text=text)
+        return run(
+            [*cmd, *argv], check=check, input=input, timeout=timeout, text=text, env=clean_env(**dict(env or {}))
+        )
+
+    def sh(self, name: str, script: str, user: str | None = None, **kw: Any) -> subprocess.CompletedProcess:  # type: ignore[type-arg]
+        """`exec(name, ["sh", "-c", script], user)`."""
+        return self.exec(name, ["sh", "-c", script], user, **kw)
+
+    def _host_path(self, r: RobotState, path: str) -> Path | None:
+        """Host path of a robot path when it lies in one of the robot's own bind mounts."""
+        p = posixpath.normpath("/" + path.lstrip("/"))
+        d = Path(r.dir)
+        if p in _BIND_FILES:
+            return d / _BIND_FILES[p]
+        for mnt, rel in _BIND_DIRS.items():
+            if p == mnt or p.startswith(mnt + "/"):
+                host = d / rel / p[len(mnt) :].lstrip("/")
+                # symlinks are resolved by the host: only accept what stays in the robot dir
+                real = os.path.realpath(host)
+                if real == str(d / rel) or real.startswith(str(d / rel) + "/"):
+                    return host
+                return None
+        return None
+
+    def read_bytes(self, name: str, path: str) -> bytes:
+        r = self._rs(name)
+        host = self._host_path(r, path)
+        if host is not None:
+            return host.read_bytes()
+        cp = self.exec(name, ["cat", "--", path], text=False)
+        if cp.returncode != 0:
+            raise FileNotFoundError(f"{name}:{path}: {cp.stderr.decode(errors='replace').strip()}")
+        return cp.stdout  # type: ignore[no-any-return]
+
+    def read(self, name: str, path: str) -> str:
+        """Content of a file of the robot (robot path)."""
+        return self.read_bytes(name, path).decode()
+
+    def write(self, name: str, path: str, data: str | bytes, *, mode: int | None = None) -> None:
+        """Write a robot file in place (its inode is kept: bind mounts see the new content).
+
+        New files under /home/husarion belong to husarion, others to root.
+        """
+        r = self._rs(name)
+        raw = data.encode() if isinstance(data, str) else data
+        host = self._host_path(r, path)
+        if host is None:
+            script = 'cat > "$1"' + (f' && chmod {mode:o} "$1"' if mode is not None else "")
+            self.exec(name, ["sh", "-c", script, "sh", path], input=raw, check=True, text=False)
+            return
+        owned = posixpath.normpath(path).startswith(F.HOME + "/")
+        if host.exists():
+            with open(host, "r+b") as f:
+                f.truncate(0)
+                f.write(raw)
+        else:
+            top = Path(r.dir) / "home" / F.USER if owned else host.parent
+            _mkdirs_owned(host.parent, top, 0o755, owned)
+            _write(host, raw, 0o644)
+            if owned:
+                os.chown(host, F.UID, F.GID)
+        if mode is not None:
+            os.chmod(host, mode)
+
+    # ===================================================================================
+    # edge features
+    # ===================================================================================
+    def link_down(self, name: str) -> None:
+        """The robot's eth0 goes down: no ping, ssh connects time out."""
+        run(["ip", "-n", self._rs(name).ns, "link", "set", "eth0", "down"])
+
+    def link_up(self, name: str) -> None:
+        run(["ip", "-n", self._rs(name).ns, "link", "set", "eth0", "up"])
+
+    def power_on(self, name: str) -> None:
+        """Undo the power-off stand-in: every interface of the robot up again."""
+        r = self._rs(name)
+        out = run(["ip", "-n", r.ns, "-o", "link", "show"]).stdout
+        for m in re.finditer(r"^\d+: ([^:@]+)", out, flags=re.M):
+            run(["ip", "-n", r.ns, "link", "set", m.group(1), "up"])
+
+    def power_calls(self, name: str) -> list[dict[str, Any]]:
+        """Calls of shutdown/poweroff/reboot (and systemctl) recorded by the stand-in."""
+        text = (Path(self._rs(name).dir) / "var/log/power-standin.log").read_text()
+        return [json.loads(line) for line in text.splitlines() if line.strip()]
+
+    def standins(self, name: str) -> dict[str, str]:
+        """Paths covered by the power-off stand-in in this robot: command -> mounted target."""
+        text = (Path(self._rs(name).dir) / "standin-targets").read_text()
+        return dict(line.split(" ", 1) for line in text.splitlines() if line.strip())
+
+    def kill_sshd(self, name: str) -> None:
+        """Stop the robot's sshd (open sessions stay, as on a real host)."""
+        self._stop_sshd(self._rs(name))
+
+    def start_sshd(self, name: str) -> None:
+        r = self._rs(name)
+        p = r.proc("sshd")
+        if p is not None and alive(p.pid, p.start):
+            return
+        self._start_sshd(r)
+
+    def sshd_accepts(self, name: str) -> int:
+        """Accepted logins in the robot's sshd log ("Accepted publickey for husarion", ...)."""
+        path = Path(self._rs(name).dir) / "var/log/sshd.log"
+        return len(re.findall(r"Accepted \S+ for husarion", _read(path)))
+
+    def rotate_host_key(self, name: str) -> str:
+        """New host key, sshd restarted; known_hosts is NOT updated. Returns the new key."""
+        r = self._rs(name)
+        d = Path(r.dir) / "etc/ssh"
+        priv, pub = F.ed25519_keypair(f"root@{r.name}")
+        _write(d / "ssh_host_ed25519_key", priv, 0o600)
+        _write(d / "ssh_host_ed25519_key.pub", (pub + "\n").encode(), 0o644)
+        self._stop_sshd(r)
+        self._start_sshd(r)
+        return pub
+
+    def accept_host_key(self, name: str) -> None:
+        """Put the robot's current host key into known_hosts (undo rotate_host_key)."""
+        r = self._rs(name)
+        pub = (Path(r.dir) / "etc/ssh/ssh_host_ed25519_key.pub").read_text().strip()
+        self._known_key(r, set_to=pub)
+        self._write_operator_files()
+
+    def clock_offset(self, name: str, seconds: int) -> None:
+        """Shift the clock of the robot's login environment (ssh sessions, exec as a user).
+
+        libfaketime via sshd `SetEnv LD_PRELOAD=... FAKETIME=+N` (0 removes it); the kernel
+        clock is shared with the host and is not changed. Static binaries (Go: docker) are
+        not affected.
+        """
+        r = self._rs(name)
+        r.clock_offset = int(seconds)
+        self._save()
+        _write_in_place(Path(r.dir) / "etc/ssh/sshd_config", self._sshd_config(r).encode())
+        self._reload_sshd(r)
+
+    def _clock_env(self, r: RobotState) -> dict[str, str]:
+        if not r.clock_offset:
+            return {}
+        lib = faketime_library()
+        return (
+            {}
+            if lib is None
+            else {
+                "LD_PRELOAD": lib,
+                "FAKETIME": f"{r.clock_offset:+d}",
+                "FAKETIME_DONT_FAKE_MONOTONIC": "1",
+            }
+        )
+
+    def password_login(self, name: str, password: str | None = "husarion") -> None:
+        """sshd of the robot also accepts `password` for husarion (None: key-only again)."""
+        r = self._rs(name)
+        shadow = Path(r.dir) / "etc/shadow"
+        pw_hash = "*" if password is None else _sha512_crypt(password)
+        lines = []
+        for line in shadow.read_text().splitlines():
+            f = line.split(":")
+            if f[0] == F.USER:
+                f[1] = pw_hash
+            lines.append(":".join(f))
+        _write_in_place(shadow, ("\n".join(lines) + "\n").encode())
+        r.password = password is not None
+        self._save()
+        _write_in_place(Path(r.dir) / "etc/ssh/sshd_config", self._sshd_config(r).encode())
+        self._reload_sshd(r)
+
+    def behind_jump(self, name: str, jump: str) -> None:
+        """Move `name` onto a subnet that only `jump` also sits on (ProxyJump needed).
+
+        The robot gets 10.200.<w2>.(10+i) behind a bridge inside the jump robot; the host
+        has only an `unreachable` route to that subnet (so probes never leave the machine).
+        Inventory, ssh_config and known_hosts are rewritten (same host key, new address).
+        """
+        st = self.st
+        r, j = self._rs(name), self._rs(jump)
+        if r.jump == jump:
+            return
+        if j.jump or any(x.jump == name for x in st.robots.values()) or name == jump:
+            raise LabError("a jump robot cannot be behind a jump robot itself")
+        with base_lock(self.base), self._lock:
+            if jump not in st.jump_subnets:
+                w = _free_subnet(_used_subnets(self.base))
+                st.jump_subnets[jump] = w
+                st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
+                st.save()
+                run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
+                self._jump_bridge(j, w)
+        w = st.jump_subnets[jump]
+        # unwire: deleting eth0 in the robot deletes its peer too
+        run(["ip", "-n", r.ns, "link", "del", "eth0"], check=False)
+        r.jump = jump
+        r.link = f"v-{name}"
+        r.ip = f"{SUBNET_BASE}.{w}.{10 + r.index}"
+        self._save()
+        self._wire(r)
+        _write_in_place(Path(r.dir) / "etc/hosts", F.etc_hosts(r.name, r.ip).encode())
+        _write_in_place(Path(r.dir) / "etc/ssh/sshd_config", self._sshd_config(r).encode())
+        self._stop_sshd(r)
+        self._start_sshd(r)
+        self._write_operator_files()
+
+    # ===================================================================================
+    # ssh helpers (operator side)
+    # ===================================================================================
+    def connect(self, name: str, *, timeout: float = 5.0, password: str | None = None) -> Any:
+        """paramiko SSHClient logged in as husarion (RejectPolicy + the lab's known_hosts).
+
+        Robots behind a jump host are reached through a direct-tcpip channel of the jump
+        robot (the jump client is closed with the returned client).
+        """
+        import paramiko
+
+        r = self._rs(name)
+        sock = None
+        jump_client = None
+        if r.jump:
+            jump_client = self.connect(r.jump, timeout=timeout)
+            sock = jump_client.get_transport().open_channel(
+                "direct-tcpip", (r.ip, 22), ("127.0.0.1", 0), timeout=timeout
+            )
+        client = _LabSSHClient(jump_client)
+        client.load_host_keys(str(self.known_hosts_path))
+        client.set_missing_host_key_policy(paramiko.RejectPolicy())
+        auth: dict[str, Any] = {"look_for_keys": False, "allow_agent": False}
+        if password is not None:
+            auth["password"] = password
+        else:
+            auth["key_filename"] = str(self.identity_file)
+        try:
+            client.connect(
+                r.ip,
+                22,
+                username=F.USER,
+                sock=sock,
+                timeout=timeout,
+                banner_timeout=timeout,
+                auth_timeout=timeout,
+                **auth,
+            )
+        except BaseException:
+            client.close()
+            raise
+        return client
+
+    def ssh_argv(self, name: str, *command: str) -> list[str]:
+        """OpenSSH command line for the robot (`ssh -F <lab>/ssh_config NAME ...`)."""
+        return ["ssh", "-F", str(self.ssh_config_path), "-o", "BatchMode=yes", name, *command]
+
+    def ssh(self, name: str, command: str, *, timeout: float = 30) -> subprocess.CompletedProcess:  # type: ignore[type-arg]
+        """Run `command` on the robot over OpenSSH (as an operator would)."""
+        return run(self.ssh_argv(name, command), check=False, timeout=timeout, env=dict(os.environ))
+
+    # ===================================================================================
+    # status
+    # ===================================================================================
+    def status(self) -> dict[str, Any]:
+        return lab_status(self.st)
+
+
+class _LabSSHClient:
+    """Built lazily so that importing the lab does not import paramiko."""
+
+    def __new__(cls, jump: Any) -> Any:  # type: ignore[misc]
+        import paramiko
+
+        class LabSSHClient(paramiko.SSHClient):
+            def __init__(self) -> None:
+                super().__init__()
+                self.jump_client = jump
+
+            def close(self) -> None:
+                super().close()
+                if self.jump_client is not None:
+                    self.jump_client.close()
+
+        return LabSSHClient()
+
+
+# =======================================================================================
+# status and teardown (work from a state file alone: usable after a crash)
+# =======================================================================================
+def lab_status(st: LabState) -> dict[str, Any]:
+    robots = {}
+    for r in sorted(st.robots.values(), key=lambda x: x.index):
+        procs = {p.role: alive(p.pid, p.start) for p in r.procs}
+        robots[r.name] = {
+            "ip": r.ip,
+            "image": r.image,
+            "jump": r.jump,
+            "running": procs.get("init", False),
+            "sshd": procs.get("sshd", False),
+            "dockerd": procs.get("dockerd", False) if r.docker else None,
+        }
+    owner_alive = st.owner is not None and alive(st.owner.pid, st.owner.start)
+    return {
+        "prefix": st.prefix,
+        "dir": st.dir,
+        "subnet": f"{SUBNET_BASE}.{st.subnet}.0/24",
+        "docker": st.docker,
+        "owner": None if st.owner is None else st.owner.pid,
+        "owner_alive": owner_alive,
+        "inventory": str(Path(st.dir) / "inventory.yaml"),
+        "ssh_config": str(Path(st.dir) / "ssh_config"),
+        "robots": robots,
+    }
+
+
+def teardown(st: LabState, log: Callable[[str], None] | None = None) -> None:
+    """Remove what the lab owns, in the order of the lab notes. Tolerates partial labs."""
+    say = log or (lambda _m: None)
+    robots = list(st.robots.values())
+    _teardown_docker(robots, say)  # 1. containers, 2. dockerd
+    _cleanup_cgroups(st.cgroup_parent)  # 3. what is left in the lab's cgroups
+    netns = set(_netns_list())
+    _teardown_processes(robots, netns)  # 4. processes of the robots
+    _teardown_network(st, netns)  # 5. veths, namespaces, bridge, routes
+    _rmtree_lab(Path(st.dir), Path(st.dir).parent)  # 6. the lab directory
+    say(f"lab {st.prefix}: down")
+
+
+def _teardown_docker(robots: list[RobotState], say: Callable[[str], None]) -> None:
+    """`docker rm -f` through each robot's own socket, then SIGTERM each recorded dockerd."""
+
+    def rm_containers(r: RobotState) -> None:
+        p = r.proc("dockerd")
+        sock = Path(r.dir) / "run" / "docker.sock"
+        if p is None or not alive(p.pid, p.start) or not sock.exists():
+            return
+        try:
+            import docker
+
+            c = docker.DockerClient(base_url=f"unix://{sock}", version="1.41", timeout=20)
+            for ctr in c.containers.list(all=True):
+                ctr.remove(force=True)
+            c.close()
+        except Exception as exc:
+            say(f"{r.name}: docker rm -f: {exc}")
+
+    docker_robots = [r for r in robots if r.proc("dockerd")]
+    if docker_robots:
+        with ThreadPoolExecutor(max_workers=min(16, len(docker_robots))) as ex:
+            list(ex.map(rm_containers, docker_robots))
+    dockerds = [p.key() for r in robots for p in r.procs if p.role == "dockerd"]
+    for pid, start in dockerds:
+        signal_recorded(pid, start, signal.SIGTERM)
+    for pid, start in wait_gone(dockerds, 20.0):
+        signal_recorded(pid, start, signal.SIGKILL)
+
+
+def _teardown_processes(robots: list[RobotState], netns: set[str]) -> None:
+    """Every process of the robots' network namespaces and every recorded PID.
+
+    The nsenter/unshare wrappers are not signalled at first: they reap their child and exit
+    by themselves. Killed first, their child would wait for the host's (slow) reaper and
+    hold the robot's PID namespace open.
+    """
+    wrappers = [p.key() for r in robots for p in r.procs if p.role in _WRAPPERS]
+    inner: list[tuple[int, int | None]] = []
+    for r in robots:
+        if r.ns in netns:
+            out = run(["ip", "netns", "pids", r.ns], check=False).stdout.split()
+            inner += [(int(x), start_time(int(x))) for x in out if x.isdigit()]
+        inner += [p.key() for p in r.procs if p.role not in _WRAPPERS]
+    wrapper_pids = {pid for pid, _ in wrappers}
+    inner = [p for p in dict.fromkeys(inner) if p[0] not in wrapper_pids]
+    for r in robots:  # init ignores SIGTERM: SIGKILL ends the robot's whole PID namespace
+        p = r.proc("init")
+        if p is not None:
+            signal_recorded(p.pid, p.start, signal.SIGKILL)
+    terminate(inner, timeout=5.0)
+    terminate(wrappers, timeout=2.0)
+
+
+def _teardown_network(st: LabState, netns: set[str]) -> None:
+    links = set(_host_links())
+    own = [r.link for r in st.robots.values() if not r.jump and r.link in links]
+    if own:  # synchronous, unlike the veth cleanup of a deleted namespace
+        run(["ip", "-force", "-batch", "-"], input="".join(f"link del {x}\n" for x in own), check=False)
+    for r in st.robots.values():
+        if r.ns in netns:
+            run(["ip", "netns", "del", r.ns], check=False)
+    if st.bridge in links:
+        run(["ip", "link", "del", st.bridge], check=False)
+    for route in st.routes:
+        run(["ip", "route", "del", *route.split()], check=False)
+
+
+_WRAPPERS = ("unshare", "sshd-nsenter", "dockerd-nsenter")
+
+
+def _cleanup_cgroups(parent: str) -> None:
+    for mnt in _host_cgroup_dirs():
+        top = Path(mnt + parent)
+        if not top.is_dir():
+            continue
+        dirs = sorted((p for p in top.rglob("*") if p.is_dir()), key=lambda p: -len(p.parts))
+        for d in [*dirs, top]:
+            procs_file = d / "cgroup.procs"
+            with contextlib.suppress(OSError):
+                for pid in procs_file.read_text().split():
+                    with contextlib.suppress(ProcessLookupError):
+                        os.kill(int(pid), signal.SIGKILL)
+            for _ in range(50):
+                try:
+                    d.rmdir()
+                    break
+                except FileNotFoundError:
+                    break
+                except OSError:
+                    time.sleep(0.02)
+        with contextlib.suppress(OSError):
+            Path(mnt + CGROUP_ROOT).rmdir()  # only when no other lab uses it
+
+
+def _rmtree_lab(path: Path, base: Path) -> None:
+    path = path.resolve()
+    if path.parent != base.resolve() or not _PREFIX_RE.match(path.name):
+        raise LabError(f"refusing to remove {path}: not a lab directory under {base}")
+    with open("/proc/self/mountinfo") as f:
+        mounted = [ln.split()[4] for ln in f if ln.split()[4].startswith(str(path) + "/")]
+    for m in sorted(mounted, key=len, reverse=True):  # not expected: robots mount privately
+        run(["umount", "-l", m], check=False)
+    shutil.rmtree(path, ignore_errors=True)
+
+
+# =======================================================================================
+# small helpers
+# =======================================================================================
+def _netns_list() -> list[str]:
+    out = run(["ip", "netns", "list"], check=False).stdout
+    return [line.split()[0] for line in out.splitlines() if line.strip()]
+
+
+def _host_links() -> list[str]:
+    out = run(["ip", "-o", "link", "show"], check=False).stdout
+    return [m.group(1) for m in re.finditer(r"^\d+: ([^:@]+)", out, flags=re.M)]
+
+
+def _used_subnets(base: Path) -> set[int]:
+    used: set[int] = set()
+    pat = re.compile(r"\b10\.200\.(\d+)\.")
+    for cmd in (["ip", "-4", "-o", "addr", "show"], ["ip", "-4", "route", "show", "table", "all"]):
+        used |= {int(m) for m in pat.findall(run(cmd, check=False).stdout)}
+    for st in all_states(base):
+        used |= st.all_subnets()
+    return used
+
+
+def _free_subnet(used: Iterable[int]) -> int:
+    taken = set(used)
+    for w in range(1, 255):
+        if w not in taken:
+            return w
+    raise LabError("no free 10.200.x.0/24 subnet")
+
+
+def _host_cgroup_dirs() -> list[str]:
+    out = []
+    with open("/proc/self/mounts") as f:
+        for line in f:
+            _dev, mnt, fstype = line.split()[:3]
+            if fstype in ("cgroup", "cgroup2") and mnt.startswith("/sys/fs/cgroup"):
+                out.append(mnt)
+    return out
+
+
+def _cgroup_mounts() -> str:
+    """The host's cgroup hierarchies as "fstype options subdir" lines for robot-init.sh."""
+    lines = []
+    with open("/proc/self/mounts") as f:
+        for line in f:
+            _dev, mnt, fstype, opts = line.split()[:4]
+            if fstype in ("cgroup", "cgroup2") and mnt.startswith("/sys/fs/cgroup"):
+                sub = mnt[len("/sys/fs/cgroup") :].lstrip("/") or "."
+                keep = [o for o in opts.split(",") if o not in ("rw", "relatime", "ro")]
+                lines.append(f"{fstype} {','.join(['rw', *keep])} {sub}")
+    return "\n".join(lines) + ("\n" if lines else "")
+
+
+def _write(path: Path, data: bytes, mode: int) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, mode)
+    with os.fdopen(fd, "wb") as f:
+        f.write(data)
+    os.chmod(path, mode)
+
+
+def _write_in_place(path: Path, data: bytes) -> None:
+    """Rewrite keeping the inode (the file is bind-mounted on its own into a robot)."""
+    with open(path, "r+b") as f:
+        f.truncate(0)
+        f.write(data)
+
+
+def _mkdirs_owned(path: Path, top: Path, mode: int, owned: bool = True) -> None:
+    """mkdir -p up from `top`; new directories belong to husarion when `owned`."""
+    missing = []
+    p = path
+    while not p.exists() and p != top and top in p.parents:
+        missing.append(p)
+        p = p.parent
+    for m in reversed(missing):
+        m.mkdir(mode=mode)
+        os.chmod(m, mode)
+        if owned:
+            os.chown(m, F.UID, F.GID)
+    path.mkdir(parents=True, exist_ok=True)
+
+
+def _robot_gid(r: RobotState, user: str) -> int:
+    for line in (Path(r.dir) / "etc/passwd").read_text().splitlines():
+        f = line.split(":")
+        if f[0] == user:
+            return int(f[3])
+    raise LabError(f"{r.name}: no user {user!r}")
+
+
+def _sha512_crypt(password: str) -> str:
+    cp = run(["openssl", "passwd", "-6", "-stdin"], input=password + "\n", check=False)
+    if cp.returncode == 0 and cp.stdout.startswith("$6$"):
+        return cp.stdout.strip()
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import crypt  # removed in 3.13; only a fallback when openssl is missing
+
+        return crypt.crypt(password, crypt.mksalt(crypt.METHOD_SHA512))
+
+
+def _read(path: Path) -> str:
+    try:
+        return path.read_text(errors="replace")
+    except FileNotFoundError:
+        return ""
+
+
+def _count(path: Path, needle: str) -> int:
+    return _read(path).count(needle)
+
+
+def _tail(path: Path, n: int = 20) -> str:
+    return "\n".join(_read(path).splitlines()[-n:])
