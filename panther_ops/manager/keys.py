@@ -1,0 +1,33 @@
+"""Blackboard entry names, in one place (the manual's BehaviorTree section)."""
+
+from __future__ import annotations
+
+# Lights tree
+BATTERY_PERCENT = "battery_percent"
+BATTERY_PERCENT_ROUND = "battery_percent_round"
+BATTERY_STATUS = "battery_status"
+BATTERY_HEALTH = "battery_health"
+CHARGING_ANIM_PERCENT = "charging_anim_percent"
+CURRENT_ANIM_ID = "current_anim_id"
+E_STOP_STATE = "e_stop_state"
+
+# Safety tree
+AUX_STATE = "aux_state"
+BAT_TEMP = "bat_temp"
+CPU_TEMP = "cpu_temp"
+DRIVER_TEMP = "driver_temp"
+FAN_STATE = "fan_state"
+
+# Shutdown (written by SignalShutdown, read by the manager loop)
+SIGNAL_SHUTDOWN = "signal_shutdown"
+
+LIGHTS_INPUTS = (BATTERY_PERCENT, BATTERY_PERCENT_ROUND, BATTERY_STATUS, BATTERY_HEALTH,
+                 E_STOP_STATE)
+LIGHTS_STATE = (CHARGING_ANIM_PERCENT, CURRENT_ANIM_ID)
+SAFETY_INPUTS = (AUX_STATE, BAT_TEMP, BATTERY_STATUS, BATTERY_HEALTH, CPU_TEMP, DRIVER_TEMP,
+                 E_STOP_STATE, FAN_STATE)
+
+LIGHTS_REQUIRED = (E_STOP_STATE, BATTERY_STATUS)
+"""Lights is not ticked before these arrived (lights_manager SystemReady)."""
+SAFETY_REQUIRED = (E_STOP_STATE, BATTERY_STATUS, AUX_STATE, CPU_TEMP, DRIVER_TEMP)
+"""Safety is not ticked before these arrived (safety_manager SystemReady)."""

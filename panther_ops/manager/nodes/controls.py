@@ -1,0 +1,135 @@
+"""Control nodes with BehaviorTree.CPP v4 semantics, as py_trees composites.
+
+* `Sequence` / `Fallback` remember the running child and resume from it.
+* `ReactiveSequence` / `ReactiveFallback` re-tick every child from the first one each tick
+  and halt a child that was running when an earlier one takes over.
+* A skipped child is passed over; when all children were skipped the composite is skipped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from collections.abc import Sequence as SequenceOf
+
+import py_trees
+from py_trees.common import Status
+
+from panther_ops.manager.nodes.base import Outcome, TickGen, finish, halt, tick_child
+
+
+class BtComposite(py_trees.composites.Composite):
+    """Shared tick plumbing: SKIPPED flag, initialise on (re)entry, `finish`."""
+
+    def __init__(self, name: str, children: SequenceOf[py_trees.behaviour.Behaviour] | None = None) -> None:
+        super().__init__(name, children)
+        self.skipped = False
+        self.index = 0
+        self.skipped_count = 0
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        self.skipped = False
+        if self.status != Status.RUNNING:
+            self.index = 0
+            self.skipped_count = 0
+            self.initialise()
+        outcome = yield from self.run_children()
+        yield from finish(self, outcome)
+
+    def run_children(self) -> TickGen:
+        raise NotImplementedError
+
+    def halt_others(self, keep: py_trees.behaviour.Behaviour) -> None:
+        for child in self.children:
+            if child is not keep:
+                halt(child)
+
+
+class Sequence(BtComposite):
+    """BT.CPP Sequence: children in order; resumes from a running child; fails at once."""
+
+    def run_children(self) -> TickGen:
+        while self.index < len(self.children):
+            child = self.children[self.index]
+            self.current_child = child
+            outcome = yield from tick_child(child)
+            if outcome is None:
+                self.skipped_count += 1
+            elif outcome == Status.RUNNING:
+                return Status.RUNNING
+            elif outcome != Status.SUCCESS:
+                self.index = 0
+                return Status.FAILURE
+            self.index += 1
+        all_skipped = self.skipped_count == len(self.children)
+        self.index = 0
+        return None if all_skipped else Status.SUCCESS
+
+
+class Fallback(BtComposite):
+    """BT.CPP Fallback: the first child that does not fail decides; resumes a running one."""
+
+    def run_children(self) -> TickGen:
+        while self.index < len(self.children):
+            child = self.children[self.index]
+            self.current_child = child
+            outcome = yield from tick_child(child)
+            if outcome is None:
+                self.skipped_count += 1
+            elif outcome == Status.RUNNING:
+                return Status.RUNNING
+            elif outcome == Status.SUCCESS:
+                self.index = 0
+                return Status.SUCCESS
+            self.index += 1
+        all_skipped = self.skipped_count == len(self.children)
+        self.index = 0
+        return None if all_skipped else Status.FAILURE
+
+
+class ReactiveSequence(BtComposite):
+    """BT.CPP ReactiveSequence: every tick from the first child; conditions are re-checked."""
+
+    def run_children(self) -> TickGen:
+        all_skipped = True
+        for child in self.children:
+            self.current_child = child
+            outcome = yield from tick_child(child)
+            if outcome is None:
+                continue
+            all_skipped = False
+            if outcome != Status.SUCCESS:
+                self.halt_others(child)
+                return Status.RUNNING if outcome == Status.RUNNING else Status.FAILURE
+        return None if all_skipped else Status.SUCCESS
+
+
+class ReactiveFallback(BtComposite):
+    """BT.CPP ReactiveFallback: every tick from the first child; a success ends it."""
+
+    def run_children(self) -> TickGen:
+        all_skipped = True
+        for child in self.children:
+            self.current_child = child
+            outcome = yield from tick_child(child)
+            if outcome is None:
+                continue
+            all_skipped = False
+            if outcome != Status.FAILURE:
+                self.halt_others(child)
+                return Status.RUNNING if outcome == Status.RUNNING else Status.SUCCESS
+        return None if all_skipped else Status.FAILURE
+
+
+def run_outcome(node: py_trees.behaviour.Behaviour) -> Outcome:
+    """Tick a whole tree once; return its outcome (None when the root was skipped)."""
+    for _ in node.tick():
+        pass
+    return None if getattr(node, "skipped", False) else node.status
+
+
+CONTROLS: dict[str, type[BtComposite]] = {
+    "Sequence": Sequence,
+    "Fallback": Fallback,
+    "ReactiveSequence": ReactiveSequence,
+    "ReactiveFallback": ReactiveFallback,
+}
