@@ -348,6 +348,16 @@ def rsa_keypair(comment: str = "") -> tuple[bytes, str]:
     return priv, (f"{pub} {comment}".strip())
 
 
+def fingerprint(public_line: str) -> str:
+    """OpenSSH SHA256 fingerprint (`SHA256:…`, as `ssh-keygen -l` prints) of a public key line."""
+    import base64
+    import hashlib
+
+    blob = base64.b64decode(public_line.split()[1])
+    digest = base64.b64encode(hashlib.sha256(blob).digest()).decode().rstrip("=")
+    return f"SHA256:{digest}"
+
+
 def public_key_of(private_pem: bytes) -> str:
     from cryptography.hazmat.primitives import serialization as ser
 

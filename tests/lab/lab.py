@@ -142,6 +142,11 @@ class Robot:
     def driver_container(self) -> str:
         return "husarion_ugv_ros" if self.stack.ugv else "panther_ros"
 
+    @property
+    def image(self) -> str:
+        """Driver image of the robot's compose template (e.g. husarion/panther:humble-2.1.1-…)."""
+        return self.stack.images()[0]
+
 
 class Lab:
     """A lab of `n` simulated robots named r01..rNN.
@@ -248,6 +253,17 @@ class Lab:
     @property
     def identity_file(self) -> Path:
         return self.dir / "id_ed25519"
+
+    @property
+    def identity_path(self) -> Path:
+        """Alias of identity_file."""
+        return self.identity_file
+
+    @property
+    def jump_robot(self) -> Robot | None:
+        """The first robot reachable only through a jump host (None if there is none)."""
+        hidden = [r for r in self.robots if r.jump]
+        return hidden[0] if hidden else None
 
     @property
     def names(self) -> list[str]:
@@ -924,22 +940,48 @@ class Lab:
         path = Path(self._rs(name).dir) / "var/log/sshd.log"
         return len(re.findall(r"Accepted \S+ for husarion", _read(path)))
 
+    def host_fingerprint(self, name: str) -> str:
+        """SHA256 fingerprint of the host key the robot's sshd currently uses (`SHA256:…`)."""
+        pub = (Path(self._rs(name).dir) / "etc/ssh/ssh_host_ed25519_key.pub").read_text()
+        return F.fingerprint(pub)
+
     def rotate_host_key(self, name: str) -> str:
         """New host key, sshd restarted; known_hosts is NOT updated. Returns the new key."""
         r = self._rs(name)
         d = Path(r.dir) / "etc/ssh"
+        key = d / "ssh_host_ed25519_key"
+        saved = d / "known_ssh_host_ed25519_key"  # the key known_hosts still names
+        if not saved.exists():
+            shutil.copy2(key, saved)
         priv, pub = F.ed25519_keypair(f"root@{r.name}")
-        _write(d / "ssh_host_ed25519_key", priv, 0o600)
+        _write(key, priv, 0o600)
         _write(d / "ssh_host_ed25519_key.pub", (pub + "\n").encode(), 0o644)
         self._stop_sshd(r)
         self._start_sshd(r)
         return pub
 
+    def restore_host_key(self, name: str) -> None:
+        """Undo rotate_host_key: the robot uses the key in known_hosts again (sshd restarted)."""
+        r = self._rs(name)
+        d = Path(r.dir) / "etc/ssh"
+        saved = d / "known_ssh_host_ed25519_key"
+        if not saved.exists():
+            return
+        priv = saved.read_bytes()
+        _write(d / "ssh_host_ed25519_key", priv, 0o600)
+        pub = F.public_key_of(priv) + f" root@{r.name}\n"
+        _write(d / "ssh_host_ed25519_key.pub", pub.encode(), 0o644)
+        saved.unlink()
+        self._stop_sshd(r)
+        self._start_sshd(r)
+
     def accept_host_key(self, name: str) -> None:
-        """Put the robot's current host key into known_hosts (undo rotate_host_key)."""
+        """Put the robot's current host key into known_hosts (the other way to undo a rotation)."""
         r = self._rs(name)
         pub = (Path(r.dir) / "etc/ssh/ssh_host_ed25519_key.pub").read_text().strip()
         self._known_key(r, set_to=pub)
+        with contextlib.suppress(FileNotFoundError):
+            (Path(r.dir) / "etc/ssh/known_ssh_host_ed25519_key").unlink()
         self._write_operator_files()
 
     def clock_offset(self, name: str, seconds: int) -> None:
@@ -969,8 +1011,13 @@ class Lab:
             }
         )
 
-    def password_login(self, name: str, password: str | None = "husarion") -> None:
-        """sshd of the robot also accepts `password` for husarion (None: key-only again)."""
+    def password_login(self, name: str, password: str | None = "husarion", *, enabled: bool = True) -> None:
+        """sshd of the robot also accepts `password` for husarion.
+
+        `password=None` or `enabled=False`: key-only again (the account's password is `*`).
+        """
+        if not enabled:
+            password = None
         r = self._rs(name)
         shadow = Path(r.dir) / "etc/shadow"
         pw_hash = "*" if password is None else _sha512_crypt(password)

@@ -1,0 +1,153 @@
+"""CLI of the simulated robot lab (run as root from the repository root).
+
+    python -m tests.lab up N [--docker] [--images 2.0,2.1.1,2.2] [--prefix P] [--jump [R:J]]
+    python -m tests.lab down [--prefix P | --all]
+    python -m tests.lab status [--prefix P] [--json]
+
+`up` prints the paths of the inventory and ssh config it wrote (`inventory: PATH` and
+`ssh_config: PATH` on stdout); progress goes to stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from ._sys import LabError
+from .lab import Lab, lab_status, teardown
+from .state import DEFAULT_BASE, LabState, all_states
+
+
+def _jumps(specs: list[str] | None, n: int) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for spec in specs or []:
+        if spec == "auto":
+            if n < 2:
+                raise SystemExit("--jump needs at least 2 robots")
+            out[f"r{n:02d}"] = "r01"
+            continue
+        hidden, sep, jump = spec.partition(":")
+        if not sep:
+            raise SystemExit(f"--jump {spec!r}: expected ROBOT:JUMP, e.g. r05:r01")
+        out[hidden] = jump
+    return out
+
+
+def cmd_up(a: argparse.Namespace) -> int:
+    images = [i for i in a.images.split(",") if i.strip()]
+    t0 = time.monotonic()
+    lab = Lab(
+        a.n,
+        docker=a.docker,
+        images=images,
+        prefix=a.prefix,
+        jumps=_jumps(a.jump, a.n),
+        base=a.base,
+        log=(lambda m: print(m, file=sys.stderr)) if a.verbose else None,
+    )
+    lab.up()
+    print(
+        f"lab {lab.st.prefix}: {a.n} robots up in {time.monotonic() - t0:.2f} s "
+        f"(10.200.{lab.st.subnet}.0/24, docker {'on' if a.docker else 'off'}); "
+        f"ssh -F {lab.ssh_config_path} r01",
+        file=sys.stderr,
+    )
+    print(f"inventory: {lab.inventory_path}")
+    print(f"ssh_config: {lab.ssh_config_path}")
+    return 0
+
+
+def _select(a: argparse.Namespace) -> list[LabState]:
+    states = all_states(Path(a.base))
+    if getattr(a, "all", False):
+        return states
+    if a.prefix:
+        chosen = [s for s in states if s.prefix == a.prefix]
+        if not chosen:
+            raise LabError(f"no lab {a.prefix!r} under {a.base}")
+        return chosen
+    return states
+
+
+def cmd_down(a: argparse.Namespace) -> int:
+    states = _select(a)
+    if not a.prefix and not a.all and len(states) > 1:
+        names = ", ".join(s.prefix for s in states)
+        print(f"several labs are up ({names}): use --prefix P or --all", file=sys.stderr)
+        return 2
+    if not states:
+        print("no lab to tear down", file=sys.stderr)
+        return 0
+    for st in states:
+        t0 = time.monotonic()
+        teardown(st)
+        print(f"lab {st.prefix}: down in {time.monotonic() - t0:.2f} s", file=sys.stderr)
+    return 0
+
+
+def cmd_status(a: argparse.Namespace) -> int:
+    states = [lab_status(s) for s in _select(a)]
+    if a.json:
+        print(json.dumps(states, indent=2))
+        return 0
+    if not states:
+        print("no lab is up")
+        return 0
+    for s in states:
+        owner = "" if s["owner"] is None else f", owner pid {s['owner']}"
+        if s["owner"] is not None and not s["owner_alive"]:
+            owner += " (gone: leftover)"
+        print(f"lab {s['prefix']}: {s['subnet']}, docker {'on' if s['docker'] else 'off'}{owner}")
+        print(f"  inventory: {s['inventory']}")
+        print(f"  ssh_config: {s['ssh_config']}")
+        for name, r in s["robots"].items():
+            state = "running" if r["running"] else "DOWN"
+            sshd = "sshd" if r["sshd"] else "no sshd"
+            dockerd = "" if r["dockerd"] is None else (", dockerd" if r["dockerd"] else ", NO dockerd")
+            jump = f" via {r['jump']}" if r["jump"] else ""
+            print(f"  {name} {r['ip']}{jump} stack {r['image']}: {state}, {sshd}{dockerd}")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(
+        prog="python -m tests.lab", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    p.add_argument("--base", default=str(DEFAULT_BASE), help="directory of the labs")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    up = sub.add_parser("up", help="bring up N simulated robots")
+    up.add_argument("n", type=int)
+    up.add_argument("--docker", action="store_true", help="dockerd + compose stack per robot")
+    up.add_argument("--images", default="2.1.1", help="stack versions cycled: 2.0,2.1.1,2.2")
+    up.add_argument("--prefix", help="lab name (default: first free plN)")
+    up.add_argument(
+        "--jump",
+        nargs="?",
+        const="auto",
+        action="append",
+        metavar="ROBOT:JUMP",
+        help="robot reachable only through JUMP (no value: the last robot behind r01)",
+    )
+    up.add_argument("-v", "--verbose", action="store_true")
+    up.set_defaults(func=cmd_up)
+    down = sub.add_parser("down", help="tear a lab down (only what it owns)")
+    down.add_argument("--prefix")
+    down.add_argument("--all", action="store_true", help="every lab under --base")
+    down.set_defaults(func=cmd_down)
+    status = sub.add_parser("status", help="labs and their robots")
+    status.add_argument("--prefix")
+    status.add_argument("--json", action="store_true")
+    status.set_defaults(func=cmd_status)
+    a = p.parse_args(argv)
+    try:
+        return int(a.func(a))
+    except (LabError, ValueError) as exc:
+        print(f"lab: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
