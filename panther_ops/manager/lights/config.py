@@ -1,0 +1,357 @@
+"""LED configuration: panels, segments, segments_map and animation descriptions, with checks.
+
+The checks are the manual's rules ("LED Animations" section) and the lights controller's:
+each rule has its own finding code and message. `load_led_config` raises on the first
+error; `validate_animations` (in `validate.py`) reports them all.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from panther_ops.manager.errors import LightsConfigError
+from panther_ops.manager.findings import Finding, error, has_errors
+from panther_ops.manager.paths import LIGHTS, default_led_config
+from panther_ops.manager.yaml_io import read_yaml
+
+IMAGE_TYPES = {"panther_lights::ImageAnimation", "husarion_ugv_lights::ImageAnimation"}
+CHARGING_TYPES = {"panther_lights::ChargingAnimation", "husarion_ugv_lights::ChargingAnimation"}
+OWN_PACKAGES = {"panther_lights", "husarion_ugv_lights"}
+MAX_DISPLAY_SECONDS = 10.0
+FIRST_USER_ID = 20
+DEFAULT_PRIORITY = 3
+DEFAULT_TIMEOUT = 120.0
+CONTROLLER_FREQUENCY = 50.0
+_RANGE = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*$")
+_FIND = re.compile(r"^\$\(find\s+([A-Za-z0-9_]+)\)(/.*)$")
+_HEX = re.compile(r"^(0x|#)?[0-9a-fA-F]{1,6}$")
+
+
+@dataclass(frozen=True)
+class Panel:
+    """A physical LED panel (one bumper)."""
+
+    channel: int
+    number_of_leds: int
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A virtual segment: LEDs ``first``..``last`` of a panel (reversed when first > last)."""
+
+    name: str
+    channel: int
+    first: int
+    last: int
+
+    @property
+    def num_leds(self) -> int:
+        return abs(self.last - self.first) + 1
+
+    @property
+    def inverted(self) -> bool:
+        return self.first > self.last
+
+    @property
+    def offset(self) -> int:
+        return min(self.first, self.last)
+
+
+@dataclass(frozen=True)
+class AnimationPart:
+    """One animation of an ID, on one segments group."""
+
+    type: str
+    segments: tuple[str, ...]
+    params: Mapping[str, Any]
+    image: Path | None = None
+
+    @property
+    def is_charging(self) -> bool:
+        return self.type in CHARGING_TYPES
+
+
+@dataclass(frozen=True)
+class AnimationDesc:
+    """An animation ID: name, queue priority and timeout, and its parts."""
+
+    id: int
+    name: str
+    priority: int
+    timeout: float
+    parts: tuple[AnimationPart, ...]
+
+    @property
+    def display_seconds(self) -> float:
+        return max(float(p.params["duration"]) * int(p.params.get("repeat", 1)) for p in self.parts)
+
+
+@dataclass(frozen=True)
+class LedConfig:
+    """A whole LED configuration."""
+
+    panels: Mapping[int, Panel]
+    segments: Mapping[str, Segment]
+    segments_map: Mapping[str, tuple[str, ...]]
+    animations: Mapping[int, AnimationDesc] = field(default_factory=dict)
+    source: str = ""
+
+
+def _where(source: str, path: str) -> str:
+    return f"{source}: {path}" if path else source
+
+
+def resolve_image(text: str) -> tuple[Path | None, Finding | None]:
+    """An image path: absolute, or ``$(find pkg)/...`` (panther_lights -> shipped images)."""
+    match = _FIND.match(text)
+    if match:
+        package, rest = match.groups()
+        if package in OWN_PACKAGES:
+            return LIGHTS / rest.lstrip("/"), None
+        for prefix in filter(None, os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
+            share = Path(prefix) / "share" / package
+            if share.is_dir():
+                return share / rest.lstrip("/"), None
+        return None, error("anim-image-package",
+                           f"cannot resolve $(find {package}): no such ROS package here")
+    if not Path(text).is_absolute():
+        return None, error("anim-image-path",
+                           f"image path '{text}' must be absolute or start with $(find <package>)")
+    return Path(text), None
+
+
+def parse_color(value: Any) -> int | None:
+    """A hex RGB colour (YAML ``0xff0000`` or the string ``"0xff0000"``), else None."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, int):
+        return value if 0 <= value <= 0xFFFFFF else None
+    if isinstance(value, str) and _HEX.match(value.strip()):
+        return int(value.strip().lstrip("#").removeprefix("0x").removeprefix("0X"), 16)
+    return None
+
+
+def parse_layout(doc: Mapping[str, Any], source: str) -> tuple[LedConfig, list[Finding]]:
+    """Panels, segments and segments_map, with their rules."""
+    findings: list[Finding] = []
+    panels: dict[int, Panel] = {}
+    for i, raw in enumerate(doc.get("panels") or []):
+        where = _where(source, f"panels[{i}]")
+        try:
+            panel = Panel(int(raw["channel"]), int(raw["number_of_leds"]))
+        except (KeyError, TypeError, ValueError):
+            findings.append(error("panel-invalid", "a panel needs integer 'channel' and "
+                                  "'number_of_leds'", where))
+            continue
+        if panel.channel in panels:
+            findings.append(error("panel-duplicate", f"channel {panel.channel} is defined twice",
+                                  where))
+        panels[panel.channel] = panel
+    segments: dict[str, Segment] = {}
+    for i, raw in enumerate(doc.get("segments") or []):
+        where = _where(source, f"segments[{i}]")
+        if not isinstance(raw, Mapping) or "name" not in raw:
+            findings.append(error("segment-invalid", "a segment needs a 'name'", where))
+            continue
+        name = str(raw["name"])
+        match = _RANGE.match(str(raw.get("led_range", "")))
+        if match is None:
+            findings.append(error("segment-range-invalid", f"segment '{name}': led_range "
+                                  f"{raw.get('led_range')!r} is not a 'first-last' pair such as "
+                                  "0-45 or 45-0", where))
+            continue
+        try:
+            channel = int(raw.get("channel"))
+        except (TypeError, ValueError):
+            findings.append(error("segment-channel-invalid",
+                                  f"segment '{name}': channel must be an integer", where))
+            continue
+        segment = Segment(name, channel, int(match.group(1)), int(match.group(2)))
+        panel = panels.get(channel)
+        if panel is None:
+            findings.append(error("segment-channel-unknown", f"segment '{name}' uses channel "
+                                  f"{channel}, which no panel defines", where))
+        elif max(segment.first, segment.last) >= panel.number_of_leds:
+            findings.append(error("segment-range-outside", f"segment '{name}': led_range "
+                                  f"{segment.first}-{segment.last} is outside panel {channel} "
+                                  f"(LEDs 0-{panel.number_of_leds - 1})", where))
+        if name in segments:
+            findings.append(error("segment-duplicate", f"segment '{name}' is defined twice", where))
+        segments[name] = segment
+    segments_map: dict[str, tuple[str, ...]] = {}
+    for group, members in (doc.get("segments_map") or {}).items():
+        names = tuple(str(m) for m in (members or []))
+        for name in names:
+            if name not in segments:
+                findings.append(error("segments-map-unknown-segment", f"segments_map '{group}' "
+                                      f"names segment '{name}', which is not defined",
+                                      _where(source, f"segments_map.{group}")))
+        segments_map[str(group)] = names
+    return LedConfig(panels, segments, segments_map, {}, source), findings
+
+
+def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> AnimationPart | None:
+    if not isinstance(raw, Mapping) or not isinstance(raw.get("animation"), Mapping):
+        findings.append(error("anim-part-invalid", "each entry of 'animations' needs 'type', "
+                              "'segments' and an 'animation' mapping", where))
+        return None
+    kind, group, params = str(raw.get("type", "")), str(raw.get("segments", "")), raw["animation"]
+    ok = True
+    if kind not in IMAGE_TYPES | CHARGING_TYPES:
+        findings.append(error("anim-type-unknown", f"unknown animation type '{kind}' (known: "
+                              "panther_lights::ImageAnimation, panther_lights::ChargingAnimation)",
+                              where))
+        ok = False
+    if group not in layout.segments_map:
+        findings.append(error("anim-segments-unknown", f"segments '{group}' is not a group of "
+                              f"segments_map ({', '.join(layout.segments_map) or 'none'})", where))
+        ok = False
+    try:
+        duration = float(params["duration"])
+        if duration <= 0:
+            raise ValueError
+    except (KeyError, TypeError, ValueError):
+        findings.append(error("anim-duration-invalid", "duration must be a positive number of "
+                              "seconds", where))
+        return None
+    try:
+        repeat = int(params.get("repeat", 1))
+        if repeat < 1 or isinstance(params.get("repeat", 1), bool):
+            raise ValueError
+    except (TypeError, ValueError):
+        findings.append(error("anim-repeat-invalid", "repeat must be a positive integer", where))
+        return None
+    if duration * repeat > MAX_DISPLAY_SECONDS:
+        findings.append(error("anim-too-long", f"duration x repeat = {duration * repeat:g} s "
+                              f"exceeds {MAX_DISPLAY_SECONDS:g} s", where))
+        ok = False
+    if round(duration * CONTROLLER_FREQUENCY) < 1:
+        findings.append(error("anim-too-short", f"duration {duration:g} s is shorter than one "
+                              f"frame at {CONTROLLER_FREQUENCY:g} Hz", where))
+        ok = False
+    if "brightness" in params:
+        try:
+            brightness = float(params["brightness"])
+        except (TypeError, ValueError):
+            brightness = -1.0
+        if not 0.0 <= brightness <= 1.0:
+            findings.append(error("anim-brightness-range", f"brightness {params['brightness']!r} "
+                                  "is outside [0, 1]", where))
+            ok = False
+    if "color" in params and parse_color(params["color"]) is None:
+        findings.append(error("anim-color-invalid", f"color {params['color']!r} is not a hex RGB "
+                              "value such as 0xff0000", where))
+        ok = False
+    image: Path | None = None
+    if kind in IMAGE_TYPES:
+        if not params.get("image"):
+            findings.append(error("anim-image-missing-key", "an ImageAnimation needs 'image'", where))
+            return None
+        image, problem = resolve_image(str(params["image"]))
+        if problem is not None:
+            findings.append(Finding(problem.severity, problem.code, problem.message, where))
+            ok = False
+        elif image is not None and not image.is_file():
+            findings.append(error("anim-image-not-found", f"image {image} does not exist", where))
+            ok = False
+    if not ok:
+        return None
+    members = layout.segments_map[group]
+    return AnimationPart(kind, members, dict(params), image)
+
+
+def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool,
+                     taken: Mapping[int, str] | None = None,
+                     ) -> tuple[dict[int, AnimationDesc], list[Finding]]:
+    """Animation descriptions (``led_animations`` or ``user_animations``) with their rules."""
+    findings: list[Finding] = []
+    descs: dict[int, AnimationDesc] = {}
+    seen: dict[int, str] = dict(taken or {})
+    key = "user_animations" if user else "led_animations"
+    if not isinstance(entries, list):
+        return descs, [error("anim-list-missing", f"'{key}' must be a list", source)]
+    for i, raw in enumerate(entries):
+        where = _where(source, f"{key}[{i}]")
+        if not isinstance(raw, Mapping):
+            findings.append(error("anim-invalid", "an animation must be a mapping", where))
+            continue
+        try:
+            anim_id = int(raw["id"])
+            if anim_id < 0 or isinstance(raw["id"], bool):
+                raise ValueError
+        except (KeyError, TypeError, ValueError):
+            findings.append(error("anim-id-invalid", "an animation needs a non-negative integer "
+                                  "'id'", where))
+            continue
+        name = str(raw.get("name") or f"ANIMATION_{anim_id}")
+        where = _where(source, f"{key}[{i}] (id {anim_id})")
+        if user and anim_id < FIRST_USER_ID:
+            findings.append(error("anim-id-reserved", f"ID {anim_id} is reserved for system "
+                                  f"animations (0-19); user animations use {FIRST_USER_ID} or more",
+                                  where))
+        if anim_id in seen:
+            findings.append(error("anim-id-duplicate", f"ID {anim_id} is already used by "
+                                  f"{seen[anim_id]}; IDs must be unique", where))
+        seen.setdefault(anim_id, name)
+        priority = raw.get("priority", DEFAULT_PRIORITY)
+        if user and priority == 1:
+            findings.append(error("anim-priority-reserved", "priority 1 is reserved for system "
+                                  "animations; user animations use priority 2 or 3", where))
+        elif priority not in (1, 2, 3) or isinstance(priority, bool):
+            findings.append(error("anim-priority-invalid", f"priority {priority!r} is not 1, 2 "
+                                  "or 3", where))
+        try:
+            timeout = float(raw.get("timeout", DEFAULT_TIMEOUT))
+        except (TypeError, ValueError):
+            findings.append(error("anim-timeout-invalid", "timeout must be a number of seconds",
+                                  where))
+            timeout = DEFAULT_TIMEOUT
+        parts_raw = raw.get("animations")
+        if not isinstance(parts_raw, list) or not parts_raw:
+            findings.append(error("anim-parts-missing", "an animation needs a non-empty "
+                                  "'animations' list", where))
+            continue
+        count = len(findings)
+        parts = [_part(p, layout, f"{where} animations[{j}]", findings)
+                 for j, p in enumerate(parts_raw)]
+        if len(findings) == count and all(p is not None for p in parts):
+            descs[anim_id] = AnimationDesc(anim_id, name, int(priority), timeout,
+                                           tuple(p for p in parts if p is not None))
+    return descs, findings
+
+
+def check_led_config(path: str | Path | None = None, user_animations: str | Path | None = None,
+                     ) -> tuple[LedConfig, list[Finding]]:
+    """Parse and check a led_config (default: the shipped one) and an optional user file."""
+    source = str(path or default_led_config())
+    doc = read_yaml(source, LightsConfigError) or {}
+    if not isinstance(doc, Mapping):
+        raise LightsConfigError(f"{source}: expected a mapping")
+    layout, findings = parse_layout(doc, source)
+    descs, more = parse_animations(doc.get("led_animations") or [], layout, source, user=False)
+    findings += more
+    if user_animations is not None:
+        user_doc = read_yaml(user_animations, LightsConfigError) or {}
+        if not isinstance(user_doc, Mapping):
+            raise LightsConfigError(f"{user_animations}: expected a mapping with 'user_animations'")
+        taken = {i: f"{d.name} in {source}" for i, d in descs.items()}
+        user, more = parse_animations(user_doc.get("user_animations") or [], layout,
+                                      str(user_animations), user=True, taken=taken)
+        findings += more
+        descs = {**descs, **user}
+    config = LedConfig(layout.panels, layout.segments, layout.segments_map, descs, source)
+    return config, findings
+
+
+def load_led_config(path: str | Path | None = None,
+                    user_animations: str | Path | None = None) -> LedConfig:
+    """A checked LedConfig; raise LightsConfigError with every error found."""
+    config, findings = check_led_config(path, user_animations)
+    if has_errors(findings):
+        raise LightsConfigError("\n".join(str(f) for f in findings))
+    return config
