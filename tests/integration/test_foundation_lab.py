@@ -1,0 +1,146 @@
+"""Issue-2 acceptance on the lab: real sshd, real dockerd with compose v2, per robot."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+
+pytestmark = pytest.mark.lab
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, json.loads(out) if out.strip().startswith("{") else {}, err
+
+
+def by_robot(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    return {r["robot"]: r for r in doc["robots"]}
+
+
+def test_status_on_five_robots_with_three_stacks(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+    assert code == 0, doc
+    robots = by_robot(doc)
+    assert len(robots) == len(lab.robots) >= 5
+    seen_versions = set()
+    for r in lab.robots:
+        res = robots[r.name]
+        assert res["outcome"] == "ok", res
+        data = res["data"]
+        assert data["reachable"] is True
+        assert data["hostname"] == r.name
+        expected = r.image.split(":", 1)[1].split("-")[1]  # humble-2.1.1-20240828 -> 2.1.1
+        assert data["stack_version"] == expected
+        assert data["driver_image"] == r.image
+        assert data["driver_state"] == "running"
+        assert data["driver_restart_count"] == 0
+        assert data["robot_serial"]
+        assert abs(data["clock_offset_s"]) < 1.0
+        seen_versions.add(expected[:3])
+    assert {"2.0", "2.1", "2.2"} <= seen_versions
+
+
+def test_changed_host_key_is_refused_others_succeed(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    victim = lab.robots[1].name
+    old = lab.host_fingerprint(victim)
+    lab.rotate_host_key(victim)
+    try:
+        new = lab.host_fingerprint(victim)
+        code, doc, err = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+        assert code == 3
+        robots = by_robot(doc)
+        assert robots[victim]["outcome"] == "unreachable"
+        msg = robots[victim]["message"]
+        assert "HOST KEY CHANGED" in msg and old in msg and new in msg
+        assert all(r["outcome"] == "ok" for n, r in robots.items() if n != victim)
+    finally:
+        lab.restore_host_key(victim)
+
+
+def test_link_down_is_unreachable_exit_3(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    victim = lab.robots[2].name
+    lab.link_down(victim)
+    try:
+        start = time.monotonic()
+        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+        assert code == 3
+        robots = by_robot(doc)
+        assert robots[victim]["outcome"] == "unreachable"
+        assert sum(r["outcome"] == "ok" for r in robots.values()) == len(robots) - 1
+        assert time.monotonic() - start < 15
+    finally:
+        lab.link_up(victim)
+
+
+def test_every_robot_unreachable_is_exit_4(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    a, b = lab.robots[0].name, lab.robots[2].name
+    lab.link_down(a)
+    lab.link_down(b)
+    try:
+        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "-r", a, "-r", b, "--json")
+        assert code == 4
+        assert [r["outcome"] for r in doc["robots"]] == ["unreachable", "unreachable"]
+    finally:
+        lab.link_up(a)
+        lab.link_up(b)
+
+
+def test_jump_host_one_connection_docker_included(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    behind = lab.jump_robot
+    assert behind is not None and behind.jump
+    before = lab.sshd_accepts(behind.name)
+    code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "-r", behind.name, "--json")
+    assert code == 0, doc
+    data = doc["robots"][0]["data"]
+    assert data["driver_state"] == "running"
+    assert data["containers"]
+    deadline = time.monotonic() + 3
+    while lab.sshd_accepts(behind.name) == before and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert lab.sshd_accepts(behind.name) - before == 1
+
+
+def test_doctor_finds_clock_offset_and_default_password(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    skewed, weak = lab.robots[3].name, lab.robots[4].name
+    lab.clock_offset(skewed, 30)
+    lab.password_login(weak)
+    try:
+        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "doctor", "-r", skewed, "-r", weak, "--json")
+        robots = by_robot(doc)
+        checks = {n: {f["check"]: f for f in r["data"]["findings"]} for n, r in robots.items()}
+        assert checks[skewed]["clock"]["state"] == "warn"
+        assert "+30" in checks[skewed]["clock"]["detail"] or "+29" in checks[skewed]["clock"]["detail"]
+        assert checks[weak]["default password"]["state"] == "warn"
+        assert checks[skewed]["default password"]["state"] == "ok"
+        assert checks[weak]["compose v2"]["state"] == "ok"
+        assert doc["data"]["fleet_findings"][0]["state"] == "warn"
+        assert code == 0
+    finally:
+        lab.clock_offset(skewed, 0)
+        lab.password_login(weak, enabled=False)
+
+
+def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    robot = lab.robots[0]
+    inv = tmp_path / "inv.yaml"
+    kh = tmp_path / "kh"
+    inv.write_text(
+        f"settings: {{known_hosts: {kh}}}\nrobots:\n  {robot.name}: {{host: {robot.ip}, port: 22, "
+        f"identity_file: {lab.identity_path}}}\n"
+    )
+    code, doc, err = run_cli(capsys, "-i", str(inv), "status", "--json")
+    assert code == 4 and "not in known_hosts" in doc["robots"][0]["message"]
+    capsys.readouterr()
+    assert main(["-i", str(inv), "trust", robot.name, "--yes"]) == 0
+    out = capsys.readouterr().out
+    assert lab.host_fingerprint(robot.name) in out
+    code, doc, _ = run_cli(capsys, "-i", str(inv), "status", "--json")
+    assert code == 0
