@@ -193,9 +193,40 @@ def _strip_v2_0_prefix(node: str, key: str) -> tuple[str, str]:
     """2.0.0 manager_bt_config.yaml nests parameters under "lights." and "safety."."""
     for prefix in ("lights.", "safety."):
         rest = key[len(prefix):]
-        if key.startswith(prefix) and (rest in _KEYS or rest in _SHARED):
+        if key.startswith(prefix) and (rest in _KEYS or rest in _SHARED or rest in _TIMEOUT_KEYS):
             return prefix[:-1], rest
     return node, key
+
+
+def _apply(values: dict[str, dict[str, Any]], node: str, params: Mapping[str, Any],
+           source: str, notes: list[str]) -> None:
+    defaults: dict[str, Any] = {"lights": LightsParams(), "safety": SafetyParams()}
+    for full_key, value in params.items():
+        section_node, key = _strip_v2_0_prefix(node, full_key)
+        if key in _IGNORED:
+            continue
+        section = _section_for(section_node, key)
+        if section is None:
+            notes.append(f"{source}: {full_key}: not a manager parameter, ignored")
+            continue
+        if key in _TIMEOUT_KEYS:
+            target = "service_timeout"
+        elif key in _SHARED:
+            target = key
+        else:
+            target = _KEYS[key][1]
+        like = getattr(defaults[section], target)
+        values[section][target] = _coerce(value, like, full_key, source)
+
+
+def _build(values: dict[str, dict[str, Any]], sources: list[str], notes: list[str],
+           base: ManagerConfig | None = None) -> ManagerConfig:
+    start = base or ManagerConfig()
+    lights = replace(start.lights, **values["lights"])
+    safety = replace(start.safety, **values["safety"])
+    notes.extend(check_params(lights, safety))
+    return ManagerConfig(lights, safety, tuple(start.sources) + tuple(sources),
+                         tuple(start.notes) + tuple(notes))
 
 
 def load_manager_config(paths: Iterable[str | Path] = ()) -> ManagerConfig:
@@ -206,7 +237,7 @@ def load_manager_config(paths: Iterable[str | Path] = ()) -> ManagerConfig:
             (or the 2.0 manager_bt_config.yaml). No paths gives the manual's defaults.
 
     Returns:
-        The parameters, the files read and notes (ignored or unknown keys).
+        The parameters, the files read and notes (ignored or unknown keys, odd values).
 
     Raises:
         ConfigError: unreadable file, wrong value type, or a value out of its range.
@@ -214,31 +245,25 @@ def load_manager_config(paths: Iterable[str | Path] = ()) -> ManagerConfig:
     values: dict[str, dict[str, Any]] = {"lights": {}, "safety": {}}
     notes: list[str] = []
     sources: list[str] = []
-    defaults = {"lights": LightsParams(), "safety": SafetyParams()}
     for raw in paths:
         path = str(raw)
         sources.append(path)
-        for section_node, params in _node_sections(read_yaml(path, ConfigError), path):
-            for full_key, value in params.items():
-                node, key = _strip_v2_0_prefix(section_node, full_key)
-                if key in _IGNORED:
-                    continue
-                section = _section_for(node, key)
-                if section is None:
-                    notes.append(f"{path}: {full_key}: not a manager parameter, ignored")
-                    continue
-                if key in _TIMEOUT_KEYS:
-                    target = "service_timeout"
-                elif key in _SHARED:
-                    target = key
-                else:
-                    target = _KEYS[key][1]
-                like = getattr(defaults[section], target)
-                values[section][target] = _coerce(value, like, full_key, path)
-    lights = replace(LightsParams(), **values["lights"])
-    safety = replace(SafetyParams(), **values["safety"])
-    notes.extend(check_params(lights, safety))
-    return ManagerConfig(lights, safety, tuple(sources), tuple(notes))
+        for node, params in _node_sections(read_yaml(path, ConfigError), path):
+            _apply(values, node, params, path, notes)
+    return _build(values, sources, notes)
+
+
+def config_with_params(params: Mapping[str, Any], base: ManagerConfig | None = None,
+                       source: str = "<params>") -> ManagerConfig:
+    """`base` (default: the manual's defaults) with parameters given as a (nested) mapping.
+
+    Keys are those of the parameter files; ``lights.`` / ``safety.`` prefixes select the node
+    for keys both nodes have (``timer_frequency``, ``ros_communication_timeout.*``).
+    """
+    values: dict[str, dict[str, Any]] = {"lights": {}, "safety": {}}
+    notes: list[str] = []
+    _apply(values, "", flatten(params), source, notes)
+    return _build(values, [], notes, base)
 
 
 def check_params(lights: LightsParams, safety: SafetyParams) -> list[str]:

@@ -41,7 +41,7 @@ class Frames:
 
 def anim_length(params: Mapping[str, Any], frequency: float) -> int:
     """Frames per cycle: round(duration x frequency)."""
-    length = int(round(float(params["duration"]) * frequency))
+    length = round(float(params["duration"]) * frequency)
     if length < 1:
         raise LightsConfigError("animation duration is too short for the controller frequency")
     return length
@@ -83,7 +83,7 @@ def image_frames(part: AnimationPart, num_led: int, frequency: float) -> Frames:
 def hsv_to_rgb(hue: float) -> tuple[int, int, int]:
     """Full saturation and value; hue in degrees."""
     h = hue / 360.0 * 6.0
-    i = int(math.floor(h))
+    i = math.floor(h)
     f = h - i
     q, t = int((1.0 - f) * 255), int(f * 255)
     return [(255, t, 0), (q, 255, 0), (0, 255, t), (0, q, 255), (t, 0, 255), (255, 0, q)][i % 6]
@@ -96,8 +96,8 @@ def charging_frames(part: AnimationPart, num_led: int, frequency: float, param: 
     except ValueError as exc:
         raise LightsConfigError(f"ChargingAnimation needs a battery percentage, got {param!r}") from exc
     length = anim_length(part.params, frequency)
-    fade = int(round(length * CHARGING_FADE_FACTOR))
-    on = max(int(round(length * percent)), 2 * fade)
+    fade = round(length * CHARGING_FADE_FACTOR)
+    on = max(round(length * percent), 2 * fade)
     if on >= length:
         fade = 0
     start, end = (length - on) // 2, (length + on) // 2
@@ -161,4 +161,4 @@ def shade(pixel: RGBA, brightness: float) -> tuple[int, int, int]:
     """What an LED shows: colour x alpha x animation brightness."""
     r, g, b, a = pixel
     scale = a / 255.0 * brightness
-    return (int(round(r * scale)), int(round(g * scale)), int(round(b * scale)))
+    return (round(r * scale), round(g * scale), round(b * scale))

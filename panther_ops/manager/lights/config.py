@@ -166,20 +166,20 @@ def parse_layout(doc: Mapping[str, Any], source: str) -> tuple[LedConfig, list[F
                                   "0-45 or 45-0", where))
             continue
         try:
-            channel = int(raw.get("channel"))
-        except (TypeError, ValueError):
+            channel = int(raw["channel"])
+        except (KeyError, TypeError, ValueError):
             findings.append(error("segment-channel-invalid",
                                   f"segment '{name}': channel must be an integer", where))
             continue
         segment = Segment(name, channel, int(match.group(1)), int(match.group(2)))
-        panel = panels.get(channel)
-        if panel is None:
+        owner = panels.get(channel)
+        if owner is None:
             findings.append(error("segment-channel-unknown", f"segment '{name}' uses channel "
                                   f"{channel}, which no panel defines", where))
-        elif max(segment.first, segment.last) >= panel.number_of_leds:
+        elif max(segment.first, segment.last) >= owner.number_of_leds:
             findings.append(error("segment-range-outside", f"segment '{name}': led_range "
                                   f"{segment.first}-{segment.last} is outside panel {channel} "
-                                  f"(LEDs 0-{panel.number_of_leds - 1})", where))
+                                  f"(LEDs 0-{owner.number_of_leds - 1})", where))
         if name in segments:
             findings.append(error("segment-duplicate", f"segment '{name}' is defined twice", where))
         segments[name] = segment
@@ -193,6 +193,70 @@ def parse_layout(doc: Mapping[str, Any], source: str) -> tuple[LedConfig, list[F
                                       _where(source, f"segments_map.{group}")))
         segments_map[str(group)] = names
     return LedConfig(panels, segments, segments_map, {}, source), findings
+
+
+def _check_timing(params: Mapping[str, Any], where: str, findings: list[Finding]) -> bool | None:
+    """Duration and repeat rules; None when the part cannot be used at all."""
+    try:
+        duration = float(params["duration"])
+        if duration <= 0:
+            raise ValueError
+    except (KeyError, TypeError, ValueError):
+        findings.append(error("anim-duration-invalid", "duration must be a positive number of "
+                              "seconds", where))
+        return None
+    try:
+        repeat = int(params.get("repeat", 1))
+        if repeat < 1 or isinstance(params.get("repeat", 1), bool):
+            raise ValueError
+    except (TypeError, ValueError):
+        findings.append(error("anim-repeat-invalid", "repeat must be a positive integer", where))
+        return None
+    ok = True
+    if duration * repeat > MAX_DISPLAY_SECONDS:
+        findings.append(error("anim-too-long", f"duration x repeat = {duration * repeat:g} s "
+                              f"exceeds {MAX_DISPLAY_SECONDS:g} s", where))
+        ok = False
+    if round(duration * CONTROLLER_FREQUENCY) < 1:
+        findings.append(error("anim-too-short", f"duration {duration:g} s is shorter than one "
+                              f"frame at {CONTROLLER_FREQUENCY:g} Hz", where))
+        ok = False
+    return ok
+
+
+def _check_looks(params: Mapping[str, Any], where: str, findings: list[Finding]) -> bool:
+    """Brightness and colour rules."""
+    ok = True
+    if "brightness" in params:
+        try:
+            brightness = float(params["brightness"])
+        except (TypeError, ValueError):
+            brightness = -1.0
+        if not 0.0 <= brightness <= 1.0:
+            findings.append(error("anim-brightness-range", f"brightness {params['brightness']!r} "
+                                  "is outside [0, 1]", where))
+            ok = False
+    if "color" in params and parse_color(params["color"]) is None:
+        findings.append(error("anim-color-invalid", f"color {params['color']!r} is not a hex RGB "
+                              "value such as 0xff0000", where))
+        ok = False
+    return ok
+
+
+def _check_image(params: Mapping[str, Any], where: str,
+                 findings: list[Finding]) -> tuple[bool, Path | None]:
+    """Image path rules: present, absolute or $(find pkg), existing."""
+    if not params.get("image"):
+        findings.append(error("anim-image-missing-key", "an ImageAnimation needs 'image'", where))
+        return False, None
+    image, problem = resolve_image(str(params["image"]))
+    if problem is not None:
+        findings.append(Finding(problem.severity, problem.code, problem.message, where))
+        return False, None
+    if image is not None and not image.is_file():
+        findings.append(error("anim-image-not-found", f"image {image} does not exist", where))
+        return False, image
+    return True, image
 
 
 def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> AnimationPart | None:
@@ -211,58 +275,17 @@ def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> A
         findings.append(error("anim-segments-unknown", f"segments '{group}' is not a group of "
                               f"segments_map ({', '.join(layout.segments_map) or 'none'})", where))
         ok = False
-    try:
-        duration = float(params["duration"])
-        if duration <= 0:
-            raise ValueError
-    except (KeyError, TypeError, ValueError):
-        findings.append(error("anim-duration-invalid", "duration must be a positive number of "
-                              "seconds", where))
+    timing = _check_timing(params, where, findings)
+    if timing is None:
         return None
-    try:
-        repeat = int(params.get("repeat", 1))
-        if repeat < 1 or isinstance(params.get("repeat", 1), bool):
-            raise ValueError
-    except (TypeError, ValueError):
-        findings.append(error("anim-repeat-invalid", "repeat must be a positive integer", where))
-        return None
-    if duration * repeat > MAX_DISPLAY_SECONDS:
-        findings.append(error("anim-too-long", f"duration x repeat = {duration * repeat:g} s "
-                              f"exceeds {MAX_DISPLAY_SECONDS:g} s", where))
-        ok = False
-    if round(duration * CONTROLLER_FREQUENCY) < 1:
-        findings.append(error("anim-too-short", f"duration {duration:g} s is shorter than one "
-                              f"frame at {CONTROLLER_FREQUENCY:g} Hz", where))
-        ok = False
-    if "brightness" in params:
-        try:
-            brightness = float(params["brightness"])
-        except (TypeError, ValueError):
-            brightness = -1.0
-        if not 0.0 <= brightness <= 1.0:
-            findings.append(error("anim-brightness-range", f"brightness {params['brightness']!r} "
-                                  "is outside [0, 1]", where))
-            ok = False
-    if "color" in params and parse_color(params["color"]) is None:
-        findings.append(error("anim-color-invalid", f"color {params['color']!r} is not a hex RGB "
-                              "value such as 0xff0000", where))
-        ok = False
+    ok = _check_looks(params, where, findings) and timing and ok
     image: Path | None = None
     if kind in IMAGE_TYPES:
-        if not params.get("image"):
-            findings.append(error("anim-image-missing-key", "an ImageAnimation needs 'image'", where))
-            return None
-        image, problem = resolve_image(str(params["image"]))
-        if problem is not None:
-            findings.append(Finding(problem.severity, problem.code, problem.message, where))
-            ok = False
-        elif image is not None and not image.is_file():
-            findings.append(error("anim-image-not-found", f"image {image} does not exist", where))
-            ok = False
+        image_ok, image = _check_image(params, where, findings)
+        ok = ok and image_ok
     if not ok:
         return None
-    members = layout.segments_map[group]
-    return AnimationPart(kind, members, dict(params), image)
+    return AnimationPart(kind, layout.segments_map[group], dict(params), image)
 
 
 def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool,

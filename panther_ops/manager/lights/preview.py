@@ -66,27 +66,27 @@ def _panel_frames(config: LedConfig, anim_id: int, param: str) -> tuple[str, lis
     return desc.name, frames
 
 
-def _draw(panels: Mapping[int, tuple[RGB, ...]], index: int, total: int, width_leds: int) -> Image.Image:
+def _draw(panels: Mapping[int, tuple[RGB, ...]], index: int, total: int,
+          width_leds: int) -> Image.Image:
     from PIL import Image, ImageDraw
 
+    bar_colour: RGB = (90, 90, 90)
+    colours = sorted({(0, 0, 0), bar_colour, *(c for leds in panels.values() for c in leds)})
+    lookup = {c: i for i, c in enumerate(colours)}
     channels = sorted(panels)
     width = width_leds * LED_PX
     height = len(channels) * (LED_PX + GAP_PX) + BAR_PX
-    image = Image.new("RGB", (width, height), (0, 0, 0))
+    image = Image.new("P", (width, height), lookup[(0, 0, 0)])
+    image.putpalette([v for c in colours for v in c])
     draw = ImageDraw.Draw(image)
     for row, channel in enumerate(channels):
         top = row * (LED_PX + GAP_PX)
         for led, colour in enumerate(panels[channel]):
             draw.rectangle((led * LED_PX, top, led * LED_PX + LED_PX - 1, top + LED_PX - 1),
-                           fill=colour)
+                           fill=lookup[colour])
     bar = max(1, (width * (index + 1)) // total)
-    draw.rectangle((0, height - BAR_PX, bar - 1, height - 1), fill=(90, 90, 90))
-    colours = sorted({c for _, c in image.getcolors(maxcolors=4096) or []})
-    palette_image = Image.new("P", image.size)
-    palette_image.putpalette([v for c in colours for v in c])
-    lookup = {c: i for i, c in enumerate(colours)}
-    palette_image.putdata([lookup[p] for p in image.getdata()])
-    return palette_image
+    draw.rectangle((0, height - BAR_PX, bar - 1, height - 1), fill=lookup[bar_colour])
+    return image
 
 
 def render_preview(path: str | Path, anim_id: int, out_gif: str | Path,
@@ -108,11 +108,10 @@ def render_preview(path: str | Path, anim_id: int, out_gif: str | Path,
     """
     config = animations_with_layout(path, led_config)
     name, frames = _panel_frames(config, anim_id, "0.5" if param is None else param)
-    width_leds = max(max(p.number_of_leds for p in config.panels.values()),
-                     -(-len(frames) // LED_PX))
+    width_leds = max(*(p.number_of_leds for p in config.panels.values()), -(-len(frames) // LED_PX))
     images = [_draw(panels, i, len(frames), width_leds) for i, panels in enumerate(frames)]
     out = Path(out_gif)
-    frame_ms = int(round(1000 / CONTROLLER_FREQUENCY))
+    frame_ms = round(1000 / CONTROLLER_FREQUENCY)
     images[0].save(out, save_all=True, append_images=images[1:], duration=frame_ms, loop=0,
                    optimize=False, disposal=1)
     return Preview(out, len(images), frame_ms, name, tuple(frames))
