@@ -372,8 +372,7 @@ class ComposeFile:
                 f"services.{name}.command is not a string or a list", path=self.path, line=info.line
             )
         package, launch_file, args, options = parse_launch_argv(argv, path=self.path, line=info.line)
-        style = info.style if info.kind == "scalar" else info.style
-        return LaunchCommand(form, style, tuple(argv), package, launch_file, args, options, info.line)
+        return LaunchCommand(form, info.style, tuple(argv), package, launch_file, args, options, info.line)
 
     @property
     def args(self) -> dict[str, str]:

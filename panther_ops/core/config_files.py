@@ -15,6 +15,7 @@ launch argument (manual: "Modification of configuration files").
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
@@ -113,6 +114,105 @@ def _exists(stack: Stack, package: str, filename: str) -> str | None:
     return None
 
 
+_Spec = tuple[str, str, str | None, str]  # package, filename, launch arg, note
+
+
+def _wheel(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    ugv = stack.family is Family.HUSARION_UGV
+    if wheel_type not in WHEEL_TYPES or (wheel_type == "WH05" and not ugv):
+        raise UsageError(f"no wheel config {wheel_type!r} on {stack.label()}")
+    note = "husarion_ugv 2.2: no WH02/WH04 templates (mount_point_offset not in the facts)" if ugv else ""
+    return _pkg(stack, "description"), f"{wheel_type}.yaml", "wheel_config_path", note
+
+
+def _controller(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if wheel_type not in WHEEL_TYPES[:3]:
+        raise UsageError(
+            f"no default controller config for {wheel_type!r} on {stack.label()}",
+            hint="custom wheels: start from WH01_controller.yaml",
+        )
+    return _pkg(stack, "controller"), f"{wheel_type}_controller.yaml", "controller_config_path", ""
+
+
+def _components(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.version < (2, 0, 2):
+        raise UsageError(f"components.yaml needs panther_ros 2.0.2+; this robot runs {stack.label()}")
+    return _pkg(stack, "description"), "components.yaml", "components_config_path", ""
+
+
+def _animations(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    ugv = stack.family is Family.HUSARION_UGV
+    filename = f"{robot_model}_animations.yaml" if ugv else "led_config.yaml"
+    return _pkg(stack, "lights"), filename, "led_config_file", ""
+
+
+def _user_animations(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    ugv = stack.family is Family.HUSARION_UGV
+    note = "" if ugv else "not shipped by panther_ros 2.0-2.1: the template is panther-ops' own"
+    return _pkg(stack, "lights"), "user_animations.yaml", "user_led_animations_file", note
+
+
+def _lights_driver(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.family is not Family.HUSARION_UGV:
+        raise UsageError(f"the lights driver params file exists from husarion_ugv 2.2; this robot runs {stack.label()}")
+    return _pkg(stack, "lights"), f"{robot_model}_driver.yaml", None, ""
+
+
+def _shutdown_hosts(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    arg = "shutdown_hosts_config_path"
+    if stack.family is Family.HUSARION_UGV:
+        note = "HTTP (husarion-shutdown)" if stack.shutdown_over_http else "SSH with timeout"
+        return _pkg(stack, "manager"), "shutdown_hosts.yaml", arg, note
+    if stack.version >= (2, 1, 1):
+        return "panther_manager", "shutdown_hosts_config.yaml", arg, "SSH"
+    return "panther_bringup", "shutdown_hosts.yaml", arg, "SSH"
+
+
+def _battery_plugin(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.family is Family.HUSARION_UGV:
+        raise UsageError(
+            "husarion_ugv 2.2 renames the simulation battery file "
+            "(husarion_ugv_gazebo/config/battery_plugin.yaml); no template"
+        )
+    note = "simulation only; 2.0 uses a percent scale, 2.1.1 a 0-1 fraction (2.1.0 not verified)"
+    return "panther_gazebo", "battery_plugin_config.yaml", "battery_config_path", note
+
+
+def _manager_bt(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.version >= (2, 0, 2):
+        raise UsageError(f"manager_bt_config.yaml is 2.0.0-2.0.1 only; this robot runs {stack.label()}")
+    return "panther_manager", "manager_bt_config.yaml", None, "robot version >= 1.2"
+
+
+def _manager(base: str) -> Callable[[Stack, str, str], _Spec]:
+    def spec(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+        if stack.version < (2, 0, 2):
+            raise UsageError(f"{base} exists from panther_ros 2.0.2; this robot runs {stack.label()}")
+        if stack.family is Family.HUSARION_UGV:
+            raise UsageError(
+                f"husarion_ugv 2.2 defines {base} parameters in code (generate_parameter_library); no template"
+            )
+        filename = f"{base}.yaml" if stack.version >= (2, 1, 1) else f"{base}_config.yaml"
+        return "panther_manager", filename, None, ""
+
+    return spec
+
+
+_SPECS: dict[ConfigKind, Callable[[Stack, str, str], _Spec]] = {
+    ConfigKind.WHEEL: _wheel,
+    ConfigKind.CONTROLLER: _controller,
+    ConfigKind.COMPONENTS: _components,
+    ConfigKind.ANIMATIONS: _animations,
+    ConfigKind.USER_ANIMATIONS: _user_animations,
+    ConfigKind.LIGHTS_DRIVER: _lights_driver,
+    ConfigKind.SHUTDOWN_HOSTS: _shutdown_hosts,
+    ConfigKind.BATTERY_PLUGIN: _battery_plugin,
+    ConfigKind.MANAGER_BT: _manager_bt,
+    ConfigKind.LIGHTS_MANAGER: _manager("lights_manager"),
+    ConfigKind.SAFETY_MANAGER: _manager("safety_manager"),
+}
+
+
 def config_file(
     stack: Stack,
     kind: ConfigKind,
@@ -125,65 +225,7 @@ def config_file(
     Raises:
         UsageError: the stack has no such file (e.g. lights driver params before 2.2).
     """
-    ugv = stack.family is Family.HUSARION_UGV
-    v = stack.version
-    if kind is ConfigKind.WHEEL:
-        if wheel_type not in WHEEL_TYPES or (wheel_type == "WH05" and not ugv):
-            raise UsageError(f"no wheel config {wheel_type!r} on {stack.label()}")
-        package, filename, arg = _pkg(stack, "description"), f"{wheel_type}.yaml", "wheel_config_path"
-        note = "husarion_ugv 2.2: WH02/WH04 templates missing (mount_point_offset not in the facts)" if ugv else ""
-    elif kind is ConfigKind.CONTROLLER:
-        if wheel_type not in WHEEL_TYPES[:3]:
-            raise UsageError(
-                f"no default controller config for {wheel_type!r} on {stack.label()}",
-                hint="custom wheels: start from WH01_controller.yaml",
-            )
-        package, filename, arg, note = _pkg(stack, "controller"), f"{wheel_type}_controller.yaml", "controller_config_path", ""
-    elif kind is ConfigKind.COMPONENTS:
-        if v < (2, 0, 2):
-            raise UsageError(f"components.yaml needs panther_ros 2.0.2+; this robot runs {stack.label()}")
-        package, filename, arg, note = _pkg(stack, "description"), "components.yaml", "components_config_path", ""
-    elif kind is ConfigKind.ANIMATIONS:
-        package = _pkg(stack, "lights")
-        filename = f"{robot_model}_animations.yaml" if ugv else "led_config.yaml"
-        arg, note = "led_config_file", ""
-    elif kind is ConfigKind.USER_ANIMATIONS:
-        package, filename, arg = _pkg(stack, "lights"), "user_animations.yaml", "user_led_animations_file"
-        note = "" if ugv else "not shipped by panther_ros 2.0-2.1: the template is panther-ops' own"
-    elif kind is ConfigKind.LIGHTS_DRIVER:
-        if not ugv:
-            raise UsageError(f"the lights driver params file exists from husarion_ugv 2.2; this robot runs {stack.label()}")
-        package, filename, arg, note = _pkg(stack, "lights"), f"{robot_model}_driver.yaml", None, ""
-    elif kind is ConfigKind.SHUTDOWN_HOSTS:
-        arg = "shutdown_hosts_config_path"
-        if ugv:
-            package, filename = _pkg(stack, "manager"), "shutdown_hosts.yaml"
-            note = "HTTP (husarion-shutdown)" if stack.shutdown_over_http else "SSH with timeout"
-        elif v >= (2, 1, 1):
-            package, filename, note = "panther_manager", "shutdown_hosts_config.yaml", "SSH"
-        else:
-            package, filename, note = "panther_bringup", "shutdown_hosts.yaml", "SSH"
-    elif kind is ConfigKind.BATTERY_PLUGIN:
-        if ugv:
-            raise UsageError("husarion_ugv 2.2 renames the simulation battery file (husarion_ugv_gazebo/config/battery_plugin.yaml); no template")
-        package, filename, arg = "panther_gazebo", "battery_plugin_config.yaml", "battery_config_path"
-        note = "simulation only; 2.0 uses a percent scale, 2.1.1 a 0-1 fraction (2.1.0 not verified)"
-    elif kind is ConfigKind.MANAGER_BT:
-        if v >= (2, 0, 2):
-            raise UsageError(f"manager_bt_config.yaml is 2.0.0-2.0.1 only; this robot runs {stack.label()}")
-        package, filename, arg, note = "panther_manager", "manager_bt_config.yaml", None, "robot version >= 1.2"
-    elif kind in (ConfigKind.LIGHTS_MANAGER, ConfigKind.SAFETY_MANAGER):
-        base = "lights_manager" if kind is ConfigKind.LIGHTS_MANAGER else "safety_manager"
-        if v < (2, 0, 2):
-            raise UsageError(f"{base} exists from panther_ros 2.0.2; this robot runs {stack.label()}")
-        if ugv:
-            raise UsageError(
-                f"husarion_ugv 2.2 defines {base} parameters in code (generate_parameter_library); no template"
-            )
-        filename = f"{base}.yaml" if v >= (2, 1, 1) else f"{base}_config.yaml"
-        package, arg, note = "panther_manager", None, ""
-    else:  # pragma: no cover - exhaustive
-        raise UsageError(f"unknown config kind {kind}")
+    package, filename, arg, note = _SPECS[kind](stack, wheel_type, robot_model)
     return ConfigFile(kind, package, filename, arg, _exists(stack, package, filename), note)
 
 

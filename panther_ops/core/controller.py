@@ -17,6 +17,7 @@ floats (``2.0``, never ``2``: ROS refuses an integer for a double parameter).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -151,7 +152,7 @@ def _as_float(key: LimitKey, value: Any) -> float:
         number = float(value)
     except (TypeError, ValueError):
         raise ControllerError(f"{key.dotted}={value!r} is not a number ({key.unit})") from None
-    if number != number or number in (float("inf"), float("-inf")):
+    if not math.isfinite(number):
         raise ControllerError(f"{key.dotted}={value!r} must be a finite number ({key.unit})")
     return number
 

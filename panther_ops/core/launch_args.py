@@ -492,9 +492,10 @@ def _normalise(s: ArgSpec, stack: Stack, value: str, *, force: bool, warnings: l
         return _refuse(name, value, choices, force, warnings)
     if s.type is ArgType.NAMESPACE:
         tokens = value.strip("/").split("/") if value.strip("/") else []
-        if value and (value.endswith("/") and value != "/" or not all(_NS_TOKEN.match(t) for t in tokens)):
-            return _refuse(name, value, ("a ROS namespace: letters, digits, _ and /, not starting with a digit",),
-                           force, warnings, kind="a valid namespace")
+        trailing = value.endswith("/") and value != "/"
+        if value and (trailing or not all(_NS_TOKEN.match(t) for t in tokens)):
+            allowed = ("a ROS namespace: letters, digits, _ and /, not starting with a digit",)
+            return _refuse(name, value, allowed, force, warnings, kind="a valid namespace")
         return value
     if s.type in (ArgType.PATH, ArgType.DIR):
         return _check_path(s, name, value, force, warnings)
@@ -693,7 +694,12 @@ def check_args(
             findings.append(Finding("error", "declared-name", f"{name} is not a launch argument: use {real}", (name,)))
         elif s is None:
             findings.append(
-                Finding("warning", "unknown-arg", f"{name} is not an argument of {stack.label()}; ros2 launch ignores it", (name,))
+                Finding(
+                    "warning",
+                    "unknown-arg",
+                    f"{name} is not an argument of {stack.label()}; ros2 launch ignores it",
+                    (name,),
+                )
             )
         elif not s.available(stack):
             findings.append(Finding("error", "unavailable-arg", _since_text(s, stack), (name,)))

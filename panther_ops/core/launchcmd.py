@@ -59,6 +59,66 @@ class Token:
     whole_quoted: bool = False
 
 
+def _single_quoted(text: str, i: int) -> tuple[str, int]:
+    j = text.find("'", i + 1)
+    if j < 0:
+        raise CommandSyntaxError(f"unclosed ' in command: {text.strip()!r}")
+    return text[i + 1 : j], j + 1
+
+
+def _double_quoted(text: str, i: int) -> tuple[str, int]:
+    j, n = i + 1, len(text)
+    part: list[str] = []
+    while j < n and text[j] != '"':
+        if text[j] == "\\" and j + 1 < n and text[j + 1] in '"\\$`':
+            part.append(text[j + 1])
+            j += 2
+            continue
+        part.append(text[j])
+        j += 1
+    if j >= n:
+        raise CommandSyntaxError(f'unclosed " in command: {text.strip()!r}')
+    return "".join(part), j + 1
+
+
+def _word(text: str, start: int) -> Token:
+    """The word starting at ``start`` (not a blank)."""
+    i, n = start, len(text)
+    buf: list[str] = []
+    quote: str | None = None
+    depth = 0
+    quoted_parts = 0
+    while i < n:
+        c = text[i]
+        if depth == 0 and c in " \t\r\n":
+            break
+        if depth == 0 and c in "'\"":
+            part, i = _single_quoted(text, i) if c == "'" else _double_quoted(text, i)
+            buf.append(part)
+            quote = quote or c
+            quoted_parts += 1
+            continue
+        if c == "\\" and depth == 0 and i + 1 < n:
+            if text[i + 1] != "\n":
+                buf.append(text[i + 1])
+            i += 2
+            continue
+        if text.startswith("$(", i):
+            depth += 1
+            buf.append("$(")
+            i += 2
+            continue
+        if depth and c in "()":
+            depth += 1 if c == "(" else -1
+        buf.append(c)
+        i += 1
+    if depth:
+        raise CommandSyntaxError(f"unclosed $( in command: {text.strip()!r}")
+    raw = text[start:i]
+    whole = quoted_parts == 1 and raw[:1] in "'\"" and raw[-1:] == raw[:1]
+    return Token("".join(buf), start, i, quote, whole)
+
+
 def shell_tokens(text: str) -> list[Token]:
     """Split ``text`` into words like compose (go-shellwords) does, with positions.
 
@@ -72,62 +132,9 @@ def shell_tokens(text: str) -> list[Token]:
             i += 1
         if i >= n:
             break
-        start = i
-        buf: list[str] = []
-        quote: str | None = None
-        depth = 0
-        quoted_parts = 0
-        while i < n:
-            c = text[i]
-            if depth == 0 and c in " \t\r\n":
-                break
-            if c == "'" and depth == 0:
-                j = text.find("'", i + 1)
-                if j < 0:
-                    raise CommandSyntaxError(f"unclosed ' in command: {text.strip()!r}")
-                buf.append(text[i + 1 : j])
-                quote = quote or "'"
-                quoted_parts += 1
-                i = j + 1
-                continue
-            if c == '"' and depth == 0:
-                j = i + 1
-                part: list[str] = []
-                while j < n and text[j] != '"':
-                    if text[j] == "\\" and j + 1 < n and text[j + 1] in '"\\$`':
-                        part.append(text[j + 1])
-                        j += 2
-                        continue
-                    part.append(text[j])
-                    j += 1
-                if j >= n:
-                    raise CommandSyntaxError(f'unclosed " in command: {text.strip()!r}')
-                buf.append("".join(part))
-                quote = quote or '"'
-                quoted_parts += 1
-                i = j + 1
-                continue
-            if c == "\\" and depth == 0 and i + 1 < n:
-                if text[i + 1] != "\n":
-                    buf.append(text[i + 1])
-                i += 2
-                continue
-            if c == "$" and text.startswith("$(", i):
-                depth += 1
-                buf.append("$(")
-                i += 2
-                continue
-            if depth and c == "(":
-                depth += 1
-            elif depth and c == ")":
-                depth -= 1
-            buf.append(c)
-            i += 1
-        if depth:
-            raise CommandSyntaxError(f"unclosed $( in command: {text.strip()!r}")
-        raw = text[start:i]
-        whole = quoted_parts == 1 and raw[:1] in "'\"" and raw[-1:] == raw[:1]
-        tokens.append(Token("".join(buf), start, i, quote, whole))
+        token = _word(text, i)
+        tokens.append(token)
+        i = token.end
     return tokens
 
 

@@ -535,30 +535,13 @@ class YamlDocument:
             if node.anchor:
                 self._anchors[node.anchor] = node
             if isinstance(node, MappingNode):
-                keys: dict[str, int] = {}
+                self._check_duplicates(node)
                 for i, (k, v) in enumerate(node.value):
-                    if isinstance(k, ScalarNode) and k.tag != _MERGE_TAG:
-                        if k.value in keys:
-                            raise DocumentError(
-                                f"duplicate key {k.value!r} (first at line {keys[k.value]})",
-                                path=self.path,
-                                line=k.start_mark.line + 1,
-                                key=k.value,
-                            )
-                        keys[k.value] = k.start_mark.line + 1
                     if id(v) in seen:
                         self._alias_slots.add((id(node), i))
                         continue
-                    if not _flow(node) and not getattr(v, "flow_style", True):
-                        col = k.start_mark.column
-                        if isinstance(v, MappingNode) and v.value:
-                            step = v.value[0][0].start_mark.column - col
-                            if step > 0:
-                                map_steps[step] = map_steps.get(step, 0) + 1
-                        elif isinstance(v, SequenceNode) and v.value:
-                            dash = self._dash_col(v.value[0])
-                            if dash is not None and dash >= col:
-                                seq_offsets[dash - col] = seq_offsets.get(dash - col, 0) + 1
+                    if not _flow(node):
+                        self._sample_indent(k, v, map_steps, seq_offsets)
                     walk(v)
             elif isinstance(node, SequenceNode):
                 for i, item in enumerate(node.value):
@@ -572,6 +555,33 @@ class YamlDocument:
         mapping = max(map_steps, key=lambda s: (map_steps[s], -s)) if map_steps else 2
         offset = max(seq_offsets, key=lambda s: (seq_offsets[s], s)) if seq_offsets else 2
         self._indent = Indentation(mapping=mapping, offset=offset)
+
+    def _check_duplicates(self, node: MappingNode) -> None:
+        keys: dict[str, int] = {}
+        for k, _v in node.value:
+            if isinstance(k, ScalarNode) and k.tag != _MERGE_TAG:
+                if k.value in keys:
+                    raise DocumentError(
+                        f"duplicate key {k.value!r} (first at line {keys[k.value]})",
+                        path=self.path,
+                        line=k.start_mark.line + 1,
+                        key=k.value,
+                    )
+                keys[k.value] = k.start_mark.line + 1
+
+    def _sample_indent(self, key: Node, value: Node, map_steps: dict[int, int], seq_offsets: dict[int, int]) -> None:
+        """Count how a block collection under ``key`` is indented (for `Indentation`)."""
+        if getattr(value, "flow_style", True) or not value.value:
+            return
+        col = key.start_mark.column
+        if isinstance(value, MappingNode):
+            step = value.value[0][0].start_mark.column - col
+            if step > 0:
+                map_steps[step] = map_steps.get(step, 0) + 1
+        elif isinstance(value, SequenceNode):
+            dash = self._dash_col(value.value[0])
+            if dash is not None and dash >= col:
+                seq_offsets[dash - col] = seq_offsets.get(dash - col, 0) + 1
 
     def _dash_col(self, item: Node) -> int | None:
         pos = self._dash_pos(item.start_mark.index)
@@ -770,8 +780,7 @@ class YamlDocument:
     def _content_end(self, node: Node) -> int:
         """End (exclusive) of the last character that belongs to ``node``'s content."""
         if isinstance(node, ScalarNode):
-            start, end = self._scalar_span(node)
-            return end
+            return self._scalar_span(node)[1]
         if _flow(node) or not node.value:
             return cast("int", node.end_mark.index)
         last = len(node.value) - 1
@@ -784,10 +793,7 @@ class YamlDocument:
             after = self._colon_after(key)
         else:
             value = node.value[slot]
-            if slot:
-                after = self._slot_span(node, slot - 1)[1]
-            else:
-                after = node.start_mark.index + (1 if _flow(node) else 0)
+            after = self._slot_span(node, slot - 1)[1] if slot else node.start_mark.index + int(_flow(node))
         if (id(node), slot) in self._alias_slots:
             token = "*" + (value.anchor or "")
             start = self._find_token(token, after)
@@ -980,15 +986,27 @@ class YamlDocument:
         ):
             self._commit(self._splice(start, end, self._block_scalar_text(old, start, end, value)), expected, parts)
             return
-        if flow:
-            inline: str | None = render_inline(value, flow=True)
+        if flow and isinstance(old, ScalarNode) and not is_alias and not is_collection(value):
+            style = old.style if old.style in ("'", '"') else None
+            inline: str | None = render_scalar(
+                value.text if isinstance(value, Folded | Literal) else value,
+                style=style,
+                raw=self._text[start:end],
+                flow=True,
+            )
+        elif flow:
+            inline = render_inline(value, flow=True)
         elif isinstance(old, ScalarNode) and not is_alias and not is_collection(value):
             style = old.style if old.style in ("'", '"') else None
             inline = render_scalar(value, style=style, raw=self._text[start:end]) if not isinstance(
                 value, Folded | Literal
             ) else None
         elif isinstance(old, MappingNode | SequenceNode) and _flow(old) and not is_alias:
-            inline = render_inline(value, flow=True)
+            # an empty [] / {} has no style to keep: nested content goes in block style
+            nested = isinstance(value, Mapping) or (
+                is_collection(value) and not isinstance(value, Flow) and any(is_collection(v) for v in value)
+            )
+            inline = render_inline(value) if not old.value and nested else render_inline(value, flow=True)
         else:
             inline = render_inline(value)
         if inline is not None:
@@ -1096,6 +1114,13 @@ class YamlDocument:
     ) -> None:
         expected = self._unresolved_with((*tuple(seq_parts), len(node.value)), value)
         text = self._text
+        if _flow(node) and not node.value and is_collection(value) and not isinstance(value, Flow) and seq_parts:
+            parent_found = self._find(tuple(seq_parts)[:-1]) if len(seq_parts) > 1 else self._root_found()
+            if parent_found is not None and not _flow(parent_found[0]):
+                slot = self._slot(parent_found[0], tuple(seq_parts)[-1])
+                if slot is not None:
+                    self._replace_slot(tuple(seq_parts), parent_found[0], slot, [value])
+                    return
         if _flow(node):
             rendered = render_inline(value, flow=True) or ""
             if not node.value:
@@ -1103,10 +1128,8 @@ class YamlDocument:
                 self._commit(self._splice(close, close, rendered), expected, full_parts)
                 return
             last_end = self._slot_span(node, len(node.value) - 1)[1]
-            if len(node.value) >= 2:
-                prev_end = self._slot_span(node, len(node.value) - 2)[1]
-            else:
-                prev_end = node.start_mark.index
+            n = len(node.value)
+            prev_end = self._slot_span(node, n - 2)[1] if n >= 2 else node.start_mark.index
             last_start = self._slot_span(node, len(node.value) - 1)[0]
             if "\n" in text[prev_end:last_start]:
                 line_start = self._bol(last_start)
