@@ -3,6 +3,7 @@
     python -m tests.lab up N [--docker] [--images 2.0,2.1.1,2.2] [--prefix P] [--jump [R:J]]
     python -m tests.lab down [--prefix P | --all]
     python -m tests.lab status [--prefix P] [--json]
+    python -m tests.lab bench [--sizes 5,30] [--repeat 3] [--docker] [--images ...]
 
 `up` prints the paths of the inventory and ssh config it wrote (`inventory: PATH` and
 `ssh_config: PATH` on stdout); progress goes to stderr.
@@ -112,6 +113,28 @@ def cmd_status(a: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bench(a: argparse.Namespace) -> int:
+    """Median wall time of Lab.up()/Lab.down() (in-process, interpreter start excluded)."""
+    import statistics
+
+    images = [i for i in a.images.split(",") if i.strip()]
+    for n in (int(x) for x in a.sizes.split(",")):
+        ups, downs = [], []
+        for _ in range(a.repeat):
+            lab = Lab(n, docker=a.docker, images=images, base=a.base)
+            lab.up()
+            lab.down()
+            ups.append(lab.timings["up"])
+            downs.append(lab.timings["down"])
+        print(
+            f"N={n} docker={'on' if a.docker else 'off'} images={a.images}: "
+            f"up {statistics.median(ups):.2f} s (min {min(ups):.2f}, max {max(ups):.2f}), "
+            f"down {statistics.median(downs):.2f} s (min {min(downs):.2f}, max {max(downs):.2f}) "
+            f"[{a.repeat} runs]"
+        )
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(
         prog="python -m tests.lab", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -141,6 +164,12 @@ def main(argv: list[str] | None = None) -> int:
     status.add_argument("--prefix")
     status.add_argument("--json", action="store_true")
     status.set_defaults(func=cmd_status)
+    bench = sub.add_parser("bench", help="measure up/down times")
+    bench.add_argument("--sizes", default="5,30")
+    bench.add_argument("--repeat", type=int, default=3)
+    bench.add_argument("--docker", action="store_true")
+    bench.add_argument("--images", default="2.0,2.1.1,2.2")
+    bench.set_defaults(func=cmd_bench)
     a = p.parse_args(argv)
     try:
         return int(a.func(a))

@@ -78,11 +78,14 @@ def alive(pid: int, start: int | None) -> bool:
     return st is not None and (start is None or st == start)
 
 
-def children(ppid: int) -> list[int]:
-    """PIDs whose parent is `ppid` (scans /proc; /proc/PID/task/*/children is not available)."""
+def children(ppid: int, newer: bool = False) -> list[int]:
+    """PIDs whose parent is `ppid` (scans /proc; /proc/PID/task/*/children is not available).
+
+    `newer`: look only at PIDs above `ppid` (a child forked just now, unless PIDs wrapped).
+    """
     out = []
     for name in os.listdir("/proc"):
-        if not name.isdigit():
+        if not name.isdigit() or (newer and int(name) <= ppid):
             continue
         f = _stat_fields(int(name))
         if f is not None and f[1] == str(ppid) and f[0] not in ("Z", "X"):
@@ -94,8 +97,10 @@ def wait_child(ppid: int, timeout: float = 5.0) -> int:
     """Wait until `ppid` has a child and return its PID (e.g. the program nsenter forked)."""
     deadline = time.monotonic() + timeout
     delay = 0.001
+    rounds = 0
     while True:
-        kids = children(ppid)
+        rounds += 1
+        kids = children(ppid, newer=rounds % 10 != 0)
         if kids:
             return min(kids)
         if start_time(ppid) is None:

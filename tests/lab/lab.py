@@ -433,8 +433,7 @@ class Lab:
         run(["ip", "link", "set", st.bridge, "up"])
         for route in st.routes:
             run(["ip", "route", "add", *route.split()])
-        for r in st.robots.values():
-            run(["ip", "netns", "add", r.ns])
+        run(["ip", "-batch", "-"], input="".join(f"netns add {r.ns}\n" for r in st.robots.values()))
         for jump, w in st.jump_subnets.items():
             self._jump_bridge(st.robots[jump], w)
 
@@ -492,7 +491,7 @@ class Lab:
         _write(d / "var/log/power-standin.log", b"", 0o622)
         shutil.copy(F.DATA / "poweroff-standin.sh", d / "poweroff-standin")
         os.chmod(d / "poweroff-standin", 0o755)
-        _write(d / "cgroups", self._cgroups.encode(), 0o644)
+        _write(d / "cgroups", (self._cgroups if r.docker else "").encode(), 0o644)
         with contextlib.suppress(FileNotFoundError):
             (d / "ready").unlink()
 

@@ -322,6 +322,7 @@ def test_poweroff_standin_takes_robot_offline_never_the_host(lab: Lab) -> None:
 # -------------------------------------------------------------------------------------
 # lifecycle: state file, crash recovery, teardown
 # -------------------------------------------------------------------------------------
+@pytest.mark.usefixtures("lab_ready")
 def test_state_file_crash_recovery_and_teardown() -> None:
     prefix = f"lt{os.getpid() % 100000}"
     first = Lab(2, prefix=prefix, ephemeral=True).up()

@@ -18,10 +18,11 @@ hostname "$NAME"
 
 # `ip netns exec` mounted a fresh /sys without the cgroup hierarchies: mount the host's
 # hierarchies again (the lab wrote them to DIR/cgroups as "fstype options subdir").
+# Only robots with a dockerd get them (the file is empty otherwise).
 if [ -s "$DIR/cgroups" ]; then
     mount -t tmpfs -o mode=755 cgroup /sys/fs/cgroup
+    (cd /sys/fs/cgroup && cut -d' ' -f3 "$DIR/cgroups" | xargs mkdir -p)
     while read -r fstype opts sub; do
-        mkdir -p "/sys/fs/cgroup/$sub"
         mount -t "$fstype" -o "$opts" cgroup "/sys/fs/cgroup/$sub"
     done < "$DIR/cgroups"
 fi
