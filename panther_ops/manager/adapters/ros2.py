@@ -1,0 +1,155 @@
+"""The ROS 2 adapter: `RobotIO` over rclpy (topics and services of panther-stack.md §1.10-1.12).
+
+Thin on purpose: it only turns messages into `RobotMsg` values and service requests into
+asynchronous rclpy calls. rclpy and the message packages are imported when an adapter is
+created, never at import time, so the rest of the manager runs without ROS. It cannot be
+exercised without a ROS 2 installation and is excluded from the tests.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections import deque
+from dataclasses import dataclass
+from typing import Any
+
+from panther_ops.manager.robot_io import (
+    BatteryMsg,
+    DriverStateMsg,
+    EStopMsg,
+    IOStateMsg,
+    RobotMsg,
+    ServiceRequest,
+    ServiceResult,
+    SystemStatusMsg,
+)
+
+MAX_CALLBACKS_PER_DRAIN = 200
+
+
+@dataclass(frozen=True)
+class Ros2Topics:
+    """Topic names (relative: the node's namespace applies)."""
+
+    battery: str = "battery/battery_status"
+    e_stop: str = "hardware/e_stop"
+    io_state: str = "hardware/io_state"
+    system_status: str = "system_status"
+    driver_state: str = "hardware/motor_controllers_state"
+
+
+def _module(name: str) -> Any:
+    return importlib.import_module(name)
+
+
+class _RosCall:  # pragma: no cover - needs ROS 2
+    """A service request in flight; sent once the server is available."""
+
+    def __init__(self, client: Any, request: Any) -> None:
+        self.client = client
+        self.request = request
+        self.future: Any = None
+        self._send()
+
+    def _send(self) -> None:
+        if self.future is None and self.client.service_is_ready():
+            self.future = self.client.call_async(self.request)
+
+    def done(self) -> bool:
+        self._send()
+        return bool(self.future is not None and self.future.done())
+
+    def result(self) -> ServiceResult:
+        response = self.future.result() if self.future is not None else None
+        if response is None:
+            return ServiceResult(False, "no response")
+        return ServiceResult(bool(response.success), str(getattr(response, "message", "")))
+
+    def cancel(self) -> None:
+        if self.future is not None:
+            self.future.cancel()
+
+
+class Ros2RobotIO:  # pragma: no cover - needs ROS 2
+    """Subscriptions fill a queue that `drain()` empties; `call()` never waits."""
+
+    def __init__(self, node_name: str = "panther_ops_manager", namespace: str = "",
+                 topics: Ros2Topics | None = None) -> None:
+        rclpy = _module("rclpy")
+        qos = _module("rclpy.qos")
+        self._rclpy = rclpy
+        if not rclpy.ok():
+            rclpy.init()
+        self.node = rclpy.create_node(node_name, namespace=namespace)
+        self.executor = _module("rclpy.executors").SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+        self.inbox: deque[RobotMsg] = deque()
+        self.clients: dict[str, Any] = {}
+        names = topics or Ros2Topics()
+        latched = qos.QoSProfile(depth=1, durability=qos.DurabilityPolicy.TRANSIENT_LOCAL,
+                                 reliability=qos.ReliabilityPolicy.RELIABLE)
+        sensor, std, panther = (_module("sensor_msgs.msg"), _module("std_msgs.msg"),
+                                _module("panther_msgs.msg"))
+        self.node.create_subscription(sensor.BatteryState, names.battery, self._battery, 10)
+        self.node.create_subscription(std.Bool, names.e_stop, self._e_stop, latched)
+        self.node.create_subscription(panther.IOState, names.io_state, self._io_state, latched)
+        self.node.create_subscription(panther.SystemStatus, names.system_status, self._system, 10)
+        self.node.create_subscription(panther.DriverState, names.driver_state, self._driver, 10)
+
+    def _battery(self, msg: Any) -> None:
+        self.inbox.append(BatteryMsg(float(msg.percentage), float(msg.temperature),
+                                     int(msg.power_supply_status), int(msg.power_supply_health),
+                                     float(msg.voltage)))
+
+    def _e_stop(self, msg: Any) -> None:
+        self.inbox.append(EStopMsg(bool(msg.data)))
+
+    def _io_state(self, msg: Any) -> None:
+        self.inbox.append(IOStateMsg(bool(msg.aux_power), bool(msg.fan), bool(msg.power_button),
+                                     bool(getattr(msg, "charger_connected", False))))
+
+    def _system(self, msg: Any) -> None:
+        self.inbox.append(SystemStatusMsg(float(msg.cpu_temp)))
+
+    def _driver(self, msg: Any) -> None:
+        self.inbox.append(DriverStateMsg(float(msg.front.temperature), float(msg.rear.temperature)))
+
+    def drain(self) -> list[RobotMsg]:
+        for _ in range(MAX_CALLBACKS_PER_DRAIN):
+            before = len(self.inbox)
+            self.executor.spin_once(timeout_sec=0.0)
+            if len(self.inbox) == before:
+                break
+        messages = list(self.inbox)
+        self.inbox.clear()
+        return messages
+
+    def _client(self, request: ServiceRequest) -> tuple[Any, Any]:
+        std_srvs, panther_srv = _module("std_srvs.srv"), None
+        if request.kind == "set_led_animation":
+            panther_srv = _module("panther_msgs.srv")
+            srv_type: Any = panther_srv.SetLEDAnimation
+        elif request.kind == "set_bool":
+            srv_type = std_srvs.SetBool
+        else:
+            srv_type = std_srvs.Trigger
+        client = self.clients.get(request.service)
+        if client is None:
+            client = self.node.create_client(srv_type, request.service)
+            self.clients[request.service] = client
+        return client, srv_type.Request()
+
+    def call(self, request: ServiceRequest) -> _RosCall:
+        client, ros_request = self._client(request)
+        args = dict(request.args)
+        if request.kind == "set_bool":
+            ros_request.data = bool(args["data"])
+        elif request.kind == "set_led_animation":
+            ros_request.animation.id = int(str(args["id"]))
+            ros_request.animation.param = str(args["param"])
+            ros_request.repeating = bool(args["repeating"])
+        return _RosCall(client, ros_request)
+
+    def close(self) -> None:
+        self.executor.remove_node(self.node)
+        self.node.destroy_node()
