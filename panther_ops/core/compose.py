@@ -152,6 +152,7 @@ class ComposeFile:
 
     def __init__(self, doc: YamlDocument) -> None:
         self.doc = doc
+        self._words: dict[tuple[str, str], tuple[str, str]] | None = None
         if not isinstance(doc.to_plain(), dict):
             raise ComposeError("not a compose file: the top level is not a mapping", path=doc.path)
 
@@ -379,12 +380,19 @@ class ComposeFile:
         """The driver's launch arguments (``name -> value``, command order)."""
         return dict(self.command().args)
 
-    def set_arg(self, name: str, value: str, service: str | None = None) -> bool:
+    def set_arg(self, name: str, value: str, service: str | None = None, *, raw: bool = False) -> bool:
         """Set ``name:=value`` in the service's launch command (the driver's by default).
 
         An existing argument is rewritten in place (keeping its quoting); a new one is
         appended at the end. Returns False when the argument already has that value.
+
+        In a string/block command the value is shell-quoted when needed, so launch gets it
+        literally (``name:='$(find pkg)/x.yaml'``). ``raw=True`` writes ``name:=<value>``
+        as given (e.g. a shell substitution the image's entrypoint should expand); it must
+        still be one word.
         """
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+            raise UsageError(f"invalid launch argument name {name!r}")
         cmd = self.command(service)
         svc = self._svc(service)
         if cmd.args.get(name) == value:
@@ -392,9 +400,45 @@ class ComposeFile:
         path = self._command_path(svc)
         if cmd.form is CommandForm.LIST:
             return self._set_list_arg(path, name, value)
+        word = self._word_for(svc, name, value, raw)
         if cmd.form is CommandForm.STRING:
-            return self._set_string_arg(path, name, value)
-        return self._edit_block(path, name, value)
+            return self._set_string_arg(path, name, value, word)
+        return self._edit_block(path, name, value, word)
+
+    def _word_for(self, service: str, name: str, value: str, raw: bool) -> str | None:
+        """The word to write: verbatim for ``raw`` or for the value the file had when loaded."""
+        if raw:
+            word = f"{name}:={value}"
+            tokens = shell_tokens(word)
+            if len(tokens) != 1:
+                raise UsageError(f"{word!r} is not one word; drop raw=True to have it quoted")
+            return word
+        original = self._original_words().get((service, name))
+        if original is not None and original[0] == value:
+            return original[1]
+        return None
+
+    def _original_words(self) -> dict[tuple[str, str], tuple[str, str]]:
+        """``(service, arg) -> (value, word text)`` of the string/block commands as loaded."""
+        if self._words is None:
+            self._words = {}
+            probe = ComposeFile.parse(self.original, self.path)
+            for svc in probe.services():
+                path = probe._command_path(svc)
+                value = probe.doc.get(path, None)
+                if not isinstance(value, str):
+                    continue
+                info = probe.doc.info(path)
+                text = info.raw if info.style is None else value
+                try:
+                    tokens = shell_tokens(text)
+                except InputError:
+                    continue
+                for tok in tokens:
+                    parsed = split_arg(tok.value)
+                    if parsed is not None:
+                        self._words[(svc, parsed[0])] = (parsed[1], text[tok.start : tok.end])
+        return self._words
 
     def unset_arg(self, name: str, service: str | None = None) -> bool:
         """Remove every ``name:=...`` from the launch command; False when absent."""
@@ -429,15 +473,15 @@ class ComposeFile:
         new: Any = Quoted(word, last.style) if last.kind == "scalar" and last.style in ("'", '"') else word
         return self.doc.append(path, new)
 
-    def _set_string_arg(self, path: tuple[PathPart, ...], name: str, value: str) -> bool:
+    def _set_string_arg(self, path: tuple[PathPart, ...], name: str, value: str, word: str | None) -> bool:
         text = self.doc.get(path)
         tokens = shell_tokens(text)
         target = self._last_arg(tokens, name)
         if target is not None:
-            new = text[: target.start] + arg_word(name, value, target) + text[target.end :]
+            new = text[: target.start] + (word or arg_word(name, value, target)) + text[target.end :]
         else:
             end = tokens[-1].end if tokens else len(text)
-            new = text[:end] + " " + arg_word(name, value) + text[end:]
+            new = text[:end] + " " + (word or arg_word(name, value)) + text[end:]
         before_style = self.doc.info(path).style
         changed = self.doc.set(path, new)
         after_style = self.doc.info(path).style
@@ -456,7 +500,9 @@ class ComposeFile:
                 return tok
         return None
 
-    def _edit_block(self, path: tuple[PathPart, ...], name: str, value: str | None) -> bool:
+    def _edit_block(
+        self, path: tuple[PathPart, ...], name: str, value: str | None, word: str | None = None
+    ) -> bool:
         """Edit a ``>`` / ``|`` block (or multi-line plain) command in its raw text.
 
         ``value`` None removes the argument (its line when it is alone on it).
@@ -479,14 +525,14 @@ class ComposeFile:
             target = self._last_arg(tokens, name)
             if target is not None:
                 expected[name] = value
-                new_region = region[: target.start] + arg_word(name, value, target) + region[target.end :]
+                new_region = region[: target.start] + (word or arg_word(name, value, target)) + region[target.end :]
             else:
                 expected[name] = value
                 last = tokens[-1]
                 line_start = text.rfind("\n", 0, body_start + last.start) + 1
                 line = text[line_start : body_start + last.start]
                 indent = line[: len(line) - len(line.lstrip(" "))]
-                new_region = region[: last.end] + "\n" + indent + arg_word(name, value) + region[last.end :]
+                new_region = region[: last.end] + "\n" + indent + (word or arg_word(name, value)) + region[last.end :]
 
         def check(new_value: Any) -> bool:
             if not isinstance(new_value, str):

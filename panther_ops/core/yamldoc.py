@@ -78,7 +78,9 @@ PathLike = str | Sequence[PathPart]
 _MERGE_TAG = "tag:yaml.org,2002:merge"
 _IdSet = set[int]  # `set` is a method name inside YamlDocument
 _MISSING: Any = object()
-_yaml = YAML(typ="rt")
+# Only node positions and styles are needed (the text itself is kept), so the plain
+# composer is enough: same YAML 1.2 resolution as round-trip mode, without comment tokens.
+_yaml = YAML(typ="safe", pure=True)
 
 
 class DocumentError(InputError):
@@ -246,6 +248,7 @@ class YamlDocument:
         self._text = text
         self._root = self._compose(text)
         self._index()
+        self._original_scalars = self._scalar_texts()
 
     @classmethod
     def load(cls, text: str, path: str | None = None) -> YamlDocument:
@@ -582,6 +585,33 @@ class YamlDocument:
             dash = self._dash_col(value.value[0])
             if dash is not None and dash >= col:
                 seq_offsets[dash - col] = seq_offsets.get(dash - col, 0) + 1
+
+    def _scalar_texts(self) -> dict[tuple[PathPart, ...], tuple[Any, str, str | None]]:
+        """Own one-line scalars of the loaded text: path -> (value, text, style).
+
+        Writing back a value a scalar had when loaded reuses its original text, so a change
+        reverted is byte-identical again (``1.8e-3`` does not come back as ``0.0018``).
+        """
+        out: dict[tuple[PathPart, ...], tuple[Any, str, str | None]] = {}
+
+        def walk(node: Node, path: tuple[PathPart, ...]) -> None:
+            if isinstance(node, MappingNode):
+                for i, (k, v) in enumerate(node.value):
+                    if (id(node), i) not in self._alias_slots and isinstance(k, ScalarNode) and k.tag != _MERGE_TAG:
+                        walk(v, (*path, k.value))
+            elif isinstance(node, SequenceNode):
+                for i, item in enumerate(node.value):
+                    if (id(node), i) not in self._alias_slots:
+                        walk(item, (*path, i))
+            elif isinstance(node, ScalarNode) and node.style not in ("|", ">"):
+                start, end = self._scalar_span(node)
+                raw = self._text[start:end]
+                if "\n" not in raw and start != end:
+                    out[path] = (_construct_scalar(node), raw, node.style)
+
+        if self._root is not None:
+            walk(self._root, ())
+        return out
 
     def _dash_col(self, item: Node) -> int | None:
         pos = self._dash_pos(item.start_mark.index)
@@ -986,6 +1016,18 @@ class YamlDocument:
         ):
             self._commit(self._splice(start, end, self._block_scalar_text(old, start, end, value)), expected, parts)
             return
+        original = self._original_scalars.get(_path_key(parts))
+        if (
+            original is not None
+            and isinstance(old, ScalarNode)
+            and not is_alias
+            and not is_collection(value)
+            and not isinstance(value, Folded | Literal | Quoted | Alias)
+            and _same(original[0], value)
+            and (original[2] is None or original[2] == old.style)
+        ):
+            self._commit(self._splice(start, end, original[1]), expected, parts)
+            return
         if flow and isinstance(old, ScalarNode) and not is_alias and not is_collection(value):
             style = old.style if old.style in ("'", '"') else None
             inline: str | None = render_scalar(
@@ -1090,11 +1132,13 @@ class YamlDocument:
         key_parts = (*tuple(parent_parts), key)
         expected = self._unresolved_with(key_parts, value)
         if _flow(node):
-            close = node.end_mark.index - 1
             entry = f"{render_scalar(str(key), flow=True)}: {render_inline(value, flow=True)}"
-            sep = ", " if node.value else ""
-            new_text = self._splice(close, close, sep + entry)
-            self._commit(new_text, expected, full_parts)
+            if node.value:
+                at = self._slot_span(node, len(node.value) - 1)[1]
+                self._commit(self._splice(at, at, ", " + entry), expected, full_parts)
+            else:
+                close = node.end_mark.index - 1
+                self._commit(self._splice(close, close, entry), expected, full_parts)
             return
         if not node.value:
             raise DocumentError(f"{format_path(parent_parts)}: empty block mapping", path=self.path)
@@ -1238,6 +1282,11 @@ class YamlDocument:
 
 
 # ------------------------------------------------------------------ helpers
+
+
+def _path_key(parts: Sequence[PathPart]) -> tuple[PathPart, ...]:
+    """Normalise a path for `_original_scalars` (digit strings -> indices)."""
+    return tuple(_as_index(p) if isinstance(p, str) and _as_index(p) is not None else p for p in parts)
 
 
 def _as_index(part: PathPart) -> int | None:
