@@ -17,6 +17,8 @@ BAT_TEMP = "bat_temp"
 CPU_TEMP = "cpu_temp"
 DRIVER_TEMP = "driver_temp"
 FAN_STATE = "fan_state"
+FAN_TURNED_ON = "fan_turned_on"
+"""Set when the tree turns the fan on; the fan-off delay consumes it to start over."""
 
 # Shutdown (written by SignalShutdown, read by the manager loop)
 SIGNAL_SHUTDOWN = "signal_shutdown"
@@ -26,6 +28,7 @@ LIGHTS_INPUTS = (BATTERY_PERCENT, BATTERY_PERCENT_ROUND, BATTERY_STATUS, BATTERY
 LIGHTS_STATE = (CHARGING_ANIM_PERCENT, CURRENT_ANIM_ID)
 SAFETY_INPUTS = (AUX_STATE, BAT_TEMP, BATTERY_STATUS, BATTERY_HEALTH, CPU_TEMP, DRIVER_TEMP,
                  E_STOP_STATE, FAN_STATE)
+SAFETY_STATE = (FAN_TURNED_ON, SIGNAL_SHUTDOWN)
 
 LIGHTS_REQUIRED = (E_STOP_STATE, BATTERY_STATUS)
 """Lights is not ticked before these arrived (lights_manager SystemReady)."""

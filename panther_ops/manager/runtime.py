@@ -143,7 +143,7 @@ class ManagerRuntime:
         self.lights_bb.update(lights_constants(config.lights))
         self.lights_bb.update({keys.CHARGING_ANIM_PERCENT: "", keys.CURRENT_ANIM_ID: -1})
         self.safety_bb.update(safety_constants(config.safety))
-        self.safety_bb.set(keys.SIGNAL_SHUTDOWN, (False, ""))
+        self.safety_bb.update({keys.SIGNAL_SHUTDOWN: (False, ""), keys.FAN_TURNED_ON: False})
         self.shutdown_bb.update(shutdown_constants(config.safety))
         self.lights = self.trees.lights(self._ctx(self.lights_bb, config.lights.service_timeout))
         self.safety = self.trees.safety(self._ctx(self.safety_bb, config.safety.service_timeout))

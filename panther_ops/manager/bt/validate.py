@@ -35,7 +35,7 @@ from panther_ops.manager.paths import BEHAVIOR_TREES
 
 KNOWN_NAMES: dict[str, set[str]] = {
     LIGHTS_TREE: {*lights_constants(LightsParams()), *keys.LIGHTS_INPUTS, *keys.LIGHTS_STATE},
-    SAFETY_TREE: {*safety_constants(SafetyParams()), *keys.SAFETY_INPUTS, keys.SIGNAL_SHUTDOWN},
+    SAFETY_TREE: {*safety_constants(SafetyParams()), *keys.SAFETY_INPUTS, *keys.SAFETY_STATE},
     SHUTDOWN_TREE: {*shutdown_constants(SafetyParams())},
 }
 FEATURES: dict[tuple[str, ...], str] = {
@@ -45,7 +45,7 @@ FEATURES: dict[tuple[str, ...], str] = {
     ("call", "hardware/fan_enable", "false"): "turn the fan off",
     ("node", "SignalShutdown"): "signal a robot shutdown",
     ("node", "RunOnce"): "run the fan at start-up (RunOnce)",
-    ("node", "TickAfterTimeout"): "wait FAN_TURN_OFF_TIMEOUT between fan changes",
+    ("node", "TickAfterTimeout"): "keep the fan on at least FAN_TURN_OFF_TIMEOUT (TickAfterTimeout)",
     ("node", "ShutdownHostsFromFile"): "shut down the hosts of the shutdown hosts file",
     ("robot",): "shut the robot itself down (ExecuteCommand or ShutdownSingleHost)",
     ("name", "POWER_SUPPLY_HEALTH_OVERHEAT"): "react to battery OVERHEAT",

@@ -5,11 +5,13 @@ Safety, per the manual's Faults Handle table:
 * OVERHEAT: fan on; above CRITICAL_BAT_TEMP (55 °C) also E-stop and AUX off; above
   FATAL_BAT_TEMP (62 °C) signal a shutdown.
 * DEAD: signal a shutdown. OVERVOLTAGE: E-stop. GOOD, UNKNOWN, COLD: nothing.
-* Fan: on at start (RunOnce); then on when the CPU or a driver is above its ``fan_on``
-  temperature and off when both are at or below ``fan_off`` and the battery does not
-  overheat, each change at least FAN_TURN_OFF_TIMEOUT (60 s) after the previous one
-  (TickAfterTimeout restarts only when a fan call succeeded), so the fan runs about 60 s
-  after start and never turns off sooner than 60 s after it was turned on.
+* Fan: on at start (RunOnce); on at once when the CPU or a driver is above its ``fan_on``
+  temperature; off when both are at or below ``fan_off`` and the battery does not overheat,
+  but only through the FanOffDelay timer (TickAfterTimeout FAN_TURN_OFF_TIMEOUT, 60 s): it
+  starts with the tree, so the fan runs about 60 s after start, and every fan-on sets
+  ``fan_turned_on``, which the timer consumes to start over, so the fan never turns off
+  sooner than 60 s after it was turned on. (The 2.1 tree put fan-on under the same timer,
+  which also delayed turning the fan on by up to 60 s after it was turned off.)
 
 Shutdown: every host of the hosts file through the shutdown executor (failures do not stop
 the sequence), then the robot itself with SHUTDOWN_LOCALHOST_COMMAND.
@@ -24,9 +26,11 @@ from panther_ops.manager.constants import (
     E_STOP_TRIGGER_SERVICE,
     FAN_ENABLE_SERVICE,
 )
+from panther_ops.manager.keys import FAN_TURNED_ON
 from panther_ops.manager.nodes.base import NodeContext, PyProgram, Ref
-from panther_ops.manager.nodes.controls import Sequence
+from panther_ops.manager.nodes.controls import Fallback, Sequence
 from panther_ops.manager.nodes.decorators import ForceSuccess, Guard, RunOnce, TickAfterTimeout
+from panther_ops.manager.nodes.scripting import Script
 from panther_ops.manager.nodes.services import CallSetBoolService, CallTriggerService
 from panther_ops.manager.nodes.shutdown import (
     ExecuteCommand,
@@ -36,6 +40,8 @@ from panther_ops.manager.nodes.shutdown import (
 from panther_ops.manager.trees.common import check
 
 LOCAL_SHUTDOWN_TIMEOUT = 5.0
+FAN_TURNED_ON_SCRIPT = PyProgram("fan_turned_on = true",
+                                 lambda env: env.set(FAN_TURNED_ON, True), writes=[FAN_TURNED_ON])
 
 
 def _fan(ctx: NodeContext, name: str, on: bool) -> CallSetBoolService:
@@ -70,7 +76,8 @@ def _overheat(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
         Sequence("HighBatTempSequence", [
             critical,
             Guard(_fan(ctx, "EnableFan", True), ctx,
-                  skip_if=check("fan already on", "fan_state", lambda v: v.fan_state)),
+                  skip_if=check("fan already on", "fan_state", lambda v: v.fan_state),
+                  on_success=FAN_TURNED_ON_SCRIPT),
         ]), ctx,
         skip_if=check("fatal", "bat_temp FATAL_BAT_TEMP", lambda v: v.bat_temp > v.FATAL_BAT_TEMP))
     return Guard(Sequence("BatteryOverheatSequence", [fatal, high]), ctx,
@@ -83,7 +90,14 @@ def _fan_hysteresis(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
         skip_if=check("not hot, or fan on",
                       "cpu_temp CPU_FAN_ON_TEMP driver_temp DRIVER_FAN_ON_TEMP fan_state",
                       lambda v: (v.cpu_temp <= v.CPU_FAN_ON_TEMP
-                                 and v.driver_temp <= v.DRIVER_FAN_ON_TEMP) or v.fan_state))
+                                 and v.driver_temp <= v.DRIVER_FAN_ON_TEMP) or v.fan_state),
+        on_success=FAN_TURNED_ON_SCRIPT)
+    restart = Guard(
+        Script("RestartFanOffDelay", ctx, PyProgram("fan_turned_on = false",
+                                                    lambda env: env.set(FAN_TURNED_ON, False),
+                                                    writes=[FAN_TURNED_ON])), ctx,
+        skip_if=check("fan not turned on since the last check", FAN_TURNED_ON,
+                      lambda v: not v.fan_turned_on))
     cool = Guard(
         _fan(ctx, "DisableFan", False), ctx,
         skip_if=check("still warm, battery overheats, or fan off",
@@ -93,8 +107,9 @@ def _fan_hysteresis(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
                       or v.driver_temp > v.DRIVER_FAN_OFF_TEMP
                       or v.battery_health == v.POWER_SUPPLY_HEALTH_OVERHEAT
                       or not v.fan_state))
-    return TickAfterTimeout("FanHysteresis", Sequence("FanControlSequence", [hot, cool]), ctx,
-                            timeout=Ref("FAN_TURN_OFF_TIMEOUT"))
+    off_delay = TickAfterTimeout("FanOffDelay", Fallback("FanOffFallback", [restart, cool]), ctx,
+                                 timeout=Ref("FAN_TURN_OFF_TIMEOUT"))
+    return Sequence("FanSequence", [hot, off_delay])
 
 
 def build_safety_tree(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
