@@ -4,6 +4,8 @@ Fixtures:
     lab          session: 5 robots, docker on, stacks 2.0/2.1.1/2.2 cycling, r05 behind r01.
     lab_factory  session: make(n, docker=..., images=..., jumps=...) -> Lab for other shapes
                  (same shape -> same lab; all torn down at the end of the session).
+    lab_ready    function: only checks that a lab (without docker) can run here, for tests
+                 that build and tear down their own `Lab`.
 
 Tests using these fixtures get the `lab` marker. Without root or a required binary they
 are skipped with the reason; with the environment variable CI=true they fail instead.
@@ -24,7 +26,7 @@ if str(_ROOT) not in sys.path:  # `pytest` without `python -m`: make `tests.lab`
 
 from tests.lab import Lab, missing_requirements  # noqa: E402
 
-LAB_FIXTURES = frozenset({"lab", "lab_factory"})
+LAB_FIXTURES = frozenset({"lab", "lab_factory", "lab_ready"})
 DEFAULT_IMAGES = ("2.0", "2.1.1", "2.2")
 
 LabFactory = Callable[..., Lab]
@@ -97,6 +99,14 @@ def lab_factory() -> Iterator[LabFactory]:
             errors.append(exc)
     if errors:
         raise errors[0]
+
+
+@pytest.fixture
+def lab_ready() -> None:
+    """Skip (fail under CI=true) unless a lab without docker can run on this machine."""
+    reason = lab_unavailable(docker=False)
+    if reason:
+        skip_or_fail(reason)
 
 
 @pytest.fixture(scope="session")

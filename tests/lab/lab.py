@@ -37,7 +37,7 @@ from ._sys import (
     wait_for,
     wait_gone,
 )
-from .image import IMPORT_CHANGES, build_rootfs
+from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox
 from .state import DEFAULT_BASE, LabState, Proc, RobotState, all_states, base_lock
 
 SUBNET_BASE = "10.200"
@@ -76,6 +76,11 @@ def missing_requirements(docker: bool = False) -> list[str]:
         why.append("missing docker compose v2 CLI plugin (scripts/install-test-deps.sh)")
     if docker and docker_cli() is None:
         why.append("missing binary docker")
+    if docker:
+        try:
+            find_static_busybox()
+        except LabError as exc:
+            why.append(str(exc))
     return why
 
 
@@ -396,17 +401,15 @@ class Lab:
         for i in range(1, 1000):
             p = f"pl{i}"
             labdir = self.base / p
-            in_use = any(n.startswith(p + "-") for n in netns) or f"{p}-br" in links
             if labdir.exists():
-                stf = labdir / "state.json"
                 st = None
                 with contextlib.suppress(Exception):
-                    st = LabState.load(stf)
-                if st is not None and st.owner is not None and not alive(st.owner.pid, st.owner.start):
-                    teardown(st, log=self._log_cb)  # ephemeral lab whose process is gone
-                else:
-                    continue
-            if not in_use:
+                    st = LabState.load(labdir / "state.json")
+                if st is None or st.owner is None or alive(st.owner.pid, st.owner.start):
+                    continue  # persistent (CLI) lab, or one whose process still runs
+                teardown(st, log=self._log_cb)  # ephemeral lab whose process is gone
+                netns, links = set(_netns_list()), set(_host_links())
+            if not any(n.startswith(p + "-") for n in netns) and f"{p}-br" not in links:
                 return p
         raise LabError("no free lab prefix")
 
