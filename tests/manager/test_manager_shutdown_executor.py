@@ -1,0 +1,257 @@
+"""The shutdown executor: HTTP signing against a local server, SSH over loopback, and that a
+tick never waits for the network (every tick under 5 ms with a host whose sshd is down)."""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import http.server
+import shutil
+import socket
+import subprocess
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+from urllib.parse import parse_qs, urlparse
+
+import pytest
+import yaml
+from py_trees.common import Status
+
+from panther_ops.manager.blackboard import TreeBlackboard
+from panther_ops.manager.clock import ManualClock, MonotonicClock
+from panther_ops.manager.nodes.base import NodeContext
+from panther_ops.manager.nodes.shutdown import ShutdownHostsFromFile, ShutdownSingleHost
+from panther_ops.manager.shutdown_executor import (
+    HostState,
+    HttpShutdown,
+    ParamikoShutdown,
+    ShutdownBackends,
+    ShutdownExecutor,
+    ShutdownHost,
+    SubprocessPinger,
+    SubprocessRunner,
+    ThreadDispatcher,
+    load_shutdown_hosts,
+    parse_shutdown_hosts,
+    run_all,
+    sign_shutdown_request,
+)
+from panther_ops.manager.trees.safety import build_shutdown_tree
+from tests.manager.doubles import FakeLocalRunner, FakeRobotIO, fake_backends, tick
+
+SECRET = "husarion"
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+class ShutdownServer(http.server.BaseHTTPRequestHandler):
+    """A husarion-shutdown stand-in: checks the signature, never shuts anything down."""
+
+    received: list[str] = []
+    secret = SECRET
+
+    def do_GET(self) -> None:  # noqa: N802 - http.server's naming
+        self.received.append(self.path)
+        url = urlparse(self.path)
+        query = parse_qs(url.query)
+        ts = query.get("ts", [""])[0]
+        expected = hmac.new(self.secret.encode(), f"/shutdown|{ts}".encode(),
+                            hashlib.sha256).hexdigest()
+        ok = url.path == "/shutdown" and query.get("sig", [""])[0] == expected
+        self.send_response(200 if ok else 403)
+        self.end_headers()
+        self.wfile.write(b"shutting down" if ok else b"bad signature")
+
+    def log_message(self, *args: Any) -> None:
+        return None
+
+
+@pytest.fixture
+def http_port() -> Iterator[int]:
+    ShutdownServer.received = []
+    server = http.server.HTTPServer(("127.0.0.1", 0), ShutdownServer)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield int(server.server_address[1])
+    server.shutdown()
+    server.server_close()
+
+
+def test_signature_is_hmac_sha256_of_path_and_timestamp() -> None:
+    expected = hmac.new(b"husarion", b"/shutdown|1700000000", hashlib.sha256).hexdigest()
+    assert sign_shutdown_request("husarion", 1700000000) == expected
+
+
+def test_http_request_is_signed_and_checked_by_the_server(http_port: int) -> None:
+    host = ShutdownHost(ip="127.0.0.1", port=http_port, secret=SECRET, ping_for_success=False)
+    outcome = HttpShutdown(wall_time=lambda: 1700000000.5).request(host)
+    assert outcome.ok and outcome.output == "shutting down"
+    assert ShutdownServer.received == [
+        f"/shutdown?ts=1700000000&sig={sign_shutdown_request(SECRET, 1700000000)}"]
+    wrong = ShutdownHost(ip="127.0.0.1", port=http_port, secret="not-the-secret")
+    refused = HttpShutdown().request(wrong)
+    assert not refused.ok and "HTTP 403" in refused.error
+
+
+def test_run_all_over_http_with_the_real_backends(http_port: int) -> None:
+    hosts = [ShutdownHost(ip="127.0.0.1", port=http_port, secret=SECRET, ping_for_success=False)]
+    started = time.monotonic()
+    results = run_all(hosts, MonotonicClock())
+    assert [r.state for r in results] == [HostState.SUCCESS]
+    assert time.monotonic() - started < 5
+    assert len(ShutdownServer.received) == 1
+
+
+def test_hosts_file_formats_of_both_eras(tmp_path: Path) -> None:
+    path = tmp_path / "hosts.yaml"
+    path.write_text(yaml.safe_dump({"hosts": [
+        {"ip": "10.15.20.3", "username": "husarion"},
+        {"ip": "10.15.20.12", "username": "pi", "timeout": 40, "command": "/home/pi/seq.sh"},
+        {"ip": "10.15.20.5", "port": 3003, "timeout": 10.0},
+        {"username": "nobody"},
+        {"ip": "10.15.20.6", "username": "x", "colour": "red"},
+        {"ip": "10.15.20.3", "username": "husarion"},
+    ]}))
+    parsed = load_shutdown_hosts(path)
+    ssh, long_one, web = parsed.hosts
+    assert (ssh.method.value, ssh.port, ssh.command, ssh.timeout) == ("ssh", 22, "sudo shutdown now", 5.0)
+    assert (long_one.timeout, long_one.command) == (40.0, "/home/pi/seq.sh")
+    assert (web.method.value, web.port, web.secret, web.timeout) == ("http", 3003, "husarion", 10.0)
+    assert [p.split(": ", 1)[1] for p in parsed.problems] == [
+        "hosts[3]: no ip, skipped", "hosts[4]: unknown keys: colour, skipped",
+        "hosts[5]: duplicate of husarion@10.15.20.3:22, skipped"]
+    assert parse_shutdown_hosts(None).hosts == ()
+
+
+def test_executor_steps_never_block_on_slow_pings() -> None:
+    clock = ManualClock()
+    backends = fake_backends(clock, up={"10.15.20.3": True}, down_after=0.2)
+
+    class SlowPinger:
+        """Test double: a ping that takes a second to say 'no answer'."""
+
+        def is_reachable(self, ip: str) -> bool:
+            time.sleep(1.0)
+            return False
+
+    backends.pinger = SlowPinger()
+    backends.dispatcher = ThreadDispatcher()
+    executor = ShutdownExecutor([ShutdownHost(ip="10.15.20.3", username="u")], backends, clock)
+    try:
+        durations = []
+        while not executor.done:
+            started = time.perf_counter()
+            executor.step()
+            durations.append(time.perf_counter() - started)
+            time.sleep(0.01)
+        assert max(durations) < 0.005
+        assert executor.results()[0].state is HostState.SKIPPED
+    finally:
+        backends.close()
+
+
+def real_backends(tmp_path: Path) -> ShutdownBackends:
+    known_hosts = tmp_path / "known_hosts"
+    known_hosts.write_text("")
+    return ShutdownBackends(SubprocessPinger(), ParamikoShutdown(known_hosts), HttpShutdown(),
+                            FakeLocalRunner(), ThreadDispatcher())
+
+
+def test_every_tick_under_5ms_with_a_host_whose_sshd_is_stopped(tmp_path: Path) -> None:
+    """127.0.0.1 answers ping but nothing listens on the SSH port: connection refused."""
+    port = free_port()
+    hosts = tmp_path / "hosts.yaml"
+    hosts.write_text(yaml.safe_dump({"hosts": [
+        {"ip": "127.0.0.1", "username": "husarion", "port": port, "timeout": 3.0}]}))
+    backends = real_backends(tmp_path)
+    blackboard = TreeBlackboard("Shutdown")
+    blackboard.update({"SHUTDOWN_HOSTS_PATH": str(hosts), "SHUTDOWN_LOCALHOST_COMMAND": "poweroff"})
+    ctx = NodeContext(FakeRobotIO(), MonotonicClock(), blackboard, backends)
+    tree = build_shutdown_tree(ctx)
+    single = ShutdownSingleHost("single", ctx, ip="127.0.0.1", username="husarion", port=port)
+    from_file = ShutdownHostsFromFile("file", ctx, shutdown_hosts_file=str(hosts))
+    try:
+        for node in (single, from_file, tree):
+            durations: list[float] = []
+            status = Status.RUNNING
+            deadline = time.monotonic() + 10
+            while status == Status.RUNNING and time.monotonic() < deadline:
+                started = time.perf_counter()
+                status = tick(node) or Status.SUCCESS
+                durations.append(time.perf_counter() - started)
+                time.sleep(1 / 30)
+            assert len(durations) >= 3  # ping, request, outcome: one step per tick
+            assert max(durations) < 0.005, f"{node.name}: slowest tick {max(durations) * 1000:.1f} ms"
+            if node is tree:
+                assert status == Status.SUCCESS  # hosts failed, the robot's own step still ran
+                assert backends.local.commands == ["poweroff"]  # type: ignore[attr-defined]
+            else:
+                assert status == Status.FAILURE
+                assert "unable to connect" in node.feedback_message.lower()
+    finally:
+        backends.close()
+
+
+@pytest.fixture
+def loopback_sshd(tmp_path: Path) -> Iterator[dict[str, Any]]:
+    """An sshd on 127.0.0.1 for this test only (public-key login as the current user)."""
+    sshd, keygen = shutil.which("sshd") or "/usr/sbin/sshd", shutil.which("ssh-keygen")
+    if not Path(sshd).exists() or keygen is None or not Path("/run/sshd").is_dir():
+        pytest.skip("sshd / ssh-keygen not available here")
+    for name in ("host_key", "client_key"):
+        subprocess.run([keygen, "-q", "-t", "ed25519", "-N", "", "-f", str(tmp_path / name)],
+                       check=True)
+    (tmp_path / "authorized_keys").write_text((tmp_path / "client_key.pub").read_text())
+    port = free_port()
+    config = tmp_path / "sshd_config"
+    config.write_text(
+        f"Port {port}\nListenAddress 127.0.0.1\nHostKey {tmp_path / 'host_key'}\n"
+        f"AuthorizedKeysFile {tmp_path / 'authorized_keys'}\nPasswordAuthentication no\n"
+        "KbdInteractiveAuthentication no\nUsePAM no\nStrictModes no\n"
+        f"PidFile {tmp_path / 'sshd.pid'}\n")
+    process = subprocess.Popen([sshd, "-D", "-e", "-f", str(config)], stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        with socket.socket() as probe:
+            if probe.connect_ex(("127.0.0.1", port)) == 0:
+                break
+        time.sleep(0.05)
+    else:
+        process.kill()
+        pytest.skip("sshd did not start")
+    host_key = (tmp_path / "host_key.pub").read_text().split()
+    yield {"port": port, "client_key": tmp_path / "client_key",
+           "known_line": f"[127.0.0.1]:{port} {host_key[0]} {host_key[1]}\n"}
+    process.terminate()
+    process.wait(timeout=5)
+
+
+def test_ssh_refuses_an_unknown_host_key_and_runs_with_a_known_one(
+        loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
+    import getpass
+
+    host = ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
+                        command="echo harmless-test-command", timeout=5.0)
+    known_hosts = tmp_path / "known_hosts"
+    known_hosts.write_text("")
+    strict = ParamikoShutdown(known_hosts, key_filename=loopback_sshd["client_key"])
+    refused = strict.request(host)
+    assert not refused.ok and "known_hosts" in refused.error
+    known_hosts.write_text(loopback_sshd["known_line"])
+    accepted = strict.request(host)
+    assert accepted.ok, accepted.error
+    assert accepted.output.strip() == "harmless-test-command"
+
+
+def test_local_commands_run_without_a_shell() -> None:
+    runner = SubprocessRunner()
+    assert runner.run("echo 'one two'", 5).output == "one two\n"
+    assert not runner.run("false", 5).ok
+    assert "No such file" in runner.run("/nonexistent/binary", 5).error
