@@ -201,6 +201,11 @@ def _strip_v2_0_prefix(node: str, key: str) -> tuple[str, str]:
 def _apply(values: dict[str, dict[str, Any]], node: str, params: Mapping[str, Any],
            source: str, notes: list[str]) -> None:
     defaults: dict[str, Any] = {"lights": LightsParams(), "safety": SafetyParams()}
+    if _section_for(node, "timer_frequency") is None:
+        # "/**" or no node name: the node is the one the file's other keys belong to
+        own = {_KEYS[k][0] for k in (_strip_v2_0_prefix(node, f)[1] for f in params) if k in _KEYS}
+        hint = next(iter(own)) if len(own) == 1 else Path(source).stem
+        node = f"{node} {hint}"
     for full_key, value in params.items():
         section_node, key = _strip_v2_0_prefix(node, full_key)
         if key in _IGNORED:

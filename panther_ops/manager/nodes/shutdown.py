@@ -127,7 +127,8 @@ class ShutdownHostsFromFile(_ShutdownLeaf):
             return Status.FAILURE
         done = self.executor.step()
         results = self.executor.results()
-        self.feedback_message = "; ".join(f"{r.host.describe()}: {r.state.value}" for r in results)
+        self.feedback_message = "; ".join(f"{r.host.describe()}: {r.state.value} ({r.message})"
+                                          for r in results)
         if not done:
             return Status.RUNNING
         return Status.FAILURE if self.executor.failed else Status.SUCCESS
