@@ -880,6 +880,14 @@ class YamlDocument:
         probe._text = new_text
         probe._root = root
         probe.path = self.path
+        try:
+            probe._index()
+        except DocumentError as exc:
+            raise DocumentError(
+                f"internal: editing {format_path(parts)} would make the file invalid ({exc.message})",
+                path=self.path,
+                line=self.line_of(parts),
+            ) from exc
         got = probe._unresolved(root)
         if got is None and expected == {}:
             got = {}
@@ -892,7 +900,7 @@ class YamlDocument:
             )
         self._text = new_text
         self._root = root
-        self._index()
+        self._alias_slots, self._anchors, self._indent = probe._alias_slots, probe._anchors, probe._indent
 
     def _splice(self, start: int, end: int, new: str) -> str:
         return self._text[:start] + new + self._text[end:]
@@ -1043,6 +1051,8 @@ class YamlDocument:
             inline = render_scalar(value, style=style, raw=self._text[start:end]) if not isinstance(
                 value, Folded | Literal
             ) else None
+        elif isinstance(old, MappingNode | SequenceNode) and _flow(old) and is_alias:
+            inline = render_inline(value, flow=True)  # a copy in the style of the anchored value
         elif isinstance(old, MappingNode | SequenceNode) and _flow(old) and not is_alias:
             # an empty [] / {} has no style to keep: nested content goes in block style
             nested = isinstance(value, Mapping) or (
@@ -1286,7 +1296,11 @@ class YamlDocument:
 
 def _path_key(parts: Sequence[PathPart]) -> tuple[PathPart, ...]:
     """Normalise a path for `_original_scalars` (digit strings -> indices)."""
-    return tuple(_as_index(p) if isinstance(p, str) and _as_index(p) is not None else p for p in parts)
+    out: list[PathPart] = []
+    for part in parts:
+        index = _as_index(part) if isinstance(part, str) else None
+        out.append(part if index is None else index)
+    return tuple(out)
 
 
 def _as_index(part: PathPart) -> int | None:

@@ -137,7 +137,7 @@ def test_compose_set_then_unset_arg_restores(path: Path) -> None:
     for service in compose.services():
         try:
             args = compose.command(service).args
-        except Exception:  # noqa: BLE001 - services without a ros2 launch command
+        except Exception:
             continue
         for name, value in [("zz_test_arg", "1"), ("wheel_config_path", "$(find panther_description)/config/WH02.yaml")]:
             if name in args:

@@ -1,0 +1,115 @@
+"""Controller limits: keys, wheel limits, controller key per version, default files."""
+
+from __future__ import annotations
+
+import pytest
+
+from panther_ops.core import controller as ctl
+from panther_ops.core.config_files import ConfigKind, config_file
+from panther_ops.core.stack import stack_from_version
+from panther_ops.errors import UsageError
+
+S204, S211, S222 = (stack_from_version(v) for v in ("2.0.4", "2.1.1", "2.2.2"))
+
+
+def test_parse_limit_keys() -> None:
+    assert ctl.parse_limit_key("controller.linear.x.max_velocity") == ctl.LimitKey("linear.x", "max_velocity")
+    assert ctl.parse_limit_key("angular.z.has_jerk_limits").dotted == "controller.angular.z.has_jerk_limits"
+    assert ctl.LimitKey("angular.z", "max_acceleration").unit == "rad/s²"
+    assert ctl.LimitKey("linear.x", "max_acceleration").path("drive_controller") == (
+        "/**", "drive_controller", "ros__parameters", "linear", "x", "max_acceleration")
+    with pytest.raises(ctl.ControllerError, match="max_velocity"):
+        ctl.parse_limit_key("controller.linear.z.max_velocity")
+    assert "controller.linear.y.max_velocity" in ctl.all_limit_keys("WH02")
+    assert "controller.linear.y.max_velocity" not in ctl.all_limit_keys("WH01")
+
+
+@pytest.mark.parametrize(
+    ("wheel", "key", "limit"),
+    [
+        ("WH01", "controller.linear.x.max_velocity", 2.0),
+        ("WH01", "controller.linear.x.max_acceleration", 2.7),
+        ("WH01", "controller.angular.z.max_velocity", 4.0),
+        ("WH01", "controller.angular.z.max_acceleration", 5.74),
+        ("WH02", "controller.linear.y.max_velocity", 1.1),
+        ("WH04", "controller.linear.x.max_acceleration", 1.5),
+        ("WH04", "controller.angular.z.max_velocity", 2.2),
+        ("WH02", "controller.angular.z.max_acceleration", 3.2),
+    ],
+)
+def test_wheel_limits_are_enforced(wheel: str, key: str, limit: float) -> None:
+    assert ctl.validate_limit(S211, wheel, key, limit).value == limit
+    with pytest.raises(ctl.LimitExceededError) as err:
+        ctl.validate_limit(S211, wheel, key, limit + 0.1)
+    assert f"exceeds the {wheel} limit of {limit}" in str(err.value) and isinstance(err.value, UsageError)
+    forced = ctl.validate_limit(S211, wheel, key, limit + 0.1, force=True)
+    assert forced.value == pytest.approx(limit + 0.1) and "(forced)" in forced.warnings[0]
+
+
+def test_value_checks() -> None:
+    assert ctl.validate_limit(S211, "WH01", "controller.linear.x.has_velocity_limits", "False").value is False
+    assert ctl.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", "1").value == 1.0
+    with pytest.raises(ctl.ControllerError, match="not a number"):
+        ctl.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", "fast")
+    with pytest.raises(ctl.ControllerError, match="not a boolean"):
+        ctl.validate_limit(S211, "WH01", "controller.linear.x.has_jerk_limits", "yes please")
+    with pytest.raises(ctl.ControllerError, match="negative"):
+        ctl.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", -1)
+    with pytest.raises(ctl.ControllerError, match="positive"):
+        ctl.validate_limit(S211, "WH01", "controller.linear.x.min_velocity", 1)
+    with pytest.raises(ctl.ControllerError, match="mecanum"):
+        ctl.validate_limit(S211, "WH01", "controller.linear.y.max_velocity", 1)
+    with pytest.raises(ctl.ControllerError, match="finite"):
+        ctl.validate_limit(S211, "WH01", "controller.linear.x.max_jerk", "inf")
+    custom = ctl.validate_limit(S211, "custom", "controller.linear.x.max_velocity", 3.0)
+    assert "no reference limits" in custom.warnings[0]
+
+
+@pytest.mark.parametrize("stack", [S204, S211, S222], ids=["2.0.4", "2.1.1", "2.2.2"])
+@pytest.mark.parametrize("wheel", ["WH01", "WH02", "WH04"])
+def test_default_files_carry_the_wheel_limits(stack: object, wheel: str) -> None:
+    config = ctl.ControllerConfig.default(stack, wheel)  # type: ignore[arg-type]
+    assert config.controller_key == stack.controller_key  # type: ignore[attr-defined]
+    limits = ctl.WHEEL_LIMITS[wheel]
+    assert config.get("controller.linear.x.max_velocity") == limits.linear_velocity
+    assert config.get("controller.linear.x.max_acceleration") == limits.linear_acceleration
+    assert config.get("controller.angular.z.max_velocity") == limits.angular_velocity
+    assert config.get("controller.angular.z.max_acceleration") == limits.angular_acceleration
+    assert (config.get("controller.linear.y.max_velocity") is not None) == (wheel == "WH02")
+    assert config.check() == []
+    assert ctl.default_controller_text(stack, wheel) == config.text()  # type: ignore[arg-type]
+
+
+def test_controller_key_must_match_the_stack() -> None:
+    old = ctl.default_controller_text(S204, "WH01")
+    with pytest.raises(ctl.ControllerFileError, match="drive_controller"):
+        ctl.ControllerConfig.parse(old, S211, "WH01", path="/config/WH01_controller.yaml")
+    forced = ctl.ControllerConfig.parse(old, S211, "WH01", force=True)
+    assert forced.controller_key == "panther_base_controller" and forced.doc.notes
+    with pytest.raises(ctl.ControllerFileError, match="no drive_controller"):
+        ctl.ControllerConfig.parse("a: 1\n", S211, "WH01")
+
+
+def test_set_unset_and_check() -> None:
+    config = ctl.ControllerConfig.default(S211, "WH01")
+    original = config.text()
+    change = config.set("controller.linear.x.max_velocity", 1.5)
+    assert change == ctl.LimitChange(True, "controller.linear.x.max_velocity", 1.5, ())
+    assert config.set("controller.linear.x.max_velocity", "1.5").changed is False
+    config.set("controller.linear.x.has_jerk_limits", True)
+    assert any("limited to zero" in w for w in config.check())
+    config.set("controller.linear.x.has_jerk_limits", False)
+    config.set("controller.linear.x.min_velocity", -1.0)
+    assert config.limits()["controller.linear.x.min_velocity"] == -1.0
+    assert config.unset("controller.linear.x.min_velocity") is True
+    config.set("controller.linear.x.max_velocity", 2.0)
+    assert config.text() == original
+    config.set("controller.linear.x.max_velocity", 2.5, force=True)
+    assert any("exceeds" in w for w in config.check())
+
+
+def test_no_default_for_custom_or_wh05() -> None:
+    with pytest.raises(UsageError, match="custom"):
+        ctl.default_controller_text(S211, "custom")
+    with pytest.raises(UsageError):
+        config_file(S222, ConfigKind.CONTROLLER, wheel_type="WH05")

@@ -1,0 +1,188 @@
+"""Launch-argument catalogue: names and availability per version, values, cross rules."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from panther_ops.core import launch_args as la
+from panther_ops.core.compose import ComposeFile
+from panther_ops.core.stack import stack_from_version
+from panther_ops.errors import UsageError
+
+S200, S201, S204, S210, S211, S220, S222 = (
+    stack_from_version(v) for v in ("2.0.0", "2.0.1", "2.0.4", "2.1.0", "2.1.1", "2.2.0", "2.2.2")
+)
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_catalogue_is_consistent() -> None:
+    keys = [s.key for s in la.CATALOGUE]
+    assert len(keys) == len(set(keys))
+    names = [n for s in la.CATALOGUE for n in s.all_names()]
+    assert len(names) == len(set(names))
+    for s in la.CATALOGUE:
+        if s.type is la.ArgType.CHOICE:
+            assert s.choices and s.default_for(S222 if s.since >= (2, 2, 0) else S211) in s.choices_for(S222)
+
+
+@pytest.mark.parametrize(
+    ("stack", "key", "available"),
+    [
+        (S200, "disable_manager", False),
+        (S201, "disable_manager", True),
+        (S201, "components_config_path", False),
+        (S204, "components_config_path", True),
+        (S210, "launch_nmea_gps", False),
+        (S211, "launch_nmea_gps", True),
+        (S211, "common_dir_path", False),
+        (S220, "common_dir_path", True),
+        (S201, "ekf_config_path", True),
+        (S204, "ekf_config_path", False),
+        (S204, "localization_mode", True),
+        (S201, "localization_mode", False),
+        (S200, "simulation_engine", True),
+        (S211, "simulation_engine", False),
+        (S222, "robot_model", True),
+    ],
+)
+def test_availability_per_version(stack: object, key: str, available: bool) -> None:
+    assert la.spec(key).available(stack) is available  # type: ignore[arg-type]
+    if not available:
+        with pytest.raises(la.UnavailableArgError):
+            la.validate_arg(stack, key, "True")  # type: ignore[arg-type]
+
+
+def test_names_per_version_and_aliases() -> None:
+    assert la.validate_arg(S211, "led_config_file", "/config/x.yaml").name == "led_config_file"
+    v = la.validate_arg(S222, "led_config_file", "/config/x.yaml")
+    assert v.name == "animations_config_path" and "called animations_config_path" in v.warnings[0]
+    v = la.validate_arg(S211, "animations_config_path", "/config/x.yaml")
+    assert (v.key, v.name) == ("led_config_file", "led_config_file")
+    assert la.validate_arg(S222, "user_led_animations_file", "/c/u.yaml").name == "user_led_animations_path"
+    alias = la.validate_arg(S211, "user_animations_file", "/c/u.yaml")
+    assert alias.name == "user_led_animations_file" and "not a declared launch argument" in alias.warnings[0]
+
+
+@pytest.mark.parametrize(
+    ("stack", "value", "written"),
+    [(S211, "true", "True"), (S211, "FALSE", "False"), (S201, "1", "True"), (S222, "True", "true"), (S222, "0", "false")],
+)
+def test_booleans_are_normalised_as_the_stack_expects(stack: object, value: str, written: str) -> None:
+    assert la.validate_arg(stack, "disable_manager", value).value == written  # type: ignore[arg-type]
+
+
+def test_bad_values_list_what_is_allowed() -> None:
+    with pytest.raises(la.InvalidArgValueError, match="allowed: True, False"):
+        la.validate_arg(S211, "use_ekf", "maybe")
+    with pytest.raises(la.InvalidArgValueError, match="allowed: relative, enu"):
+        la.validate_arg(S211, "localization_mode", "gps")
+    with pytest.raises(la.InvalidArgValueError, match=r"\$\(find <package>\)"):
+        la.validate_arg(S211, "controller_config_path", "config/WH01_controller.yaml")
+    with pytest.raises(la.InvalidArgValueError):
+        la.validate_arg(S211, "namespace", "1robot")
+    with pytest.raises(la.InvalidArgValueError, match="DEBUG, INFO"):
+        la.validate_arg(S222, "log_level", "verbose")
+    assert la.validate_arg(S222, "log_level", "debug").value == "DEBUG"
+    assert la.validate_arg(S211, "wheel_type", "wh02").value == "WH02"
+    assert la.validate_arg(S211, "namespace", "fleet/panther_01").value == "fleet/panther_01"
+    assert la.validate_arg(S211, "components_config_path", "None").value == "None"
+    assert la.validate_arg(S211, "wheel_config_path", "$(find panther_description)/config/WH02.yaml")
+    assert issubclass(la.InvalidArgValueError, UsageError)
+
+
+def test_unknown_keys_suggest_and_force_passes() -> None:
+    with pytest.raises(la.UnknownArgError) as err:
+        la.validate_arg(S211, "wheel_typ", "WH01")
+    assert "wheel_type" in str(err.value)
+    forced = la.validate_arg(S211, "my_arg", "x", force=True)
+    assert forced.name == "my_arg" and forced.warnings
+
+
+def test_wh05_is_lynx_only() -> None:
+    with pytest.raises(la.InvalidArgValueError, match="WH01, WH02, WH04, custom"):
+        la.validate_arg(S211, "wheel_type", "WH05")
+    with pytest.raises(la.InvalidArgValueError, match="Lynx wheel"):
+        la.validate_arg(S222, "wheel_type", "WH05")
+    assert la.validate_arg(S222, "wheel_type", "WH05", context={"robot_model": "lynx"}).value == "WH05"
+    forced = la.validate_arg(S222, "wheel_type", "WH05", force=True)
+    assert "(forced)" in forced.warnings[-1]
+
+
+def test_battery_config_is_simulation_only_before_2_2() -> None:
+    assert "only matters in simulation" in la.validate_arg(S211, "battery_config_path", "/c/b.yaml").warnings[0]
+    assert la.validate_arg(S211, "battery_config_path", "/c/b.yaml", simulation=True).warnings == ()
+    assert la.validate_arg(S222, "battery_config_path", "/config/b.yaml").warnings == ()
+
+
+def test_defaults_per_version() -> None:
+    shutdown = la.spec("shutdown_hosts_config_path")
+    assert shutdown.default_for(S210) == "$(find panther_bringup)/config/shutdown_hosts.yaml"
+    assert shutdown.default_for(S211) == "$(find panther_manager)/config/shutdown_hosts_config.yaml"
+    assert "husarion_ugv_manager/config/shutdown_hosts.yaml" in shutdown.default_for(S222)
+    assert la.spec("wheel_type").default_for(S211) == "WH01"
+    assert la.bool_word(S211, True) == "True" and la.bool_word(S222, True) == "true"
+    assert len(la.args_for(S222)) > len(la.args_for(S200))
+
+
+def _messages(findings: list[la.Finding], level: str) -> list[str]:
+    return [f.rule for f in findings if f.level == level]
+
+
+def test_cross_rules() -> None:
+    assert _messages(la.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
+    ok = {"wheel_type": "custom", "wheel_config_path": "/c/w.yaml", "controller_config_path": "/c/c.yaml"}
+    assert _messages(la.check_args(S211, ok), "error") == []
+    assert _messages(la.check_args(S222, {"wheel_type": "WH05"}), "error") == ["wh05-lynx"]
+    assert _messages(la.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
+    assert "battery-sim-only" in _messages(la.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
+    assert "gps-source" in _messages(la.check_args(S211, {"fuse_gps": "True"}), "warning")
+    assert "gps-source" not in _messages(la.check_args(S211, {"fuse_gps": "True", "launch_nmea_gps": "True"}), "warning")
+    assert "enu-without-gps" in _messages(la.check_args(S211, {"localization_mode": "enu"}), "warning")
+
+
+def test_names_of_other_versions_in_a_command_are_errors() -> None:
+    findings = la.check_args(S222, {"led_config_file": "/x", "user_animations_file": "/y", "typo_arg": "1"})
+    assert sorted(_messages(findings, "error")) == ["declared-name", "declared-name"]
+    assert _messages(findings, "warning") == ["unknown-arg"]
+    assert _messages(la.check_args(S204, {"launch_nmea_gps": "True"}), "error") == ["unavailable-arg"]
+    with pytest.raises(la.ArgConflictError):
+        la.raise_for_errors(findings)
+    assert len(la.raise_for_errors(findings, force=True)) == 3
+
+
+def test_paths_outside_volumes_are_flagged() -> None:
+    compose = ComposeFile.parse((ROOT / "templates/compose/husarion-ugv-2.2.2.yaml").read_text())
+    findings = la.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml", "common_dir_path": "/config"},
+                             volumes=compose.list_volumes())
+    assert [f.keys for f in findings if f.rule == "path-mounted"] == [("controller_config_path",)]
+
+
+def test_migrate_args() -> None:
+    m = la.migrate_args(S211, S222, {"led_config_file": "/a", "user_animations_file": "/b", "wheel_type": "WH01"})
+    assert m.renamed == {"led_config_file": "animations_config_path", "user_animations_file": "user_led_animations_path"}
+    assert la.migrate_args(S201, S204, {"ekf_config_path": "/e"}).dropped == ("ekf_config_path",)
+
+
+def test_set_launch_args_on_a_compose_file() -> None:
+    compose = ComposeFile.parse((ROOT / "tests/golden/inputs/compose-2.1-folded-command.yaml").read_text())
+    with pytest.raises(la.ArgConflictError):
+        la.set_launch_args(compose, {"wheel_type": "custom"})
+    assert not compose.changed
+    change = la.set_launch_args(compose, {"user_animations_file": "/config/panther_lights/config/user.yaml"})
+    assert change.changed and compose.args["user_led_animations_file"] == "/config/panther_lights/config/user.yaml"
+    assert "user_animations_file" not in compose.args
+    same = la.set_launch_args(compose, {"wheel_type": "WH04"})
+    assert same.changed is False
+    assert la.unset_launch_arg(compose, "user_led_animations_path").changed
+    assert "user_led_animations_file" not in compose.args
+
+
+def test_stale_alias_in_command_is_replaced() -> None:
+    text = ("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n"
+            "    command: ros2 launch panther_bringup bringup.launch.py user_animations_file:=/a.yaml\n")
+    compose = ComposeFile.parse(text)
+    change = la.set_launch_args(compose, {"user_led_animations_file": "/b.yaml"})
+    assert compose.args == {"user_led_animations_file": "/b.yaml"}
+    assert any("replaced user_animations_file" in w for w in change.warnings)
