@@ -125,3 +125,17 @@ def make_ctx(io: Any, clock: ManualClock, entries: dict[str, Any] | None = None,
 def tick(node: py_trees.behaviour.Behaviour) -> Outcome:
     """Tick once; the outcome (None when skipped)."""
     return run_outcome(node)
+
+
+def simulate(doc: dict[str, Any], trees: Any = None, duration: float | None = None) -> list[Any]:
+    """Run a scenario given as a mapping with the fast clock; all snapshots."""
+    from panther_ops.manager.sim.runner import run_simulation
+    from panther_ops.manager.sim.scenario import parse_scenario
+
+    scenario = parse_scenario({"duration": 120, **doc}, "<test scenario>")
+    return list(run_simulation(scenario, trees=trees, duration=duration))
+
+
+def calls(snapshots: list[Any], *, contains: str = "") -> list[tuple[float, str]]:
+    """(time, call) of every service call, optionally only those containing `contains`."""
+    return [(round(s.time, 1), c) for s in snapshots for c in s.calls if contains in c]

@@ -54,13 +54,14 @@ def _image_frames(path: Path, mtime: float, color: int | None, num_led: int,
 
     with Image.open(path) as raw:
         image = raw.convert("RGBA").resize((num_led, length), Image.Resampling.BILINEAR)
-    pixels = list(image.getdata())
+    pixels = list(image.get_flattened_data() if hasattr(image, "get_flattened_data")
+                  else image.getdata())
     if color is not None:
         grays = [int(0.299 * r + 0.587 * g + 0.114 * b) for r, g, b, _ in pixels]
         top = max(grays) or 1
         red, green, blue = (color >> 16) & 0xFF, (color >> 8) & 0xFF, color & 0xFF
-        pixels = []
-        for gray, (_, _, _, alpha) in zip(grays, image.getdata(), strict=True):
+        source, pixels = pixels, []
+        for gray, (_, _, _, alpha) in zip(grays, source, strict=True):
             level = int(gray / top * 255)
             pixels.append((level * red // 255, level * green // 255, level * blue // 255, alpha))
     return tuple(tuple(pixels[row * num_led:(row + 1) * num_led]) for row in range(length))

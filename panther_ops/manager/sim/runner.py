@@ -102,7 +102,7 @@ class Simulation:
         if model.powered_off:
             panels = {c: [(0, 0, 0)] * len(v) for c, v in panels.items()}
         return Snapshot(
-            tick=self.ticks, time=report.time - self.start, mode=report.mode.value,
+            tick=self.ticks, time=round(report.time - self.start, 6), mode=report.mode.value,
             battery_percent=model.charge, battery_status=model.status().name,
             battery_health=model.health().name, charger=model.charger, bat_temp=model.bat_temp,
             cpu_temp=model.cpu_temp, driver_temp=model.driver_temp, fan=model.fan, aux=model.aux,
@@ -119,10 +119,9 @@ class Simulation:
     def run(self, duration: float | None = None) -> Iterator[Snapshot]:
         """Snapshots at 10 Hz for `duration` seconds (default: the scenario's)."""
         end = self.start + (self.scenario.duration if duration is None else duration)
-        due = self.clock.now()
         while self.clock.now() < end - 1e-9:
             yield self.step()
-            due += self.period
+            due = self.start + self.ticks * self.period  # no drift from adding 0.1 repeatedly
             self.clock.sleep(max(0.0, due - self.clock.now()))
 
     def close(self) -> None:
