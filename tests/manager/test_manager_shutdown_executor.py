@@ -13,7 +13,7 @@ import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 from urllib.parse import parse_qs, urlparse
 
 import pytest
@@ -54,10 +54,10 @@ def free_port() -> int:
 class ShutdownServer(http.server.BaseHTTPRequestHandler):
     """A husarion-shutdown stand-in: checks the signature, never shuts anything down."""
 
-    received: list[str] = []
+    received: ClassVar[list[str]] = []
     secret = SECRET
 
-    def do_GET(self) -> None:  # noqa: N802 - http.server's naming
+    def do_GET(self) -> None:
         self.received.append(self.path)
         url = urlparse(self.path)
         query = parse_qs(url.query)
