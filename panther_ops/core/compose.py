@@ -366,7 +366,8 @@ class ComposeFile:
         if isinstance(value, list):
             form, argv = CommandForm.LIST, [str(v) for v in value]
         elif isinstance(value, str):
-            form = CommandForm.BLOCK if info.style in ("|", ">") or "\n" in info.raw else CommandForm.STRING
+            multiline_plain = info.style is None and "\n" in info.raw
+            form = CommandForm.BLOCK if info.style in ("|", ">") or multiline_plain else CommandForm.STRING
             argv = [t.value for t in shell_tokens(value)]
         else:
             raise ComposeError(
@@ -633,8 +634,8 @@ class ComposeFile:
         return own, True
 
     def _merged_anchor(self, name: str) -> tuple[PathPart, ...] | None:
-        merge_line = self.doc.get(("services", name), None)
-        if merge_line is None:
+        """Path of the anchor the service merges with ``<<: *anchor`` (first one)."""
+        if not self.doc.exists(("services", name)):
             return None
         raw = self.doc.info(("services", name)).raw
         m = re.search(r"<<:\s*\*([^\s,\]]+)", raw)
@@ -676,11 +677,11 @@ class ComposeFile:
         if not _ENV_NAME.match(key):
             raise UsageError(f"invalid environment variable name {key!r}")
         name = self._svc(service)
-        if self.get_env(key, name) == value and (not shared or self._env_site(name, shared)[1]):
-            current = self._env_site(name, shared)
-            if not shared or self._site_env(current[0]).get(key) == value:
-                return False
         path, exists = self._env_site(name, shared)
+        if exists and self._site_env(path).get(key) == value:
+            return False
+        if not shared and self.get_env(key, name) == value:
+            return False
         if not exists:
             return self.doc.set(path, [f"{key}={value}"])
         env = self.doc.get(path)

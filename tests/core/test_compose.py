@@ -240,3 +240,20 @@ def test_add_and_remove_service() -> None:
 def test_unknown_service() -> None:
     with pytest.raises(ComposeError, match="no service 'nope'"):
         compose(C21).image("nope")
+
+
+def test_multiline_commands() -> None:
+    quoted = ('services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n'
+              '    command: "ros2 launch panther_bringup\n      bringup.launch.py a:=1"\n')
+    c = compose(quoted)
+    assert c.command().form is CommandForm.STRING
+    c.set_arg("a", "2")  # a quoted scalar is rewritten as one line (documented)
+    assert c.text().endswith('    command: "ros2 launch panther_bringup bringup.launch.py a:=2"\n')
+    plain = ('services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n'
+             '    command: ros2 launch panther_bringup\n      bringup.launch.py a:=1\n')
+    c = compose(plain)
+    assert c.command().form is CommandForm.BLOCK
+    c.set_arg("b", "2")
+    assert c.text().endswith("      bringup.launch.py a:=1\n      b:=2\n")
+    c.unset_arg("b")
+    assert c.text() == plain
