@@ -57,12 +57,12 @@ def _image_frames(path: Path, mtime: float, color: int | None, num_led: int,
     pixels = list(image.get_flattened_data() if hasattr(image, "get_flattened_data")
                   else image.getdata())
     if color is not None:
-        grays = [int(0.299 * r + 0.587 * g + 0.114 * b) for r, g, b, _ in pixels]
+        grays = [(299 * r + 587 * g + 114 * b + 500) // 1000 for r, g, b, _ in pixels]
         top = max(grays) or 1
         red, green, blue = (color >> 16) & 0xFF, (color >> 8) & 0xFF, color & 0xFF
         source, pixels = pixels, []
         for gray, (_, _, _, alpha) in zip(grays, source, strict=True):
-            level = int(gray / top * 255)
+            level = gray * 255 // top
             pixels.append((level * red // 255, level * green // 255, level * blue // 255, alpha))
     return tuple(tuple(pixels[row * num_led:(row + 1) * num_led]) for row in range(length))
 

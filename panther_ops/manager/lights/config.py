@@ -153,12 +153,14 @@ def parse_layout(doc: Mapping[str, Any], source: str) -> tuple[LedConfig, list[F
                                   where))
         panels[panel.channel] = panel
     segments: dict[str, Segment] = {}
+    declared: set[str] = set()
     for i, raw in enumerate(doc.get("segments") or []):
         where = _where(source, f"segments[{i}]")
         if not isinstance(raw, Mapping) or "name" not in raw:
             findings.append(error("segment-invalid", "a segment needs a 'name'", where))
             continue
         name = str(raw["name"])
+        declared.add(name)
         match = _RANGE.match(str(raw.get("led_range", "")))
         if match is None:
             findings.append(error("segment-range-invalid", f"segment '{name}': led_range "
@@ -187,7 +189,7 @@ def parse_layout(doc: Mapping[str, Any], source: str) -> tuple[LedConfig, list[F
     for group, members in (doc.get("segments_map") or {}).items():
         names = tuple(str(m) for m in (members or []))
         for name in names:
-            if name not in segments:
+            if name not in declared:
                 findings.append(error("segments-map-unknown-segment", f"segments_map '{group}' "
                                       f"names segment '{name}', which is not defined",
                                       _where(source, f"segments_map.{group}")))
