@@ -121,10 +121,24 @@ def tick_tree(root: py_trees.behaviour.Behaviour) -> TreeTick:
     return TreeTick(status, branch_of(running or acted))
 
 
-def _next_due(due: float, period: float, now: float) -> float:
-    """The next due time on the period grid; skip missed slots instead of bursting."""
-    due += period
-    return due if due > now else now + period
+class _Schedule:
+    """Due times on a fixed grid (start + n / frequency): no drift, missed slots skipped."""
+
+    def __init__(self, start: float, frequency: float) -> None:
+        self.start = start
+        self.frequency = frequency
+        self.ticks = 0
+
+    @property
+    def next(self) -> float:
+        return self.start + self.ticks / self.frequency
+
+    def due(self, now: float) -> bool:
+        """True (and the slot is used) when a tick is due at `now`."""
+        if now + 1e-9 < self.next:
+            return False
+        self.ticks = max(self.ticks + 1, int((now - self.start) * self.frequency + 1e-9) + 1)
+        return True
 
 
 class ManagerRuntime:
@@ -200,23 +214,21 @@ class ManagerRuntime:
             stop: Callable[[TickReport], bool] | None = None) -> TickReport | None:
         """Tick at the configured rates until DONE, `duration` passed or `stop(report)`."""
         start = self.clock.now()
-        lights_period = 1.0 / self.config.lights.timer_frequency
-        next_lights = next_safety = start
+        lights = _Schedule(start, self.config.lights.timer_frequency)
+        safety = _Schedule(start, self.config.safety.timer_frequency)
         report: TickReport | None = None
         while self.mode is not Mode.DONE:
             now = self.clock.now()
-            if duration is not None and now - start >= duration:
+            if duration is not None and now - start >= duration - 1e-9:
                 break
-            safety_period = 1.0 / (self.config.safety.timer_frequency if self.mode is Mode.RUNNING
-                                   else self.config.safety.shutdown_frequency)
-            report = self.tick(lights=now >= next_lights, safety=now >= next_safety)
-            if now >= next_lights:
-                next_lights = _next_due(next_lights, lights_period, now)
-            if now >= next_safety:
-                next_safety = _next_due(next_safety, safety_period, now)
+            mode = self.mode
+            report = self.tick(lights=lights.due(now), safety=safety.due(now))
+            if self.mode is not mode:  # shutting down: the Shutdown tree's own rate from now
+                safety = _Schedule(now, self.config.safety.shutdown_frequency)
+                safety.ticks = 1
             if stop is not None and stop(report):
                 break
-            self.clock.sleep(max(0.0, min(next_lights, next_safety) - self.clock.now()))
+            self.clock.sleep(max(0.0, min(lights.next, safety.next) - self.clock.now()))
         return report
 
     def blackboards(self) -> dict[str, dict[str, Any]]:
