@@ -66,9 +66,10 @@ def root(
 
 
 def _register() -> None:
-    from panther_ops.cli.commands import demo, fleet, inventory, trust
+    from panther_ops.cli.commands import config, demo, fleet, inventory, trust
 
     fleet.register(app)
+    config.register(app)
     trust.register(app)
     app.add_typer(inventory.app, name="inventory")
     app.add_typer(demo.app, name="demo")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import builtins
 import math
 import re
+import threading
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from datetime import date
@@ -41,7 +42,15 @@ _IdSet = set[int]  # `set` is a method name inside YamlDocument
 _MISSING: Any = object()
 # Only node positions and styles are needed (the text itself is kept), so the plain
 # composer is enough: same YAML 1.2 resolution as round-trip mode, without comment tokens.
-_yaml = YAML(typ="safe", pure=True)
+_local = threading.local()
+
+
+def _parser() -> YAML:
+    """A YAML instance of this thread: ruamel's are not safe to share between threads."""
+    y = getattr(_local, "yaml", None)
+    if y is None:
+        y = _local.yaml = YAML(typ="safe", pure=True)
+    return y
 
 
 class DocumentError(InputError):
@@ -172,7 +181,7 @@ def _flow(node: Node) -> bool:
 def _block_value(value: Folded | Literal) -> str:
     """The string a rendered block scalar reads back as (folding applied)."""
     header, lines = block_scalar_lines(value, 2)
-    node = _yaml.compose("k: " + header + "\n" + "\n".join(lines) + "\n")
+    node = _parser().compose("k: " + header + "\n" + "\n".join(lines) + "\n")
     return cast("str", _construct_scalar(node.value[0][1]))
 
 
@@ -237,7 +246,7 @@ class YamlNodes:
 
     def _compose(self, text: str) -> Node | None:
         try:
-            return cast("Node | None", _yaml.compose(text))
+            return cast("Node | None", _parser().compose(text))
         except MarkedYAMLError as exc:
             mark = exc.problem_mark or exc.context_mark
             line = mark.line + 1 if mark is not None else None

@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import threading
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -85,7 +86,15 @@ _YAML11_SPECIAL = re.compile(
     re.VERBOSE,
 )
 _CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f\x85\u2028\u2029]")
-_yaml = YAML(typ="rt")
+_local = threading.local()
+
+
+def _parser() -> YAML:
+    """A YAML instance of this thread: ruamel's are not safe to share between threads."""
+    y = getattr(_local, "yaml", None)
+    if y is None:
+        y = _local.yaml = YAML(typ="rt")
+    return y
 
 
 @lru_cache(maxsize=4096)
@@ -103,7 +112,7 @@ def plain_ok(text: str, flow: bool = False) -> bool:
         return False
     probe = f"[{text}]" if flow else f"- {text}"
     try:
-        node = _yaml.compose(probe)
+        node = _parser().compose(probe)
     except YAMLError:
         return False
     if node is None or len(node.value) != 1:

@@ -1,0 +1,182 @@
+"""`panther-ops config ...` and `panther-ops apply`: the robot's launch arguments and files."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.mutate import DryRun, Force, NoRestart, Settle, Yes, mutate
+from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+
+app = typer.Typer(
+    help="The robot's configuration: launch arguments, controller limits, config files, history.",
+    no_args_is_help=True,
+)
+
+KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
+
+
+def _parse_value(text: str) -> Any:
+    lowered = text.strip().lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    try:
+        return float(text) if any(c in text for c in ".eE") else int(text)
+    except ValueError:
+        return text
+
+
+@app.command("get")
+def get(
+    ctx: typer.Context,
+    key: KeyArg,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
+    stack's default, with where it came from.
+
+    Example: panther-ops config get wheel_type --all
+    """
+    from panther_ops.cli.render import finish, print_results
+    from panther_ops.core.config_plans import read_arg
+    from panther_ops.results import Outcome, RobotResult
+
+    def task(c: Any) -> RobotResult:
+        info = read_arg(c, key)
+        return RobotResult(c.robot.name, Outcome.OK, f"{key} = {info['value']} ({info['source']}; {info['stack']})",
+                           data=info)
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return finish(context.run("config get", inv, chosen, task, forks=forks, json_out=json_out), json_out,
+                  print_results)
+
+
+@app.command("set")
+def set_(
+    ctx: typer.Context,
+    key: KeyArg,
+    value: Annotated[str, typer.Argument(help="The value, e.g. WH02, True, /config/x.yaml, 1.5.")],
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    force: Force = False,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Set a launch argument of the driver (e.g. wheel_type WH02) or a controller limit
+    (controller.linear.x.max_velocity 1.5) on each robot, knowing each key per stack version.
+
+    Plans every robot first and shows the exact diff; then (after --yes or your confirmation)
+    backs up, writes atomically, recreates the driver as the robot user, and verifies it keeps
+    running with the new command; a failed change is rolled back.
+
+    Examples:
+      panther-ops config set wheel_type WH02 -r panther-01 --yes
+      panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
+    """
+    from panther_ops.core.config_plans import plan_args, plan_controller
+    from panther_ops.core.config_checks import precheck
+
+    parsed = _parse_value(value) if key.startswith("controller.") else value
+    precheck({key: parsed}, force=force)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    if key.startswith("controller."):
+        def planner(c: Any) -> Any:
+            return plan_controller(c, {key: parsed}, force=force)
+    else:
+        def planner(c: Any) -> Any:
+            return plan_args(c, {key: value}, [], force=force)
+    return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                  max_fail=max_fail)
+
+
+@app.command("unset")
+def unset(
+    ctx: typer.Context,
+    key: KeyArg,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Remove a launch argument from the driver's command (the stack's default applies again).
+
+    Example: panther-ops config unset wheel_type -r panther-01 --yes
+    """
+    from panther_ops.core.config_plans import plan_args
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate(f"config unset {key}", inv, chosen, lambda c: plan_args(c, {}, [key]), yes=yes,
+                  dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+
+
+@app.command("diff")
+def diff(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Compare each robot with the inventory's desired: block (launch_args, controller, image):
+    `changed` means drift, with the diff that `panther-ops apply` would make.
+
+    Example: panther-ops config diff --all
+    """
+    from panther_ops.core.config_plans import plan_desired
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
+                  forks=forks)
+
+
+def apply(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    force: Force = False,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Converge robots to the inventory's desired: block (launch_args, controller limits, driver
+    image) through the same plan / diff / confirm / backup / recreate / verify / roll back pipeline.
+
+    Example: panther-ops apply -g warehouse --canary 1 --yes
+    """
+    from panther_ops.core.config_plans import plan_desired
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("apply", inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                  max_fail=max_fail)
+
+
+def register(root: typer.Typer) -> None:
+    root.add_typer(app, name="config")
+    root.command("apply")(apply)

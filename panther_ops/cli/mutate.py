@@ -1,0 +1,66 @@
+"""The CLI side of every mutating command: plan, show, confirm, apply."""
+
+from __future__ import annotations
+
+import sys
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+if TYPE_CHECKING:
+    from panther_ops.core.changes import Planner
+    from panther_ops.core.inventory import Inventory, Robot
+
+Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
+DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
+NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
+Settle = Annotated[
+    float, typer.Option("--settle", min=0, help="Seconds the recreated container must stay up, unrestarted.")
+]
+Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
+
+
+def mutate(
+    command: str,
+    inv: Inventory,
+    chosen: list[Robot],
+    planner: Planner,
+    *,
+    yes: bool,
+    dry_run: bool,
+    restart: bool = True,
+    settle: float = 5.0,
+    json_out: bool = False,
+    forks: int | None = None,
+    canary: int = 0,
+    max_fail: float | None = None,
+) -> int:
+    from panther_ops.cli.render import error, finish, print_results
+    from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet
+    from panther_ops.core.pipeline import ApplyOptions
+    from panther_ops.core.runner import Connections, RunOptions
+    from panther_ops.errors import ExitCode
+
+    opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
+    with Connections(inv) as conns:
+        fp = plan_fleet(command, inv, chosen, planner, conns, opts)
+        if fp.usage_errors:
+            for name, exc in fp.usage_errors.items():
+                error(f"{name}: {exc}")
+            sys.stderr.write("nothing was changed on any robot\n")
+            return int(ExitCode.USAGE)
+        if dry_run or not fp.to_change:
+            return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
+        if not json_out:
+            print_results(fp.results, title=f"plan: {command}")
+        if not yes:
+            if not sys.stdin.isatty():
+                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
+                return int(ExitCode.USAGE)
+            if not typer.confirm(f"Apply to {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
+                sys.stderr.write("nothing was changed\n")
+                return int(ExitCode.USAGE)
+        apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
+        result = apply_fleet(fp, inv, chosen, conns, opts, apply)
+    return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
+

@@ -1,0 +1,83 @@
+"""Two phases for every mutating command, over one connection per robot.
+
+Phase 1 plans every targeted robot (reads only). A planning error that is the operator's
+(a bad key or value for that robot's stack) stops the whole command before anything is
+written anywhere (exit 2). Phase 2, after the CLI showed the diffs and got confirmation,
+applies the plans through the pipeline on the same connections.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from panther_ops.core.inventory import Inventory, Robot
+from panther_ops.core.pipeline import ApplyOptions, RobotPlan, apply_plan
+from panther_ops.core.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
+from panther_ops.errors import UsageError
+from panther_ops.results import FleetResult, Outcome, RobotResult
+
+Planner = Callable[[RobotContext], RobotPlan]
+
+
+@dataclass
+class FleetPlan:
+    """Every robot's plan (or why it has none)."""
+
+    command: str
+    plans: dict[str, RobotPlan] = field(default_factory=dict)
+    results: FleetResult = field(default_factory=lambda: FleetResult("plan"))
+    usage_errors: dict[str, UsageError] = field(default_factory=dict)
+
+    @property
+    def to_change(self) -> list[str]:
+        return [name for name, p in self.plans.items() if p.edits]
+
+
+def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
+               options: RunOptions, progress: Progress | None = None) -> FleetPlan:
+    fp = FleetPlan(command)
+
+    def task(ctx: RobotContext) -> RobotResult:
+        try:
+            plan = planner(ctx)
+        except UsageError as exc:
+            fp.usage_errors[ctx.robot.name] = exc
+            raise
+        fp.plans[ctx.robot.name] = plan
+        outcome = Outcome.CHANGED if plan.edits else Outcome.OK
+        message = plan.summary if plan.edits else (plan.noop or "nothing to change")
+        return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
+                           data=dict(plan.data))
+
+    plan_opts = RunOptions(forks=options.forks)
+    fp.results = run_fleet(command, inventory, robots, task, plan_opts, progress, connections)
+    return fp
+
+
+def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
+                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None) -> FleetResult:
+    """Apply every plan with edits; robots without edits keep their plan-phase result."""
+    by_name = {r.robot: r for r in fp.results.results}
+    todo = [r for r in robots if r.name in fp.plans and fp.plans[r.name].edits]
+
+    def task(ctx: RobotContext) -> RobotResult:
+        return apply_plan(ctx, fp.plans[ctx.robot.name], apply)
+
+    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections)
+    for r in applied.results:
+        by_name[r.robot] = r
+    out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
+    out.duration_s = fp.results.duration_s + applied.duration_s
+    return out
+
+
+def dry_run_result(fp: FleetPlan) -> FleetResult:
+    out = FleetResult(fp.command, notes=["dry run: nothing was written"])
+    for r in fp.results.results:
+        if r.outcome is Outcome.CHANGED:
+            r.message = f"would change: {r.message}"
+            r.data["dry_run"] = True
+        out.add(r)
+    out.duration_s = fp.results.duration_s
+    return out

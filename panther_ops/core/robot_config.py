@@ -1,0 +1,77 @@
+"""A robot's configuration as read from it: compose.yaml, its stack, and mounted files.
+
+Readers only: one read of compose.yaml per command, then pure lookups (which host file a
+container path comes from, which file a launch argument points at).
+"""
+
+from __future__ import annotations
+
+import posixpath
+from dataclasses import dataclass
+
+from panther_ops.core.compose import ComposeFile
+from panther_ops.core.config_files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
+from panther_ops.core.runner import RobotContext
+from panther_ops.core.stack import Stack, stack_from_version
+from panther_ops.errors import RemoteStateError
+
+
+@dataclass
+class RobotConfig:
+    """compose.yaml as it is on the robot, parsed."""
+
+    home: str
+    compose_path: str
+    before: bytes
+    compose: ComposeFile
+    stack: Stack
+
+    @property
+    def service(self) -> str:
+        return self.compose.driver_service()
+
+    def host_path_of(self, container_path: str) -> str | None:
+        """The robot file a container path comes from (a bind mount of the driver), or None."""
+        best: tuple[int, str] | None = None
+        for v in self.compose.list_volumes(self.service):
+            if v.source is None or not v.source.startswith(("/", "~", ".")):
+                continue
+            target = v.target.rstrip("/")
+            if container_path == target or container_path.startswith(target + "/"):
+                src = self.resolve(v.source)
+                path = src + container_path[len(target):]
+                if best is None or len(target) > best[0]:
+                    best = (len(target), path)
+        return best[1] if best else None
+
+    def resolve(self, host_path: str) -> str:
+        """A compose host path (``~/x``, ``./x``, ``/x``) as an absolute robot path."""
+        if host_path.startswith("~/"):
+            return posixpath.join(self.home, host_path[2:])
+        if host_path.startswith("/"):
+            return posixpath.normpath(host_path)
+        return posixpath.normpath(posixpath.join(posixpath.dirname(self.compose_path), host_path))
+
+    @property
+    def tree_mounted(self) -> bool:
+        """The 2.2 config tree (``~/config`` at ``/config``) is mounted into the driver."""
+        return self.host_path_of(CONTAINER_CONFIG_DIR) == ROBOT_CONFIG_DIR
+
+
+def read_config(ctx: RobotContext) -> RobotConfig:
+    """Read and parse the robot's compose.yaml (one read)."""
+    t = ctx.transport
+    home = t.home()
+    path = ctx.robot.compose_file
+    if path.startswith("~/"):
+        path = posixpath.join(home, path[2:])
+    try:
+        before = t.read_file(path)
+    except FileNotFoundError:
+        raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory") from None
+    compose = ComposeFile.parse(before.decode(), path)
+    if ctx.robot.stack != "auto":
+        stack = stack_from_version(ctx.robot.stack)
+    else:
+        stack = compose.stack()
+    return RobotConfig(home, path, before, compose, stack)
