@@ -38,12 +38,13 @@ class FileEdit:
     path: str
     before: bytes | None
     """What the plan read (None: the file does not exist yet)."""
-    after: bytes
+    after: bytes | None
+    """What to write (None: remove the file)."""
     mode: int | None = None
 
     def diff(self) -> Diff:
         old = (self.before or b"").decode(errors="replace")
-        return Diff(self.path, unified_diff(old, self.after.decode(errors="replace"), self.path))
+        return Diff(self.path, unified_diff(old, (self.after or b"").decode(errors="replace"), self.path))
 
 
 @dataclass(frozen=True)
@@ -136,21 +137,31 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
     }
     _save_backup(ctx, backup_dir, plan, manifest)
     result.data["backup"] = backup_id
-    staged = [t.stage_file(e.path, e.after, mode=e.mode) for e in plan.edits]
+    staged = [None if e.after is None else t.stage_file(e.path, e.after, mode=e.mode) for e in plan.edits]
     if opts.on_staged:
         opts.on_staged(name)
     for tmp, e in zip(staged, plan.edits, strict=True):
-        t.commit_staged(tmp, e.path)
+        if tmp is None:
+            _remove(ctx, e.path)
+        else:
+            t.commit_staged(tmp, e.path)
     if not plan.recreate or not opts.restart:
         result.outcome = Outcome.CHANGED
         result.message = plan.summary + ("; not recreated (--no-restart)" if plan.recreate else "")
+        _mark(ctx, backup_id, "applied" + (" (not recreated)" if plan.recreate else ""))
         return result
     problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
     if problem is None:
         result.outcome = Outcome.CHANGED
         result.message = plan.summary
+        _mark(ctx, backup_id, "applied")
         return result
     return _roll_back(ctx, plan, opts, result, problem, backup_id)
+
+
+def _remove(ctx: RobotContext, path: str) -> None:
+    ctx.transport.run(Command.sh('r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; '
+                                 'esac; rm -f -- "$r$p"', path))
 
 
 def _save_backup(ctx: RobotContext, backup_dir: str, plan: RobotPlan, manifest: dict[str, Any]) -> None:
@@ -168,8 +179,7 @@ def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: R
     try:
         for e in plan.edits:
             if e.before is None:
-                t.run(Command.sh('r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; '
-                                 'esac; rm -f -- "$r$p"', e.path))
+                _remove(ctx, e.path)
             else:
                 t.write_file_atomic(e.path, e.before)
         restore = RobotPlan(plan.robot, "restore", [], plan.recreate, plan.compose_file, [])
@@ -180,19 +190,15 @@ def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: R
         return result
     result.outcome = Outcome.ROLLED_BACK
     result.message = f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
-    _mark(ctx, backup_id, "rolled-back", problem)
+    _mark(ctx, backup_id, f"rolled-back: {problem}")
     return result
 
 
-def _mark(ctx: RobotContext, backup_id: str, status: str, reason: str) -> None:
-    """Record in the backup's manifest how the attempt ended (best effort)."""
-    path = f"{BACKUP_ROOT}/{backup_id}/manifest.json"
+def _mark(ctx: RobotContext, backup_id: str, status: str) -> None:
+    """Record beside the backup how the attempt ended (best effort: one short command)."""
     try:
-        doc = json.loads(ctx.transport.read_file(path))
-        doc["status"] = status
-        doc["reason"] = reason
-        ctx.transport.write_file_atomic(path, json.dumps(doc, indent=2).encode())
-    except (OpsError, FileNotFoundError, ValueError):
+        ctx.transport.run(Command.sh(scripts_backup.MARK, f"{BACKUP_ROOT}/{backup_id}", status))
+    except OpsError:
         return
 
 

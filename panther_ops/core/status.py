@@ -6,11 +6,11 @@ import time
 from typing import Any
 
 from panther_ops.core.facts import RobotFacts, clock_offset, parse_probe, probe_command
-from panther_ops.transport.base import Command
 from panther_ops.core.runner import RobotContext
 from panther_ops.core.stack import Stack, find_driver, parse_image, stack_from_version
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport.base import Command
 
 
 def gather_facts(ctx: RobotContext) -> tuple[RobotFacts, float | None]:

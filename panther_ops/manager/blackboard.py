@@ -47,7 +47,11 @@ class TreeBlackboard:
         if key not in self._written:
             self._writer.register_key(key=key, access=Access.WRITE)
             self._written.add(key)
-        self._writer.set(key, value)
+        if py_trees.blackboard.Blackboard.activity_stream is None:
+            # the registered key's storage slot, without the client's per-call bookkeeping
+            py_trees.blackboard.Blackboard.storage[self.absolute(key)] = value
+        else:
+            self._writer.set(key, value)
 
     def update(self, values: Mapping[str, Any]) -> None:
         """Write several entries."""

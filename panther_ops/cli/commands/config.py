@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated, Any, Optional
 
 import typer
 
@@ -86,8 +86,8 @@ def set_(
       panther-ops config set wheel_type WH02 -r panther-01 --yes
       panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
     """
-    from panther_ops.core.config_plans import plan_args, plan_controller
     from panther_ops.core.config_checks import precheck
+    from panther_ops.core.config_plans import plan_args, plan_controller
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
@@ -147,6 +147,65 @@ def diff(
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
                   forks=forks)
+
+
+@app.command("history")
+def history(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """List the backups each change left on the robot (~/.panther-ops/backups): id, time,
+    command, what changed, and how the attempt ended (applied, rolled-back and why).
+
+    Example: panther-ops config history -r panther-01
+    """
+    from panther_ops.cli.history_view import print_history
+    from panther_ops.cli.render import finish
+    from panther_ops.core.history import list_history
+    from panther_ops.results import Outcome, RobotResult
+
+    def task(c: Any) -> RobotResult:
+        entries = list_history(c)
+        for e in entries:
+            e.pop("robot", None)
+        return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return finish(context.run("config history", inv, chosen, task, forks=forks, json_out=json_out), json_out,
+                  print_history)
+
+
+@app.command("rollback")
+def rollback(
+    ctx: typer.Context,
+    to: Annotated[
+        Optional[str],  # noqa: UP045
+        typer.Option("--to", help="Backup id (or a unique prefix) to restore; default: the newest."),
+    ] = None,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Restore the files as they were before a change (a backup from `config history`), through
+    the same pipeline: diff, confirm, backup, atomic write, recreate, verify.
+
+    Example: panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
+    """
+    from panther_ops.core.history import plan_rollback
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("config rollback", inv, chosen, lambda c: plan_rollback(c, to), yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
 
 
 def apply(

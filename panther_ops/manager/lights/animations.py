@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -33,10 +33,20 @@ class Frames:
     frames: tuple[Frame, ...]
     repeat: int
     brightness: float
+    _shaded: dict[int, tuple[tuple[int, int, int], ...]] = field(
+        default_factory=dict, compare=False, repr=False)
 
     @property
     def length(self) -> int:
         return len(self.frames)
+
+    def shaded(self, index: int) -> tuple[tuple[int, int, int], ...]:
+        """What the LEDs show for frame `index` (computed once per frame)."""
+        colours = self._shaded.get(index)
+        if colours is None:
+            colours = tuple(shade(p, self.brightness) for p in self.frames[index])
+            self._shaded[index] = colours
+        return colours
 
 
 def anim_length(params: Mapping[str, Any], frequency: float) -> int:
@@ -140,15 +150,15 @@ class Playback:
         self.cycle = 0
         self.finished = False
         self.progress = 0.0
-        self.current: Frame | None = None
+        self.index: int | None = None
 
     def update(self) -> None:
         """Advance one controller step."""
         length = self.frames.length
         if self.cycle >= self.frames.repeat:
-            self.current = None
+            self.index = None
             return
-        self.current = self.frames.frames[self.iteration]
+        self.index = self.iteration
         self.iteration += 1
         self.progress = (self.iteration + length * self.cycle) / (length * self.frames.repeat)
         if self.iteration >= length:
@@ -156,6 +166,16 @@ class Playback:
             self.cycle += 1
         if self.cycle >= self.frames.repeat:
             self.finished = True
+
+
+    @property
+    def current(self) -> Frame | None:
+        """The frame shown now (None before the first update and after the last cycle)."""
+        return None if self.index is None else self.frames.frames[self.index]
+
+    def colours(self) -> tuple[tuple[int, int, int], ...] | None:
+        """What the LEDs show now."""
+        return None if self.index is None else self.frames.shaded(self.index)
 
 
 def shade(pixel: RGBA, brightness: float) -> tuple[int, int, int]:

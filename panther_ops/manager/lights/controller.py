@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from panther_ops.manager.errors import LightsConfigError
-from panther_ops.manager.lights.animations import Frame, Playback, part_frames, shade
+from panther_ops.manager.lights.animations import Playback, part_frames
 from panther_ops.manager.lights.config import (
     CONTROLLER_FREQUENCY,
     DEFAULT_PRIORITY,
@@ -70,11 +70,10 @@ class SegmentState:
 
     def colours(self) -> list[RGB]:
         playback = self.playing()
-        frame: Frame | None = playback.current if playback is not None else None
-        if playback is None or frame is None:
+        shown = playback.colours() if playback is not None else None
+        if shown is None:
             return [(0, 0, 0)] * self.segment.num_leds
-        colours = [shade(p, playback.frames.brightness) for p in frame]
-        return colours[::-1] if self.segment.inverted else colours
+        return list(shown[::-1] if self.segment.inverted else shown)
 
 
 @dataclass

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from panther_ops.manager.errors import LightsConfigError
-from panther_ops.manager.lights.animations import Playback, part_frames, shade
+from panther_ops.manager.lights.animations import Playback, part_frames
 from panther_ops.manager.lights.config import CONTROLLER_FREQUENCY, LedConfig, Segment
 from panther_ops.manager.lights.validate import animations_with_layout
 
@@ -56,11 +56,10 @@ def _panel_frames(config: LedConfig, anim_id: int, param: str) -> tuple[str, lis
         panels = {c: [(0, 0, 0)] * p.number_of_leds for c, p in config.panels.items()}
         for segment, player in players:
             player.update()
-            if player.current is None:
+            shown = player.colours()
+            if shown is None:
                 continue
-            colours = [shade(px, player.frames.brightness) for px in player.current]
-            if segment.inverted:
-                colours.reverse()
+            colours = list(shown[::-1] if segment.inverted else shown)
             panels[segment.channel][segment.offset:segment.offset + segment.num_leds] = colours
         frames.append({c: tuple(v) for c, v in panels.items()})
     return desc.name, frames

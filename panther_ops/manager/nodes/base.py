@@ -156,7 +156,10 @@ class Ports:
             return value
         assert self.client is not None, "ports with references need a blackboard client"
         try:
-            raw = self.client.get(value.key)
+            if py_trees.blackboard.Blackboard.activity_stream is None:
+                raw = py_trees.blackboard.Blackboard.storage[self.client.absolute_name(value.key)]
+            else:
+                raw = self.client.get(value.key)
         except KeyError:
             raise ScriptError(f"port '{name}': '{value.key}' is not on the blackboard") from None
         return convert(raw, self.specs[name].kind)
@@ -194,20 +197,37 @@ class PortedLeaf(py_trees.behaviour.Behaviour):
 
 
 class ClientEnv:
-    """Script names read and written through a behaviour's blackboard client."""
+    """Script names read and written through a behaviour's blackboard client.
+
+    Reads of declared keys go straight to their storage slots (the client's access check is
+    done once, here, rather than on every tick); writes go through the client.
+    """
 
     def __init__(self, client: py_trees.blackboard.Client, resolve: Callable[[str], str]) -> None:
         self.client = client
         self.resolve = resolve
+        self.slots: dict[str, str] = {}
+
+    def _slot(self, name: str) -> str:
+        slot = self.slots.get(name)
+        if slot is None:
+            key = self.resolve(name)
+            if not self.client.is_registered(key):
+                raise ScriptError(f"'{name}' was not declared by this node")
+            slot = self.client.absolute_name(key)
+            self.slots[name] = slot
+        return slot
 
     def get(self, name: str) -> Any:
-        key = self.resolve(name)
+        if py_trees.blackboard.Blackboard.activity_stream is not None:
+            try:
+                return self.client.get(self.resolve(name))
+            except KeyError:
+                raise ScriptError(f"'{name}' is not on the blackboard") from None
         try:
-            return self.client.get(key)
+            return py_trees.blackboard.Blackboard.storage[self._slot(name)]
         except KeyError:
             raise ScriptError(f"'{name}' is not on the blackboard") from None
-        except AttributeError:
-            raise ScriptError(f"'{name}' was not declared by this node") from None
 
     def set(self, name: str, value: Any) -> None:
         self.client.set(self.resolve(name), value)
