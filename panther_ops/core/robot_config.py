@@ -70,8 +70,5 @@ def read_config(ctx: RobotContext) -> RobotConfig:
     except FileNotFoundError:
         raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory") from None
     compose = ComposeFile.parse(before.decode(), path)
-    if ctx.robot.stack != "auto":
-        stack = stack_from_version(ctx.robot.stack)
-    else:
-        stack = compose.stack()
+    stack = stack_from_version(ctx.robot.stack) if ctx.robot.stack != "auto" else compose.stack()
     return RobotConfig(home, path, before, compose, stack)
