@@ -54,7 +54,7 @@ def test_changed_host_key_is_refused_others_succeed(lab: Any, capsys: pytest.Cap
     lab.rotate_host_key(victim)
     try:
         new = lab.host_fingerprint(victim)
-        code, doc, err = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+        code, doc, _err = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
         assert code == 3
         robots = by_robot(doc)
         assert robots[victim]["outcome"] == "unreachable"
@@ -136,7 +136,7 @@ def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.Captur
         f"settings: {{known_hosts: {kh}}}\nrobots:\n  {robot.name}: {{host: {robot.ip}, port: 22, "
         f"identity_file: {lab.identity_path}}}\n"
     )
-    code, doc, err = run_cli(capsys, "-i", str(inv), "status", "--json")
+    code, doc, _err = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 4 and "not in known_hosts" in doc["robots"][0]["message"]
     capsys.readouterr()
     assert main(["-i", str(inv), "trust", robot.name, "--yes"]) == 0
