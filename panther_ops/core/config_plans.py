@@ -47,7 +47,7 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     old_args = dict(cfg.compose.args)
     warnings, verify = edit_args(cfg, sets, unsets, force)
     summary = _args_summary(cfg, old_args)
-    return _compose_plan(ctx, cfg, summary, warnings, [verify], noop=_noop_args(sets, unsets, old_args))
+    return compose_plan(ctx, cfg, summary, warnings, [verify], noop=_noop_args(sets, unsets, old_args))
 
 
 def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:
@@ -62,7 +62,7 @@ def _noop_args(sets: Mapping[str, Any], unsets: list[str], old: Mapping[str, str
     return ", ".join(bits) or "nothing asked"
 
 
-def _compose_plan(ctx: RobotContext, cfg: RobotConfig, summary: str, warnings: list[str], verify: list[Verify],
+def compose_plan(ctx: RobotContext, cfg: RobotConfig, summary: str, warnings: list[str], verify: list[Verify],
                   noop: str, extra: list[FileEdit] | None = None) -> RobotPlan:
     edits = list(extra or [])
     after = cfg.compose.text().encode()
@@ -81,7 +81,7 @@ def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool
     cfg = cfg or read_config(ctx)
     edits, warnings, verify, summary = controller_edits(ctx, cfg, limits, force)
     noop = ", ".join(f"controller {k} already {v}" for k, v in limits.items())
-    return _compose_plan(ctx, cfg, summary, warnings, [verify], noop, extra=edits)
+    return compose_plan(ctx, cfg, summary, warnings, [verify], noop, extra=edits)
 
 
 def controller_edits(ctx: RobotContext, cfg: RobotConfig, limits: Mapping[str, Any],
@@ -135,7 +135,7 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     desired = ctx.robot.desired
     if not desired:
         cfg = read_config(ctx)
-        return _compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
+        return compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
     cfg = read_config(ctx)
     old_args = dict(cfg.compose.args)
     warnings: list[str] = []
@@ -163,7 +163,7 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     unsupported = sorted(set(desired) - {"image", "launch_args", "controller"})
     if unsupported:
         warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
-    return _compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
+    return compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
                          "matches the inventory's desired state", extra=edits)
 
 

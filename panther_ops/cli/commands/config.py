@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated, Any, Optional
 
 import typer
@@ -206,6 +207,111 @@ def rollback(
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config rollback", inv, chosen, lambda c: plan_rollback(c, to), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+
+
+@app.command("push")
+def push(
+    ctx: typer.Context,
+    local: Annotated[Path, typer.Argument(help="The file to push (a .btproj for bt-lights/bt-safety).")],
+    as_: Annotated[str, typer.Option("--as", help="What it is: controller, wheel, components, led, "
+                                     "user-animations, bt-lights, bt-safety, shutdown-hosts, battery.")],
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    force: Force = False,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Upload a config file, mount it into the driver container and point its launch argument
+    at it (2.0/2.1), or place it in the robot's ~/config tree (2.2): the manual's four steps in
+    one command, with diff, backup, recreate, verify and roll back. A BT project brings the XML
+    files it includes; a user animations file brings the images it references.
+
+    Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
+    """
+    from panther_ops.core.push import PushKind, plan_push, read_bundle
+    from panther_ops.errors import UsageError
+
+    try:
+        kind = PushKind(as_)
+    except ValueError:
+        raise UsageError(f"--as {as_!r} is not a config kind",
+                         hint="allowed: " + ", ".join(k.value for k in PushKind)) from None
+    bundle = read_bundle(kind, local)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate(f"config push {local.name} --as {kind.value}", inv, chosen,
+                  lambda c: plan_push(c, kind, bundle, force=force), yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                  max_fail=max_fail)
+
+
+@app.command("pull")
+def pull(
+    ctx: typer.Context,
+    kind: Annotated[str, typer.Argument(help="controller, wheel, components, led, user-animations, "
+                                        "bt-lights, bt-safety, shutdown-hosts, battery.")],
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    output: Annotated[
+        Optional[Path],  # noqa: UP045
+        typer.Option("--output", "-o", help="Write to this file (one robot) instead of stdout."),
+    ] = None,
+    dest: Annotated[
+        Optional[Path],  # noqa: UP045
+        typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>."),
+    ] = None,
+    json_out: Json = False,
+) -> int:
+    """Fetch the config file in use: the mounted one, else the 2.2 config tree's, else the
+    default inside the robot's own image, else panther-ops' template for that version.
+
+    Example: panther-ops config pull controller -r panther-01 -o controller.yaml
+    """
+    import sys
+
+    from panther_ops.cli.render import finish, print_results
+    from panther_ops.core.push import PushKind
+    from panther_ops.core.push import pull as pull_file
+    from panther_ops.errors import UsageError
+    from panther_ops.results import Outcome, RobotResult
+
+    try:
+        k = PushKind(kind)
+    except ValueError:
+        raise UsageError(f"{kind!r} is not a config kind", hint="allowed: " + ", ".join(x.value for x in PushKind)) \
+            from None
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    if len(chosen) > 1 and dest is None:
+        raise UsageError(f"{len(chosen)} robots chosen: pass --dest DIR (files go to DIR/<robot>/)")
+    got: dict[str, bytes] = {}
+
+    def task(c: Any) -> RobotResult:
+        data, source = pull_file(c, k)
+        got[c.robot.name] = data
+        return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}", data={"source": source})
+
+    fleet = context.run("config pull", inv, chosen, task, json_out=True)
+    for name, data in got.items():
+        if dest is not None:
+            (dest / name).mkdir(parents=True, exist_ok=True)
+            (dest / name / f"{k.value}.yaml").write_bytes(data)
+        elif output is not None:
+            output.write_bytes(data)
+        elif not json_out:
+            sys.stdout.buffer.write(data)
+            sys.stdout.flush()
+    if json_out or dest is not None or output is not None:
+        return finish(fleet, json_out, print_results)
+    for r in fleet.results:
+        context.info(f"{r.robot}: {r.outcome.value}: {r.message}")
+    return int(fleet.exit_code)
 
 
 def apply(
