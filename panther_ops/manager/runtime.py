@@ -159,6 +159,7 @@ class ManagerRuntime:
         self.safety_bb.update(safety_constants(config.safety))
         self.safety_bb.update({keys.SIGNAL_SHUTDOWN: (False, ""), keys.FAN_TURNED_ON: False})
         self.shutdown_bb.update(shutdown_constants(config.safety))
+        self.shutdown_bb.set(keys.SIGNAL_SHUTDOWN, (False, ""))
         self.lights = self.trees.lights(self._ctx(self.lights_bb, config.lights.service_timeout))
         self.safety = self.trees.safety(self._ctx(self.safety_bb, config.safety.service_timeout))
         self.shutdown = self.trees.shutdown(self._ctx(self.shutdown_bb,
@@ -186,6 +187,7 @@ class ManagerRuntime:
         self.safety.stop(Status.INVALID)
         self.mode = Mode.SHUTTING_DOWN
         self.shutdown_reason = reason
+        self.shutdown_bb.set(keys.SIGNAL_SHUTDOWN, (True, reason))
 
     def tick(self, *, lights: bool = True, safety: bool = True) -> TickReport:
         """Read messages, then tick the due trees once. Never blocks."""

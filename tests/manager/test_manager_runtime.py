@@ -96,6 +96,7 @@ def test_power_button_runs_the_shutdown_tree(clock: ManualClock, tmp_path: objec
     io.messages = [IOStateMsg(True, True, power_button=True)]
     report = runtime.tick()
     assert report.mode is Mode.SHUTTING_DOWN and report.shutdown_reason == "Power button pressed"
+    assert runtime.shutdown_bb.get("signal_shutdown") == (True, "Power button pressed")
     final = runtime.run(duration=5)
     assert final is not None and final.mode is Mode.DONE
     assert runtime.shutdown_status == "SUCCESS"

@@ -11,7 +11,8 @@ from __future__ import annotations
 import importlib
 from collections import deque
 from dataclasses import dataclass
-from typing import Any
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from panther_ops.manager.robot_io import (
     BatteryMsg,
@@ -23,6 +24,10 @@ from panther_ops.manager.robot_io import (
     ServiceResult,
     SystemStatusMsg,
 )
+
+if TYPE_CHECKING:
+    from panther_ops.manager.config import ManagerConfig
+    from panther_ops.manager.runtime import TreeSource
 
 MAX_CALLBACKS_PER_DRAIN = 200
 
@@ -153,3 +158,21 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
     def close(self) -> None:
         self.executor.remove_node(self.node)
         self.node.destroy_node()
+
+
+def run_on_ros2(config: ManagerConfig, *, trees: TreeSource | None = None, namespace: str = "",
+                known_hosts: str | Path | None = None) -> None:  # pragma: no cover - needs ROS 2
+    """Run the manager on a robot: ROS 2 I/O, real shutdown backends, real clock, until DONE."""
+    from panther_ops.manager.clock import MonotonicClock
+    from panther_ops.manager.runtime import ManagerRuntime
+    from panther_ops.manager.shutdown_executor.backends import ShutdownBackends
+
+    io = Ros2RobotIO(namespace=namespace)
+    backends = ShutdownBackends.real(known_hosts)
+    runtime = ManagerRuntime(config, io, MonotonicClock(), trees=trees, backends=backends)
+    try:
+        runtime.run()
+    finally:
+        runtime.close()
+        backends.close()
+        io.close()

@@ -36,7 +36,7 @@ from panther_ops.manager.paths import BEHAVIOR_TREES
 KNOWN_NAMES: dict[str, set[str]] = {
     LIGHTS_TREE: {*lights_constants(LightsParams()), *keys.LIGHTS_INPUTS, *keys.LIGHTS_STATE},
     SAFETY_TREE: {*safety_constants(SafetyParams()), *keys.SAFETY_INPUTS, *keys.SAFETY_STATE},
-    SHUTDOWN_TREE: {*shutdown_constants(SafetyParams())},
+    SHUTDOWN_TREE: {*shutdown_constants(SafetyParams()), keys.SIGNAL_SHUTDOWN},
 }
 FEATURES: dict[tuple[str, ...], str] = {
     ("call", "hardware/e_stop_trigger", ""): "trigger the E-stop (hardware/e_stop_trigger)",
