@@ -46,7 +46,6 @@ class InputFeeder:
         self.cpu_temp = MovingAverage(config.safety.cpu_temp_window_len)
         self.front_temp = MovingAverage(config.safety.driver_temp_window_len)
         self.rear_temp = MovingAverage(config.safety.driver_temp_window_len)
-        self.charger_connected = False
 
     def apply(self, msg: RobotMsg) -> str | None:
         """Write one message's entries; return a shutdown reason (power button) or None."""
@@ -57,7 +56,6 @@ class InputFeeder:
                 if bb is not None:
                     bb.set(keys.E_STOP_STATE, bool(msg.triggered))
         elif isinstance(msg, IOStateMsg):
-            self.charger_connected = msg.charger_connected
             if self.safety is not None:
                 self.safety.set(keys.AUX_STATE, bool(msg.aux_power))
                 self.safety.set(keys.FAN_STATE, bool(msg.fan))

@@ -1,7 +1,8 @@
 """Fixtures for the runtime manager tests.
 
 Nothing here powers anything off or talks to another machine: an autouse guard refuses any
-socket connection that is not to the loopback interface.
+socket connection that is not to the loopback interface. Host addresses in these tests are
+RFC 5737 documentation addresses (192.0.2.x), used as data by test doubles only.
 """
 
 from __future__ import annotations

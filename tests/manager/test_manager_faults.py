@@ -61,14 +61,14 @@ def test_overheat_above_55_with_e_stop_already_on_only_turns_aux_off() -> None:
 
 def test_overheat_above_62_shuts_the_robot_down() -> None:
     snaps = simulate({"robot": COOL, "events": [{"at": 10, "ramp": {"bat_temp": 63}, "over": 10}],
-                      "shutdown_hosts": [{"ip": "10.15.20.3", "username": "husarion"}]},
+                      "shutdown_hosts": [{"ip": "192.0.2.3", "username": "husarion"}]},
                      duration=60)
     reasons = {s.shutdown_reason for s in snaps}
     assert "Fatal battery temperature" in reasons
     first = next(s for s in snaps if s.mode != "running")
     assert first.bat_temp > 62
     assert snaps[-1].mode == "done" and snaps[-1].powered_off
-    assert snaps[-1].hosts == {"10.15.20.3": False}
+    assert snaps[-1].hosts == {"192.0.2.3": False}
     assert E_STOP in safety_calls(snaps)  # it passed 55 °C on the way up
 
 

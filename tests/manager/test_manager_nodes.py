@@ -139,11 +139,11 @@ def test_tick_after_timeout_is_not_restarted_by_a_skipped_child(io: FakeRobotIO,
 
 
 def host_ports(**extra: Any) -> dict[str, Any]:
-    return {"ip": "10.15.20.3", "username": "husarion", **extra}
+    return {"ip": "192.0.2.3", "username": "husarion", **extra}
 
 
 def test_shutdown_single_host_walks_its_states(io: FakeRobotIO, clock: ManualClock) -> None:
-    backends = fake_backends(clock, up={"10.15.20.3": True}, down_after=0.5)
+    backends = fake_backends(clock, up={"192.0.2.3": True}, down_after=0.5)
     node = ShutdownSingleHost("NUC", make_ctx(io, clock, backends=backends), **host_ports())
     seen = []
     for _ in range(20):
@@ -164,18 +164,18 @@ def test_shutdown_single_host_outcomes(io: FakeRobotIO, clock: ManualClock) -> N
     assert tick(node) == R and tick(node) == S  # not answering ping: skipped counts as done
     assert node.machine is not None and node.machine.state.value == "SKIPPED"
 
-    refused = fake_backends(clock, up={"10.15.20.3": True},
-                            outcomes={"10.15.20.3": CommandOutcome(False, error="Connection refused")})
+    refused = fake_backends(clock, up={"192.0.2.3": True},
+                            outcomes={"192.0.2.3": CommandOutcome(False, error="Connection refused")})
     node = ShutdownSingleHost("refused", make_ctx(io, clock, backends=refused), **host_ports())
     assert [tick(node) for _ in range(3)] == [R, R, F]
     assert "Connection refused" in node.feedback_message
 
-    quick = fake_backends(clock, up={"10.15.20.3": True}, down_after=None)
+    quick = fake_backends(clock, up={"192.0.2.3": True}, down_after=None)
     node = ShutdownSingleHost("quick", make_ctx(io, clock, backends=quick),
                               **host_ports(ping_for_success="false"))
     assert [tick(node) for _ in range(4)] == [R, R, R, S]
 
-    stubborn = fake_backends(clock, up={"10.15.20.3": True}, down_after=None)
+    stubborn = fake_backends(clock, up={"192.0.2.3": True}, down_after=None)
     node = ShutdownSingleHost("stubborn", make_ctx(io, clock, backends=stubborn),
                               **host_ports(timeout=2.0))
     status, started = R, clock.now()
@@ -194,13 +194,13 @@ def write_hosts(path: Path, hosts: list[dict[str, Any]]) -> str:
 def test_shutdown_hosts_from_file_runs_hosts_side_by_side(io: FakeRobotIO, clock: ManualClock,
                                                           tmp_path: Path) -> None:
     hosts = write_hosts(tmp_path / "hosts.yaml", [
-        {"ip": "10.15.20.3", "username": "husarion"},
-        {"ip": "10.15.20.4", "username": "root"},
-        {"ip": "10.15.20.12", "username": "pi", "timeout": 40,
+        {"ip": "192.0.2.3", "username": "husarion"},
+        {"ip": "192.0.2.4", "username": "root"},
+        {"ip": "192.0.2.12", "username": "pi", "timeout": 40,
          "command": "/home/pi/my_long_shutdown_sequence.sh"},
-        {"ip": "10.15.20.3", "username": "husarion"},  # duplicate
+        {"ip": "192.0.2.3", "username": "husarion"},  # duplicate
     ])
-    backends = fake_backends(clock, up={"10.15.20.3": True, "10.15.20.12": True}, down_after=0.3)
+    backends = fake_backends(clock, up={"192.0.2.3": True, "192.0.2.12": True}, down_after=0.3)
     node = ShutdownHostsFromFile("hosts", make_ctx(io, clock, {"PATH": hosts}, backends),
                                  shutdown_hosts_file=Ref("PATH"))
     assert tick(node) == R
@@ -219,10 +219,10 @@ def test_shutdown_hosts_from_file_runs_hosts_side_by_side(io: FakeRobotIO, clock
 
 def test_shutdown_hosts_from_file_fails_if_one_host_fails_or_nothing_to_do(
         io: FakeRobotIO, clock: ManualClock, tmp_path: Path) -> None:
-    hosts = write_hosts(tmp_path / "hosts.yaml", [{"ip": "10.15.20.3", "username": "husarion"},
-                                                  {"ip": "10.15.20.4", "port": 3003}])
-    backends = fake_backends(clock, up={"10.15.20.3": True, "10.15.20.4": True},
-                             outcomes={"10.15.20.4": CommandOutcome(False, error="HTTP 403")})
+    hosts = write_hosts(tmp_path / "hosts.yaml", [{"ip": "192.0.2.3", "username": "husarion"},
+                                                  {"ip": "192.0.2.4", "port": 3003}])
+    backends = fake_backends(clock, up={"192.0.2.3": True, "192.0.2.4": True},
+                             outcomes={"192.0.2.4": CommandOutcome(False, error="HTTP 403")})
     node = ShutdownHostsFromFile("hosts", make_ctx(io, clock, backends=backends),
                                  shutdown_host_file=hosts)  # the manual's spelling
     status = R

@@ -112,12 +112,12 @@ def test_run_all_over_http_with_the_real_backends(http_port: int) -> None:
 def test_hosts_file_formats_of_both_eras(tmp_path: Path) -> None:
     path = tmp_path / "hosts.yaml"
     path.write_text(yaml.safe_dump({"hosts": [
-        {"ip": "10.15.20.3", "username": "husarion"},
-        {"ip": "10.15.20.12", "username": "pi", "timeout": 40, "command": "/home/pi/seq.sh"},
-        {"ip": "10.15.20.5", "port": 3003, "timeout": 10.0},
+        {"ip": "192.0.2.3", "username": "husarion"},
+        {"ip": "192.0.2.12", "username": "pi", "timeout": 40, "command": "/home/pi/seq.sh"},
+        {"ip": "192.0.2.5", "port": 3003, "timeout": 10.0},
         {"username": "nobody"},
-        {"ip": "10.15.20.6", "username": "x", "colour": "red"},
-        {"ip": "10.15.20.3", "username": "husarion"},
+        {"ip": "192.0.2.6", "username": "x", "colour": "red"},
+        {"ip": "192.0.2.3", "username": "husarion"},
     ]}))
     parsed = load_shutdown_hosts(path)
     ssh, long_one, web = parsed.hosts
@@ -126,13 +126,13 @@ def test_hosts_file_formats_of_both_eras(tmp_path: Path) -> None:
     assert (web.method.value, web.port, web.secret, web.timeout) == ("http", 3003, "husarion", 10.0)
     assert [p.split(": ", 1)[1] for p in parsed.problems] == [
         "hosts[3]: no ip, skipped", "hosts[4]: unknown keys: colour, skipped",
-        "hosts[5]: duplicate of husarion@10.15.20.3:22, skipped"]
+        "hosts[5]: duplicate of husarion@192.0.2.3:22, skipped"]
     assert parse_shutdown_hosts(None).hosts == ()
 
 
 def test_executor_steps_never_block_on_slow_pings() -> None:
     clock = ManualClock()
-    backends = fake_backends(clock, up={"10.15.20.3": True}, down_after=0.2)
+    backends = fake_backends(clock, up={"192.0.2.3": True}, down_after=0.2)
 
     class SlowPinger:
         """Test double: a ping that takes a second to say 'no answer'."""
@@ -143,7 +143,7 @@ def test_executor_steps_never_block_on_slow_pings() -> None:
 
     backends.pinger = SlowPinger()
     backends.dispatcher = ThreadDispatcher()
-    executor = ShutdownExecutor([ShutdownHost(ip="10.15.20.3", username="u")], backends, clock)
+    executor = ShutdownExecutor([ShutdownHost(ip="192.0.2.3", username="u")], backends, clock)
     try:
         durations = []
         while not executor.done:

@@ -144,10 +144,10 @@ def test_the_real_clock_runs_in_real_time() -> None:
 
 
 def test_simulation_cleans_its_temporary_hosts_file(tmp_path: Path) -> None:
-    scenario = parse_scenario({"shutdown_hosts": [{"ip": "10.15.20.3", "username": "u"}]})
+    scenario = parse_scenario({"shutdown_hosts": [{"ip": "192.0.2.3", "username": "u"}]})
     simulation = Simulation(scenario)
     hosts_file = Path(simulation.config.safety.shutdown_hosts_path)
-    assert hosts_file.is_file() and "10.15.20.3" in hosts_file.read_text()
+    assert hosts_file.is_file() and "192.0.2.3" in hosts_file.read_text()
     assert "shutdown_delay" not in hosts_file.read_text()
     simulation.step()
     simulation.close()

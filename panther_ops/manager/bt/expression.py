@@ -11,7 +11,6 @@ the shipped XML) is a continuation. Nothing is ever passed to Python's ``eval``.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -381,8 +380,3 @@ def parse(source: str) -> Script:
         script = _Parser(source).script()
         _cache[source] = script
     return script
-
-
-def rename(script: Script, resolve: Callable[[str], str]) -> frozenset[str]:
-    """The blackboard keys a script touches once names are resolved through a scope."""
-    return frozenset(resolve(n) for n in script.reads | script.writes)

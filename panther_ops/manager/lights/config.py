@@ -86,10 +86,6 @@ class AnimationDesc:
     timeout: float
     parts: tuple[AnimationPart, ...]
 
-    @property
-    def display_seconds(self) -> float:
-        return max(float(p.params["duration"]) * int(p.params.get("repeat", 1)) for p in self.parts)
-
 
 @dataclass(frozen=True)
 class LedConfig:

@@ -18,7 +18,7 @@ import py_trees
 from py_trees.common import Status
 
 from panther_ops.manager.blackboard import TreeBlackboard
-from panther_ops.manager.bt.expression import Env, format_value, to_number, truthy
+from panther_ops.manager.bt.expression import Env, format_value, parse, to_number, truthy
 from panther_ops.manager.clock import Clock
 from panther_ops.manager.errors import BtProjectError, ScriptError
 from panther_ops.manager.robot_io import RobotIO
@@ -268,8 +268,6 @@ class ScriptProgram(Program):
     """A parsed BT.CPP script (see `bt.expression`)."""
 
     def __init__(self, source: str) -> None:
-        from panther_ops.manager.bt.expression import parse
-
         self.script = parse(source)
         self.text = source
         self.reads = self.script.reads
