@@ -28,6 +28,7 @@ from . import files as F
 from ._sys import (
     LabError,
     alive,
+    children,
     clean_env,
     run,
     signal_recorded,
@@ -929,6 +930,17 @@ class Lab:
     def kill_sshd(self, name: str) -> None:
         """Stop the robot's sshd (open sessions stay, as on a real host)."""
         self._stop_sshd(self._rs(name))
+
+    def kill_sshd_and_sessions(self, name: str) -> None:
+        """Stop the robot's sshd and end its open sessions (by the PIDs of its children):
+        from the operator's side the connection drops, as when the daemon dies with them."""
+        r = self._rs(name)
+        p = r.proc("sshd")
+        sessions = children(p.pid) if p is not None and alive(p.pid, p.start) else []
+        self._stop_sshd(r)
+        for pid in sessions:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
 
     def start_sshd(self, name: str) -> None:
         r = self._rs(name)
