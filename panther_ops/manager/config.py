@@ -45,8 +45,14 @@ class LightsParams:
     critical_battery_anim_period: float = 15.0
     battery_state_anim_period: float = 120.0
     update_charging_anim_step: float = 0.1
-    service_timeout: float = 1.0
+    service_availability_timeout: float = 1.0
+    service_response_timeout: float = 1.0
     bt_project_path: str = ""
+
+    @property
+    def service_timeout(self) -> float:
+        """How long a service call may take: waiting for the server, then for the answer."""
+        return self.service_availability_timeout + self.service_response_timeout
 
 
 @dataclass(frozen=True)
@@ -65,11 +71,17 @@ class SafetyParams:
     high_bat_temp: float = 55.0
     critical_bat_temp: float = 55.0
     fatal_bat_temp: float = 62.0
-    service_timeout: float = 1.0
+    service_availability_timeout: float = 1.0
+    service_response_timeout: float = 1.0
     shutdown_hosts_path: str = ""
     shutdown_localhost_command: str = "sudo shutdown now"
     shutdown_frequency: float = 30.0
     bt_project_path: str = ""
+
+    @property
+    def service_timeout(self) -> float:
+        """How long a service call may take: waiting for the server, then for the answer."""
+        return self.service_availability_timeout + self.service_response_timeout
 
 
 @dataclass(frozen=True)
@@ -215,7 +227,7 @@ def _apply(values: dict[str, dict[str, Any]], node: str, params: Mapping[str, An
             notes.append(f"{source}: {full_key}: not a manager parameter, ignored")
             continue
         if key in _TIMEOUT_KEYS:
-            target = "service_timeout"
+            target = f"service_{key.rsplit('.', 1)[1]}_timeout"
         elif key in _SHARED:
             target = key
         else:

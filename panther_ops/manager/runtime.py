@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
+from pathlib import Path
 from typing import Any
 
 import py_trees
@@ -54,7 +55,7 @@ class TreeSource:
         return cls(build_lights_tree, build_safety_tree, build_shutdown_tree, "python")
 
     @classmethod
-    def projects(cls, lights_project: str, safety_project: str) -> TreeSource:
+    def projects(cls, lights_project: str | Path, safety_project: str | Path) -> TreeSource:
         """Trees ``Lights`` from one .btproj, ``Safety`` and ``Shutdown`` from another."""
         from panther_ops.manager.bt.project import load_bt_project
 

@@ -95,7 +95,8 @@ def test_the_shipped_2_1_yaml_overrides_the_fan_thresholds(tmp_path: Path) -> No
     assert (config.safety.driver_fan_on_temp, config.safety.driver_fan_off_temp) == (50.0, 45.0)
     assert config.safety.driver_temp_window_len == 4
     assert config.safety.timer_frequency == 20.0
-    assert config.safety.service_timeout == 2.0
+    assert config.safety.service_response_timeout == 2.0
+    assert config.safety.service_timeout == 3.0  # availability, then response
     assert config.lights.timer_frequency == 10.0
     assert config.lights.battery_percent_window_len == 8
     assert config.lights.low_battery_threshold_percent == 0.3
