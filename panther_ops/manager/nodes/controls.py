@@ -18,10 +18,13 @@ from panther_ops.manager.nodes.base import Outcome, TickGen, finish, halt, tick_
 
 
 class BtComposite(py_trees.composites.Composite):
-    """Shared tick plumbing: SKIPPED flag, initialise on (re)entry, `finish`."""
+    """Shared tick plumbing: SKIPPED flag, initialise on (re)entry, `finish`.
 
-    def __init__(self, name: str, children: SequenceOf[py_trees.behaviour.Behaviour] | None = None) -> None:
-        super().__init__(name, children)
+    The concrete classes also derive from py_trees' Sequence / Selector, so py_trees' display
+    and dot rendering draw them with the right symbols; their tick is this one.
+    """
+
+    def _bt_init(self) -> None:
         self.skipped = False
         self.index = 0
         self.skipped_count = 0
@@ -44,8 +47,15 @@ class BtComposite(py_trees.composites.Composite):
                 halt(child)
 
 
-class Sequence(BtComposite):
+Children = SequenceOf[py_trees.behaviour.Behaviour] | None
+
+
+class Sequence(BtComposite, py_trees.composites.Sequence):
     """BT.CPP Sequence: children in order; resumes from a running child; fails at once."""
+
+    def __init__(self, name: str, children: Children = None) -> None:
+        py_trees.composites.Sequence.__init__(self, name, memory=True, children=children)
+        self._bt_init()
 
     def run_children(self) -> TickGen:
         while self.index < len(self.children):
@@ -65,8 +75,12 @@ class Sequence(BtComposite):
         return None if all_skipped else Status.SUCCESS
 
 
-class Fallback(BtComposite):
+class Fallback(BtComposite, py_trees.composites.Selector):
     """BT.CPP Fallback: the first child that does not fail decides; resumes a running one."""
+
+    def __init__(self, name: str, children: Children = None) -> None:
+        py_trees.composites.Selector.__init__(self, name, memory=True, children=children)
+        self._bt_init()
 
     def run_children(self) -> TickGen:
         while self.index < len(self.children):
@@ -86,8 +100,12 @@ class Fallback(BtComposite):
         return None if all_skipped else Status.FAILURE
 
 
-class ReactiveSequence(BtComposite):
+class ReactiveSequence(BtComposite, py_trees.composites.Sequence):
     """BT.CPP ReactiveSequence: every tick from the first child; conditions are re-checked."""
+
+    def __init__(self, name: str, children: Children = None) -> None:
+        py_trees.composites.Sequence.__init__(self, name, memory=False, children=children)
+        self._bt_init()
 
     def run_children(self) -> TickGen:
         all_skipped = True
@@ -103,8 +121,12 @@ class ReactiveSequence(BtComposite):
         return None if all_skipped else Status.SUCCESS
 
 
-class ReactiveFallback(BtComposite):
+class ReactiveFallback(BtComposite, py_trees.composites.Selector):
     """BT.CPP ReactiveFallback: every tick from the first child; a success ends it."""
+
+    def __init__(self, name: str, children: Children = None) -> None:
+        py_trees.composites.Selector.__init__(self, name, memory=False, children=children)
+        self._bt_init()
 
     def run_children(self) -> TickGen:
         all_skipped = True
