@@ -45,11 +45,16 @@ def main() -> int:
 
     wall0, cpu0 = time.monotonic(), time.process_time()
     tick_times: list[float] = []
+    cpu_marks: list[float] = []
     calls = 0
     for snapshot in simulation.run(args.seconds):
         tick_times.append(time.perf_counter())
+        cpu_marks.append(time.process_time())
         calls += len(snapshot.calls)
     wall, cpu = time.monotonic() - wall0, time.process_time() - cpu0
+    half = len(cpu_marks) // 2
+    steady = ((cpu_marks[-1] - cpu_marks[half]) / (tick_times[-1] - tick_times[half])
+              if len(cpu_marks) > 20 else float("nan"))
     simulation.close()
 
     periods = [b - a for a, b in itertools.pairwise(tick_times)]
@@ -59,7 +64,8 @@ def main() -> int:
           f"(mean period {statistics.mean(periods) * 1000:.1f} ms)" if periods else "")
     print(f"service calls     {calls}")
     print(f"CPU               {cpu / wall * 100:.2f} % of one core ({cpu * 1000:.0f} ms)")
-    print(f"CPU per tick      {cpu / max(1, len(tick_times)) * 1000:.3f} ms")
+    print(f"CPU per tick      {cpu / max(1, len(tick_times)) * 1000:.3f} ms "
+          f"(second half alone: {steady * 100:.2f} % of one core)")
     print(f"RSS               {rss_mb():.1f} MB now, {peak:.1f} MB peak ({setup_rss:.1f} MB after setup)")
     ok = cpu / wall <= 0.01 and peak <= 60
     print(f"target (<= 1 % CPU, <= 60 MB RSS): {'met' if ok else 'NOT met'}")
