@@ -158,3 +158,23 @@ def test_odd_values_are_reported(tmp_path: Path) -> None:
     broken.write_text("a: [1,\n")
     with pytest.raises(ConfigError, match=r"broken.yaml:\d+: invalid YAML"):
         load_manager_config([broken])
+
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def test_the_projects_shipped_manager_files_load() -> None:
+    """templates/config holds the stack's own files (written by the config catalogue)."""
+    base = REPO / "templates" / "config"
+    files = [base / "panther-2.1/panther_manager/config/safety_manager.yaml",
+             base / "panther-2.1/panther_manager/config/lights_manager.yaml"]
+    old = base / "panther-2.0.0/panther_manager/config/manager_bt_config.yaml"
+    if not all(f.is_file() for f in [*files, old]):
+        pytest.skip("templates/config is not in this checkout")
+    config = load_manager_config(files)
+    assert (config.safety.cpu_fan_on_temp, config.safety.cpu_fan_off_temp) == (75.0, 70.0)
+    assert (config.safety.driver_fan_on_temp, config.safety.driver_fan_off_temp) == (50.0, 45.0)
+    assert config.lights.low_battery_anim_period == 30.0
+    assert not [n for n in config.notes if "not a manager parameter" in n]
+    legacy = load_manager_config([old])
+    assert (legacy.safety.high_bat_temp, legacy.safety.critical_bat_temp) == (55.0, 59.0)

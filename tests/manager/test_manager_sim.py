@@ -152,3 +152,16 @@ def test_simulation_cleans_its_temporary_hosts_file(tmp_path: Path) -> None:
     simulation.step()
     simulation.close()
     assert not hosts_file.exists()
+
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.mark.parametrize(("version", "scale"), [("panther-2.0", "percent (2.0.x)"),
+                                                ("panther-2.1", "fraction (2.1.1+)")])
+def test_the_projects_battery_plugin_files_in_both_scales(version: str, scale: str) -> None:
+    path = REPO / "templates/config" / version / "panther_gazebo/config/battery_plugin_config.yaml"
+    if not path.is_file():
+        pytest.skip(f"{path} is not in this checkout")
+    plugin = BatteryPlugin.from_file(path)
+    assert plugin.initial_charge == pytest.approx(0.7) and plugin.charge_scale == scale

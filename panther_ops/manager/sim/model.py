@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from panther_ops.manager.constants import PowerSupplyHealth, PowerSupplyStatus
@@ -26,6 +27,7 @@ from panther_ops.manager.robot_io import (
     RobotMsg,
     SystemStatusMsg,
 )
+from panther_ops.manager.yaml_io import read_yaml
 
 NOMINAL_VOLTAGE = 42.0
 """V: 20 Ah x 42 V / 120 W = 7 h, the 2.1.1 configuration's "~7 h with BAT01"."""
@@ -70,6 +72,14 @@ class BatteryPlugin:
             raise ScenarioError("battery: charging_time and capacity must be positive, "
                                 "power_load not negative")
         return plugin
+
+    @classmethod
+    def from_file(cls, path: str | Path) -> BatteryPlugin:
+        """Read a battery_plugin_config.yaml (2.0 percent scale or 2.1.1 fraction scale)."""
+        doc = read_yaml(path, ScenarioError) or {}
+        if not isinstance(doc, Mapping):
+            raise ScenarioError(f"{path}: expected a mapping of battery plugin parameters")
+        return cls.from_params(doc)
 
     @property
     def discharge_per_second(self) -> float:
