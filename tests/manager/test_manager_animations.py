@@ -265,3 +265,16 @@ def test_shipped_images_are_the_drawn_ones() -> None:
     for name, (shape, colour) in default_images().items():
         with Image.open(LIGHTS / "animations" / name) as shipped:
             assert pixels(shipped.convert("RGBA")) == pixels(draw(shape, colour))
+
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def test_the_projects_shipped_lights_files_of_every_stack_validate() -> None:
+    """templates/config holds each stack's own lights files (2.2 uses animations/panther/)."""
+    files = sorted((REPO / "templates" / "config").glob("*/*lights/config/*.yaml"))
+    files = [f for f in files if "driver" not in f.name]
+    if not files:
+        pytest.skip("templates/config is not in this checkout")
+    for path in files:
+        assert validate_animations(path) == [], path

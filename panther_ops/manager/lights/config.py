@@ -22,6 +22,7 @@ from panther_ops.manager.yaml_io import read_yaml
 IMAGE_TYPES = {"panther_lights::ImageAnimation", "husarion_ugv_lights::ImageAnimation"}
 CHARGING_TYPES = {"panther_lights::ChargingAnimation", "husarion_ugv_lights::ChargingAnimation"}
 OWN_PACKAGES = {"panther_lights", "husarion_ugv_lights"}
+ROBOT_MODEL_DIRS = {"panther", "lynx"}
 MAX_DISPLAY_SECONDS = 10.0
 FIRST_USER_ID = 20
 DEFAULT_PRIORITY = 3
@@ -103,12 +104,20 @@ def _where(source: str, path: str) -> str:
 
 
 def resolve_image(text: str) -> tuple[Path | None, Finding | None]:
-    """An image path: absolute, or ``$(find pkg)/...`` (panther_lights -> shipped images)."""
+    """An image path: absolute, or ``$(find pkg)/...``.
+
+    ``$(find panther_lights)`` and ``$(find husarion_ugv_lights)`` resolve to the shipped
+    templates/lights (2.2's ``animations/panther/x.png`` to ``animations/x.png``); other
+    packages are looked up in AMENT_PREFIX_PATH.
+    """
     match = _FIND.match(text)
     if match:
         package, rest = match.groups()
         if package in OWN_PACKAGES:
-            return LIGHTS / rest.lstrip("/"), None
+            path = LIGHTS / rest.lstrip("/")
+            if not path.exists() and path.parent.name in ROBOT_MODEL_DIRS:
+                path = path.parent.parent / path.name  # 2.2's animations/<model>/: same images
+            return path, None
         for prefix in filter(None, os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
             share = Path(prefix) / "share" / package
             if share.is_dir():
