@@ -66,13 +66,17 @@ def root(
 
 
 def _register() -> None:
-    from panther_ops.cli.commands import config, demo, fleet, inventory, trust
+    from panther_ops.cli.commands import bt, config, demo, fleet, inventory, lights, manager, trust
 
     fleet.register(app)
     config.register(app)
+    from panther_ops.cli.commands import driver; driver.register(app)  # noqa: E702, I001
     trust.register(app)
     app.add_typer(inventory.app, name="inventory")
     app.add_typer(demo.app, name="demo")
+    app.add_typer(bt.app, name="bt")
+    app.add_typer(lights.app, name="lights")
+    app.add_typer(manager.app, name="manager")
 
 
 _register()

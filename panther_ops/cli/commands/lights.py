@@ -1,0 +1,121 @@
+"""`panther-ops lights validate|preview|deploy|test`: LED animations of the bumpers."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+
+app = typer.Typer(help="LED animations: check, preview as a GIF, deploy, test on a robot.", no_args_is_help=True)
+
+LedConfig = Annotated[
+    Optional[Path],  # noqa: UP045
+    typer.Option("--led-config", help="Panels and segments the file builds on (default: the stock led_config)."),
+]
+
+
+@app.command("validate")
+def validate(
+    file: Annotated[Path, typer.Argument(help="A user animations file (user_animations:) or a led_config.")],
+    led_config: LedConfig = None,
+    json_out: Json = False,
+) -> int:
+    """Check animations: IDs 0-19 reserved and unique, user priority 2-3 only, duration x repeat
+    <= 10 s, brightness 0-1, images that exist (absolute or $(find pkg)), hex colours, segments
+    and segments_map names defined, channels present in panels, led_range inside its panel.
+    Every rule has its own message; exit 2 when the file would be refused.
+
+    Example: panther-ops lights validate my_awesome_user_animations.yaml
+    """
+    from panther_ops.cli.findings_view import report_findings
+    from panther_ops.manager import validate_animations
+
+    return report_findings(str(file), validate_animations(file, led_config), json_out=json_out, what="animations")
+
+
+@app.command("preview")
+def preview(
+    file: Annotated[Path, typer.Argument(help="Animations file (user animations or led_config).")],
+    anim_id: Annotated[int, typer.Option("--id", help="Animation id to draw.")],
+    out: Annotated[Path, typer.Option("--out", help="GIF to write.")] = Path("animation.gif"),
+    led_config: LedConfig = None,
+    param: Annotated[
+        Optional[str],  # noqa: UP045
+        typer.Option("--param", help="Animation parameter (battery level 0-1 for ChargingAnimation)."),
+    ] = None,
+) -> int:
+    """Draw both bumpers of animation --id as an animated GIF, frame by frame at the lights
+    controller's 50 Hz (duration x 50 x repeat frames).
+
+    Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
+    """
+    from panther_ops.manager import render_preview
+
+    p = render_preview(file, anim_id, out, led_config, param)
+    typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
+    return 0
+
+
+@app.command("deploy")
+def deploy(
+    ctx: typer.Context,
+    file: Annotated[Path, typer.Argument(help="User animations file; the images it references come along.")],
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Validate, then push a user animations file with its images to the robots and point the
+    driver at it (user_led_animations_file, 2.2: user_led_animations_path) through the pipeline.
+
+    Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
+    """
+    from panther_ops.core.push import PushKind, plan_push, read_bundle
+    from panther_ops.errors import UsageError
+    from panther_ops.manager import validate_animations
+
+    errors = [f for f in validate_animations(file) if str(getattr(f.severity, "value", f.severity)) == "error"]
+    if errors:
+        raise UsageError(f"{file}: {errors[0].message}", hint=f"{len(errors)} problems: panther-ops lights validate "
+                         f"{file}")
+    bundle = read_bundle(PushKind.USER_ANIMATIONS, file)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate(f"lights deploy {file.name}", inv, chosen,
+                  lambda c: plan_push(c, PushKind.USER_ANIMATIONS, bundle), yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+
+
+@app.command("test")
+def test(
+    ctx: typer.Context,
+    anim_id: Annotated[int, typer.Argument(help="Animation id to show.")],
+    param: Annotated[str, typer.Option("--param", help="Animation parameter.")] = "",
+    repeating: Annotated[bool, typer.Option("--repeating", help="Keep repeating it.")] = False,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+) -> int:
+    """Show an animation on the robot now: the lights/set_animation service call, made inside
+    the driver container (as the manual's `ros2 service call` example).
+
+    Example: panther-ops lights test 21 --repeating -r panther-01
+    """
+    from panther_ops.cli.render import finish, print_results
+    from panther_ops.core.lights_ops import set_animation
+
+    def task(c: Any) -> Any:
+        return set_animation(c, anim_id, param, repeating)
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return finish(context.run("lights test", inv, chosen, task, json_out=json_out), json_out, print_results)

@@ -1,0 +1,67 @@
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from panther_ops.cli.app import main
+from panther_ops.core.lights_ops import service_call_argv
+from panther_ops.core.templates import template_path
+
+
+def test_bt_validate_shipped_projects(capsys: pytest.CaptureFixture[str]) -> None:
+    for name in ("PantherLightsBT.btproj", "PantherSafetyBT.btproj"):
+        assert main(["bt", "validate", str(template_path("behavior_trees", name)), "--json"]) == 0
+        doc = json.loads(capsys.readouterr().out)
+        assert doc["valid"] is True
+
+
+def test_bt_validate_refuses_a_broken_tree(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.xml"
+    bad.write_text('<root BTCPP_format="4"><BehaviorTree ID="Lights"><NoSuchNode/></BehaviorTree></root>')
+    assert main(["bt", "validate", str(bad), "--json"]) == 2
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["valid"] is False and any("NoSuchNode" in f["message"] for f in doc["findings"])
+
+
+def test_lights_validate_and_preview(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    img = tmp_path / "strip.png"
+    Image.new("L", (46, 2), 255).save(img)
+    anim = tmp_path / "anims.yaml"
+    anim.write_text(
+        "user_animations:\n"
+        "  - id: 21\n    name: WHITE\n    priority: 2\n    animations:\n"
+        f"      - type: panther_lights::ImageAnimation\n        segments: all\n        animation:\n"
+        f"          image: {img}\n          duration: 0.2\n          repeat: 1\n          color: 0x00FF00\n"
+    )
+    assert main(["lights", "validate", str(anim)]) == 0
+    out = tmp_path / "a.gif"
+    assert main(["lights", "preview", str(anim), "--id", "21", "--out", str(out)]) == 0
+    assert "10 frames" in capsys.readouterr().out
+    with Image.open(out) as gif:
+        assert gif.n_frames == 10
+    anim.write_text(anim.read_text().replace("id: 21", "id: 3"))
+    assert main(["lights", "validate", str(anim)]) == 2
+
+
+def test_manager_run_sim_json(capsys: pytest.CaptureFixture[str]) -> None:
+    scen = template_path("manager", "scenarios", "battery_overheat.yaml")
+    assert main(["manager", "run", "--sim", "--scenario", str(scen), "--json"]) == 0
+    lines = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
+    calls = [c for s in lines for c in s["calls"]]
+    assert any("e_stop_trigger" in c for c in calls)
+    assert any(s["e_stop"] for s in lines)
+
+
+def test_manager_run_needs_sim(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["manager", "run"]) == 2
+    assert "--sim" in capsys.readouterr().err
+
+
+def test_set_animation_argv_is_the_manuals_call() -> None:
+    argv = service_call_argv("panther_msgs", "panther", 0, "", True)
+    assert argv == ["ros2", "service", "call", "/panther/lights/set_animation", "panther_msgs/srv/SetLEDAnimation",
+                    '{animation: {id: 0, param: ""}, repeating: true}']
+    assert service_call_argv("husarion_ugv_msgs", "", 9, "0.5", False)[3] == "/lights/set_animation"
