@@ -25,7 +25,7 @@ from panther_ops.core.diff import unified_diff
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Diff, Outcome, RobotResult
-from panther_ops.transport import scripts_backup
+from panther_ops.transport import scripts, scripts_backup
 from panther_ops.transport.base import Command
 
 BACKUP_ROOT = scripts_backup.BACKUP_ROOT
@@ -138,6 +138,15 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
     _save_backup(ctx, backup_dir, plan, manifest)
     result.data["backup"] = backup_id
     staged = [None if e.after is None else t.stage_file(e.path, e.after, mode=e.mode) for e in plan.edits]
+    problem = _validate_compose(ctx, plan, staged)
+    if problem:
+        for tmp in staged:
+            if tmp is not None:
+                t.run(Command.sh(scripts.DISCARD, tmp))
+        _mark(ctx, backup_id, f"refused: {problem}")
+        result.outcome = Outcome.FAILED
+        result.message = f"nothing written: {problem}"
+        return result
     if opts.on_staged:
         opts.on_staged(name)
     for tmp, e in zip(staged, plan.edits, strict=True):
@@ -157,6 +166,24 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
         _mark(ctx, backup_id, "applied")
         return result
     return _roll_back(ctx, plan, opts, result, problem, backup_id)
+
+
+VALIDATE_COMPOSE = (
+    '[ -n "${PANTHER_OPS_ROOT:-}" ] && exit 0; command -v docker >/dev/null 2>&1 || exit 0; '
+    'docker compose version >/dev/null 2>&1 || exit 0; '
+    'cd "$(dirname -- "$1")" && exec docker compose -f "$1" config -q'
+)
+"""Ask the robot's own docker compose whether a staged compose file is valid (where it has one)."""
+
+
+def _validate_compose(ctx: RobotContext, plan: RobotPlan, staged: list[str | None]) -> str | None:
+    for tmp, e in zip(staged, plan.edits, strict=True):
+        if tmp is None or e.path != plan.compose_file:
+            continue
+        res = ctx.transport.run(Command.sh(VALIDATE_COMPOSE, tmp), timeout=60)
+        if not res.ok:
+            return f"docker compose refuses the new {e.path}: {res.stderr.strip()[-300:]}"
+    return None
 
 
 def _remove(ctx: RobotContext, path: str) -> None:

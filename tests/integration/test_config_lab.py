@@ -225,3 +225,31 @@ def test_apply_converges_drift(lab: Any, pristine: None, tmp_path: Path, capsys:
     code, out, _, _ = run_cli(capsys, "-i", str(inv), "config", "diff", *sel, "--json")
     assert code == 0 and [r["outcome"] for r in out["robots"]] == ["ok"] * 3
     assert all(r["message"] == "matches the inventory's desired state" for r in out["robots"])
+
+
+def test_compose_refused_by_docker_compose_is_not_written(lab: Any, pristine: None) -> None:
+    """Validate before writing: the robot's own `docker compose config` checks the staged file."""
+    from panther_ops.core.pipeline import FileEdit, RobotPlan
+    from panther_ops.core.robot_config import read_config
+
+    name = robot_of(lab, "2.1.1").name
+    inv = load_inventory(str(lab.inventory_path))
+    robots = [inv.robots[name]]
+    before = lab.read_bytes(name, COMPOSE)
+
+    def planner(ctx: Any) -> RobotPlan:
+        cfg = read_config(ctx)
+        broken = cfg.before.replace(b"container_name: panther_ros", b"container_nam: panther_ros")
+        return RobotPlan(name, "break it", [FileEdit(cfg.compose_path, cfg.before, broken)], (cfg.service,),
+                         cfg.compose_path)
+
+    opts = RunOptions(forks=1)
+    with Connections(inv) as conns:
+        fp = plan_fleet("t", inv, robots, planner, conns, opts)
+        result = apply_fleet(fp, inv, robots, conns, opts, ApplyOptions(command="t"))
+    res = result.results[0]
+    assert res.outcome.value == "failed"
+    assert "docker compose refuses" in res.message and "nothing written" in res.message
+    assert lab.read_bytes(name, COMPOSE) == before
+    leftovers = lab.sh(name, r"ls -A /home/husarion | grep -c '^\.compose\.yaml\.panther-ops\.' || true")
+    assert leftovers.stdout.strip() == "0"
