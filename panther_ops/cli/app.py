@@ -72,6 +72,7 @@ def _register() -> None:
     config.register(app)
     from panther_ops.cli.commands import driver; driver.register(app)  # noqa: E702, I001
     trust.register(app)
+    from panther_ops.cli.commands import shutdown; shutdown.register(app)  # noqa: E702, I001
     app.add_typer(inventory.app, name="inventory")
     app.add_typer(demo.app, name="demo")
     app.add_typer(bt.app, name="bt")

@@ -273,7 +273,7 @@ class Lab:
 
     @property
     def names(self) -> list[str]:
-        return sorted(self.st.robots)
+        return sorted(n for n, r in self.st.robots.items() if r.kind == "robot")
 
     @property
     def robots(self) -> list[Robot]:
@@ -758,6 +758,8 @@ class Lab:
     def _inventory_robots(self) -> list[F.InventoryRobot]:
         out = []
         for r in sorted(self.st.robots.values(), key=lambda x: x.index):
+            if r.kind != "robot":
+                continue
             out.append(
                 F.InventoryRobot(
                     name=r.name,
@@ -1081,6 +1083,31 @@ class Lab:
         self._stop_sshd(r)
         self._start_sshd(r)
         self._write_operator_files()
+
+    # ===================================================================================
+    # user computers (tests/lab/computers.py)
+    # ===================================================================================
+    def add_computers(self, specs: Sequence[Any]) -> list[Any]:
+        """User computers (`computers.ComputerSpec`), on the lab bridge or behind a robot."""
+        from . import computers
+
+        return computers.add_computers(self, list(specs))
+
+    @property
+    def computer_names(self) -> list[str]:
+        from . import computers
+
+        return computers.computer_names(self)
+
+    def computer(self, name: str) -> Any:
+        from . import computers
+
+        return computers.computer(self, name)
+
+    @property
+    def computers_known_hosts_path(self) -> Path:
+        """known_hosts with every computer's host key (for the operator's side)."""
+        return self.dir / "computers_known_hosts"
 
     # ===================================================================================
     # ssh helpers (operator side)

@@ -47,6 +47,7 @@ class RobotState:
     clock_offset: int = 0
     password: bool = False
     procs: list[Proc] = field(default_factory=list)
+    kind: str = "robot"  # or "computer": a user computer (tests/lab/computers.py)
 
     def proc(self, role: str) -> Proc | None:
         for p in self.procs:
