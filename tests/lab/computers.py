@@ -11,8 +11,12 @@ the robot's key pair, and:
   reachable from the operator (this machine).
 * sudo: nothing in /etc/sudoers.d unless `sudo_rule=True` (the manual's NOPASSWD rule for
   /sbin/poweroff, /sbin/reboot, /sbin/shutdown in /etc/sudoers.d/husarion).
-* `password`: husarion's password (sshd accepts it, and husarion is in group `sudo`, so
-  `sudo` works with that password, as for the first user of an Ubuntu install).
+* `password`: husarion's password (sshd accepts it; sudo asks for it).
+* `admin`: husarion's sudo rights besides the shutdown rule: None (none); "group" (member of
+  group `sudo`: `%sudo ALL=(ALL:ALL) ALL` with the password, as the first user of an Ubuntu
+  install); "limited" (with the password, only install, visudo, cmp, cp, mv and rm as root --
+  what `shutdown setup` runs -- and no shell, so that `sudo -n -l /bin/sh` stays refused after
+  the setup); "nopasswd" (`NOPASSWD: ALL`, as on cloud images).
 * authorized keys: the operator's key (`operator_key`) and/or the lab robots' `~/.ssh/id_rsa`
   public key (`robot_key`).
 * `http`: a stand-in of the husarion-shutdown service (data/shutdown-service.py) on that
@@ -47,6 +51,14 @@ FIRST_HOST = 100  # computers get .101, .102, ... on their subnet
 SERVICE_LOG = "/var/log/shutdown-service.log"
 SECRET_PATH = "/run/husarion-shutdown/password"
 _STANDIN_SLEEP = 'setsid sh -c "sleep 0.3; $links_down"'
+ADMIN_RULES: dict[str | None, str] = {
+    None: "",
+    "group": "",
+    "limited": (f"# panther-ops lab: {F.USER} administers with a password, without a shell\n"
+                f"{F.USER} ALL=(root) /usr/bin/install, /usr/sbin/visudo, /usr/bin/cmp, /usr/bin/cp, /usr/bin/mv, "
+                "/usr/bin/rm\n"),
+    "nopasswd": f"# panther-ops lab: passwordless sudo (cloud-image style)\n{F.USER} ALL=(ALL) NOPASSWD: ALL\n",
+}
 
 
 @dataclass(frozen=True)
@@ -65,6 +77,7 @@ class ComputerSpec:
     operator_key: bool = True
     robot_key: bool = False
     password: str | None = None
+    admin: str | None = None
     http: HttpService | None = None
     poweroff_delay: float = 0.3
 
@@ -140,6 +153,25 @@ def write_known_hosts(lab: Lab) -> None:
     path = known_hosts_path(lab)
     path.write_text("".join(lines))
     os.chmod(path, 0o644)
+
+
+def trust_on_robot(lab: Lab, robot: str, name: str) -> None:
+    """Record computer `name`'s host key in `robot`'s ~husarion/.ssh/known_hosts (as a first
+    `ssh` from the robot would after answering yes)."""
+    from .lab import _mkdirs_owned
+
+    r, c = lab._rs(robot), lab._rs(name)
+    pub = (Path(c.dir) / "etc/ssh/ssh_host_ed25519_key.pub").read_text().split()
+    home = Path(r.dir) / "home" / F.USER
+    path = home / ".ssh/known_hosts"
+    _mkdirs_owned(path.parent, home, 0o700)
+    line = f"{c.ip} {pub[0]} {pub[1]}\n"
+    text = path.read_text() if path.exists() else ""
+    if line not in text:
+        with open(path, "a") as f:
+            f.write(line)
+    os.chmod(path, 0o600)
+    os.chown(path, F.UID, F.GID)
 
 
 def set_poweroff_delay(lab: Lab, name: str, seconds: float) -> None:
@@ -231,7 +263,9 @@ def _build(lab: Lab, r: RobotState, s: ComputerSpec) -> None:
         os.chmod(d / sub, mode)
     passwd = F.robot_passwd(Path("/etc/passwd").read_text())
     group = F.robot_group(Path("/etc/group").read_text())
-    if s.password is not None:  # the first user of an Ubuntu install: in group sudo
+    if s.admin not in ADMIN_RULES:
+        raise LabError(f"{s.name}: admin must be one of {', '.join(map(str, ADMIN_RULES))}")
+    if s.admin == "group":  # the first user of an Ubuntu install
         group = "\n".join(_add_member(line, "sudo", F.USER) for line in group.splitlines()) + "\n"
     _write(d / "etc/passwd", passwd.encode(), 0o644)
     _write(d / "etc/group", group.encode(), 0o644)
@@ -241,6 +275,8 @@ def _build(lab: Lab, r: RobotState, s: ComputerSpec) -> None:
     _write(d / "etc/hosts", F.etc_hosts(r.name, r.ip).encode(), 0o644)
     if s.sudo_rule:
         _write(d / "etc/sudoers.d/husarion", F.SUDOERS.encode(), 0o440)
+    if ADMIN_RULES[s.admin]:
+        _write(d / "etc/sudoers.d/lab-admin", ADMIN_RULES[s.admin].encode(), 0o440)
     priv, pub = F.ed25519_keypair(f"root@{r.name}")
     _write(d / "etc/ssh/ssh_host_ed25519_key", priv, 0o600)
     _write(d / "etc/ssh/ssh_host_ed25519_key.pub", (pub + "\n").encode(), 0o644)

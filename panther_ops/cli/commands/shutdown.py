@@ -65,7 +65,8 @@ def _confirm(question: str, yes: bool, what: str) -> bool:
     if not sys.stdin.isatty():
         from panther_ops.cli.render import error
 
-        error(f"{what} needs confirmation: pass --yes when not interactive (or --dry-run to only look)")
+        error(f"{question} -- {what} needs confirmation: pass --yes when not interactive (or --dry-run to only "
+              "look)")
         return False
     return bool(typer.confirm(question, default=False))
 

@@ -14,6 +14,8 @@ The first failing step is named with its fix.
 
 from __future__ import annotations
 
+import posixpath
+import re
 import shlex
 import time
 from dataclasses import dataclass, field
@@ -54,6 +56,96 @@ class HostCheck:
                 "fix": self.fix, "passed": list(self.steps)}
 
 
+_TAGS = re.compile(r"^((?:[A-Z_]+:\s*)+)")
+_SYSTEM_DIRS = {"/sbin", "/usr/sbin", "/bin", "/usr/bin"}
+
+
+def parse_sudo_listing(text: str) -> list[tuple[str, bool, str]]:
+    """``sudo -l`` rules as (runas, nopasswd, command) in sudoers order."""
+    rules: list[tuple[str, bool, str]] = []
+    in_rules = False
+    for raw in text.splitlines():
+        line = raw.strip()
+        if "may run the following commands" in line:
+            in_rules = True
+            continue
+        if not in_rules or not line.startswith("("):
+            continue
+        runas, _, rest = line[1:].partition(")")
+        nopasswd = False
+        for piece in rest.strip().split(", "):
+            token = piece.strip()
+            m = _TAGS.match(token)
+            if m:
+                tags = [t.strip() for t in m.group(1).split(":") if t.strip()]
+                if "NOPASSWD" in tags:
+                    nopasswd = True
+                if "PASSWD" in tags:
+                    nopasswd = False
+                token = token[m.end():].strip()
+            if token:
+                rules.append((runas.strip(), nopasswd, token))
+    return rules
+
+
+def _same_program(rule: str, path: str) -> bool:
+    if rule == path:
+        return True
+    rd, rb = posixpath.split(rule)
+    pd, pb = posixpath.split(path)
+    return rb == pb and rd in _SYSTEM_DIRS and pd in _SYSTEM_DIRS
+
+
+def rule_matches(rule: str, path: str, args: list[str]) -> bool:
+    """Does a sudo -l command entry cover `path args` (ALL, the program with any args, or exactly)?"""
+    if rule == "ALL":
+        return True
+    words = rule.split()
+    if not words or not _same_program(words[0], path):
+        return False
+    if len(words) == 1:
+        return True
+    if words[1:] == ['""']:
+        return not args
+    return words[1:] == args
+
+
+def nopasswd_for(listing: str, resolved: str) -> bool | None:
+    """Whether sudo runs `resolved` (``/usr/sbin/shutdown now``) as root without a password,
+    from the ``sudo -l`` listing: the last matching entry decides (None: no entry matches)."""
+    path, *args = resolved.split()
+    verdict: bool | None = None
+    for runas, nopasswd, entry in parse_sudo_listing(listing):
+        negated = entry.startswith("!")
+        cmd = entry.lstrip("!").strip()
+        users = runas.split(":")[0].strip()
+        if not any(u.strip() in ("ALL", "root") for u in users.split(",")):
+            continue
+        if rule_matches(cmd, path, args):
+            verdict = None if negated else nopasswd
+    return verdict
+
+
+def sudo_without_password(client: Any, argv: list[str]) -> tuple[bool, str]:
+    """(True, how) when ``sudo -n`` would run `argv` as root without a password: ``sudo -n -l
+    CMD`` (permitted, and the listing needs no password), then the listing's last matching
+    entry must be NOPASSWD (``sudo -l CMD`` alone also says yes to commands that need one)."""
+    status, out, err = exec_on(client, shlex.join(["sudo", "-n", "-l", *argv]), timeout=15)
+    if status != 0:
+        why = (err.strip() or out.strip() or f"exit {status}").splitlines()[-1]
+        return False, why
+    resolved = out.strip().splitlines()[0] if out.strip() else " ".join(argv)
+    status, listing, err = exec_on(client, shlex.join(["sudo", "-n", "-l"]), timeout=15)
+    if status != 0:
+        return False, (err.strip() or f"sudo -n -l exited {status}").splitlines()[-1]
+    verdict = nopasswd_for(listing, resolved)
+    if verdict is None:
+        return False, f"no sudo rule lets it run {resolved}"
+    if not verdict:
+        return False, f"sudo runs {resolved} only with a password"
+    return True, f"sudo -n -l: {resolved} (NOPASSWD)"
+
+
 def sudo_probe(command: str, username: str) -> list[str] | None:
     """What `sudo -n -l` must allow for `command` (None: the command does not use sudo)."""
     words = shlex.split(command)
@@ -92,7 +184,7 @@ def check_ssh(link: RobotLink, robot: str, host: ShutdownHost) -> HostCheck:
         try:
             client = link.open_ssh(host.ip, host.port, host.username or "", pkey=key, timeout=min(host.timeout, 10))
         except OpsError as exc:
-            return c.fail("login", f"the robot's key does not log in as {host.username}@{host.ip}: {exc.message}",
+            return c.fail("login", f"the robot's key does not log in ({exc.message})",
                           f"add the robot's public key to ~{host.username}/.ssh/authorized_keys: {setup}")
         c.passed("login")
         try:
@@ -104,10 +196,9 @@ def check_ssh(link: RobotLink, robot: str, host: ShutdownHost) -> HostCheck:
                     return c.fail("command", f"{word!r} is not a command on {host.ip}",
                                   "fix `command:` in the hosts file")
                 c.passed("command")
-            else:
-                status, out, err = exec_on(client, shlex.join(probe))
-                if status != 0:
-                    why = (err.strip() or out.strip() or f"exit {status}").splitlines()[-1]
+            elif host.username != "root":
+                ok, why = sudo_without_password(client, probe[3:])
+                if not ok:
                     return c.fail("sudo", f"{host.username} may not run `{' '.join(probe[3:])}` without a password "
                                   f"({why})", f"install the sudoers rule: {setup} --ask-password")
                 c.passed("sudo")

@@ -43,7 +43,7 @@ ROBOT_KEY = "~/.ssh/id_rsa"
 ROBOT_KNOWN_HOSTS = "~/.ssh/known_hosts"
 FIRST_PING_WAIT = 1.0
 """The availability check: one echo, 1 s (as the manager's ``ping -c 1 -w 1``)."""
-WATCH_PING_WAIT = 0.4
+WATCH_PING_WAIT = 0.25
 """While waiting for a host to go down: a LAN host that still runs answers in milliseconds."""
 
 _PING = (

@@ -35,7 +35,7 @@ from panther_ops.manager.shutdown_executor import (
 from panther_ops.results import FleetResult, Outcome, RobotResult
 from panther_ops.transport.base import Command
 
-PING_INTERVAL = 0.1
+PING_INTERVAL = 0.05
 """Seconds between pings while a host goes down (the manager pings every tick, 30 Hz)."""
 STEP_PERIOD = 0.05
 ROBOT_COMMAND = ("sudo", "-n", "shutdown", "now")

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 from panther_ops.core.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.runner import RobotContext
-from panther_ops.core.shutdown.check import install_hint, probe_secret
+from panther_ops.core.shutdown.check import install_hint, probe_secret, sudo_without_password
 from panther_ops.core.shutdown.hostsfile import POWER_BUDGET_S, Mode, add_host, new_entry
 from panther_ops.core.shutdown.remote import RobotLink, TargetError, exec_on
 from panther_ops.core.shutdown.robotfile import plan_hosts_edit
@@ -66,28 +66,38 @@ AUTHORIZE = (
     'printf "%s\\n" "$key" >> "$f"; echo added'
 )
 
-INSTALL_SUDOERS = r"""set -eu
-user=$1
-dst=$2
-tmp=$(mktemp /etc/sudoers.d/.panther-shutdown.XXXXXX)
-trap 'rm -f "$tmp"' EXIT
-printf '%s' "$3" > "$tmp"
-chown 0:0 "$tmp"
-chmod 0440 "$tmp"
-if ! out=$(visudo -cf "$tmp" 2>&1); then
+INSTALL_SUDOERS = r"""set -u
+user=$1 dst=$2 content=$3 how=$4
+d=$(mktemp -d) || exit 1
+trap 'rm -rf "$d"' EXIT
+cand="$d/panther-shutdown"
+new="$dst.panther-ops-new"
+old="$dst.panther-ops-old"
+printf '%s' "$content" > "$cand" || exit 1
+case "$how" in
+    root) S= ;;
+    password) sudo -S -p '' -v 2>"$d/err" || { cat "$d/err" >&2; exit 5; }; S="sudo -n" ;;
+    *) S="sudo -n" ;;
+esac
+$S install -o root -g root -m 0440 "$cand" "$new" || exit 6
+if ! out=$($S visudo -cf "$new" 2>&1); then
+    $S rm -f "$new"
     printf 'refused: the candidate fails visudo -cf, nothing installed: %s\n' "$out" >&2
     exit 3
 fi
-if [ -f "$dst" ] && cmp -s "$tmp" "$dst"; then echo unchanged; exit 0; fi
-old=
-if [ -f "$dst" ]; then old=$(mktemp /etc/sudoers.d/.panther-shutdown-old.XXXXXX); cp -p "$dst" "$old"; fi
-mv -f "$tmp" "$dst"
-if ! out=$(visudo -c 2>&1); then
-    if [ -n "$old" ]; then mv -f "$old" "$dst"; else rm -f "$dst"; fi
-    printf 'refused: the sudo configuration fails visudo -c with the drop-in, previous state restored: %s\n' "$out" >&2
+had_old=0
+$S cmp -s "$new" "$dst"
+case $? in
+    0) $S rm -f "$new"; echo unchanged; exit 0 ;;
+    1) $S cp -p "$dst" "$old" || exit 6; had_old=1 ;;
+esac
+$S mv -f "$new" "$dst" || exit 6
+if ! out=$($S visudo -c 2>&1); then
+    if [ "$had_old" = 1 ]; then $S mv -f "$old" "$dst"; else $S rm -f "$dst"; fi
+    printf 'refused: sudo fails visudo -c with the drop-in, previous state restored: %s\n' "$out" >&2
     exit 4
 fi
-[ -z "$old" ] || rm -f "$old"
+[ "$had_old" = 0 ] || $S rm -f "$old"
 echo installed
 """
 
@@ -165,36 +175,35 @@ class _Stop(Exception):
 
 def install_sudoers(client: paramiko.SSHClient, user: str, *, login_user: str, password: Secret | None,
                     content: str | None = None) -> tuple[bool, str]:
-    """Install the drop-in as root on the computer: (changed, message). Raises TargetError.
+    """Install the drop-in on the computer: (changed, message). Raises TargetError.
 
-    `content` replaces the generated rule (tests of a candidate visudo refuses)."""
-    script_args = ["sh", "-c", INSTALL_SUDOERS, "sh", user, SUDOERS_PATH, content or sudoers_rule(user)]
-    stdin = None
+    Root comes from being root, a passwordless sudo, or sudo with `password` (validated once
+    with ``sudo -S -v``, then the cached credentials). Only install, visudo, cmp, cp, mv and
+    rm run as root; no shell. `content` replaces the generated rule (tests of a candidate
+    visudo refuses)."""
     if login_user == "root":
-        argv = script_args
+        how = "root"
+    elif exec_on(client, shlex.join(["sudo", "-n", "true"]), timeout=15)[0] == 0:
+        how = "nopasswd"
+    elif password is not None:
+        how = "password"
     else:
-        status, _, _ = exec_on(client, shlex.join(["sudo", "-n", "true"]), timeout=15)
-        if status == 0:
-            argv = ["sudo", "-n", *script_args]
-        elif password is not None:
-            argv = ["sudo", "-S", "-p", "", *script_args]
-            stdin = (password.reveal() + "\n").encode()
-        else:
-            raise TargetError(f"installing {SUDOERS_PATH} needs root on the computer and {login_user}'s sudo asks "
-                              "for a password", hint="add --ask-password (asked once, never logged), or install "
-                              f"the rule by hand: {sudoers_rule(user).splitlines()[1]}")
+        raise TargetError(f"installing {SUDOERS_PATH} needs root on the computer and {login_user}'s sudo asks "
+                          "for a password", hint="add --ask-password (asked once, never logged), or install "
+                          f"the rule by hand: {sudoers_rule(user).splitlines()[1]}")
+    argv = ["sh", "-c", INSTALL_SUDOERS, "sh", user, SUDOERS_PATH, content or sudoers_rule(user), how]
+    stdin = (password.reveal() + "\n").encode() if how == "password" and password is not None else None
     status, out, err = exec_on(client, shlex.join(argv), timeout=60, stdin=stdin)
-    text = (err.strip() or out.strip()).replace(password.reveal(), "****") if password else (err.strip() or out.strip())
+    text = err.strip() or out.strip()
+    if password is not None:
+        text = text.replace(password.reveal(), "****")
+    if status == 5:
+        said = text.splitlines()[-1] if text else "no detail"
+        raise TargetError(f"sudo on the computer refused {login_user}'s password ({said})")
     if status != 0:
-        if "incorrect password" in text or "Sorry, try again" in text or "no password was provided" in text:
-            raise TargetError(f"sudo on the computer refused {login_user}'s password")
         raise TargetError(text or f"installing {SUDOERS_PATH} failed (exit {status})")
-    return out.strip().endswith("installed"), out.strip().splitlines()[-1] if out.strip() else ""
-
-
-def sudo_allows(client: paramiko.SSHClient, command: str) -> bool:
-    status, _, _ = exec_on(client, shlex.join(["sudo", "-n", "-l", command]), timeout=15)
-    return status == 0
+    last = out.strip().splitlines()[-1] if out.strip() else ""
+    return last == "installed", last
 
 
 def run_setup(ctx: RobotContext, req: SetupRequest) -> RobotResult:
@@ -309,33 +318,34 @@ def _setup_ssh(link: RobotLink, req: SetupRequest, report: SetupReport, stack: S
 
     robot_client = _login_robot_key(link, report, user, req.ip, port, key)
     try:
-        allowed = [c for c in POWER_COMMANDS if sudo_allows(robot_client, c)]
-        if user == "root":
-            report.add("sudoers", Outcome.OK, "root needs no sudo rule")
-        elif len(allowed) == len(POWER_COMMANDS):
-            report.add("sudoers", Outcome.OK, f"{user} may already run {', '.join(POWER_COMMANDS)} without a password")
-        else:
-            with_password = _login(link, req, user, port, key)[0] if req.password is not None else robot_client
-            try:
-                changed, said = install_sudoers(with_password, user, login_user=user, password=req.password)
-            except TargetError as exc:
-                raise _fail(report, "sudoers", exc.message, exc.hint) from None
-            finally:
-                if with_password is not robot_client:
-                    with_password.close()
-            still = [c for c in POWER_COMMANDS if not sudo_allows(robot_client, c)]
-            if still:
-                raise _fail(report, "sudoers", f"{SUDOERS_PATH} installed but sudo -n -l still refuses "
-                            f"{', '.join(still)}")
-            report.add("sudoers", Outcome.CHANGED if changed else Outcome.OK,
-                       f"{SUDOERS_PATH} {said or 'installed'} (visudo -cf ok, 0440 root:root): {user} may run "
-                       f"{', '.join(POWER_COMMANDS)} without a password")
-        if user != "root" and sudo_allows(robot_client, "/bin/sh"):
-            report.warnings.append(f"{user} may run any command with sudo without a password (more than the "
-                                   "shutdown needs)")
+        _sudoers(robot_client, req, report, user)
     finally:
         robot_client.close()
     return new_entry(req.ip, username=user, port=port, timeout=req.timeout)
+
+
+def _missing(client: paramiko.SSHClient) -> list[str]:
+    return [c for c in POWER_COMMANDS if not sudo_without_password(client, [c])[0]]
+
+
+def _sudoers(client: paramiko.SSHClient, req: SetupRequest, report: SetupReport, user: str) -> None:
+    if user == "root":
+        report.add("sudoers", Outcome.OK, "root needs no sudo rule")
+        return
+    if not _missing(client):
+        report.add("sudoers", Outcome.OK, f"{user} may already run {', '.join(POWER_COMMANDS)} without a password")
+        return
+    try:
+        changed, said = install_sudoers(client, user, login_user=user, password=req.password)
+    except TargetError as exc:
+        raise _fail(report, "sudoers", exc.message, exc.hint) from None
+    still = _missing(client)
+    if still:
+        raise _fail(report, "sudoers", f"{SUDOERS_PATH} {said} but sudo still asks a password for {', '.join(still)}",
+                    "an earlier sudoers entry for this user may override it (the last matching entry wins)")
+    report.add("sudoers", Outcome.CHANGED if changed else Outcome.OK,
+               f"{SUDOERS_PATH} {said} (visudo -cf ok, 0440 root:root): {user} may run {', '.join(POWER_COMMANDS)} "
+               "without a password")
 
 
 def _login(link: RobotLink, req: SetupRequest, user: str, port: int,
