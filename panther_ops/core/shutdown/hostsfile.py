@@ -29,7 +29,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.yamldoc import DocumentError, YamlDocument
+from panther_ops.core.yamldoc import DocumentError, Flow, YamlDocument
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor import ShutdownHost
 from panther_ops.transport.base import Secret
@@ -476,8 +476,9 @@ def add_host(text: str, entry: Mapping[str, Any], source: str = "<hosts>") -> Ed
     hosts = (plain or {}).get("hosts")
     want = _key_of(entry)
     label = f"{entry.get('username')}@{entry['ip']}" if "username" in entry else f"http://{entry['ip']}"
+    written = {k: Flow(v) if isinstance(v, Mapping) else v for k, v in entry.items()}  # {env: X} on one line
     if not hosts:
-        doc.set("hosts", [dict(entry)])
+        doc.set("hosts", [written])
         return Edit(doc.text, True, f"added {label}")
     if not isinstance(hosts, list):
         raise InputError("'hosts' must be a list", path=source)
@@ -486,12 +487,12 @@ def add_host(text: str, entry: Mapping[str, Any], source: str = "<hosts>") -> Ed
             changed = []
             for k, v in entry.items():
                 if raw.get(k) != v:
-                    doc.set(f"hosts.{i}.{k}", v)
+                    doc.set(f"hosts.{i}.{k}", written[k])
                     changed.append(k)
             if not changed:
                 return Edit(text, False, f"{label} is already listed")
             return Edit(doc.text, True, f"updated {label}: {', '.join(changed)}")
-    doc.append("hosts", dict(entry))
+    doc.append("hosts", written)
     return Edit(doc.text, True, f"added {label}")
 
 

@@ -104,7 +104,7 @@ def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = 
     old = {(f.where, f.message) for f in before.errors}
     new = [f for f in after.errors if (f.where, f.message) not in old]
     if new:
-        raise UsageError(f"{ctx.robot.name}: the hosts file would not be valid: "
+        raise UsageError("the hosts file would not be valid: "
                          + "; ".join(str(f) for f in new), hint="nothing was changed")
     warnings = [str(f) for f in after.warnings]
     summary = f"shutdown hosts: {edit.message}"

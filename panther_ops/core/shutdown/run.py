@@ -104,7 +104,7 @@ def plan_robot_shutdown(ctx: RobotContext, power_budget: float = POWER_BUDGET_S)
     rf = read_robot_hosts(ctx)
     parsed = rf.parse(power_budget)
     if parsed.errors:
-        raise UsageError(f"{ctx.robot.name}: its hosts file ({rf.source}) has errors: "
+        raise UsageError(f"its hosts file ({rf.source}) has errors: "
                          + "; ".join(str(f) for f in parsed.errors),
                          hint=f"fix it first (panther-ops shutdown hosts validate -r {ctx.robot.name}); nothing was "
                          "shut down")

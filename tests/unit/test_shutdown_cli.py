@@ -1,0 +1,220 @@
+"""`panther-ops shutdown` without a lab: bad files refused before anything is contacted, the
+command forms, local hosts-file edits, and the robot's file through the pipeline on the demo
+fleet (local transport). Addresses are RFC 5737 documentation addresses (data only)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+
+BAD = """hosts:
+  - ip: "10.15.20.3; rm -rf /"
+    username: husarion
+  - ip: 192.0.2.4
+    username: "bad user"
+  - ip: 192.0.2.5
+    username: pi
+    timeout: -3
+"""
+
+GOOD = """# the lab bench
+hosts:
+  # NUC on the bench
+  - ip: 192.0.2.3
+    username: husarion
+    timeout: 3
+  - ip: 192.0.2.5
+    port: 3003
+    secret: {env: BENCH_SECRET} # from the environment
+"""
+
+
+@pytest.fixture
+def no_network(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """Fail the test if anything tries to reach a host (ping, SSH, HTTP, the executor)."""
+    import http.client
+    import subprocess
+
+    import paramiko
+
+    from panther_ops.core.shutdown import run as run_mod
+
+    attempts: list[str] = []
+
+    def refuse(what: str) -> Any:
+        def fn(*a: Any, **k: Any) -> Any:
+            attempts.append(what)
+            raise AssertionError(f"{what} must not run")
+
+        return fn
+
+    monkeypatch.setattr(subprocess, "run", refuse("subprocess.run"))
+    monkeypatch.setattr(paramiko.SSHClient, "connect", refuse("ssh"))
+    monkeypatch.setattr(http.client.HTTPConnection, "request", refuse("http"))
+    monkeypatch.setattr(run_mod, "ShutdownExecutor", refuse("executor"))
+    return attempts
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, " ".join(err.split())  # rich wraps long lines at 160 columns
+
+
+def test_bad_entries_exit_2_and_nothing_is_contacted(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                      no_network: list[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(BAD)
+    code, _, err = run(capsys, "shutdown", "hosts", "validate", str(bad))
+    assert code == 2
+    assert "hosts[0].ip (line 2): '10.15.20.3; rm -rf /' is not an IP address or host name" in err
+    assert "hosts[1].username (line 5): 'bad user' is not a POSIX user name" in err
+    assert "hosts[2].timeout (line 8): -3 is not a number of seconds > 0" in err
+    for extra in ([], ["--yes"], ["--yes", "--dry-run"], ["--yes", "--json"]):
+        code, _out, err = run(capsys, "shutdown", "--hosts", str(bad), *extra)
+        assert code == 2, extra
+        assert "3 error(s)" in err and "nothing was run" in err
+    code, _, err = run(capsys, "shutdown", "hosts", "validate", str(bad), "--json")
+    assert code == 2
+    assert no_network == []
+
+
+def test_validate_a_good_file_and_for_a_stack(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                              no_network: list[str]) -> None:
+    good = tmp_path / "good.yaml"
+    good.write_text(GOOD)
+    code, out, err = run(capsys, "shutdown", "hosts", "validate", str(good))
+    assert code == 0 and "2 host(s) valid" in out
+    code, out, err = run(capsys, "shutdown", "hosts", "validate", str(good), "--stack", "2.1.1")
+    assert code == 2 and "no username: this robot's manager (<= 2.2.0, SSH) skips the entry" in err
+    code, out, err = run(capsys, "shutdown", "hosts", "validate", str(good), "--stack", "2.2.2")
+    assert code == 2 and "shuts computers down over HTTP" in err
+    code, out, _ = run(capsys, "shutdown", "hosts", "list", str(good), "--json")
+    doc = json.loads(out)
+    assert [h["ip"] for h in doc["robots"][0]["data"]["hosts"]] == ["192.0.2.3", "192.0.2.5"]
+    assert doc["robots"][0]["data"]["hosts"][1]["secret"] == "env BENCH_SECRET"
+    assert no_network == []
+
+
+def test_dry_run_and_confirmation_contact_nothing(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                  no_network: list[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    good = tmp_path / "good.yaml"
+    good.write_text(GOOD)
+    monkeypatch.setenv("BENCH_SECRET", "bench-secret-value")
+    code, out, err = run(capsys, "shutdown", "--hosts", str(good), "--dry-run")
+    assert code == 0
+    assert "husarion@192.0.2.3:22" in out and "ssh: sudo shutdown now" in out and "http://192.0.2.5:3003" in out
+    assert "GET /shutdown?ts=…&sig=…" in out and "bench-secret-value" not in out + err
+    code, out, err = run(capsys, "shutdown", "--hosts", str(good))  # stdin is not a terminal, no --yes
+    assert code == 2
+    assert "husarion@192.0.2.3:22" in err and "http://192.0.2.5:3003" in err and "--yes" in err
+    monkeypatch.delenv("BENCH_SECRET")
+    code, out, err = run(capsys, "shutdown", "--hosts", str(good), "--yes")
+    assert code == 2 and "BENCH_SECRET is not set" in err
+    assert no_network == []
+
+
+def test_command_forms(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "shutdown")
+    assert code == 0 and "hosts" in out and "setup" in out and "check" in out and "robot" in out
+    good = tmp_path / "good.yaml"
+    good.write_text(GOOD)
+    code, _, err = run(capsys, "shutdown", "--hosts", str(good), "hosts", "list", str(good))
+    assert code == 2 and "without a subcommand" in err
+    code, _, err = run(capsys, "shutdown", "hosts", "add", str(good), "--ip", "192.0.2.9", "--user", "x",
+                       "-r", "panther-01")
+    assert code == 2 and "not both" in err
+    code, _, err = run(capsys, "shutdown", "hosts", "add", str(good), "--ip", "192.0.2.9")
+    assert code == 2 and "needs --user" in err
+    code, _, err = run(capsys, "shutdown", "hosts", "add", str(good), "--ip", "192.0.2.9", "--http", "--user", "x")
+    assert code == 2 and "have no --user" in err
+
+
+def test_local_file_edits_keep_comments(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "hosts.yaml"
+    path.write_text(GOOD)
+    code, out, _ = run(capsys, "shutdown", "hosts", "add", str(path), "--ip", "192.0.2.7", "--user", "pi",
+                       "--timeout", "8", "--dry-run")
+    assert code == 0 and "+  - ip: 192.0.2.7" in out and path.read_text() == GOOD
+    code, out, _ = run(capsys, "shutdown", "hosts", "add", str(path), "--ip", "192.0.2.7", "--user", "pi",
+                       "--timeout", "8", "--yes")
+    assert code == 0
+    assert path.read_text() == GOOD + "  - ip: 192.0.2.7\n    username: pi\n    timeout: 8.0\n"
+    code, out, _ = run(capsys, "shutdown", "hosts", "add", str(path), "--ip", "192.0.2.8", "--http",
+                       "--secret-env", "NUC8_SECRET", "--yes")
+    assert code == 0 and "  - ip: 192.0.2.8\n    port: 3003\n    secret: {env: NUC8_SECRET}\n" in path.read_text()
+    code, out, _ = run(capsys, "shutdown", "hosts", "add", str(path), "--ip", "192.0.2.7", "--user", "pi",
+                       "--timeout", "8", "--yes")
+    assert code == 0 and "already listed" in out
+    code, _, _ = run(capsys, "shutdown", "hosts", "remove", str(path), "--ip", "192.0.2.7", "--yes")
+    code, _, _ = run(capsys, "shutdown", "hosts", "remove", str(path), "--ip", "192.0.2.8", "--yes")
+    assert code == 0 and path.read_text() == GOOD
+    new = tmp_path / "new.yaml"
+    code, _, _ = run(capsys, "shutdown", "hosts", "add", str(new), "--ip", "192.0.2.3", "--user", "husarion", "--yes")
+    assert code == 0 and new.read_text() == "hosts:\n  - ip: 192.0.2.3\n    username: husarion\n"
+    code, _, err = run(capsys, "shutdown", "hosts", "add", str(new), "--ip", "192.0.2.3; reboot", "--user", "x",
+                       "--yes")
+    assert code == 2 and "is not an IP address" in err
+
+
+@pytest.fixture
+def demo(tmp_path: Path) -> Path:
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    return tmp_path / "demo"
+
+
+def test_robot_file_through_the_pipeline_on_the_demo_fleet(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    inv = str(demo)
+    hosts_21 = "/home/husarion/config/panther_manager/config/shutdown_hosts_config.yaml"
+    code, out, _ = run(capsys, "-i", inv, "shutdown", "hosts", "add", "-r", "panther-01", "--ip", "192.0.2.10",
+                       "--user", "husarion", "--yes", "--json")
+    assert code == 0
+    res = json.loads(out)["robots"][0]
+    assert res["outcome"] == "changed" and res["data"]["backup"]
+    diffs = {d["path"]: d["unified"] for d in res["diffs"]}
+    assert "shutdown_hosts_config_path:=/config/panther_manager/config/shutdown_hosts_config.yaml" in \
+        diffs["/home/husarion/compose.yaml"]
+    assert "+  - ip: 192.0.2.10\n+    username: husarion\n" in diffs[hosts_21]
+    code, out, _ = run(capsys, "-i", inv, "shutdown", "hosts", "list", "-r", "panther-01", "--json")
+    data = json.loads(out)["robots"][0]["data"]
+    assert data["hosts_file"].startswith(hosts_21 + " (mounted")
+    assert data["mode"] == "ssh" and [h["ip"] for h in data["hosts"]] == ["10.15.20.3", "192.0.2.10"]
+    # 2.2.2 (HTTP era): an SSH entry is refused, an HTTP one goes into the config tree, secret masked
+    code, _, err = run(capsys, "-i", inv, "shutdown", "hosts", "add", "-r", "panther-03", "--ip", "192.0.2.11",
+                       "--user", "husarion", "--yes")
+    assert code == 2 and "shuts computers down over HTTP" in err
+    secret = demo / "s"
+    secret.write_text("demo-secret-value\n")
+    code, out, err = run(capsys, "-i", inv, "shutdown", "hosts", "add", "-r", "panther-03", "--ip", "192.0.2.11",
+                         "--http", "--secret-file", str(secret), "--timeout", "8", "--yes", "--json")
+    assert code == 0, err
+    res = json.loads(out)["robots"][0]
+    assert [d["path"] for d in res["diffs"]] == ["/home/husarion/config/husarion_ugv_manager/config/shutdown_hosts.yaml"]
+    assert "secret: ****" in res["diffs"][0]["unified"] and "demo-secret-value" not in out + err
+    code, out, err = run(capsys, "-i", inv, "shutdown", "hosts", "validate", "-r", "panther-03")
+    assert code == 0 and "demo-secret-value" not in out + err
+    # remove: back to the stock entry only
+    code, _, _ = run(capsys, "-i", inv, "shutdown", "hosts", "remove", "-r", "panther-01", "--ip", "192.0.2.10",
+                     "--yes")
+    assert code == 0
+    code, out, _ = run(capsys, "-i", inv, "shutdown", "hosts", "list", "-r", "panther-01", "--json")
+    assert [h["ip"] for h in json.loads(out)["robots"][0]["data"]["hosts"]] == ["10.15.20.3"]
+
+
+def test_setup_check_and_robot_need_an_ssh_robot(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    inv = str(demo)
+    code, _, err = run(capsys, "-i", inv, "shutdown", "setup", "-r", "panther-01", "--host", "192.0.2.3; reboot",
+                       "--yes")
+    assert code == 2 and "is not an IP address" in err
+    code, out, _ = run(capsys, "-i", inv, "shutdown", "check", "-r", "panther-01", "--json")
+    assert code == 3 and "reached over SSH" in json.loads(out)["robots"][0]["message"]
+    code, out, err = run(capsys, "-i", inv, "shutdown", "robot", "-r", "panther-01", "--dry-run")
+    assert code == 0 and "10.15.20.3" in out  # the plan names the hosts; nothing is contacted
+    code, _, err = run(capsys, "-i", inv, "shutdown", "robot", "-r", "panther-01")
+    assert code == 2 and "panther-01" in err and "husarion@10.15.20.3:22" in err
