@@ -1,4 +1,5 @@
-"""`panther-ops manager run --sim`: the runtime manager's trees on a simulated Panther."""
+"""`panther-ops manager run --sim` (the trees on a simulated Panther, here) and
+`manager deploy|remove|status|logs` (the manager as a compose service on robots)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,9 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli.options import Json
+from panther_ops.cli import context
+from panther_ops.cli.mutate import DryRun, Settle, Yes
+from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
 
 app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behaviour trees).", no_args_is_help=True)
 
@@ -78,3 +81,258 @@ def run(
     from panther_ops.cli.sim_view import live
 
     return live(snapshots, str(path))
+
+
+# ------------------------------------------------------------------ deploy / remove on robots
+
+
+def _mutate(command: str, inv: Any, chosen: list[Any], planner: Any, *, yes: bool, dry_run: bool, settle: float,
+            json_out: bool, forks: int | None, canary: int = 0, max_fail: float | None = None) -> int:
+    """`cli.mutate.mutate` with the manager's apply step (it also handles the manager container)."""
+    from panther_ops.cli.render import error, finish, print_results
+    from panther_ops.core.changes import dry_run_result, plan_fleet
+    from panther_ops.core.manager_deploy import apply_fleet_with
+    from panther_ops.core.pipeline import ApplyOptions
+    from panther_ops.core.runner import Connections, RunOptions
+    from panther_ops.errors import ExitCode
+
+    opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
+    with Connections(inv) as conns:
+        fp = plan_fleet(command, inv, chosen, planner, conns, opts)
+        if fp.usage_errors:
+            for name, exc in fp.usage_errors.items():
+                error(f"{name}: {exc}")
+            sys.stderr.write("nothing was changed on any robot\n")
+            return int(ExitCode.USAGE)
+        if dry_run or not fp.to_change:
+            return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
+        if not json_out:
+            print_results(fp.results, title=f"plan: {command}")
+        if not yes:
+            if not sys.stdin.isatty():
+                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
+                return int(ExitCode.USAGE)
+            if not typer.confirm(f"Apply to {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
+                sys.stderr.write("nothing was changed\n")
+                return int(ExitCode.USAGE)
+        apply = ApplyOptions(settle_s=settle, command=command)
+        result = apply_fleet_with(fp, inv, chosen, conns, opts, apply)
+    return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
+
+
+@app.command("deploy")
+def deploy(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    sim: Annotated[
+        Optional[bool],  # noqa: UP045
+        typer.Option("--sim/--ros2", help="Simulation adapter (labs) or the robot's ROS 2 graph; default: "
+                     "desired.manager.mode, else ros2."),
+    ] = None,
+    scenario: Annotated[
+        Optional[str],  # noqa: UP045
+        typer.Option("--scenario", help="With --sim: a shipped scenario (charging, low_battery, ...) or a file."),
+    ] = None,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Install the runtime manager on each robot as the compose service panther_ops_manager, on
+    the robot's own driver image, and set disable_manager:=True on the driver so the stock
+    lights/safety managers stand down — one change through the pipeline: diff, confirm, backup,
+    atomic writes, recreate, verify both containers stay up, roll back. Uploads the manager
+    (one archive with py_trees and PyYAML) under ~/panther-ops/manager/<version>/, its
+    parameters (desired.manager.params), the BT projects and deployed.json. A second deploy
+    of the same version reports ok; a newer panther-ops replaces the archive.
+
+    Refused on panther_ros 2.0.0 (no disable_manager). See docs/manager-deploy.md.
+
+    Examples:
+      panther-ops manager deploy -r panther-01 --dry-run
+      panther-ops manager deploy -g warehouse --canary 1 --yes
+      panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
+    """
+    from panther_ops.core.manager_bundle import build_bundle
+    from panther_ops.core.manager_deploy import plan_deploy
+
+    bundle = build_bundle()
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))
+    return _mutate(label, inv, chosen, lambda c: plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
+                   yes=yes, dry_run=dry_run, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                   max_fail=max_fail)
+
+
+@app.command("remove")
+def remove(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Undo `manager deploy`: stop and delete the panther_ops_manager container, take the service
+    out of compose.yaml, put disable_manager back as it was before the first deploy (compose.yaml
+    byte-identical to before), delete the uploaded files, recreate the driver so the stock
+    manager runs again — through the pipeline, rolled back if the driver does not stay up.
+
+    Example: panther-ops manager remove -r panther-01 --yes
+    """
+    from panther_ops.core.manager_deploy import plan_remove
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return _mutate("manager remove", inv, chosen, plan_remove, yes=yes, dry_run=dry_run, settle=settle,
+                   json_out=json_out, forks=forks)
+
+
+def _print_status(fleet: Any) -> None:
+    from rich.table import Table
+
+    from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
+    from panther_ops.core.manager_status import human_duration
+
+    table = Table(title="panther-ops manager status")
+    for col in ("robot", "result", "version", "mode", "state", "uptime", "restarts", "disable_manager", "message"):
+        table.add_column(col, overflow="fold")
+    for r in fleet.results:
+        d = r.data
+        uptime = human_duration(d["uptime_s"]) if d.get("uptime_s") is not None else "-"
+        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d.get("version") or "-"),
+                      esc(d.get("mode") or "-"), esc(d.get("state") or "-"), uptime,
+                      str(d.get("restart_count", "-")), esc(d.get("disable_manager") or "not set"), esc(r.message))
+    _console().print(table)
+    print_warnings(fleet)
+    print_summary(fleet)
+
+
+@app.command("status")
+def status(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """The deployed manager on each robot: service in compose.yaml, container state, uptime and
+    restart count (docker on the robot's own connection), the version deployed (deployed.json)
+    and the one the container runs, and whether disable_manager is set on the driver.
+
+    `failed` (exit 3) when the service's container is not running, or when it runs while
+    disable_manager is not set (two managers would drive the same lights and E-stop).
+
+    Example: panther-ops manager status --all
+    """
+    from panther_ops.cli.render import finish
+    from panther_ops.core.manager_status import status_task
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return finish(context.run("manager status", inv, chosen, status_task, forks=forks, json_out=json_out),
+                  json_out, _print_status)
+
+
+@app.command("logs")
+def logs(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    lines: Annotated[
+        Optional[int],  # noqa: UP045
+        typer.Option("--lines", "-n", min=0, help="Last N lines of each robot (default 100; 0 with -f: only new)."),
+    ] = None,
+    follow: Annotated[bool, typer.Option("--follow", "-f", help="Keep printing new lines (one robot; Ctrl-C ends).")]
+    = False,
+    timestamps: Annotated[bool, typer.Option("--timestamps", "-t", help="Docker's timestamp on each line.")] = False,
+    json_out: Json = False,
+) -> int:
+    """The manager container's output (`docker logs panther_ops_manager`): its start line, and in
+    simulation every service call and a status line every 10 s. With several robots every line
+    starts with `<robot> | `.
+
+    Examples:
+      panther-ops manager logs -r panther-01 -n 20
+      panther-ops manager logs -r panther-01 -f
+    """
+    from panther_ops.cli.render import error, finish, print_warnings
+    from panther_ops.core.manager_status import LogOptions, open_logs, prefix_lines
+    from panther_ops.errors import UsageError
+    from panther_ops.results import Outcome, RobotResult
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    if follow:
+        if len(chosen) != 1:
+            raise UsageError(f"--follow works on one robot; {len(chosen)} chosen", hint="pick one with -r NAME")
+        if json_out:
+            raise UsageError("--follow prints the log as it comes; --json is for a finished answer")
+        return _follow(inv, chosen[0], LogOptions(tail=0 if lines is None else lines, follow=True,
+                                                  timestamps=timestamps))
+    opts = LogOptions(tail=100 if lines is None else lines, timestamps=timestamps)
+    got: dict[str, bytes] = {}
+
+    def task(c: Any) -> RobotResult:
+        name, data = open_logs(c, opts)
+        got[c.robot.name] = bytes(data)
+        count = data.count(b"\n")
+        return RobotResult(c.robot.name, Outcome.OK, f"{count} lines from container {name}",
+                           data={"container": name, "log": data.decode(errors="replace")} if json_out else
+                           {"container": name})
+
+    fleet = context.run("manager logs", inv, chosen, task, json_out=True)
+    if json_out:
+        return finish(fleet, True, lambda f: None)
+    several = len(chosen) > 1
+    for r in fleet.results:
+        data = got.get(r.robot)
+        if data is None:
+            error(f"{r.robot}: {r.outcome.value}: {r.message}")
+            continue
+        sys.stdout.buffer.write(prefix_lines(r.robot, data) if several else data)
+    sys.stdout.flush()
+    print_warnings(fleet)
+    return int(fleet.exit_code)
+
+
+def _follow(inv: Any, robot: Any, opts: Any) -> int:
+    """Stream one robot's manager log until it ends or Ctrl-C."""
+    import contextlib
+
+    from panther_ops.cli.render import error
+    from panther_ops.core.manager_status import iter_chunks, open_logs
+    from panther_ops.core.runner import Connections, RobotContext, run_one
+    from panther_ops.results import FleetResult, Outcome, RobotResult
+
+    out = sys.stdout.buffer
+
+    def task(c: RobotContext) -> RobotResult:
+        name, stream = open_logs(c, opts)
+        context.info(f"{c.robot.name}: following {name} (Ctrl-C to stop)")
+        try:
+            for chunk in iter_chunks(stream):
+                out.write(chunk)
+                out.flush()
+        finally:
+            with contextlib.suppress(Exception):  # closing a cancelled stream must not hide the interrupt
+                stream.close()
+        return RobotResult(c.robot.name, Outcome.OK, f"{name}: the log ended (container stopped or recreated)")
+
+    with Connections(inv) as conns:
+        try:
+            result = run_one(conns, robot, task)
+        except KeyboardInterrupt:
+            return 0
+    if result.outcome is not Outcome.OK:
+        error(f"{result.robot}: {result.outcome.value}: {result.message}")
+    else:
+        context.info(f"{result.robot}: {result.message}")
+    return int(FleetResult("manager logs", [result]).exit_code)
