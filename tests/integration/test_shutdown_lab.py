@@ -263,6 +263,36 @@ def test_a_candidate_visudo_refuses_is_not_installed(r01_ready: Lab) -> None:
         lab.exec("c4", ["rm", "-f", SUDOERS_PATH])
 
 
+def test_setup_with_the_operators_key_asks_to_trust_the_host_key(r01_ready: Lab, r01_hosts: Any,
+                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    lab = r01_ready
+    c4 = ip(lab, "c4")
+    c4_key = (lab.computer("c4").dir / "etc/ssh/ssh_host_ed25519_key.pub").read_text().split()[1]
+    known = "/home/husarion/.ssh/known_hosts"
+    robot_pub = lab.read("r01", "/home/husarion/.ssh/id_rsa.pub").split()[1]
+    try:
+        # not interactive, no --yes: the fingerprint is shown, nothing is recorded or changed
+        code, doc, _, err = cli(capsys, lab, "shutdown", "setup", "-r", "r01", "--host", c4, "--json")
+        assert code == 2
+        assert steps(doc)["host-key"] == "failed" and "not trusted" in doc["robots"][0]["message"]
+        assert lab.host_fingerprint("r01") not in err  # the computer's, not the robot's
+        assert "SHA256:" in err and c4 in err
+        assert c4_key not in (lab.read("r01", known) if lab.exec("r01", ["test", "-f", known]).returncode == 0
+                              else "")
+        assert robot_pub not in lab.read("c4", "/home/husarion/.ssh/authorized_keys")
+        # --yes: logs in with the operator's key; passwordless sudo already covers the commands
+        code, doc, _, _ = cli(capsys, lab, "shutdown", "setup", "-r", "r01", "--host", c4, "--yes", "--settle", "1",
+                              "--json")
+        assert code == 0, doc
+        got = {s["step"]: s for s in doc["robots"][0]["data"]["steps"]}
+        assert "logged in with the operator's key" in got["authorized-key"]["message"]
+        assert got["sudoers"]["outcome"] == "ok" and "already" in got["sudoers"]["message"]
+        assert lab.exec("c4", ["test", "-e", "/etc/sudoers.d/panther-shutdown"]).returncode != 0
+    finally:
+        lab.sh("c4", f"sed -i '/{robot_pub[-20:].replace('/', '.')}/d' /home/husarion/.ssh/authorized_keys")
+        lab.sh("r01", f"sed -i '/{c4_key[-20:].replace('/', '.')}/d' {known}")
+
+
 def test_setup_http_host_on_22(slab: Lab, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     lab = slab
     before = lab.read("r02", HOSTS_22)

@@ -600,8 +600,12 @@ def setup(
         raise _usage(f"setup works on one robot at a time ({len(chosen)} chosen)")
     password = Secret(getpass.getpass(f"password of {user or 'husarion'}@{host}: ")) if ask_password else None
 
+    refused: list[str] = []
+
     def confirm(address: str, fp: str) -> bool:
         context.info(f"{host} offers the host key {fp}")
+        if not yes and not sys.stdin.isatty():
+            refused.append(address)
         return _confirm(f"Trust {address} ({fp}) and record it in {chosen[0].name}'s ~/.ssh/known_hosts?", yes,
                         "trusting a new host key")
 
@@ -610,7 +614,8 @@ def setup(
                        settle=settle, restart=not no_restart, power_budget=power_budget,
                        command=f"shutdown setup --host {host}")
     fleet = context.run("shutdown setup", inv, chosen, lambda c: run_setup(c, req), json_out=json_out)
-    return _finish_steps(fleet, json_out)
+    code = _finish_steps(fleet, json_out)
+    return 2 if refused else code
 
 
 def _finish_steps(fleet: FleetResult, json_out: bool) -> int:

@@ -48,6 +48,8 @@ if TYPE_CHECKING:
     import paramiko
 
 SUDOERS_PATH = "/etc/sudoers.d/panther-shutdown"
+CONTAINER_KEY = "/root/.ssh/id_rsa"
+"""Where the compose files of every version mount the robot's ~/.ssh/id_rsa (panther-stack.md §1.8)."""
 POWER_COMMANDS = ("/sbin/poweroff", "/sbin/reboot", "/sbin/shutdown")
 
 ENSURE_KEY = (
@@ -213,10 +215,15 @@ def run_setup(ctx: RobotContext, req: SetupRequest) -> RobotResult:
     report = SetupReport(ctx.robot.name)
     try:
         link = RobotLink(ctx.transport, ctx.robot.name)
-        stack = read_config(ctx).stack
+        cfg = read_config(ctx)
+        stack = cfg.stack
         if stack.shutdown_over_http:
             entry = _setup_http(link, req, report, stack)
         else:
+            mounted = cfg.host_path_of(CONTAINER_KEY)
+            if mounted != f"{cfg.home}/.ssh/id_rsa":
+                report.warnings.append(f"the driver container does not mount ~/.ssh/id_rsa at {CONTAINER_KEY} "
+                                       f"({mounted or 'not mounted'}): its manager cannot log in with the robot's key")
             entry = _setup_ssh(link, req, report, stack)
         _hosts_file(ctx, req, report, entry)
     except _Stop:
