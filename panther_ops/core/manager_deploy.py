@@ -261,7 +261,6 @@ class ServiceSpec:
     """What manager.yaml names as shutdown_hosts_path (container path or $(find ...))."""
     hosts_source: str
     localhost_command: str
-    notes: list[str] = field(default_factory=list)
 
 
 def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: ManagerSettings) -> ServiceSpec:
@@ -273,7 +272,6 @@ def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: Man
             volumes[vol.target] = _ro(vol)
         elif vol.source and vol.target == DBUS_SOCKET:
             volumes[vol.target] = vol.spec()  # a socket: clients need to write to it
-    notes: list[str] = []
     known_hosts = f"{cfg.home}/.ssh/known_hosts"
     if ctx.transport.exists(known_hosts):
         volumes["/root/.ssh/known_hosts"] = f"{known_hosts}:/root/.ssh/known_hosts:ro"
@@ -299,7 +297,7 @@ def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: Man
         mapping["security_opt"] = list(driver["security_opt"])
     mapping["volumes"] = list(volumes.values())
     mapping["command"] = Folded("\n".join(argv) + "\n")
-    return ServiceSpec(mapping, merge, hosts_file, hosts_source, command, notes)
+    return ServiceSpec(mapping, merge, hosts_file, hosts_source, command)
 
 
 def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
