@@ -938,7 +938,12 @@ class Lab:
         from the operator's side the connection drops, as when the daemon dies with them."""
         r = self._rs(name)
         p = r.proc("sshd")
-        sessions = children(p.pid) if p is not None and alive(p.pid, p.start) else []
+        sessions: list[int] = []
+        todo = children(p.pid) if p is not None and alive(p.pid, p.start) else []
+        while todo:  # each session's monitor, its unprivileged child and what runs under them
+            pid = todo.pop()
+            sessions.append(pid)
+            todo.extend(children(pid))
         self._stop_sshd(r)
         for pid in sessions:
             with contextlib.suppress(ProcessLookupError):
