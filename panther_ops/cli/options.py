@@ -18,7 +18,8 @@ All = Annotated[bool, typer.Option("--all", help="Every robot of the inventory."
 Json = Annotated[bool, typer.Option("--json", help="One versioned JSON document on stdout (docs/json.md).")]
 Forks = Annotated[
     Optional[int],  # noqa: UP045
-    typer.Option("--forks", "-f", min=1, max=500, help="Robots worked on at once (default: inventory's forks, 10)."),
+    typer.Option("--forks", "-f", min=1, max=500,
+                 help="Robots worked on at once (default: the inventory's settings.forks, else 32)."),
 ]
 Canary = Annotated[
     int, typer.Option("--canary", min=0, help="Run N robots first; stop if one of them fails.")

@@ -19,6 +19,8 @@ from panther_ops.errors import InventoryError
 from panther_ops.transport.base import Endpoint
 
 ENV_VAR = "PANTHER_OPS_INVENTORY"
+DEFAULT_FORKS = 32
+"""Robots worked on at once unless --forks or settings.forks say otherwise."""
 DEFAULT_DIR = "inventory"
 
 ROBOT_KEYS = {
@@ -42,7 +44,7 @@ DEFAULT_KEYS = set(ROBOT_KEYS) - {"host", "root", "description"}
 SETTINGS_KEYS = {
     "ssh_config": "ssh_config file to read (default ~/.ssh/config)",
     "known_hosts": "known_hosts file(s) to verify host keys against (default ~/.ssh/known_hosts)",
-    "forks": "how many robots to work on at once (default 10)",
+    "forks": "how many robots to work on at once (default 32)",
     "command_timeout": "seconds a remote command may take (default 120)",
 }
 GROUP_KEYS = {"vars", "desired", "description"}
@@ -96,7 +98,7 @@ class Inventory:
     groups: dict[str, dict[str, Any]]
     ssh_config: str | None = None
     known_hosts: tuple[str, ...] = ()
-    forks: int = 10
+    forks: int = DEFAULT_FORKS
     command_timeout: float = 120.0
     files: tuple[Path, ...] = ()
 
@@ -232,7 +234,7 @@ class _Loader:
             path=self.path, origin=self.origin, robots=robots, groups=self.groups,
             ssh_config=self.settings.get("ssh_config"),
             known_hosts=tuple(self.settings.get("known_hosts", ())),
-            forks=int(self.settings.get("forks", 10)),
+            forks=int(self.settings.get("forks", DEFAULT_FORKS)),
             command_timeout=float(self.settings.get("command_timeout", 120.0)),
             files=tuple(files),
         )

@@ -176,9 +176,37 @@ VALIDATE_COMPOSE = (
 """Ask the robot's own docker compose whether a staged compose file is valid (where it has one)."""
 
 
+def _values_only(before: bytes | None, after: bytes | None) -> bool:
+    """True when the two compose files differ only in services' ``command`` or ``image`` values.
+
+    Those are free-form strings to docker compose (any text passes its schema), and the YAML
+    editor has already re-parsed the result, so asking the robot's compose adds nothing.
+    """
+    import yaml
+
+    if before is None or after is None:
+        return False
+    try:
+        old, new = yaml.safe_load(before), yaml.safe_load(after)
+    except yaml.YAMLError:
+        return False
+    if not (isinstance(old, dict) and isinstance(new, dict)):
+        return False
+
+    def strip(doc: dict[str, Any]) -> dict[str, Any]:
+        services = doc.get("services")
+        if not isinstance(services, dict):
+            return doc
+        cleaned = {n: {k: v for k, v in svc.items() if k not in ("command", "image")} if isinstance(svc, dict)
+                   else svc for n, svc in services.items()}
+        return {**doc, "services": cleaned}
+
+    return strip(old) == strip(new)
+
+
 def _validate_compose(ctx: RobotContext, plan: RobotPlan, staged: list[str | None]) -> str | None:
     for tmp, e in zip(staged, plan.edits, strict=True):
-        if tmp is None or e.path != plan.compose_file:
+        if tmp is None or e.path != plan.compose_file or _values_only(e.before, e.after):
             continue
         res = ctx.transport.run(Command.sh(VALIDATE_COMPOSE, tmp), timeout=60)
         if not res.ok:

@@ -13,7 +13,9 @@ from panther_ops.core.compose import ComposeFile
 from panther_ops.core.config_files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.runner import RobotContext
 from panther_ops.core.stack import Stack, stack_from_version
-from panther_ops.errors import RemoteStateError
+from panther_ops.errors import RemoteStateError, TransportError
+from panther_ops.transport import scripts
+from panther_ops.transport.base import Command
 
 
 @dataclass
@@ -60,15 +62,16 @@ class RobotConfig:
 
 def read_config(ctx: RobotContext) -> RobotConfig:
     """Read and parse the robot's compose.yaml (one read)."""
-    t = ctx.transport
-    home = t.home()
+    res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, ctx.robot.compose_file))
+    home, _, rest = res.raw_stdout.partition(b"\n")
     path = ctx.robot.compose_file
     if path.startswith("~/"):
-        path = posixpath.join(home, path[2:])
-    try:
-        before = t.read_file(path)
-    except FileNotFoundError:
-        raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory") from None
+        path = posixpath.join(home.decode(), path[2:])
+    if res.exit_status == scripts.MISSING_EXIT:
+        raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory")
+    if not res.ok:
+        raise TransportError(ctx.robot.name, f"cannot read {path}: {res.stderr.strip()}")
+    before = rest
     compose = ComposeFile.parse(before.decode(), path)
     stack = stack_from_version(ctx.robot.stack) if ctx.robot.stack != "auto" else compose.stack()
-    return RobotConfig(home, path, before, compose, stack)
+    return RobotConfig(home.decode(), path, before, compose, stack)

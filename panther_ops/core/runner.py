@@ -38,7 +38,7 @@ Progress = Callable[[RobotResult], None]
 
 @dataclass(frozen=True)
 class RunOptions:
-    forks: int = 10
+    forks: int = 32
     canary: int = 0
     """Run this many robots first; if any of them fails, do not start the rest."""
     max_fail_pct: float | None = None

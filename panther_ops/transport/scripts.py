@@ -15,6 +15,11 @@ READ = RESOLVE + 'if [ -f "$r$p" ]; then exec cat -- "$r$p"; else echo "no such 
 
 MISSING_EXIT = 44
 
+READ_WITH_HOME = RESOLVE + (
+    'printf "%s\\n" "$HOME"; if [ -f "$r$p" ]; then exec cat -- "$r$p"; else echo "no such file: $p" >&2; exit 44; fi'
+)
+"""$HOME on the first line, then the file (exit 44 when it does not exist): one round trip."""
+
 EXISTS = RESOLVE + '[ -e "$r$p" ]'
 
 STAGE = (
