@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import posixpath
 import secrets
 import time
@@ -25,7 +26,7 @@ from panther_ops.core.diff import unified_diff
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Diff, Outcome, RobotResult
-from panther_ops.transport import scripts, scripts_backup
+from panther_ops.transport import scripts, scripts_apply, scripts_backup
 from panther_ops.transport.base import Command
 
 BACKUP_ROOT = scripts_backup.BACKUP_ROOT
@@ -110,15 +111,6 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
         result.data["dry_run"] = True
         return result
     t = ctx.transport
-    for e in plan.edits:  # optimistic concurrency: the robot must still hold what we planned on
-        try:
-            now = t.read_file(e.path)
-        except FileNotFoundError:
-            now = None
-        if now != e.before:
-            result.outcome = Outcome.FAILED
-            result.message = f"{e.path} changed on the robot since it was read; nothing written, run again"
-            return result
     backup_id = new_backup_id()
     backup_dir = f"{BACKUP_ROOT}/{backup_id}"
     manifest = {
@@ -135,9 +127,12 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
             for i, (e, d) in enumerate(zip(plan.edits, diffs, strict=True))
         ],
     }
-    _save_backup(ctx, backup_dir, plan, manifest)
+    staged = _stage_all(ctx, plan, backup_dir, manifest)
+    if staged is None:
+        result.outcome = Outcome.FAILED
+        result.message = "a file changed on the robot since it was read; nothing written, run again"
+        return result
     result.data["backup"] = backup_id
-    staged = [None if e.after is None else t.stage_file(e.path, e.after, mode=e.mode) for e in plan.edits]
     problem = _validate_compose(ctx, plan, staged)
     if problem:
         for tmp in staged:
@@ -149,15 +144,15 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
         return result
     if opts.on_staged:
         opts.on_staged(name)
-    for tmp, e in zip(staged, plan.edits, strict=True):
-        if tmp is None:
-            _remove(ctx, e.path)
-        else:
-            t.commit_staged(tmp, e.path)
-    if not plan.recreate or not opts.restart:
+    final = not plan.recreate or not opts.restart
+    status = ("applied" + (" (not recreated)" if plan.recreate else "")) if final else ""
+    pairs = [x for tmp, e in zip(staged, plan.edits, strict=True) for x in (tmp or "-", e.path)]
+    res = t.run(Command.sh(scripts_apply.COMMIT_ALL, backup_dir, status, *pairs))
+    if not res.ok:
+        raise TransportError(name, f"renaming the staged files failed: {res.stderr.strip()} (backup {backup_id})")
+    if final:
         result.outcome = Outcome.CHANGED
         result.message = plan.summary + ("; not recreated (--no-restart)" if plan.recreate else "")
-        _mark(ctx, backup_id, "applied" + (" (not recreated)" if plan.recreate else ""))
         return result
     problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
     if problem is None:
@@ -219,13 +214,40 @@ def _remove(ctx: RobotContext, path: str) -> None:
                                  'esac; rm -f -- "$r$p"', path))
 
 
-def _save_backup(ctx: RobotContext, backup_dir: str, plan: RobotPlan, manifest: dict[str, Any]) -> None:
-    res = ctx.transport.run(
-        Command.sh(scripts_backup.SAVE, backup_dir, *[e.path for e in plan.edits]),
-        stdin=json.dumps(manifest, indent=2).encode(),
-    )
+def _stage_all(ctx: RobotContext, plan: RobotPlan, backup_dir: str,
+               manifest: dict[str, Any]) -> list[str | None] | None:
+    """One round trip: check every file is as read, back them up, stage the new contents.
+
+    Returns the staged file names (None for a file to remove), or None when a file changed
+    on the robot since the plan read it (then nothing was written).
+    """
+    import io
+    import tarfile
+
+    buf = io.BytesIO()
+    with tarfile.open(fileobj=buf, mode="w") as tar:
+        entries = [("manifest.json", json.dumps(manifest, indent=2).encode())]
+        entries += [(str(i), e.after) for i, e in enumerate(plan.edits) if e.after is not None]
+        for member, data in entries:
+            info = tarfile.TarInfo(member)
+            info.size, info.mode, info.mtime = len(data), 0o600, int(time.time())
+            tar.addfile(info, io.BytesIO(data))
+    args: list[str] = []
+    for e in plan.edits:
+        if "\n" in e.path or "\t" in e.path:
+            raise TransportError(ctx.robot.name, f"refusing a path with a newline or tab: {e.path!r}")
+        args += [e.path, _sha(e.before) or "-", f"{e.mode:o}" if e.mode is not None else "-",
+                 "0" if e.after is None else "1"]
+    suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
+    res = ctx.transport.run(Command.sh(scripts_apply.STAGE_ALL, backup_dir, suffix, *args), stdin=buf.getvalue())
+    if res.exit_status == scripts_apply.CHANGED_EXIT:
+        return None
     if not res.ok:
-        raise TransportError(ctx.robot.name, f"backup failed, nothing written: {res.stderr.strip()}")
+        raise TransportError(ctx.robot.name, f"staging failed, nothing written: {res.stderr.strip()}")
+    names = res.stdout.splitlines()
+    if len(names) != len(plan.edits):
+        raise TransportError(ctx.robot.name, f"staging answered {len(names)} names for {len(plan.edits)} files")
+    return [None if n == "-" else n for n in names]
 
 
 def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
