@@ -7,6 +7,7 @@ Only typer is imported at start-up; each command imports the core when it runs, 
 from __future__ import annotations
 
 import logging
+import os
 import sys
 from typing import Annotated, Optional
 
@@ -123,5 +124,18 @@ def main(argv: list[str] | None = None) -> int:
     return int(rv) if isinstance(rv, int) else 0
 
 
+def run() -> None:
+    """Console entry point: ``main()``, then leave without the interpreter's slow teardown.
+
+    After a fleet command, dozens of SSH transports and their threads are being torn down;
+    the results are already printed, so the process exits at once once output is flushed.
+    """
+    code = main()
+    logging.shutdown()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    run()

@@ -42,7 +42,8 @@ STAGE_ALL = (
     '    printf "%s\\n" "$t"; '
     '  else printf -- "-\\n"; fi; '
     'done < "$w/new/todo"; '
-    'rm -rf -- "$w/new" "$w/staged"; sync'
+    'sync -- "$w/manifest.json" "$w"/files/* 2>/dev/null; while read -r s; do sync -- "$s"; done < "$w/staged"; '
+    'rm -rf -- "$w/new" "$w/staged"'
 )
 """$1 backup dir, $2 unique suffix, then per file: path, sha256 it must have now (``-``:
 must not exist), octal mode (``-``: keep), 1 if it gets new content (0: removed). Stdin: a
@@ -53,8 +54,9 @@ COMMIT_ALL = (
     + 'b=$(res "$1"); st="$2"; shift 2; '
     'while [ $# -ge 2 ]; do t="$1"; p=$(res "$2"); shift 2; '
     '  if [ "$t" = "-" ]; then rm -f -- "$r$p" || exit 1; else mv -f -- "$t" "$r$p" || exit 1; fi; '
+    '  sync -- "$(dirname -- "$r$p")" 2>/dev/null; '
     'done; '
-    'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$r$b/status"; fi; sync; exit 0'
+    'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$r$b/status"; fi; exit 0'
 )
 """$1 backup dir, $2 status to record (empty: later), then pairs: staged file (``-``: remove
 the target), target path."""
