@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 import posixpath
 import re
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from typing import Any
@@ -26,6 +26,8 @@ from panther_ops.core.changes import FleetPlan
 from panther_ops.core.compose import ComposeError, ComposeFile, image_repo
 from panther_ops.core.config_files import CONTAINER_CONFIG_DIR
 from panther_ops.core.config_plans import compose_plan
+from panther_ops.core.container_logs import LogOptions, read_logs
+from panther_ops.core.docker_times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.inventory import Inventory, Robot
 from panther_ops.core.launch_args import check_args, migrate_args
 from panther_ops.core.pipeline import (
@@ -193,29 +195,10 @@ def parse_duration(text: str) -> float:
     raise UsageError(f"{text!r} is not a duration", hint="e.g. 90s, 10m, 1h30m, 2d")
 
 
-_TS = re.compile(r"^(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d)(?:\.(\d+))?(Z|[+-]\d\d:\d\d)?$")
 
 
-def parse_timestamp(text: Any) -> datetime | None:
-    """Docker's RFC 3339 times (nanoseconds, ``Z`` or an offset); None for the zero time."""
-    if not isinstance(text, str) or not text or text.startswith("0001-"):
-        return None
-    m = _TS.match(text.strip())
-    if not m:
-        return None
-    frac = ((m[2] or "") + "000000")[:6]
-    tz = "+00:00" if m[3] in (None, "Z") else m[3]
-    return datetime.fromisoformat(f"{m[1]}.{frac}{tz}")
 
 
-def human_duration(seconds: float | None) -> str:
-    """``3725`` -> ``1h 2m``; the two largest units."""
-    if seconds is None:
-        return "-"
-    s = int(max(seconds, 0))
-    parts = [(s // 86400, "d"), (s % 86400 // 3600, "h"), (s % 3600 // 60, "m"), (s % 60, "s")]
-    shown = [f"{n}{u}" for n, u in parts if n]
-    return " ".join(shown[:2]) if shown else "0s"
 
 
 # ------------------------------------------------------------------ container view (pure)
@@ -423,13 +406,7 @@ def driver_container(client: Any, cfg: RobotConfig) -> Any | None:
         return None
 
 
-def engine_now(client: Any) -> datetime:
-    """The robot engine's clock (uptimes and --since do not depend on this machine's clock)."""
-    try:
-        now = parse_timestamp(client.info().get("SystemTime"))
-    except Exception:  # info is a nicety: fall back to this machine's clock
-        now = None
-    return now or datetime.now(timezone.utc)
+
 
 
 def _compose_argv(cfg: RobotConfig) -> list[str] | None:
@@ -481,14 +458,6 @@ def status_task(ctx: RobotContext) -> RobotResult:
 # ------------------------------------------------------------------ driver logs
 
 
-@dataclass(frozen=True)
-class LogOptions:
-    tail: int | None = 100
-    since_s: float | None = None
-    follow: bool = False
-    timestamps: bool = False
-
-
 def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
     """(container name, logs): bytes, or an iterator of bytes chunks when following.
 
@@ -503,22 +472,10 @@ def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
     ctr = driver_container(client, cfg)
     if ctr is None:
         raise RemoteStateError(f"no container for service {cfg.service}", hint="panther-ops driver restart")
-    kwargs: dict[str, Any] = {"stdout": True, "stderr": True, "timestamps": opts.timestamps,
-                              "tail": "all" if opts.tail is None else opts.tail}
-    if opts.since_s is not None:
-        kwargs["since"] = int(engine_now(client).timestamp() - opts.since_s)
-    if opts.follow:
-        return ctr.name, ctr.logs(stream=True, follow=True, **kwargs)
-    return ctr.name, ctr.logs(**kwargs)
+    return read_logs(client, ctr, opts)
 
 
-def prefix_lines(name: str, data: bytes) -> bytes:
-    """Every line of ``data`` as ``name | line``."""
-    if not data:
-        return b""
-    head = name.encode() + b" | "
-    lines = data.splitlines(keepends=True)
-    return b"".join(head + (ln if ln.endswith(b"\n") else ln + b"\n") for ln in lines)
+
 
 
 # ------------------------------------------------------------------ driver versions
@@ -1036,9 +993,3 @@ def apply_fleet_with(fp: FleetPlan, inventory: Inventory, robots: list[Robot], c
     out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
     out.duration_s = fp.results.duration_s + applied.duration_s
     return out
-
-
-def iter_chunks(stream: Any) -> Iterator[bytes]:
-    """Chunks of a docker log stream (bytes; text is encoded)."""
-    for chunk in stream:
-        yield chunk if isinstance(chunk, bytes) else str(chunk).encode()

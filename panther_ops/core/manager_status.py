@@ -9,49 +9,24 @@ clock, the archive its command runs).
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
-from dataclasses import dataclass
-from datetime import datetime, timezone
+from datetime import datetime
 from typing import Any
 
+from panther_ops.core.container_logs import LogOptions, read_logs
+from panther_ops.core.docker_times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.manager_deploy import DISABLE_ARG, SERVICE, read_state, service_containers
 from panther_ops.core.robot_config import read_config
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 
-_TS = re.compile(r"^(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d)(?:\.(\d+))?(Z|[+-]\d\d:\d\d)?$")
 _VERSION_IN_CMD = re.compile(r"/opt/panther-ops/manager/([^/]+)/panther_ops_manager\.pyz$")
 
 
-def parse_timestamp(text: Any) -> datetime | None:
-    """Docker's RFC 3339 times (nanoseconds, ``Z`` or an offset); None for the zero time."""
-    if not isinstance(text, str) or not text or text.startswith("0001-"):
-        return None
-    m = _TS.match(text.strip())
-    if not m:
-        return None
-    frac = ((m[2] or "") + "000000")[:6]
-    tz = "+00:00" if m[3] in (None, "Z") else m[3]
-    return datetime.fromisoformat(f"{m[1]}.{frac}{tz}")
 
 
-def human_duration(seconds: float | None) -> str:
-    """``3725`` -> ``1h 2m`` (the two largest units)."""
-    if seconds is None:
-        return "-"
-    s = int(max(seconds, 0))
-    parts = [(s // 86400, "d"), (s % 86400 // 3600, "h"), (s % 3600 // 60, "m"), (s % 60, "s")]
-    shown = [f"{n}{u}" for n, u in parts if n]
-    return " ".join(shown[:2]) if shown else "0s"
 
 
-def _engine_now(client: Any) -> datetime:
-    try:
-        now = parse_timestamp(client.info().get("SystemTime"))
-    except Exception:  # the engine's clock is a nicety: fall back to this machine's
-        now = None
-    return now or datetime.now(timezone.utc)
 
 
 def running_version(cmd: list[str]) -> str | None:
@@ -112,7 +87,7 @@ def status_task(ctx: RobotContext) -> RobotResult:
         return RobotResult(name, Outcome.FAILED, f"{_what(data)}: no container for service {SERVICE}", data=data,
                            warnings=warnings)
     ctrs.sort(key=lambda c: not (c.attrs.get("State") or {}).get("Running"))
-    data.update(describe(ctrs[0].attrs, _engine_now(client)))
+    data.update(describe(ctrs[0].attrs, engine_now(client)))
     if data["running_version"] and data["version"] and data["running_version"] != data["version"]:
         warnings.append(f"the container runs {data['running_version']}, deployed.json says {data['version']}")
     if not in_compose:
@@ -138,13 +113,6 @@ def _what(data: dict[str, Any]) -> str:
     return f"manager {data.get('version') or '?'} ({data.get('mode') or '?'})"
 
 
-@dataclass(frozen=True)
-class LogOptions:
-    tail: int | None = 100
-    follow: bool = False
-    timestamps: bool = False
-
-
 def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
     """(container name, logs): bytes, or an iterator of chunks when following.
 
@@ -160,19 +128,6 @@ def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
                                hint="panther-ops manager deploy -r ROBOT")
     ctrs.sort(key=lambda c: not (c.attrs.get("State") or {}).get("Running"))
     ctr = ctrs[0]
-    kwargs: dict[str, Any] = {"stdout": True, "stderr": True, "timestamps": opts.timestamps,
-                              "tail": "all" if opts.tail is None else opts.tail}
-    if opts.follow:
-        return ctr.name, ctr.logs(stream=True, follow=True, **kwargs)
-    return ctr.name, ctr.logs(**kwargs)
+    return read_logs(client, ctr, opts)
 
 
-def prefix_lines(name: str, data: bytes) -> bytes:
-    """Every line of ``data`` as ``name | line``."""
-    head = name.encode() + b" | "
-    return b"".join(head + (ln if ln.endswith(b"\n") else ln + b"\n") for ln in data.splitlines(keepends=True))
-
-
-def iter_chunks(stream: Any) -> Iterator[bytes]:
-    for chunk in stream:
-        yield chunk if isinstance(chunk, bytes) else str(chunk).encode()

@@ -16,6 +16,8 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.compose import ComposeFile
+from panther_ops.core.container_logs import prefix_lines
+from panther_ops.core.docker_times import human_duration, parse_timestamp
 from panther_ops.core.driver import (
     HUB_TAG,
     HubTag,
@@ -23,17 +25,14 @@ from panther_ops.core.driver import (
     argv_matches,
     describe_container,
     fetch_hub_tags,
-    human_duration,
     last_line,
     local_images,
     newer_tags,
     parse_duration,
     parse_hub_page,
     parse_target,
-    parse_timestamp,
     plan_restore_defaults,
     plan_update,
-    prefix_lines,
     tag_key,
 )
 from panther_ops.core.inventory import load_inventory

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import os
 import sys
 from typing import TYPE_CHECKING, Annotated, Any, Optional
@@ -72,7 +71,7 @@ def _print_status(fleet: FleetResult) -> None:
     from rich.table import Table
 
     from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.driver import human_duration
+    from panther_ops.core.docker_times import human_duration
 
     table = Table(title="panther-ops driver status")
     for col in ("robot", "result", "service", "image", "state", "uptime", "restarts", "exit", "health", "command"):
@@ -151,82 +150,13 @@ def logs(
       panther-ops driver logs -g warehouse --since 10m
       panther-ops driver logs -r panther-01 -f
     """
-    from panther_ops.cli.render import error, finish, print_warnings
-    from panther_ops.core.driver import LogOptions, parse_duration, prefix_lines
-    from panther_ops.errors import UsageError
-    from panther_ops.results import Outcome, RobotResult
+    from panther_ops.cli.logs_view import show_logs
+    from panther_ops.core.driver import NoEngineError, open_logs, parse_duration
 
     since_s = parse_duration(since) if since is not None else None
     inv, chosen = context.targets(ctx, robot, group, all_)
-    if follow:
-        if len(chosen) != 1:
-            raise UsageError(f"--follow works on one robot; {len(chosen)} chosen", hint="pick one with -r NAME")
-        if json_out:
-            raise UsageError("--follow prints the log as it comes; --json is for a finished answer")
-        return _follow(inv, chosen[0], LogOptions(tail=0 if lines is None else lines, since_s=since_s, follow=True,
-                                                  timestamps=timestamps))
-    opts = LogOptions(tail=100 if lines is None else lines, since_s=since_s, timestamps=timestamps)
-    got: dict[str, bytes] = {}
-
-    def task(c: Any) -> RobotResult:
-        from panther_ops.core.driver import NoEngineError, open_logs
-
-        try:
-            name, data = open_logs(c, opts)
-        except NoEngineError as exc:
-            return RobotResult(c.robot.name, Outcome.SKIPPED, exc.message)
-        got[c.robot.name] = bytes(data)
-        n = data.count(b"\n")
-        return RobotResult(c.robot.name, Outcome.OK, f"{n} lines from container {name}",
-                           data={"container": name, "log": data.decode(errors="replace")} if json_out else
-                           {"container": name})
-
-    fleet = context.run("driver logs", inv, chosen, task, json_out=True)
-    if json_out:
-        return finish(fleet, True, lambda f: None)
-    several = len(chosen) > 1
-    for r in fleet.results:
-        data = got.get(r.robot)
-        if data is None:
-            (context.info if r.outcome is Outcome.SKIPPED else error)(f"{r.robot}: {r.outcome.value}: {r.message}")
-            continue
-        sys.stdout.buffer.write(prefix_lines(r.robot, data) if several else data)
-    sys.stdout.flush()
-    print_warnings(fleet)
-    return int(fleet.exit_code)
-
-
-def _follow(inv: Inventory, robot: Robot, opts: Any) -> int:
-    """Stream one robot's driver log in this thread until it ends or Ctrl-C."""
-    from panther_ops.cli.render import error
-    from panther_ops.core.driver import iter_chunks, open_logs
-    from panther_ops.core.runner import Connections, RobotContext, run_one
-    from panther_ops.results import FleetResult, Outcome, RobotResult
-
-    out = sys.stdout.buffer
-
-    def task(c: RobotContext) -> RobotResult:
-        name, stream = open_logs(c, opts)
-        context.info(f"{c.robot.name}: following {name} (Ctrl-C to stop)")
-        try:
-            for chunk in iter_chunks(stream):
-                out.write(chunk)
-                out.flush()
-        finally:
-            with contextlib.suppress(Exception):  # closing a cancelled stream must not hide the interrupt
-                stream.close()
-        return RobotResult(c.robot.name, Outcome.OK, f"{name}: the log ended (container stopped or recreated)")
-
-    with Connections(inv) as conns:
-        try:
-            result = run_one(conns, robot, task)
-        except KeyboardInterrupt:
-            return 0
-    if result.outcome is not Outcome.OK:
-        error(f"{result.robot}: {result.outcome.value}: {result.message}")
-    else:
-        context.info(f"{result.robot}: {result.message}")
-    return int(FleetResult("driver logs", [result]).exit_code)
+    return show_logs("driver logs", inv, chosen, open_logs, lines=lines, since_s=since_s, timestamps=timestamps,
+                     follow=follow, json_out=json_out, skip=(NoEngineError,))
 
 
 # ------------------------------------------------------------------ restart

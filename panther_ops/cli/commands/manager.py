@@ -199,7 +199,7 @@ def _print_status(fleet: Any) -> None:
     from rich.table import Table
 
     from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.manager_status import human_duration
+    from panther_ops.core.docker_times import human_duration
 
     table = Table(title="panther-ops manager status")
     for col in ("robot", "result", "version", "mode", "state", "uptime", "restarts", "disable_manager", "message"):
@@ -264,75 +264,9 @@ def logs(
       panther-ops manager logs -r panther-01 -n 20
       panther-ops manager logs -r panther-01 -f
     """
-    from panther_ops.cli.render import error, finish, print_warnings
-    from panther_ops.core.manager_status import LogOptions, open_logs, prefix_lines
-    from panther_ops.errors import UsageError
-    from panther_ops.results import Outcome, RobotResult
+    from panther_ops.cli.logs_view import show_logs
+    from panther_ops.core.manager_status import open_logs
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    if follow:
-        if len(chosen) != 1:
-            raise UsageError(f"--follow works on one robot; {len(chosen)} chosen", hint="pick one with -r NAME")
-        if json_out:
-            raise UsageError("--follow prints the log as it comes; --json is for a finished answer")
-        return _follow(inv, chosen[0], LogOptions(tail=0 if lines is None else lines, follow=True,
-                                                  timestamps=timestamps))
-    opts = LogOptions(tail=100 if lines is None else lines, timestamps=timestamps)
-    got: dict[str, bytes] = {}
-
-    def task(c: Any) -> RobotResult:
-        name, data = open_logs(c, opts)
-        got[c.robot.name] = bytes(data)
-        count = data.count(b"\n")
-        return RobotResult(c.robot.name, Outcome.OK, f"{count} lines from container {name}",
-                           data={"container": name, "log": data.decode(errors="replace")} if json_out else
-                           {"container": name})
-
-    fleet = context.run("manager logs", inv, chosen, task, json_out=True)
-    if json_out:
-        return finish(fleet, True, lambda f: None)
-    several = len(chosen) > 1
-    for r in fleet.results:
-        data = got.get(r.robot)
-        if data is None:
-            error(f"{r.robot}: {r.outcome.value}: {r.message}")
-            continue
-        sys.stdout.buffer.write(prefix_lines(r.robot, data) if several else data)
-    sys.stdout.flush()
-    print_warnings(fleet)
-    return int(fleet.exit_code)
-
-
-def _follow(inv: Any, robot: Any, opts: Any) -> int:
-    """Stream one robot's manager log until it ends or Ctrl-C."""
-    import contextlib
-
-    from panther_ops.cli.render import error
-    from panther_ops.core.manager_status import iter_chunks, open_logs
-    from panther_ops.core.runner import Connections, RobotContext, run_one
-    from panther_ops.results import FleetResult, Outcome, RobotResult
-
-    out = sys.stdout.buffer
-
-    def task(c: RobotContext) -> RobotResult:
-        name, stream = open_logs(c, opts)
-        context.info(f"{c.robot.name}: following {name} (Ctrl-C to stop)")
-        try:
-            for chunk in iter_chunks(stream):
-                out.write(chunk)
-                out.flush()
-        finally:
-            with contextlib.suppress(Exception):  # closing a cancelled stream must not hide the interrupt
-                stream.close()
-        return RobotResult(c.robot.name, Outcome.OK, f"{name}: the log ended (container stopped or recreated)")
-
-    with Connections(inv) as conns:
-        try:
-            result = run_one(conns, robot, task)
-        except KeyboardInterrupt:
-            return 0
-    if result.outcome is not Outcome.OK:
-        error(f"{result.robot}: {result.outcome.value}: {result.message}")
-    else:
-        context.info(f"{result.robot}: {result.message}")
-    return int(FleetResult("manager logs", [result]).exit_code)
+    return show_logs("manager logs", inv, chosen, open_logs, lines=lines, since_s=None, timestamps=timestamps,
+                     follow=follow, json_out=json_out)
