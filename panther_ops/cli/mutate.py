@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 if TYPE_CHECKING:
-    from panther_ops.core.changes import Planner
+    from panther_ops.core.changes import Applier, Planner
     from panther_ops.core.inventory import Inventory, Robot
 
 Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
@@ -34,7 +34,10 @@ def mutate(
     forks: int | None = None,
     canary: int = 0,
     max_fail: float | None = None,
+    applier: Applier | None = None,
+    verb: str = "Apply to",
 ) -> int:
+    """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline)."""
     from panther_ops.cli.render import error, finish, print_results
     from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet
     from panther_ops.core.pipeline import ApplyOptions
@@ -57,10 +60,11 @@ def mutate(
             if not sys.stdin.isatty():
                 error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
                 return int(ExitCode.USAGE)
-            if not typer.confirm(f"Apply to {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
+            if not typer.confirm(f"{verb} {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
                 sys.stderr.write("nothing was changed\n")
                 return int(ExitCode.USAGE)
         apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
-        result = apply_fleet(fp, inv, chosen, conns, opts, apply)
+        result = apply_fleet(fp, inv, chosen, conns, opts, apply, applier=applier) if applier else \
+            apply_fleet(fp, inv, chosen, conns, opts, apply)
     return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
 

@@ -18,6 +18,13 @@ from panther_ops.errors import UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
 Planner = Callable[[RobotContext], RobotPlan]
+Applier = Callable[[RobotContext, RobotPlan, ApplyOptions], RobotResult]
+"""Carries out one robot's plan: `pipeline.apply_plan` unless a command needs its own step."""
+
+
+def does_something(plan: RobotPlan) -> bool:
+    """A plan with file edits, or with an action (e.g. a reset the image's script carries out)."""
+    return bool(plan.edits or plan.data.get("action"))
 
 
 @dataclass
@@ -31,7 +38,7 @@ class FleetPlan:
 
     @property
     def to_change(self) -> list[str]:
-        return [name for name, p in self.plans.items() if p.edits]
+        return [name for name, p in self.plans.items() if does_something(p)]
 
 
 def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
@@ -45,8 +52,8 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
             fp.usage_errors[ctx.robot.name] = exc
             raise
         fp.plans[ctx.robot.name] = plan
-        outcome = Outcome.CHANGED if plan.edits else Outcome.OK
-        message = plan.summary if plan.edits else (plan.noop or "nothing to change")
+        outcome = Outcome.CHANGED if does_something(plan) else Outcome.OK
+        message = plan.summary if does_something(plan) else (plan.noop or "nothing to change")
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
@@ -56,13 +63,14 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
 
 
 def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
-                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None) -> FleetResult:
-    """Apply every plan with edits; robots without edits keep their plan-phase result."""
+                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None,
+                applier: Applier = apply_plan) -> FleetResult:
+    """Apply every plan that does something; the others keep their plan-phase result."""
     by_name = {r.robot: r for r in fp.results.results}
-    todo = [r for r in robots if r.name in fp.plans and fp.plans[r.name].edits]
+    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])]
 
     def task(ctx: RobotContext) -> RobotResult:
-        return apply_plan(ctx, fp.plans[ctx.robot.name], apply)
+        return applier(ctx, fp.plans[ctx.robot.name], apply)
 
     applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections)
     for r in applied.results:
@@ -76,7 +84,8 @@ def dry_run_result(fp: FleetPlan) -> FleetResult:
     out = FleetResult(fp.command, notes=["dry run: nothing was written"])
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
-            r.message = f"would change: {r.message}"
+            action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
+            r.message = f"would {r.message}" if action else f"would change: {r.message}"
             r.data["dry_run"] = True
         out.add(r)
     out.duration_s = fp.results.duration_s

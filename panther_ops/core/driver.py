@@ -22,13 +22,11 @@ from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 from typing import Any
 
-from panther_ops.core.changes import FleetPlan
 from panther_ops.core.compose import ComposeError, ComposeFile, image_repo
 from panther_ops.core.config_files import CONTAINER_CONFIG_DIR
 from panther_ops.core.config_plans import compose_plan
 from panther_ops.core.container_logs import LogOptions, read_logs
 from panther_ops.core.docker_times import engine_now, human_duration, parse_timestamp
-from panther_ops.core.inventory import Inventory, Robot
 from panther_ops.core.launch_args import check_args, migrate_args
 from panther_ops.core.pipeline import (
     BACKUP_ROOT,
@@ -40,10 +38,10 @@ from panther_ops.core.pipeline import (
     recreate_and_verify,
 )
 from panther_ops.core.robot_config import RobotConfig, read_config
-from panther_ops.core.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
+from panther_ops.core.runner import RobotContext
 from panther_ops.core.stack import PANTHER_REPO, UGV_REPO, Family, parse_image
 from panther_ops.errors import OpsError, RemoteStateError, TransportError, UsageError
-from panther_ops.results import FleetResult, Outcome, RobotResult
+from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_backup
 from panther_ops.transport.base import Command
 
@@ -948,48 +946,5 @@ def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
 # ------------------------------------------------------------------ fleet plumbing
 
 
-def pending(fp: FleetPlan) -> list[str]:
-    """Robots whose plan does something: file edits, or an action (the 2.2 config reset)."""
-    return [n for n, p in fp.plans.items() if p.edits or p.data.get("action")]
 
 
-def mark_actions(fp: FleetPlan) -> None:
-    """Plan-phase results of action plans read ``changed`` like plans with edits."""
-    for r in fp.results.results:
-        plan = fp.plans.get(r.robot)
-        if plan is not None and plan.data.get("action") and r.outcome is Outcome.OK:
-            r.outcome = Outcome.CHANGED
-            r.message = plan.summary
-
-
-def dry_run_result(fp: FleetPlan) -> FleetResult:
-    out = FleetResult(fp.command, notes=["dry run: nothing was written"])
-    for r in fp.results.results:
-        if r.outcome is Outcome.CHANGED:
-            r.message = f"would {r.message}" if fp.plans[r.robot].data.get("action") else f"would change: {r.message}"
-            r.data["dry_run"] = True
-        out.add(r)
-    out.duration_s = fp.results.duration_s
-    return out
-
-
-Applier = Callable[[RobotContext, RobotPlan, ApplyOptions], RobotResult]
-
-
-def apply_fleet_with(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
-                     options: RunOptions, apply: ApplyOptions, applier: Applier,
-                     progress: Progress | None = None) -> FleetResult:
-    """`changes.apply_fleet` with another per-robot apply step."""
-    todo_names = set(pending(fp))
-    by_name = {r.robot: r for r in fp.results.results}
-    todo = [r for r in robots if r.name in todo_names]
-
-    def task(ctx: RobotContext) -> RobotResult:
-        return applier(ctx, fp.plans[ctx.robot.name], apply)
-
-    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections)
-    for r in applied.results:
-        by_name[r.robot] = r
-    out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
-    out.duration_s = fp.results.duration_s + applied.duration_s
-    return out

@@ -33,20 +33,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.changes import FleetPlan
 from panther_ops.core.compose import Volume
 from panther_ops.core.config_files import ConfigKind, config_file
 from panther_ops.core.config_plans import compose_plan, edit_args
-from panther_ops.core.inventory import Inventory, Robot
 from panther_ops.core.manager_bundle import ARCHIVE_NAME, ManagerBundle, build_bundle
 from panther_ops.core.pipeline import ApplyOptions, FileEdit, RobotPlan, Verify, apply_plan
 from panther_ops.core.robot_config import RobotConfig, read_config
-from panther_ops.core.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
+from panther_ops.core.runner import RobotContext
 from panther_ops.core.stack import Family
 from panther_ops.core.templates import template_file
 from panther_ops.core.yamlrender import Folded
 from panther_ops.errors import OpsError, UsageError
-from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
+from panther_ops.results import Diff, Outcome, RobotResult
 from panther_ops.transport.base import Command
 
 SERVICE = "panther_ops_manager"
@@ -651,20 +649,3 @@ def _repair(ctx: RobotContext, plan: RobotPlan, client: Any, result: RobotResult
             c.reload()
             if c.status != "running":
                 c.start()
-
-
-def apply_fleet_with(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
-                     options: RunOptions, apply: ApplyOptions, progress: Progress | None = None) -> FleetResult:
-    """`changes.apply_fleet` with `apply_manager` as the per-robot step."""
-    by_name = {r.robot: r for r in fp.results.results}
-    todo = [r for r in robots if r.name in fp.plans and fp.plans[r.name].edits]
-
-    def task(ctx: RobotContext) -> RobotResult:
-        return apply_manager(ctx, fp.plans[ctx.robot.name], apply)
-
-    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections)
-    for r in applied.results:
-        by_name[r.robot] = r
-    out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
-    out.duration_s = fp.results.duration_s + applied.duration_s
-    return out

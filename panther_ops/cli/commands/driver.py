@@ -3,19 +3,15 @@
 from __future__ import annotations
 
 import os
-import sys
 from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes
+from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
 from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
 
 if TYPE_CHECKING:
-    from panther_ops.core.changes import Planner
-    from panther_ops.core.driver import Applier
-    from panther_ops.core.inventory import Inventory, Robot
     from panther_ops.results import FleetResult
 
 app = typer.Typer(
@@ -25,43 +21,6 @@ app = typer.Typer(
 
 REGISTRY_ENV = "PANTHER_OPS_DOCKERHUB_URL"
 """Override of the Docker Hub tag-list URL (``{repo}`` = panther / husarion-ugv): a mirror, or tests."""
-
-
-def _mutate(command: str, inv: Inventory, chosen: list[Robot], planner: Planner, applier: Applier, *,
-            yes: bool, dry_run: bool, restart: bool = True, settle: float = 5.0, json_out: bool = False,
-            forks: int | None = None, canary: int = 0, max_fail: float | None = None, verb: str = "Apply") -> int:
-    """`cli.mutate.mutate` with a driver-specific apply step and plans that may be actions (no file edits)."""
-    from panther_ops.cli.render import error, finish, print_results
-    from panther_ops.core.changes import plan_fleet
-    from panther_ops.core.driver import apply_fleet_with, dry_run_result, mark_actions, pending
-    from panther_ops.core.pipeline import ApplyOptions
-    from panther_ops.core.runner import Connections, RunOptions
-    from panther_ops.errors import ExitCode
-
-    opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
-    with Connections(inv) as conns:
-        fp = plan_fleet(command, inv, chosen, planner, conns, opts)
-        if fp.usage_errors:
-            for name, exc in fp.usage_errors.items():
-                error(f"{name}: {exc}")
-            sys.stderr.write("nothing was changed on any robot\n")
-            return int(ExitCode.USAGE)
-        mark_actions(fp)
-        todo = pending(fp)
-        if dry_run or not todo:
-            return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
-        if not json_out:
-            print_results(fp.results, title=f"plan: {command}")
-        if not yes:
-            if not sys.stdin.isatty():
-                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
-                return int(ExitCode.USAGE)
-            if not typer.confirm(f"{verb} on {len(todo)} robot(s): {', '.join(todo)}?", default=False):
-                sys.stderr.write("nothing was changed\n")
-                return int(ExitCode.USAGE)
-        apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
-        result = apply_fleet_with(fp, inv, chosen, conns, opts, apply, applier)
-    return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
 
 
 # ------------------------------------------------------------------ status
@@ -187,7 +146,7 @@ def restart(
     from panther_ops.core.driver import apply_restart, plan_restart
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return _mutate("driver restart", inv, chosen, plan_restart, apply_restart, yes=yes, dry_run=dry_run,
+    return mutate("driver restart", inv, chosen, plan_restart, applier=apply_restart, yes=yes, dry_run=dry_run,
                    settle=settle, json_out=json_out, forks=forks, canary=canary, max_fail=max_fail, verb="Recreate")
 
 
@@ -321,7 +280,7 @@ def update(
     target = parse_target(tag, force=force) if tag is not None else None
     inv, chosen = context.targets(ctx, robot, group, all_)
     command = f"driver update {tag}" if tag else "driver update (desired image)"
-    return _mutate(command, inv, chosen, lambda c: plan_update(c, target, force=force, pull=pull), apply_update,
+    return mutate(command, inv, chosen, lambda c: plan_update(c, target, force=force, pull=pull), applier=apply_update,
                    yes=yes, dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks,
                    canary=canary, max_fail=max_fail)
 
@@ -358,8 +317,8 @@ def restore_defaults(
     from panther_ops.core.driver import apply_restore, plan_restore_defaults
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return _mutate("config restore-defaults" + (" --hard" if hard else ""), inv, chosen,
-                   lambda c: plan_restore_defaults(c, hard=hard), apply_restore, yes=yes, dry_run=dry_run,
+    return mutate("config restore-defaults" + (" --hard" if hard else ""), inv, chosen,
+                   lambda c: plan_restore_defaults(c, hard=hard), applier=apply_restore, yes=yes, dry_run=dry_run,
                    restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
 
 

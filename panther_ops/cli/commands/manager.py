@@ -86,40 +86,6 @@ def run(
 # ------------------------------------------------------------------ deploy / remove on robots
 
 
-def _mutate(command: str, inv: Any, chosen: list[Any], planner: Any, *, yes: bool, dry_run: bool, settle: float,
-            json_out: bool, forks: int | None, canary: int = 0, max_fail: float | None = None) -> int:
-    """`cli.mutate.mutate` with the manager's apply step (it also handles the manager container)."""
-    from panther_ops.cli.render import error, finish, print_results
-    from panther_ops.core.changes import dry_run_result, plan_fleet
-    from panther_ops.core.manager_deploy import apply_fleet_with
-    from panther_ops.core.pipeline import ApplyOptions
-    from panther_ops.core.runner import Connections, RunOptions
-    from panther_ops.errors import ExitCode
-
-    opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
-    with Connections(inv) as conns:
-        fp = plan_fleet(command, inv, chosen, planner, conns, opts)
-        if fp.usage_errors:
-            for name, exc in fp.usage_errors.items():
-                error(f"{name}: {exc}")
-            sys.stderr.write("nothing was changed on any robot\n")
-            return int(ExitCode.USAGE)
-        if dry_run or not fp.to_change:
-            return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
-        if not json_out:
-            print_results(fp.results, title=f"plan: {command}")
-        if not yes:
-            if not sys.stdin.isatty():
-                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
-                return int(ExitCode.USAGE)
-            if not typer.confirm(f"Apply to {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
-                sys.stderr.write("nothing was changed\n")
-                return int(ExitCode.USAGE)
-        apply = ApplyOptions(settle_s=settle, command=command)
-        result = apply_fleet_with(fp, inv, chosen, conns, opts, apply)
-    return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
-
-
 @app.command("deploy")
 def deploy(
     ctx: typer.Context,
@@ -158,15 +124,16 @@ def deploy(
       panther-ops manager deploy -g warehouse --canary 1 --yes
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
+    from panther_ops.cli.mutate import mutate
     from panther_ops.core.manager_bundle import build_bundle
-    from panther_ops.core.manager_deploy import plan_deploy
+    from panther_ops.core.manager_deploy import apply_manager, plan_deploy
 
     bundle = build_bundle()
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))
-    return _mutate(label, inv, chosen, lambda c: plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
-                   yes=yes, dry_run=dry_run, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                   max_fail=max_fail)
+    return mutate(label, inv, chosen, lambda c: plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
+                  applier=apply_manager, yes=yes, dry_run=dry_run, settle=settle, json_out=json_out, forks=forks,
+                  canary=canary, max_fail=max_fail)
 
 
 @app.command("remove")
@@ -188,11 +155,12 @@ def remove(
 
     Example: panther-ops manager remove -r panther-01 --yes
     """
-    from panther_ops.core.manager_deploy import plan_remove
+    from panther_ops.cli.mutate import mutate
+    from panther_ops.core.manager_deploy import apply_manager, plan_remove
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return _mutate("manager remove", inv, chosen, plan_remove, yes=yes, dry_run=dry_run, settle=settle,
-                   json_out=json_out, forks=forks)
+    return mutate("manager remove", inv, chosen, plan_remove, applier=apply_manager, yes=yes, dry_run=dry_run,
+                  settle=settle, json_out=json_out, forks=forks)
 
 
 def _print_status(fleet: Any) -> None:
