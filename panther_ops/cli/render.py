@@ -119,7 +119,8 @@ def print_summary(fleet: FleetResult) -> None:
     code = fleet.exit_code
     tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
     _console(stderr=True).print(
-        f"{len(fleet.results)} robots: " + ", ".join(parts) + f" in {fleet.duration_s:.1f} s{tail}"
+        f"{len(fleet.results)} robot{'' if len(fleet.results) == 1 else 's'}: " + ", ".join(parts)
+        + f" in {fleet.duration_s:.1f} s{tail}"
     )
 
 
