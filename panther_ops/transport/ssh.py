@@ -108,6 +108,35 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
     return client
 
 
+def exec_channel(transport: Any, command: str, timeout: float,
+                 stdin: bytes | None = None) -> tuple[int, bytes, bytes]:
+    """Run one command on a new session of an open paramiko transport.
+
+    Returns (exit status, stdout, stderr); the status is -1 when the channel closed without
+    one (the host went away). Stderr is drained as stdout arrives (up to the channel window
+    if a command writes only to stderr).
+    """
+    chan = transport.open_session(timeout=timeout)
+    chan.settimeout(timeout)
+    chan.exec_command(command)
+    if stdin is not None:
+        chan.sendall(stdin)
+    chan.shutdown_write()
+    out, err = bytearray(), bytearray()
+    while True:
+        data = chan.recv(65536)
+        while chan.recv_stderr_ready():
+            err += chan.recv_stderr(65536)
+        if not data:
+            break
+        out += data
+    status = chan.recv_exit_status()
+    while chan.recv_stderr_ready():
+        err += chan.recv_stderr(65536)
+    chan.close()
+    return status, bytes(out), bytes(err)
+
+
 class SshTransport:
     """A robot reached over SSH. Connects on :meth:`connect`; every step reuses it."""
 
@@ -154,31 +183,14 @@ class SshTransport:
         if transport is None or not transport.is_active():
             raise UnreachableError(self.name, "connection lost")
         try:
-            chan = transport.open_session(timeout=limit)
-            chan.settimeout(limit)
-            chan.exec_command(text)
-            if stdin is not None:
-                chan.sendall(stdin)
-            chan.shutdown_write()
-            out, err = bytearray(), bytearray()
-            while True:
-                data = chan.recv(65536)
-                while chan.recv_stderr_ready():
-                    err += chan.recv_stderr(65536)
-                if not data:
-                    break
-                out += data
-            status = chan.recv_exit_status()
-            while chan.recv_stderr_ready():
-                err += chan.recv_stderr(65536)
-            chan.close()
+            status, out, err = exec_channel(transport, text, limit, stdin)
         except TimeoutError:
             raise TransportError(self.name, f"`{shown}` timed out after {limit:.0f} s") from None
         except (paramiko.SSHException, OSError, EOFError) as exc:
             raise UnreachableError(self.name, f"connection lost during `{shown}`: {exc}") from None
         return CommandResult(
             shown, status, out.decode(errors="replace"), err.decode(errors="replace"),
-            time.monotonic() - start, bytes(out),
+            time.monotonic() - start, out,
         )
 
     # -- files ----------------------------------------------------------------------

@@ -269,26 +269,11 @@ def exec_on(client: paramiko.SSHClient, command: str, *, timeout: float = 30.0,
             stdin: bytes | None = None) -> tuple[int, str, str]:
     """Run a command on an open session: (exit status, stdout, stderr); -1 when the channel
     closed without a status (the host went away)."""
+    from panther_ops.transport.ssh import exec_channel
+
     t = client.get_transport()
     assert t is not None
-    chan = t.open_session(timeout=timeout)
-    chan.settimeout(timeout)
-    chan.exec_command(command)
-    if stdin is not None:
-        chan.sendall(stdin)
-    chan.shutdown_write()
-    out, err = bytearray(), bytearray()
-    while True:
-        data = chan.recv(65536)
-        while chan.recv_stderr_ready():
-            err += chan.recv_stderr(65536)
-        if not data:
-            break
-        out += data
-    status = chan.recv_exit_status()
-    while chan.recv_stderr_ready():
-        err += chan.recv_stderr(65536)
-    chan.close()
+    status, out, err = exec_channel(t, command, timeout, stdin)
     return status, out.decode(errors="replace"), err.decode(errors="replace")
 
 
