@@ -7,13 +7,15 @@ and returns a :class:`RobotPlan` with exact file edits; nothing is written here.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.config_files import ConfigKind, config_file
 from panther_ops.core.controller import ControllerConfig
 from panther_ops.core.launch_args import set_launch_args, spec, unset_launch_arg
+from panther_ops.core.memo import Memo
 from panther_ops.core.pipeline import FileEdit, RobotPlan, Verify
-from panther_ops.core.robot_config import RobotConfig, read_config
+from panther_ops.core.robot_config import ComposeRead, RobotConfig, parse_config, read_compose, read_config
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import UsageError
 
@@ -41,13 +43,44 @@ def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], forc
     return warnings, Verify(cfg.service, tuple(contains), tuple(lacks))
 
 
+@dataclass(frozen=True)
+class _ArgsOutcome:
+    """What a launch-argument change does to one compose.yaml (the same for every robot with it)."""
+
+    after: bytes
+    summary: str
+    warnings: tuple[str, ...]
+    verify: Verify
+    service: str
+    stack: str
+
+
+_ARGS: Memo[_ArgsOutcome] = Memo()
+
+
 def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False) -> RobotPlan:
-    """``config set/unset``: launch arguments in the driver's command."""
-    cfg = read_config(ctx)
+    """``config set/unset``: launch arguments in the driver's command.
+
+    Planned once per distinct compose.yaml (and stack setting) of the fleet; the robots
+    that share one get the same edit.
+    """
+    raw = read_compose(ctx)
+    key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force)
+    out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force))
+    edits = [FileEdit(raw.path, raw.before, out.after)] if out.after != raw.before else []
+    plan = RobotPlan(ctx.robot.name, out.summary, edits, (out.service,), raw.path, [out.verify],
+                     None if edits else _noop_args(sets, unsets), list(out.warnings))
+    plan.data["stack"] = out.stack
+    return plan
+
+
+def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any], unsets: list[str],
+                  force: bool) -> _ArgsOutcome:
+    cfg = parse_config(raw, stack_setting)
     old_args = dict(cfg.compose.args)
     warnings, verify = edit_args(cfg, sets, unsets, force)
-    summary = _args_summary(cfg, old_args)
-    return compose_plan(ctx, cfg, summary, warnings, [verify], noop=_noop_args(sets, unsets, old_args))
+    return _ArgsOutcome(cfg.compose.text().encode(), _args_summary(cfg, old_args),
+                        (*warnings, *cfg.compose.notes), verify, cfg.service, cfg.stack.label())
 
 
 def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:
@@ -57,7 +90,7 @@ def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:
     return "; ".join(parts) or "no change"
 
 
-def _noop_args(sets: Mapping[str, Any], unsets: list[str], old: Mapping[str, str]) -> str:
+def _noop_args(sets: Mapping[str, Any], unsets: list[str]) -> str:
     bits = [f"{k} already {_value_text(v)}" for k, v in sets.items()] + [f"{k} not set" for k in unsets]
     return ", ".join(bits) or "nothing asked"
 

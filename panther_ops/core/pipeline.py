@@ -11,6 +11,7 @@ nothing.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -24,9 +25,9 @@ from typing import Any
 
 from panther_ops.core.diff import unified_diff
 from panther_ops.core.runner import RobotContext
-from panther_ops.errors import OpsError, TransportError
+from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Diff, Outcome, RobotResult
-from panther_ops.transport import scripts, scripts_apply, scripts_backup
+from panther_ops.transport import scripts_apply, scripts_backup
 from panther_ops.transport.base import Command
 
 BACKUP_ROOT = scripts_backup.BACKUP_ROOT
@@ -44,8 +45,14 @@ class FileEdit:
     mode: int | None = None
 
     def diff(self) -> Diff:
-        old = (self.before or b"").decode(errors="replace")
-        return Diff(self.path, unified_diff(old, (self.after or b"").decode(errors="replace"), self.path))
+        return _diff(self.path, self.before, self.after)
+
+
+@functools.lru_cache(maxsize=256)
+def _diff(path: str, before: bytes | None, after: bytes | None) -> Diff:
+    """The edit's diff; robots with the same file and change share one (a Diff is immutable)."""
+    old = (before or b"").decode(errors="replace")
+    return Diff(path, unified_diff(old, (after or b"").decode(errors="replace"), path))
 
 
 @dataclass(frozen=True)
@@ -110,7 +117,6 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
         result.message = f"would change (dry run): {plan.summary}"
         result.data["dry_run"] = True
         return result
-    t = ctx.transport
     backup_id = new_backup_id()
     backup_dir = f"{BACKUP_ROOT}/{backup_id}"
     manifest = {
@@ -127,29 +133,14 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
             for i, (e, d) in enumerate(zip(plan.edits, diffs, strict=True))
         ],
     }
-    staged = _stage_all(ctx, plan, backup_dir, manifest)
-    if staged is None:
-        result.outcome = Outcome.FAILED
-        result.message = "a file changed on the robot since it was read; nothing written, run again"
-        return result
-    result.data["backup"] = backup_id
-    problem = _validate_compose(ctx, plan, staged)
-    if problem:
-        for tmp in staged:
-            if tmp is not None:
-                t.run(Command.sh(scripts.DISCARD, tmp))
-        _mark(ctx, backup_id, f"refused: {problem}")
-        result.outcome = Outcome.FAILED
-        result.message = f"nothing written: {problem}"
-        return result
-    if opts.on_staged:
-        opts.on_staged(name)
     final = not plan.recreate or not opts.restart
     status = ("applied" + (" (not recreated)" if plan.recreate else "")) if final else ""
-    pairs = [x for tmp, e in zip(staged, plan.edits, strict=True) for x in (tmp or "-", e.path)]
-    res = t.run(Command.sh(scripts_apply.COMMIT_ALL, backup_dir, status, *pairs))
-    if not res.ok:
-        raise TransportError(name, f"renaming the staged files failed: {res.stderr.strip()} (backup {backup_id})")
+    problem = _write(ctx, plan, opts, backup_dir, manifest, status)
+    if problem is not None:
+        result.outcome = Outcome.FAILED
+        result.message = problem
+        return result
+    result.data["backup"] = backup_id
     if final:
         result.outcome = Outcome.CHANGED
         result.message = plan.summary + ("; not recreated (--no-restart)" if plan.recreate else "")
@@ -163,14 +154,7 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
     return _roll_back(ctx, plan, opts, result, problem, backup_id)
 
 
-VALIDATE_COMPOSE = (
-    '[ -n "${PANTHER_OPS_ROOT:-}" ] && exit 0; command -v docker >/dev/null 2>&1 || exit 0; '
-    'docker compose version >/dev/null 2>&1 || exit 0; '
-    'cd "$(dirname -- "$1")" && exec docker compose -f "$1" config -q'
-)
-"""Ask the robot's own docker compose whether a staged compose file is valid (where it has one)."""
-
-
+@functools.lru_cache(maxsize=64)
 def _values_only(before: bytes | None, after: bytes | None) -> bool:
     """True when the two compose files differ only in services' ``command`` or ``image`` values.
 
@@ -199,55 +183,49 @@ def _values_only(before: bytes | None, after: bytes | None) -> bool:
     return strip(old) == strip(new)
 
 
-def _validate_compose(ctx: RobotContext, plan: RobotPlan, staged: list[str | None]) -> str | None:
-    for tmp, e in zip(staged, plan.edits, strict=True):
-        if tmp is None or e.path != plan.compose_file or _values_only(e.before, e.after):
-            continue
-        res = ctx.transport.run(Command.sh(VALIDATE_COMPOSE, tmp), timeout=60)
-        if not res.ok:
-            return f"docker compose refuses the new {e.path}: {res.stderr.strip()[-300:]}"
-    return None
-
-
 def _remove(ctx: RobotContext, path: str) -> None:
     ctx.transport.run(Command.sh('r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; '
                                  'esac; rm -f -- "$r$p"', path))
 
 
-def _stage_all(ctx: RobotContext, plan: RobotPlan, backup_dir: str,
-               manifest: dict[str, Any]) -> list[str | None] | None:
-    """One round trip: check every file is as read, back them up, stage the new contents.
+def _write(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, backup_dir: str, manifest: dict[str, Any],
+           status: str) -> str | None:
+    """One session: check, back up, stage, (validate,) then rename on the go-ahead.
 
-    Returns the staged file names (None for a file to remove), or None when a file changed
-    on the robot since the plan read it (then nothing was written).
+    Returns why nothing was written, or None when every file is in place.
     """
-    import io
-    import tarfile
-
-    buf = io.BytesIO()
-    with tarfile.open(fileobj=buf, mode="w") as tar:
-        entries = [("manifest.json", json.dumps(manifest, indent=2).encode())]
-        entries += [(str(i), e.after) for i, e in enumerate(plan.edits) if e.after is not None]
-        for member, data in entries:
-            info = tarfile.TarInfo(member)
-            info.size, info.mode, info.mtime = len(data), 0o600, int(time.time())
-            tar.addfile(info, io.BytesIO(data))
+    name = ctx.robot.name
     args: list[str] = []
-    for e in plan.edits:
+    validate = "-"
+    for i, e in enumerate(plan.edits):
         if "\n" in e.path or "\t" in e.path:
-            raise TransportError(ctx.robot.name, f"refusing a path with a newline or tab: {e.path!r}")
+            raise TransportError(name, f"refusing a path with a newline or tab: {e.path!r}")
         args += [e.path, _sha(e.before) or "-", f"{e.mode:o}" if e.mode is not None else "-",
-                 "0" if e.after is None else "1"]
+                 "-" if e.after is None else str(len(e.after))]
+        if e.path == plan.compose_file and e.after is not None and not _values_only(e.before, e.after):
+            validate = str(i)
+    manifest_bytes = json.dumps(manifest, indent=2).encode()
+    payload = b"".join(e.after for e in plan.edits if e.after is not None) + manifest_bytes
     suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
-    res = ctx.transport.run(Command.sh(scripts_apply.STAGE_ALL, backup_dir, suffix, *args), stdin=buf.getvalue())
+
+    def go_ahead(_: bytes) -> bytes:
+        if opts.on_staged:
+            opts.on_staged(name)
+        return b"go\n"
+
+    res = ctx.transport.run(
+        Command.sh(scripts_apply.APPLY, backup_dir, suffix, status, str(len(manifest_bytes)), validate, *args),
+        stdin=payload, until=scripts_apply.STAGED_MARK, answer=go_ahead,
+    )
     if res.exit_status == scripts_apply.CHANGED_EXIT:
-        return None
+        return "a file changed on the robot since it was read; nothing written, run again"
+    if res.exit_status == scripts_apply.REFUSED_EXIT:
+        return f"nothing written: docker compose refuses the new {plan.compose_file}: {res.stderr.strip()[-300:]}"
+    if res.exit_status == -1:
+        raise UnreachableError(name, "connection lost while writing; the staged files were not renamed")
     if not res.ok:
-        raise TransportError(ctx.robot.name, f"staging failed, nothing written: {res.stderr.strip()}")
-    names = res.stdout.splitlines()
-    if len(names) != len(plan.edits):
-        raise TransportError(ctx.robot.name, f"staging answered {len(names)} names for {len(plan.edits)} files")
-    return [None if n == "-" else n for n in names]
+        raise TransportError(name, f"writing failed (exit {res.exit_status}): {res.stderr.strip()}")
+    return None
 
 
 def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,

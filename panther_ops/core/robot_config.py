@@ -60,8 +60,17 @@ class RobotConfig:
         return self.host_path_of(CONTAINER_CONFIG_DIR) == ROBOT_CONFIG_DIR
 
 
-def read_config(ctx: RobotContext) -> RobotConfig:
-    """Read and parse the robot's compose.yaml (one read)."""
+@dataclass(frozen=True)
+class ComposeRead:
+    """compose.yaml as read from the robot, not yet parsed."""
+
+    home: str
+    path: str
+    before: bytes
+
+
+def read_compose(ctx: RobotContext) -> ComposeRead:
+    """Read the robot's compose.yaml and its user's home (one round trip)."""
     res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, ctx.robot.compose_file))
     home, _, rest = res.raw_stdout.partition(b"\n")
     path = ctx.robot.compose_file
@@ -71,7 +80,16 @@ def read_config(ctx: RobotContext) -> RobotConfig:
         raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory")
     if not res.ok:
         raise TransportError(ctx.robot.name, f"cannot read {path}: {res.stderr.strip()}")
-    before = rest
-    compose = ComposeFile.parse(before.decode(), path)
-    stack = stack_from_version(ctx.robot.stack) if ctx.robot.stack != "auto" else compose.stack()
-    return RobotConfig(home.decode(), path, before, compose, stack)
+    return ComposeRead(home.decode(), path, rest)
+
+
+def parse_config(raw: ComposeRead, stack_setting: str) -> RobotConfig:
+    """Parse what :func:`read_compose` read; ``stack_setting`` is the inventory's ``stack:``."""
+    compose = ComposeFile.parse(raw.before.decode(), raw.path)
+    stack = stack_from_version(stack_setting) if stack_setting != "auto" else compose.stack()
+    return RobotConfig(raw.home, raw.path, raw.before, compose, stack)
+
+
+def read_config(ctx: RobotContext) -> RobotConfig:
+    """Read and parse the robot's compose.yaml (one read)."""
+    return parse_config(read_compose(ctx), ctx.robot.stack)

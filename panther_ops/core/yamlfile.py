@@ -27,37 +27,38 @@ class LineList(list[Any]):
     item_lines: list[int]
 
 
-def _build(node: Any, path: str) -> Any:
+def _build(node: Any, path: str, scalars: Any = None) -> Any:
     import yaml
 
+    if scalars is None:
+        scalars = yaml.SafeLoader("")
     if isinstance(node, yaml.MappingNode):
         out = LineDict()
         out.line = node.start_mark.line + 1
         out.key_lines = {}
         for knode, vnode in node.value:
             if knode.tag == "tag:yaml.org,2002:merge":
-                merged = _build(vnode, path)
+                merged = _build(vnode, path, scalars)
                 for m in merged if isinstance(merged, list) else [merged]:
                     for k, v in m.items():
                         out.setdefault(k, v)
                         out.key_lines.setdefault(k, m.line_of(k))
                 continue
-            key = _build(knode, path)
+            key = _build(knode, path, scalars)
             if not isinstance(key, (str, int, float, bool)):
                 raise InputError("mapping keys must be plain scalars", path=path, line=knode.start_mark.line + 1)
             key = str(key)
             if key in out:
                 raise InputError(f"duplicate key {key!r}", path=path, line=knode.start_mark.line + 1, key=key)
-            out[key] = _build(vnode, path)
+            out[key] = _build(vnode, path, scalars)
             out.key_lines[key] = knode.start_mark.line + 1
         return out
     if isinstance(node, yaml.SequenceNode):
-        seq = LineList(_build(v, path) for v in node.value)
+        seq = LineList(_build(v, path, scalars) for v in node.value)
         seq.line = node.start_mark.line + 1
         seq.item_lines = [v.start_mark.line + 1 for v in node.value]
         return seq
-    loader = yaml.SafeLoader("")
-    return loader.construct_object(node, deep=True)
+    return scalars.construct_object(node, deep=True)
 
 
 def load_yaml(text: str, path: str) -> Any:
@@ -65,7 +66,7 @@ def load_yaml(text: str, path: str) -> Any:
     import yaml
 
     try:
-        node = yaml.compose(text, Loader=yaml.SafeLoader)
+        node = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml where built
     except yaml.MarkedYAMLError as exc:
         line = exc.problem_mark.line + 1 if exc.problem_mark else None
         raise InputError(f"invalid YAML: {exc.problem}", path=path, line=line) from None

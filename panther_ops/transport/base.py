@@ -7,7 +7,7 @@ are :class:`Secret` values that show as ``****`` in every printed form.
 from __future__ import annotations
 
 import shlex
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
@@ -128,8 +128,13 @@ class Transport(Protocol):
         ...
 
     def run(
-        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None
-    ) -> CommandResult: ...
+        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
+        until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
+    ) -> CommandResult:
+        """Run a command. With ``until`` and ``answer`` the command may ask back: its input stays
+        open after ``stdin`` until its output ends with ``until``, then ``answer(output so far)``
+        is sent and the input closed; a command that ends without asking is not answered."""
+        ...
 
     def read_file(self, path: str) -> bytes:
         """Read a file; raises FileNotFoundError when it does not exist."""

@@ -9,10 +9,13 @@ reported ``skipped``.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import subprocess
 import tempfile
+import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -57,26 +60,29 @@ class LocalTransport:
         return resolved
 
     def run(
-        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None
+        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
+        until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
     ) -> CommandResult:
         text = command.render(reveal=True)
         env = {**os.environ, "PANTHER_OPS_ROOT": str(self.root), "HOME": self.home()}
         start = time.monotonic()
-        try:
-            proc = subprocess.run(
-                ["sh", "-c", text],
-                input=stdin if stdin is not None else b"",
-                capture_output=True,
-                timeout=timeout or 120,
-                env=env,
-                cwd=self.root,
-                check=False,
-            )
-        except subprocess.TimeoutExpired:
-            raise TransportError(self.name, f"`{command}` timed out") from None
+        limit = timeout or 120
+        if until is not None and answer is not None:
+            status, out, err = _converse(["sh", "-c", text], env, self.root, stdin or b"", until, answer, limit)
+            if status is None:
+                raise TransportError(self.name, f"`{command}` timed out")
+        else:
+            try:
+                proc = subprocess.run(
+                    ["sh", "-c", text], input=stdin if stdin is not None else b"", capture_output=True,
+                    timeout=limit, env=env, cwd=self.root, check=False,
+                )
+            except subprocess.TimeoutExpired:
+                raise TransportError(self.name, f"`{command}` timed out") from None
+            status, out, err = proc.returncode, proc.stdout, proc.stderr
         return CommandResult(
-            str(command), proc.returncode, proc.stdout.decode(errors="replace"),
-            proc.stderr.decode(errors="replace"), time.monotonic() - start, proc.stdout,
+            str(command), status, out.decode(errors="replace"), err.decode(errors="replace"),
+            time.monotonic() - start, out,
         )
 
     def read_file(self, path: str) -> bytes:
@@ -112,3 +118,42 @@ class LocalTransport:
 
     def docker(self, api_version: str | None = None) -> DockerClient | None:
         return None
+
+
+def _converse(argv: list[str], env: dict[str, str], cwd: Path, stdin: bytes, until: bytes,
+              answer: Callable[[bytes], bytes], timeout: float) -> tuple[int | None, bytes, bytes]:
+    """Run a local command that may ask back (see ``Transport.run``); status None: timed out."""
+    proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env=env, cwd=cwd)
+    assert proc.stdin is not None and proc.stdout is not None and proc.stderr is not None
+    err = bytearray()
+    drain = threading.Thread(target=lambda: err.extend(proc.stderr.read() if proc.stderr else b""), daemon=True)
+    drain.start()
+    timer = threading.Timer(timeout, proc.kill)
+    timer.start()
+    out = bytearray()
+    try:
+        try:
+            proc.stdin.write(stdin)
+            proc.stdin.flush()
+        except BrokenPipeError:
+            pass
+        asking = True
+        while chunk := os.read(proc.stdout.fileno(), 65536):
+            out += chunk
+            if asking and out.endswith(until):
+                asking = False
+                try:
+                    proc.stdin.write(answer(bytes(out)))
+                    proc.stdin.close()
+                except BrokenPipeError:
+                    pass
+        if asking:
+            with contextlib.suppress(BrokenPipeError):
+                proc.stdin.close()
+        status = proc.wait()
+    finally:
+        expired = not timer.is_alive()
+        timer.cancel()
+    drain.join()
+    return (None if expired else status), bytes(out), bytes(err)

@@ -1,62 +1,77 @@
-"""Shell snippets that carry out a change in two round trips: stage, then commit.
+"""The shell side of a change: one session that stages, then commits on the go-ahead.
 
-STAGE_ALL checks that every file is still what the plan read (sha256), backs the files up
-with the manifest, and stages each new content beside its target; it prints the staged
-names. COMMIT_ALL renames the staged files into place (each rename atomic) and records the
-attempt's status. Nothing user-given is ever part of the script text: paths and values come
-as positional parameters, contents as a tar archive on stdin.
+APPLY checks that every file is still what the plan read (sha256), backs the files up beside
+the manifest, stages each new content in a temp file beside its target (same file system),
+fsyncs all of them, optionally asks the robot's own ``docker compose`` about a staged compose
+file, and prints ``STAGED_MARK``. It then waits for one line on stdin: ``go`` renames every
+staged file into place (each rename atomic) and records the status; anything else, or the
+end of the input (the connection died), removes the staged files and renames nothing.
+
+Nothing user-given is ever part of the script text: paths and values come as positional
+parameters, contents as bytes on stdin, each read with ``head -c SIZE`` (which reads no
+further than its count, so the go-ahead stays in the pipe for ``read``). Every step is a
+builtin but one process per real action (sha256sum, cp, head, chmod, sync, mv): this runs
+on every robot of a fleet at once.
 """
 
 from __future__ import annotations
 
-_RESOLVE = 'res() { case "$1" in "~/"*) printf "%s" "$HOME/${1#"~/"}";; *) printf "%s" "$1";; esac; }; '
-
 CHANGED_EXIT = 3
+"""A file changed on the robot since the plan read it: nothing written."""
+REFUSED_EXIT = 5
+"""The robot's docker compose refused the staged compose file: nothing written."""
+ABANDONED_EXIT = 4
+"""No go-ahead came (the caller said stop, or the connection died): nothing renamed."""
 
-STAGE_ALL = (
-    'r="${PANTHER_OPS_ROOT:-}"; ' + _RESOLVE
-    + 'b=$(res "$1"); sfx="$2"; shift 2; w="$r$b"; '
-    'mkdir -p -- "$w/files" "$w/new" || exit 1; '
-    'tar -x -f - -C "$w/new" || { echo "cannot unpack the upload" >&2; exit 1; }; '
-    'i=0; : > "$w/new/todo"; '
-    'while [ $# -ge 4 ]; do p=$(res "$1"); want="$2"; mode="$3"; new="$4"; shift 4; '
-    '  if [ "$want" = "-" ]; then '
-    '    if [ -e "$r$p" ]; then echo "$p appeared on the robot since it was read" >&2; exit 3; fi; '
-    '  else '
-    '    got=$(sha256sum < "$r$p" 2>/dev/null | cut -d" " -f1); '
-    '    if [ "$got" != "$want" ]; then echo "$p changed on the robot since it was read" >&2; exit 3; fi; '
-    '    cp -p -- "$r$p" "$w/files/$i" || exit 1; '
-    '  fi; '
-    '  printf "%s\\t%s\\t%s\\t%s\\n" "$i" "$mode" "$new" "$p" >> "$w/new/todo"; i=$((i+1)); '
-    'done; '
-    'mv -f -- "$w/new/manifest.json" "$w/manifest.json" || exit 1; : > "$w/staged"; '
-    'tab=$(printf "\\t"); '
-    'while IFS="$tab" read -r i mode new p; do '
-    '  if [ "$new" = 1 ]; then '
-    '    d=$(dirname -- "$r$p"); t="$d/.$(basename -- "$p").panther-ops.$sfx"; '
-    '    if ! { mkdir -p -- "$d" && cp -- "$w/new/$i" "$t"; }; then '
-    '      while read -r s; do rm -f -- "$s"; done < "$w/staged"; rm -f -- "$t"; exit 1; fi; '
-    '    echo "$t" >> "$w/staged"; '
-    '    if [ "$mode" != "-" ]; then chmod "$mode" "$t"; '
-    '    elif [ -e "$r$p" ]; then chmod --reference="$r$p" "$t" 2>/dev/null; else chmod 644 "$t"; fi; '
-    '    printf "%s\\n" "$t"; '
-    '  else printf -- "-\\n"; fi; '
-    'done < "$w/new/todo"; '
-    'sync -- "$w/manifest.json" "$w"/files/* 2>/dev/null; while read -r s; do sync -- "$s"; done < "$w/staged"; '
-    'rm -rf -- "$w/new" "$w/staged"'
-)
-"""$1 backup dir, $2 unique suffix, then per file: path, sha256 it must have now (``-``:
-must not exist), octal mode (``-``: keep), 1 if it gets new content (0: removed). Stdin: a
-tar of ``manifest.json`` and ``<index>`` files. Exit 3: a file changed since it was read."""
+STAGED_MARK = b"@@staged\n"
 
-COMMIT_ALL = (
-    'r="${PANTHER_OPS_ROOT:-}"; ' + _RESOLVE
-    + 'b=$(res "$1"); st="$2"; shift 2; '
-    'while [ $# -ge 2 ]; do t="$1"; p=$(res "$2"); shift 2; '
-    '  if [ "$t" = "-" ]; then rm -f -- "$r$p" || exit 1; else mv -f -- "$t" "$r$p" || exit 1; fi; '
-    '  sync -- "$(dirname -- "$r$p")" 2>/dev/null; '
-    'done; '
-    'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$r$b/status"; fi; exit 0'
+_EACH = (
+    'k=0; for a in "$@"; do case $k in 0) p=$a;; 1) want=$a;; 2) mode=$a;; 3) size=$a; '
+    'case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; f="$r$p"; @BODY@ ;; esac; k=$(((k+1)%4)); done; '
 )
-"""$1 backup dir, $2 status to record (empty: later), then pairs: staged file (``-``: remove
-the target), target path."""
+
+APPLY = (
+    "trap '' HUP PIPE; nl='\n'; tab='\t'; r=\"${PANTHER_OPS_ROOT:-}\"; "
+    'b="$1"; case "$b" in "~/"*) b="$HOME/${b#"~/"}";; esac; w="$r$b"; '
+    'sfx="$2"; st="$3"; msize="$4"; val="$5"; shift 5; umask 077; '
+    'staged=""; syncs=""; vt=""; '
+    'drop() { IFS="$nl"; set -f; for l in $staged; do [ "${l%%"$tab"*}" = - ] || rm -f -- "${l%%"$tab"*}"; done; }; '
+    'fail() { drop; rm -rf -- "$w"; printf "%s\\n" "$2" >&2; exit "$1"; }; '
+    'mkdir -p -- "$w/files" || exit 1; i=0; '
+    + _EACH.replace("@BODY@", (
+        'if [ "$want" = - ]; then [ -e "$f" ] && fail 3 "$p appeared on the robot since it was read"; '
+        'else got=$(sha256sum < "$f" 2>/dev/null); [ "${got%% *}" = "$want" ] || '
+        'fail 3 "$p changed on the robot since it was read"; '
+        'cp -p -- "$f" "$w/files/$i" || fail 1 "cannot back up $p"; syncs="$syncs$w/files/$i$nl"; fi; '
+        'i=$((i+1))'
+    ))
+    + 'i=0; '
+    + _EACH.replace("@BODY@", (
+        'if [ "$size" = - ]; then staged="$staged-$tab$f$nl"; else '
+        'd="${f%/*}"; t="$d/.${f##*/}.panther-ops.$sfx"; '
+        'if [ ! -d "$d" ]; then umask 022; mkdir -p -- "$d" || fail 1 "cannot create ${p%/*}"; umask 077; fi; '
+        'staged="$staged$t$tab$f$nl"; syncs="$syncs$t$nl"; [ "$i" = "$val" ] && vt="$t"; '
+        'head -c "$size" > "$t" || fail 1 "cannot write beside $p"; '
+        'if [ "$mode" != - ]; then chmod "$mode" "$t"; elif [ -e "$f" ]; then chmod --reference="$f" "$t"; '
+        'else chmod 644 "$t"; fi '
+        '|| fail 1 "cannot set the mode of the staged $p"; fi; '
+        'i=$((i+1))'
+    ))
+    + 'head -c "$msize" > "$w/manifest.json" || fail 1 "cannot write the backup manifest"; '
+    'IFS="$nl"; set -f; sync -- "$w/manifest.json" $syncs 2>/dev/null || sync; '
+    'if [ -n "$vt" ] && [ -z "$r" ] && command -v docker >/dev/null 2>&1 && docker compose version >/dev/null 2>&1; '
+    'then if ! err=$(cd "${vt%/*}" && docker compose -f "$vt" config -q 2>&1); then drop; '
+    '  printf "refused: %s\\n" "$err" > "$w/status"; printf "%s\\n" "$err" >&2; exit 5; fi; fi; '
+    'printf "@@staged\\n"; go=""; read -r go; '
+    'if [ "$go" != go ]; then drop; printf "abandoned: no go-ahead (%s)\\n" "${go:-connection closed}" > "$w/status"; '
+    '  exit 4; fi; '
+    'dirs=""; for l in $staged; do t="${l%%"$tab"*}"; f="${l#*"$tab"}"; '
+    '  if [ "$t" = - ]; then rm -f -- "$f" || exit 1; else mv -f -- "$t" "$f" || exit 1; fi; dirs="$dirs${f%/*}$nl"; '
+    'done; sync -- $dirs 2>/dev/null; '
+    'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$w/status"; fi; exit 0'
+)
+"""$1 backup dir, $2 unique suffix, $3 status to record once renamed (empty: later), $4 size
+of the manifest, $5 index of the file to validate with docker compose (``-``: none), then per
+file: path, sha256 it must have now (``-``: must not exist), octal mode (``-``: keep), size of
+the new content (``-``: remove the file). Stdin: each new content in order, then the manifest,
+then (after ``STAGED_MARK``) the go-ahead line."""

@@ -11,11 +11,13 @@ import os
 import secrets
 import socket
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from panther_ops.errors import HostKeyError, TransportError, UnreachableError
 from panther_ops.transport import scripts
 from panther_ops.transport.base import Command, CommandResult, Endpoint
+from panther_ops.transport.filecache import parsed
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 from panther_ops.transport.ssh_config import Hop, resolve
 
@@ -40,6 +42,12 @@ def _refuse_unknown_policy() -> Any:
     return RefuseUnknown()
 
 
+def _load_host_keys(path: str) -> paramiko.HostKeys:
+    import paramiko
+
+    return paramiko.HostKeys(path)
+
+
 def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> paramiko.SSHClient:
     """Connect one hop (through its jump chain); every client opened is appended to ``clients``."""
     import paramiko
@@ -60,9 +68,11 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
             ) from exc
     client = paramiko.SSHClient()
     keys = client.get_host_keys()
-    for path in hop.known_hosts:
-        if os.path.exists(path):
-            keys.load(path)
+    name = known_hosts_name(hop.hostname, hop.port)
+    for path in hop.known_hosts:  # each file parsed once per command; only this host's entries are added
+        known = parsed("known_hosts", path, _load_host_keys)
+        for keytype, key in (known.lookup(name) or {}).items() if known is not None else ():
+            keys.add(name, keytype, key)
     client.set_missing_host_key_policy(_refuse_unknown_policy())
     try:
         client.connect(
@@ -108,20 +118,26 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
     return client
 
 
-def exec_channel(transport: Any, command: str, timeout: float,
-                 stdin: bytes | None = None) -> tuple[int, bytes, bytes]:
+def exec_channel(
+    transport: Any, command: str, timeout: float, stdin: bytes | None = None,
+    until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
+) -> tuple[int, bytes, bytes]:
     """Run one command on a new session of an open paramiko transport.
 
     Returns (exit status, stdout, stderr); the status is -1 when the channel closed without
     one (the host went away). Stderr is drained as stdout arrives (up to the channel window
-    if a command writes only to stderr).
+    if a command writes only to stderr). With ``until``/``answer`` the input stays open after
+    ``stdin`` until the output ends with ``until``; then ``answer(output so far)`` is sent and
+    the input closed (a command that ends before asking is not answered).
     """
     chan = transport.open_session(timeout=timeout)
     chan.settimeout(timeout)
     chan.exec_command(command)
     if stdin is not None:
         chan.sendall(stdin)
-    chan.shutdown_write()
+    asking = until is not None and answer is not None
+    if not asking:
+        chan.shutdown_write()
     out, err = bytearray(), bytearray()
     while True:
         data = chan.recv(65536)
@@ -130,6 +146,10 @@ def exec_channel(transport: Any, command: str, timeout: float,
         if not data:
             break
         out += data
+        if asking and answer is not None and until is not None and out.endswith(until):
+            asking = False
+            chan.sendall(answer(bytes(out)))
+            chan.shutdown_write()
     status = chan.recv_exit_status()
     while chan.recv_stderr_ready():
         err += chan.recv_stderr(65536)
@@ -171,7 +191,8 @@ class SshTransport:
 
     # -- commands -----------------------------------------------------------------
     def run(
-        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None
+        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
+        until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
     ) -> CommandResult:
         import paramiko
 
@@ -183,7 +204,7 @@ class SshTransport:
         if transport is None or not transport.is_active():
             raise UnreachableError(self.name, "connection lost")
         try:
-            status, out, err = exec_channel(transport, text, limit, stdin)
+            status, out, err = exec_channel(transport, text, limit, stdin, until, answer)
         except TimeoutError:
             raise TransportError(self.name, f"`{shown}` timed out after {limit:.0f} s") from None
         except (paramiko.SSHException, OSError, EOFError) as exc:

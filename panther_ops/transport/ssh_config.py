@@ -10,6 +10,7 @@ import os
 from dataclasses import dataclass, replace
 
 from panther_ops.transport.base import Endpoint
+from panther_ops.transport.filecache import parsed
 
 DEFAULT_KNOWN_HOSTS = "~/.ssh/known_hosts"
 
@@ -28,14 +29,21 @@ class Hop:
     jump: Hop | None = None
 
 
+_lookups: dict[tuple[int, str], dict[str, object]] = {}
+
+
 def _lookup(config_path: str | None, alias: str) -> dict[str, object]:
+    """ssh_config's answer for ``alias`` (the file parsed once per command, each alias looked up once)."""
     import paramiko
 
     path = os.path.expanduser(config_path or "~/.ssh/config")
-    if not os.path.exists(path):
+    conf = parsed("ssh_config", path, paramiko.SSHConfig.from_path)
+    if conf is None:
         return {}
-    conf = paramiko.SSHConfig.from_path(path)
-    return dict(conf.lookup(alias))
+    key = (id(conf), alias)
+    if key not in _lookups:
+        _lookups[key] = dict(conf.lookup(alias))
+    return dict(_lookups[key])
 
 
 def _parse_jump_spec(spec: str) -> tuple[str | None, str, int | None]:
