@@ -9,12 +9,15 @@ from __future__ import annotations
 import logging
 import os
 import sys
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
 from panther_ops import __version__
 from panther_ops.cli.context import Settings
+
+if TYPE_CHECKING:
+    from typer.models import CommandInfo, TyperInfo
 
 HELP = """Fleet operations and configuration for Husarion Panther robots (ROS 2 Humble).
 
@@ -66,22 +69,60 @@ def root(
         logging.getLogger("paramiko").setLevel(logging.CRITICAL)
 
 
-def _register() -> None:
-    from panther_ops.cli.commands import bt, config, demo, fleet, inventory, lights, manager, trust
-
-    fleet.register(app)
-    config.register(app)
-    from panther_ops.cli.commands import driver; driver.register(app)  # noqa: E702, I001
-    trust.register(app)
-    from panther_ops.cli.commands import shutdown; shutdown.register(app)  # noqa: E702, I001
-    app.add_typer(inventory.app, name="inventory")
-    app.add_typer(demo.app, name="demo")
-    app.add_typer(bt.app, name="bt")
-    app.add_typer(lights.app, name="lights")
-    app.add_typer(manager.app, name="manager")
+_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager")
+"""Command modules in the order --help lists them."""
+_NEEDS = {
+    "status": ("fleet",), "doctor": ("fleet",), "config": ("config", "driver"), "apply": ("config",),
+    "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
+    "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
+}
+"""Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""
+_registered: dict[str, tuple[list[CommandInfo], list[TyperInfo]]] = {}
 
 
-_register()
+def _register_module(name: str) -> None:
+    import importlib
+
+    if name in _registered:
+        return
+    mod = importlib.import_module(f"panther_ops.cli.commands.{name}")
+    commands, groups = len(app.registered_commands), len(app.registered_groups)
+    if hasattr(mod, "register"):
+        mod.register(app)
+    else:
+        app.add_typer(mod.app, name=name)
+    _registered[name] = (app.registered_commands[commands:], app.registered_groups[groups:])
+
+
+def _register(command: str | None = None) -> None:
+    """Register the commands a run needs: those of a known command word, else all of them.
+
+    typer builds every registered command (parameters, converters) on each run, so a fleet
+    command registers only its own group; --help, an unknown word or no word gets them all.
+    """
+    for name in _NEEDS.get(command or "", _ORDER):
+        _register_module(name)
+    app.registered_commands[:] = [c for n in _ORDER if n in _registered for c in _registered[n][0]]
+    app.registered_groups[:] = [g for n in _ORDER if n in _registered for g in _registered[n][1]]
+
+
+def _command_word(argv: list[str]) -> str | None:
+    """The command word after the global options (None with --help/--version or none given)."""
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("-h", "--help", "--version"):
+            return None
+        if a == "--inventory":
+            i += 2
+        elif a.startswith("--"):
+            i += 1
+        elif a.startswith("-") and len(a) > 1:
+            flags = a[1:]
+            i += 2 if flags.endswith("i") else 1  # -i PATH, -vi PATH; -iPATH carries its value
+        else:
+            return a
+    return None
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -93,8 +134,10 @@ def main(argv: list[str] | None = None) -> int:
 
     from panther_ops.errors import ExitCode, OpsError
 
+    args = list(sys.argv[1:] if argv is None else argv)
+    _register(_command_word(args))
     try:
-        rv = app(args=argv, standalone_mode=False, prog_name="panther-ops")
+        rv = app(args=args, standalone_mode=False, prog_name="panther-ops")
     except OpsError as exc:
         from panther_ops.cli.render import error
 

@@ -37,7 +37,9 @@ def _preload_ssh() -> None:
     import threading
 
     def load() -> None:
-        import paramiko  # noqa: F401
+        from panther_ops.transport.paramiko_import import import_paramiko
+
+        import_paramiko()
 
     threading.Thread(target=load, name="preload-paramiko", daemon=True).start()
 

@@ -93,13 +93,19 @@ def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: b
 
 
 def print_diffs(fleet: FleetResult) -> None:
+    """Each distinct diff once, under the robots it belongs to (a fleet of one release
+    usually gets one diff for all its robots)."""
     from rich.syntax import Syntax
 
-    out = _console()
+    groups: dict[tuple[str, str], list[str]] = {}
     for r in fleet.results:
         for d in r.diffs:
-            out.print(f"[bold]{r.robot}[/]: {d.path}")
-            out.print(Syntax(d.unified, "diff", theme="ansi_dark", background_color="default"))
+            groups.setdefault((d.path, d.unified), []).append(r.robot)
+    out = _console()
+    for (path, unified), robots in groups.items():
+        who = robots[0] if len(robots) == 1 else f"{len(robots)} robots ({', '.join(robots)})"
+        out.print(f"[bold]{esc(who)}[/]: {esc(path)}")
+        out.print(Syntax(unified, "diff", theme="ansi_dark", background_color="default"))
 
 
 def print_warnings(fleet: FleetResult) -> None:
