@@ -539,6 +539,20 @@ def table(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def compile_bytecode(exe: str) -> None:
+    """Compile the checkout's modules for the interpreter of ``exe`` (its shebang), as pip does
+    when it installs a package: an editable install run with PYTHONDONTWRITEBYTECODE set would
+    otherwise compile panther_ops from source on every run, which the other tools, installed
+    from wheels, never do."""
+    try:
+        first = Path(exe).read_bytes().split(b"\n", 1)[0].decode()
+    except (OSError, UnicodeDecodeError):
+        return
+    if first.startswith("#!") and "python" in first:
+        subprocess.run([*first[2:].split(), "-m", "compileall", "-q", str(REPO / "panther_ops")], check=True,
+                       stdout=subprocess.DEVNULL)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", default="10,30", help="robot counts, comma separated (default 10,30)")
@@ -572,6 +586,7 @@ def main() -> int:
         log("config_bench: the lab cannot run here: " + "; ".join(missing))
         return 2
     bindir = ensure_tool_venv(args.venv)
+    compile_bytecode(args.panther_ops)
     doc: dict[str, Any] = {
         "benchmark": "config set wheel_type WH02 on N robots (compose.yaml edit, no restart)",
         "date": time.strftime("%Y-%m-%d"),

@@ -64,7 +64,7 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     Planned once per distinct compose.yaml (and stack setting) of the fleet; the robots
     that share one get the same edit.
     """
-    raw = read_compose(ctx)
+    raw = read_compose(ctx, keep=True)
     key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force)
     out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force))
     edits = [FileEdit(raw.path, raw.before, out.after)] if out.after != raw.before else []
@@ -111,7 +111,7 @@ def compose_plan(ctx: RobotContext, cfg: RobotConfig, summary: str, warnings: li
 def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False,
                     cfg: RobotConfig | None = None) -> RobotPlan:
     """``config set controller.<key> VALUE``: the robot's custom controller file."""
-    cfg = cfg or read_config(ctx)
+    cfg = cfg or read_config(ctx, keep=True)
     edits, warnings, verify, summary = controller_edits(ctx, cfg, limits, force)
     noop = ", ".join(f"controller {k} already {v}" for k, v in limits.items())
     return compose_plan(ctx, cfg, summary, warnings, [verify], noop, extra=edits)
@@ -169,7 +169,7 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     if not desired:
         cfg = read_config(ctx)
         return compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
-    cfg = read_config(ctx)
+    cfg = read_config(ctx, keep=True)
     old_args = dict(cfg.compose.args)
     warnings: list[str] = []
     verify: list[Verify] = []

@@ -213,10 +213,12 @@ def _write(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, backup_dir: s
             opts.on_staged(name)
         return b"go\n"
 
-    res = ctx.transport.run(
-        Command.sh(scripts_apply.APPLY, backup_dir, suffix, status, str(len(manifest_bytes)), validate, *args),
-        stdin=payload, until=scripts_apply.STAGED_MARK, answer=go_ahead,
-    )
+    argv = [backup_dir, suffix, status, str(len(manifest_bytes)), validate, *args]
+    res = ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
+                               until=scripts_apply.STAGED_MARK, answer=go_ahead)  # the plan's kept read
+    if res is None:
+        res = ctx.transport.run(Command.sh(scripts_apply.APPLY, *argv), stdin=payload,
+                                until=scripts_apply.STAGED_MARK, answer=go_ahead)
     if res.exit_status == scripts_apply.CHANGED_EXIT:
         return "a file changed on the robot since it was read; nothing written, run again"
     if res.exit_status == scripts_apply.REFUSED_EXIT:

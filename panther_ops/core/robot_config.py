@@ -7,6 +7,7 @@ container path comes from, which file a launch argument points at).
 from __future__ import annotations
 
 import posixpath
+import secrets
 from dataclasses import dataclass
 
 from panther_ops.core.compose import ComposeFile
@@ -14,7 +15,7 @@ from panther_ops.core.config_files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.runner import RobotContext
 from panther_ops.core.stack import Stack, stack_from_version
 from panther_ops.errors import RemoteStateError, TransportError
-from panther_ops.transport import scripts
+from panther_ops.transport import scripts, scripts_apply
 from panther_ops.transport.base import Command
 
 
@@ -69,9 +70,18 @@ class ComposeRead:
     before: bytes
 
 
-def read_compose(ctx: RobotContext) -> ComposeRead:
-    """Read the robot's compose.yaml and its user's home (one round trip)."""
-    res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, ctx.robot.compose_file))
+def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
+    """Read the robot's compose.yaml and its user's home (one round trip).
+
+    ``keep``: the read's session stays open on the robot, waiting to carry this command's
+    write (the pipeline resumes it), so a change costs the robot one session, not two.
+    """
+    if keep:
+        mark = f"@@panther-ops-{secrets.token_hex(8)}@@"
+        res = ctx.transport.run_kept(Command.sh(scripts_apply.READ_KEPT, ctx.robot.compose_file, mark),
+                                     f"{mark}\n".encode(), scripts_apply.WRITE_KEY)
+    else:
+        res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, ctx.robot.compose_file))
     home, _, rest = res.raw_stdout.partition(b"\n")
     path = ctx.robot.compose_file
     if path.startswith("~/"):
@@ -90,6 +100,6 @@ def parse_config(raw: ComposeRead, stack_setting: str) -> RobotConfig:
     return RobotConfig(raw.home, raw.path, raw.before, compose, stack)
 
 
-def read_config(ctx: RobotContext) -> RobotConfig:
-    """Read and parse the robot's compose.yaml (one read)."""
-    return parse_config(read_compose(ctx), ctx.robot.stack)
+def read_config(ctx: RobotContext, *, keep: bool = False) -> RobotConfig:
+    """Read and parse the robot's compose.yaml (one read; ``keep`` as for :func:`read_compose`)."""
+    return parse_config(read_compose(ctx, keep=keep), ctx.robot.stack)

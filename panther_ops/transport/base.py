@@ -136,6 +136,23 @@ class Transport(Protocol):
         is sent and the input closed; a command that ends without asking is not answered."""
         ...
 
+    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
+        """Run a command up to the moment its output ends with ``until``, and keep it running,
+        waiting for input, under ``key`` (for :meth:`resume` in a later phase; closed with the
+        transport). The result holds the output before ``until``. A command that ends without
+        printing ``until`` is not kept: its result is returned as :meth:`run` would."""
+        ...
+
+    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
+               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
+        """Continue the command kept under ``key`` as :meth:`run` would with these arguments
+        (the result holds only what it printed from now on); None when none is kept."""
+        ...
+
+    def drop_kept(self, key: str) -> None:
+        """Close the input of the command kept under ``key`` (if any): it ends on its own."""
+        ...
+
     def read_file(self, path: str) -> bytes:
         """Read a file; raises FileNotFoundError when it does not exist."""
         ...

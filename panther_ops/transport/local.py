@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 
 from panther_ops.errors import TransportError, UnreachableError
 from panther_ops.transport.base import Command, CommandResult
+from panther_ops.transport.conversation import Conversation
 
 if TYPE_CHECKING:
     from docker import DockerClient
@@ -33,6 +34,7 @@ class LocalTransport:
         self.name = name
         self.root = root
         self.user = user
+        self._kept: dict[str, tuple[Conversation, Command]] = {}
 
     def connect(self) -> None:
         if not (self.root / "home" / self.user).is_dir():
@@ -43,7 +45,8 @@ class LocalTransport:
             )
 
     def close(self) -> None:
-        return None
+        for key in list(self._kept):
+            self.drop_kept(key)
 
     def home(self) -> str:
         return f"/home/{self.user}"
@@ -63,27 +66,48 @@ class LocalTransport:
         self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
         until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
     ) -> CommandResult:
-        text = command.render(reveal=True)
-        env = {**os.environ, "PANTHER_OPS_ROOT": str(self.root), "HOME": self.home()}
         start = time.monotonic()
-        limit = timeout or 120
-        if until is not None and answer is not None:
-            status, out, err = _converse(["sh", "-c", text], env, self.root, stdin or b"", until, answer, limit)
-            if status is None:
-                raise TransportError(self.name, f"`{command}` timed out")
-        else:
-            try:
-                proc = subprocess.run(
-                    ["sh", "-c", text], input=stdin if stdin is not None else b"", capture_output=True,
-                    timeout=limit, env=env, cwd=self.root, check=False,
-                )
-            except subprocess.TimeoutExpired:
-                raise TransportError(self.name, f"`{command}` timed out") from None
-            status, out, err = proc.returncode, proc.stdout, proc.stderr
-        return CommandResult(
-            str(command), status, out.decode(errors="replace"), err.decode(errors="replace"),
-            time.monotonic() - start, out,
-        )
+        pipe = self._pipe(command, timeout)
+        status, out, err = Conversation(pipe).finish(stdin, until, answer)
+        return self._result(command, pipe, status, out, err, start)
+
+    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
+        start = time.monotonic()
+        pipe = self._pipe(command, timeout)
+        conv = Conversation(pipe)
+        if conv.read_until(until):
+            self.drop_kept(key)
+            self._kept[key] = (conv, command)
+            return CommandResult(str(command), 0, "", "", time.monotonic() - start, conv.take_output()[: -len(until)])
+        status, out, err = conv.finish()
+        return self._result(command, pipe, status, out, err, start)
+
+    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
+               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
+        kept = self._kept.pop(key, None)
+        if kept is None:
+            return None
+        conv, command = kept
+        start = time.monotonic()
+        status, out, err = conv.finish(stdin, until, answer)
+        assert isinstance(conv.pipe, _ProcessPipe)
+        return self._result(command, conv.pipe, status, out, err, start)
+
+    def drop_kept(self, key: str) -> None:
+        kept = self._kept.pop(key, None)
+        if kept is not None:
+            kept[0].finish()  # its input closes: the command ends on its own
+
+    def _pipe(self, command: Command, timeout: float | None) -> _ProcessPipe:
+        env = {**os.environ, "PANTHER_OPS_ROOT": str(self.root), "HOME": self.home()}
+        return _ProcessPipe(["sh", "-c", command.render(reveal=True)], env, self.root, timeout or 120)
+
+    def _result(self, command: Command, pipe: _ProcessPipe, status: int, out: bytes, err: bytes,
+                start: float) -> CommandResult:
+        if pipe.expired:
+            raise TransportError(self.name, f"`{command}` timed out")
+        return CommandResult(str(command), status, out.decode(errors="replace"), err.decode(errors="replace"),
+                             time.monotonic() - start, out)
 
     def read_file(self, path: str) -> bytes:
         p = self.local_path(path)
@@ -120,40 +144,52 @@ class LocalTransport:
         return None
 
 
-def _converse(argv: list[str], env: dict[str, str], cwd: Path, stdin: bytes, until: bytes,
-              answer: Callable[[bytes], bytes], timeout: float) -> tuple[int | None, bytes, bytes]:
-    """Run a local command that may ask back (see ``Transport.run``); status None: timed out."""
-    proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            env=env, cwd=cwd)
-    assert proc.stdin is not None and proc.stdout is not None and proc.stderr is not None
-    err = bytearray()
-    drain = threading.Thread(target=lambda: err.extend(proc.stderr.read() if proc.stderr else b""), daemon=True)
-    drain.start()
-    timer = threading.Timer(timeout, proc.kill)
-    timer.start()
-    out = bytearray()
-    try:
-        try:
-            proc.stdin.write(stdin)
-            proc.stdin.flush()
-        except BrokenPipeError:
-            pass
-        asking = True
-        while chunk := os.read(proc.stdout.fileno(), 65536):
-            out += chunk
-            if asking and out.endswith(until):
-                asking = False
-                try:
-                    proc.stdin.write(answer(bytes(out)))
-                    proc.stdin.close()
-                except BrokenPipeError:
-                    pass
-        if asking:
-            with contextlib.suppress(BrokenPipeError):
-                proc.stdin.close()
-        status = proc.wait()
-    finally:
-        expired = not timer.is_alive()
-        timer.cancel()
-    drain.join()
-    return (None if expired else status), bytes(out), bytes(err)
+class _ProcessPipe:
+    """A local command as a :class:`Pipe`; killed when it outlives ``timeout`` seconds."""
+
+    def __init__(self, argv: list[str], env: dict[str, str], cwd: Path, timeout: float) -> None:
+        self.proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, env=env, cwd=cwd)
+        self.err = bytearray()
+        self._drain = threading.Thread(target=self._read_stderr, daemon=True)
+        self._drain.start()
+        self._timer = threading.Timer(timeout, self._expire)
+        self._timer.start()
+        self.expired = False
+
+    def _read_stderr(self) -> None:
+        assert self.proc.stderr is not None
+        while chunk := os.read(self.proc.stderr.fileno(), 65536):
+            self.err += chunk
+
+    def _expire(self) -> None:
+        self.expired = True
+        self.proc.kill()
+
+    def send(self, data: bytes) -> None:
+        assert self.proc.stdin is not None
+        with contextlib.suppress(BrokenPipeError):
+            self.proc.stdin.write(data)
+            self.proc.stdin.flush()
+
+    def close_input(self) -> None:
+        assert self.proc.stdin is not None
+        with contextlib.suppress(BrokenPipeError):
+            self.proc.stdin.close()
+
+    def recv(self) -> bytes:
+        assert self.proc.stdout is not None
+        return os.read(self.proc.stdout.fileno(), 65536)
+
+    def stderr(self) -> bytes:
+        self._drain.join()
+        return bytes(self.err)
+
+    def wait(self) -> int:
+        return self.proc.wait()
+
+    def close(self) -> None:
+        self._timer.cancel()
+        assert self.proc.stdout is not None and self.proc.stderr is not None
+        self.proc.stdout.close()
+        self.proc.stderr.close()

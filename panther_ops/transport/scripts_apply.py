@@ -30,7 +30,7 @@ _EACH = (
     'case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; f="$r$p"; @BODY@ ;; esac; k=$(((k+1)%4)); done; '
 )
 
-APPLY = (
+_APPLY_FN = "apply_() { " + (
     "trap '' HUP PIPE; nl='\n'; tab='\t'; r=\"${PANTHER_OPS_ROOT:-}\"; "
     'b="$1"; case "$b" in "~/"*) b="$HOME/${b#"~/"}";; esac; w="$r$b"; '
     'sfx="$2"; st="$3"; msize="$4"; val="$5"; shift 5; umask 077; '
@@ -69,9 +69,32 @@ APPLY = (
     '  if [ "$t" = - ]; then rm -f -- "$f" || exit 1; else mv -f -- "$t" "$f" || exit 1; fi; dirs="$dirs${f%/*}$nl"; '
     'done; sync -- $dirs 2>/dev/null; '
     'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$w/status"; fi; exit 0'
-)
+) + "; }; "
+
+APPLY = _APPLY_FN + 'apply_ "$@"'
 """$1 backup dir, $2 unique suffix, $3 status to record once renamed (empty: later), $4 size
 of the manifest, $5 index of the file to validate with docker compose (``-``: none), then per
 file: path, sha256 it must have now (``-``: must not exist), octal mode (``-``: keep), size of
 the new content (``-``: remove the file). Stdin: each new content in order, then the manifest,
 then (after ``STAGED_MARK``) the go-ahead line."""
+
+WRITE_KEY = "write"
+"""The key a kept read of compose.yaml is held under (see ``Transport.run_kept``)."""
+
+READ_KEPT = (
+    'r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; '
+    'printf "%s\\n" "$HOME"; if [ -f "$r$p" ]; then cat -- "$r$p" || exit 1; '
+    'else echo "no such file: $p" >&2; exit 44; fi; printf "%s\\n" "$2"; '
+    'IFS= read -r req || exit 0; [ "$req" = apply ] || exit 0; IFS= read -r n || exit 0; set --; '
+    'while [ "$n" -gt 0 ]; do IFS= read -r a || exit 0; set -- "$@" "$a"; n=$((n-1)); done; '
+) + _APPLY_FN + 'apply_ "$@"'
+"""Read compose.yaml as ``READ_WITH_HOME`` does ($1; $HOME on the first line), print the mark
+$2, then wait: a request ``apply``, the number of arguments and one per line, then the bytes
+APPLY reads, carries out the write in this same session; the end of input ends it."""
+
+
+def apply_request(args: list[str]) -> bytes:
+    """The input that turns a kept ``READ_KEPT`` into ``APPLY args`` (arguments hold no newline)."""
+    if any("\n" in a for a in args):
+        raise ValueError("an argument of the write holds a newline")
+    return ("apply\n" + f"{len(args)}\n" + "".join(a + "\n" for a in args)).encode()

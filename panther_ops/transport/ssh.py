@@ -7,19 +7,23 @@ of it, so the robot's sshd sees exactly one connection.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import secrets
 import socket
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from panther_ops.errors import HostKeyError, TransportError, UnreachableError
 from panther_ops.transport import scripts
 from panther_ops.transport.base import Command, CommandResult, Endpoint
+from panther_ops.transport.conversation import Conversation
 from panther_ops.transport.filecache import parsed
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 from panther_ops.transport.ssh_config import Hop, resolve
+
+T = TypeVar("T")
 
 if TYPE_CHECKING:
     import paramiko
@@ -118,6 +122,46 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
     return client
 
 
+class _ChannelPipe:
+    """A command on a new session of an open paramiko transport, as a :class:`Pipe`."""
+
+    def __init__(self, transport: Any, command: str, timeout: float) -> None:
+        self.chan = transport.open_session(timeout=timeout)
+        self.chan.settimeout(timeout)
+        self.chan.exec_command(command)
+        self.err = bytearray()
+
+    def send(self, data: bytes) -> None:
+        self.chan.sendall(data)
+
+    def close_input(self) -> None:
+        self.chan.shutdown_write()
+
+    def recv(self) -> bytes:
+        data: bytes = self.chan.recv(65536)
+        self._drain()
+        return data
+
+    def _drain(self) -> None:
+        while self.chan.recv_stderr_ready():
+            self.err += self.chan.recv_stderr(65536)
+
+    def stderr(self) -> bytes:
+        self._drain()
+        return bytes(self.err)
+
+    def wait(self) -> int:
+        return int(self.chan.recv_exit_status())
+
+    def close(self) -> None:
+        self.chan.close()
+
+
+def _result(shown: str, status: int, out: bytes, err: bytes, start: float) -> CommandResult:
+    return CommandResult(shown, status, out.decode(errors="replace"), err.decode(errors="replace"),
+                         time.monotonic() - start, out)
+
+
 def exec_channel(
     transport: Any, command: str, timeout: float, stdin: bytes | None = None,
     until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
@@ -130,31 +174,7 @@ def exec_channel(
     ``stdin`` until the output ends with ``until``; then ``answer(output so far)`` is sent and
     the input closed (a command that ends before asking is not answered).
     """
-    chan = transport.open_session(timeout=timeout)
-    chan.settimeout(timeout)
-    chan.exec_command(command)
-    if stdin is not None:
-        chan.sendall(stdin)
-    asking = until is not None and answer is not None
-    if not asking:
-        chan.shutdown_write()
-    out, err = bytearray(), bytearray()
-    while True:
-        data = chan.recv(65536)
-        while chan.recv_stderr_ready():
-            err += chan.recv_stderr(65536)
-        if not data:
-            break
-        out += data
-        if asking and answer is not None and until is not None and out.endswith(until):
-            asking = False
-            chan.sendall(answer(bytes(out)))
-            chan.shutdown_write()
-    status = chan.recv_exit_status()
-    while chan.recv_stderr_ready():
-        err += chan.recv_stderr(65536)
-    chan.close()
-    return status, bytes(out), bytes(err)
+    return Conversation(_ChannelPipe(transport, command, timeout)).finish(stdin, until, answer)
 
 
 class SshTransport:
@@ -168,6 +188,7 @@ class SshTransport:
         self._home: str | None = None
         self._docker: DockerClient | None = None
         self._docker_checked = False
+        self._kept: dict[str, tuple[Conversation, str, float]] = {}
 
     # -- connection ---------------------------------------------------------------
     def connect(self) -> None:
@@ -181,6 +202,8 @@ class SshTransport:
         return self._client
 
     def close(self) -> None:
+        for key in list(self._kept):
+            self.drop_kept(key)
         if self._docker is not None:
             self._docker.close()
             self._docker = None
@@ -194,25 +217,58 @@ class SshTransport:
         self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
         until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
     ) -> CommandResult:
-        import paramiko
-
-        text = command.render(reveal=True)
         shown = command.render(reveal=False)
-        limit = timeout if timeout is not None else self.endpoint.command_timeout
         start = time.monotonic()
+        limit = timeout if timeout is not None else self.endpoint.command_timeout
+        conv = self._guard(shown, limit, lambda: Conversation(self._pipe(command, limit)))
+        status, out, err = self._guard(shown, limit, lambda: conv.finish(stdin, until, answer))
+        return _result(shown, status, out, err, start)
+
+    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
+        shown = command.render(reveal=False)
+        start = time.monotonic()
+        limit = timeout if timeout is not None else self.endpoint.command_timeout
+        conv = self._guard(shown, limit, lambda: Conversation(self._pipe(command, limit)))
+        if self._guard(shown, limit, lambda: conv.read_until(until)):
+            self.drop_kept(key)
+            self._kept[key] = (conv, shown, limit)
+            return _result(shown, 0, conv.take_output()[: -len(until)], b"", start)
+        status, out, err = self._guard(shown, limit, conv.finish)
+        return _result(shown, status, out, err, start)
+
+    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
+               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
+        kept = self._kept.pop(key, None)
+        if kept is None:
+            return None
+        conv, shown, limit = kept
+        start = time.monotonic()
+        status, out, err = self._guard(shown, limit, lambda: conv.finish(stdin, until, answer))
+        return _result(shown, status, out, err, start)
+
+    def drop_kept(self, key: str) -> None:
+        kept = self._kept.pop(key, None)
+        if kept is not None:
+            with contextlib.suppress(Exception):  # the command ends on its own when its input closes
+                kept[0].pipe.close_input()
+                kept[0].pipe.close()
+
+    def _pipe(self, command: Command, limit: float) -> _ChannelPipe:
         transport = self.client.get_transport()
         if transport is None or not transport.is_active():
             raise UnreachableError(self.name, "connection lost")
+        return _ChannelPipe(transport, command.render(reveal=True), limit)
+
+    def _guard(self, shown: str, limit: float, step: Callable[[], T]) -> T:
+        """Run one step of a command; SSH failures become panther-ops errors."""
+        import paramiko
+
         try:
-            status, out, err = exec_channel(transport, text, limit, stdin, until, answer)
+            return step()
         except TimeoutError:
             raise TransportError(self.name, f"`{shown}` timed out after {limit:.0f} s") from None
         except (paramiko.SSHException, OSError, EOFError) as exc:
             raise UnreachableError(self.name, f"connection lost during `{shown}`: {exc}") from None
-        return CommandResult(
-            shown, status, out.decode(errors="replace"), err.decode(errors="replace"),
-            time.monotonic() - start, out,
-        )
 
     # -- files ----------------------------------------------------------------------
     def read_file(self, path: str) -> bytes:

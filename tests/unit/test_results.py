@@ -37,3 +37,19 @@ def test_json_document() -> None:
     assert doc["exit_code"] == 3
     assert doc["summary"]["ok"] == 1 and doc["summary"]["unreachable"] == 1
     assert [r["outcome"] for r in doc["robots"]] == ["ok", "unreachable"]
+
+
+def test_identical_diffs_are_shown_once_under_their_robots(capsys: pytest.CaptureFixture[str]) -> None:
+    from panther_ops.cli.render import print_diffs
+    from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
+
+    same = Diff("/home/husarion/compose.yaml", "--- a/x\n+++ b/x\n@@ -1 +1 @@\n-wheel_type:=WH01\n+wheel_type:=WH02\n")
+    other = Diff("/home/husarion/compose.yaml", "--- a/x\n+++ b/x\n@@ -1 +1 @@\n-wheel_type:=WH04\n+wheel_type:=WH02\n")
+    fleet = FleetResult("t", [RobotResult(n, Outcome.CHANGED, "m", diffs=[d])
+                              for n, d in (("r1", same), ("r2", other), ("r3", same))])
+    print_diffs(fleet)
+    out = capsys.readouterr().out
+    assert out.count("+wheel_type:=WH02") == 2
+    assert "2 robots (r1, r3): /home/husarion/compose.yaml" in out
+    assert "r2: /home/husarion/compose.yaml" in out
+    assert out.index("r1, r3") < out.index("r2:")

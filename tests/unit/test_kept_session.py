@@ -1,0 +1,139 @@
+"""A plan's read of compose.yaml kept open to carry the write: one session per robot per change."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+from panther_ops.core.config_plans import plan_args
+from panther_ops.core.inventory import load_inventory
+from panther_ops.core.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.runner import Connections, RobotContext
+from panther_ops.transport import scripts_apply
+from panther_ops.transport.base import Command
+from panther_ops.transport.local import LocalTransport
+
+MARK = b"@@mark@@\n"
+
+
+@pytest.fixture
+def robot(tmp_path: Path) -> LocalTransport:
+    root = tmp_path / "robot"
+    (root / "home" / "husarion").mkdir(parents=True)
+    return LocalTransport("r", root)
+
+
+def test_kept_command_waits_for_input_and_resumes(robot: LocalTransport) -> None:
+    res = robot.run_kept(Command.sh('printf "first\\n@@mark@@\\n"; read -r x; printf "got %s\\n" "$x"; exit 7'),
+                         MARK, "k")
+    assert res.exit_status == 0 and res.raw_stdout == b"first\n"
+    later = robot.resume("k", b"hello\n")
+    assert later is not None
+    assert later.exit_status == 7 and later.raw_stdout == b"got hello\n"
+    assert robot.resume("k", b"again\n") is None, "a kept command is resumed once"
+
+
+def test_command_that_ends_before_the_mark_is_not_kept(robot: LocalTransport) -> None:
+    res = robot.run_kept(Command.sh('echo nope; echo bad >&2; exit 44'), MARK, "k")
+    assert (res.exit_status, res.stdout, res.stderr) == (44, "nope\n", "bad\n")
+    assert robot.resume("k", b"x\n") is None
+
+
+def test_dropping_and_closing_end_the_kept_command(robot: LocalTransport, tmp_path: Path) -> None:
+    flag = tmp_path / "ended"
+    script = 'printf "@@mark@@\\n"; read -r x || : ; echo "${x:-eof}" > "$1"'
+    robot.run_kept(Command.sh(script, str(flag)), MARK, "k")
+    robot.drop_kept("k")
+    assert flag.read_text() == "eof\n", "its input closed: the command saw the end and finished"
+    robot.run_kept(Command.sh(script, str(flag) + "2"), MARK, "k")
+    robot.close()
+    assert (tmp_path / "ended2").read_text() == "eof\n"
+
+
+def test_read_kept_then_apply_in_the_same_session(robot: LocalTransport) -> None:
+    home = robot.root / "home" / "husarion"
+    (home / "compose.yaml").write_bytes(b"old\n")
+    mark = "@@m@@"
+    res = robot.run_kept(Command.sh(scripts_apply.READ_KEPT, "~/compose.yaml", mark), f"{mark}\n".encode(),
+                         scripts_apply.WRITE_KEY)
+    assert res.raw_stdout == b"/home/husarion\nold\n"
+    import hashlib
+    import json
+
+    manifest = json.dumps({"id": "b1"}).encode()
+    argv = ["~/.panther-ops/backups/b1", "sfx", "applied", str(len(manifest)), "-",
+            "~/compose.yaml", hashlib.sha256(b"old\n").hexdigest(), "-", "4"]
+    asked: list[bytes] = []
+
+    def answer(out: bytes) -> bytes:
+        asked.append(out)
+        assert (home / "compose.yaml").read_bytes() == b"old\n", "nothing renamed before the go-ahead"
+        return b"go\n"
+
+    done = robot.resume(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + b"new\n" + manifest,
+                        until=scripts_apply.STAGED_MARK, answer=answer)
+    assert done is not None and done.exit_status == 0, done
+    assert asked == [scripts_apply.STAGED_MARK]
+    assert (home / "compose.yaml").read_bytes() == b"new\n"
+    backup = home / ".panther-ops" / "backups" / "b1"
+    assert (backup / "files" / "0").read_bytes() == b"old\n"
+    assert json.loads((backup / "manifest.json").read_text()) == {"id": "b1"}
+    assert (backup / "status").read_text() == "applied\n"
+
+
+def test_apply_request_refuses_newlines() -> None:
+    with pytest.raises(ValueError):
+        scripts_apply.apply_request(["a\nb"])
+
+
+class Counting(LocalTransport):
+    """The demo transport, counting the sessions it starts (run, run_kept) and resumes."""
+
+    def __init__(self, inner: LocalTransport) -> None:
+        super().__init__(inner.name, inner.root, inner.user)
+        self.calls: list[str] = []
+
+    def run(self, command: Command, **kw: Any) -> Any:  # type: ignore[override]
+        self.calls.append("run")
+        return super().run(command, **kw)
+
+    def run_kept(self, command: Command, until: bytes, key: str, **kw: Any) -> Any:  # type: ignore[override]
+        self.calls.append("run_kept")
+        return super().run_kept(command, until, key, **kw)
+
+    def resume(self, key: str, stdin: bytes, **kw: Any) -> Any:  # type: ignore[override]
+        self.calls.append("resume")
+        return super().resume(key, stdin, **kw)
+
+
+@pytest.fixture
+def demo_ctx(tmp_path: Path) -> Iterator[RobotContext]:
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    inv = load_inventory(str(tmp_path / "demo"))
+    robot = inv.robots["panther-01"]
+    with Connections(inv) as conns:
+        base = conns.get(robot)
+        assert isinstance(base, LocalTransport)
+        yield RobotContext(robot, Counting(base), inv)
+
+
+def test_a_change_costs_one_session(demo_ctx: RobotContext) -> None:
+    plan = plan_args(demo_ctx, {"wheel_type": "WH04"}, [])
+    assert plan.edits
+    result = apply_plan(demo_ctx, plan, ApplyOptions(restart=False, command="t"))
+    assert result.outcome.value == "changed", result.message
+    assert demo_ctx.transport.calls == ["run_kept", "resume"]  # type: ignore[attr-defined]
+    compose = plan.edits[0].path
+    assert b"wheel_type:=WH04" in (demo_ctx.transport.root / compose.lstrip("/")).read_bytes()  # type: ignore[attr-defined]
+
+
+def test_without_a_kept_read_the_write_opens_its_own_session(demo_ctx: RobotContext) -> None:
+    plan = plan_args(demo_ctx, {"wheel_type": "WH04"}, [])
+    demo_ctx.transport.drop_kept(scripts_apply.WRITE_KEY)
+    result = apply_plan(demo_ctx, plan, ApplyOptions(restart=False, command="t"))
+    assert result.outcome.value == "changed", result.message
+    assert demo_ctx.transport.calls == ["run_kept", "resume", "run"]  # type: ignore[attr-defined]
