@@ -67,10 +67,11 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     raw = read_compose(ctx, keep=True)
     key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force)
     out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force))
-    edits = [FileEdit(raw.path, raw.before, out.after)] if out.after != raw.before else []
+    edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
     plan = RobotPlan(ctx.robot.name, out.summary, edits, (out.service,), raw.path, [out.verify],
                      None if edits else _noop_args(sets, unsets), list(out.warnings))
     plan.data["stack"] = out.stack
+    plan.home = raw.home
     return plan
 
 
@@ -105,6 +106,7 @@ def compose_plan(ctx: RobotContext, cfg: RobotConfig, summary: str, warnings: li
     plan = RobotPlan(ctx.robot.name, summary, edits, (cfg.service,), cfg.compose_path, verify,
                      None if edits else noop, warnings)
     plan.data["stack"] = cfg.stack.label()
+    plan.home = cfg.home
     return plan
 
 

@@ -39,7 +39,12 @@ class Memo(Generic[V]):
             with self._guard:
                 if key in self._values:
                     return self._values[key]
-            value = compute()
+            try:
+                value = compute()
+            except BaseException:
+                with self._guard:
+                    self._locks.pop(key, None)
+                raise
             with self._guard:
                 self.computed += 1
                 if len(self._values) >= self.size:

@@ -78,6 +78,8 @@ class RobotPlan:
     """Why nothing needs to change (then ``edits`` is empty)."""
     warnings: list[str] = field(default_factory=list)
     data: dict[str, Any] = field(default_factory=dict)
+    home: str | None = None
+    """The robot user's home, when the plan read it (``~/`` paths resolve against it)."""
 
     @property
     def diffs(self) -> list[Diff]:
@@ -190,30 +192,46 @@ def _remove(ctx: RobotContext, path: str) -> None:
 
 def _write(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, backup_dir: str, manifest: dict[str, Any],
            status: str) -> str | None:
-    """One session: check, back up, stage, (validate,) then rename on the go-ahead.
+    """One session: check, unpack backup and staged files, (validate,) rename on the go-ahead.
 
     Returns why nothing was written, or None when every file is in place.
     """
     name = ctx.robot.name
+    home = plan.home or ctx.transport.home()
+
+    def absolute(path: str) -> str:
+        path = posixpath.join(home, path[2:]) if path.startswith("~/") else path
+        if not path.startswith("/") or "\n" in path or "\t" in path:
+            raise TransportError(name, f"refusing a path that is not absolute or holds a newline or tab: {path!r}")
+        return posixpath.normpath(path)
+
+    wdir = absolute(backup_dir)
+    suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
+    members = [scripts_apply.Member(d, None, 0o700) for d in (posixpath.dirname(posixpath.dirname(wdir)),
+                                                               posixpath.dirname(wdir), wdir, f"{wdir}/files")]
+    members.append(scripts_apply.Member(f"{wdir}/manifest.json", json.dumps(manifest, indent=2).encode(), 0o600))
     args: list[str] = []
     validate = "-"
     for i, e in enumerate(plan.edits):
-        if "\n" in e.path or "\t" in e.path:
-            raise TransportError(name, f"refusing a path with a newline or tab: {e.path!r}")
-        args += [e.path, _sha(e.before) or "-", f"{e.mode:o}" if e.mode is not None else "-",
-                 "-" if e.after is None else str(len(e.after))]
+        path = absolute(e.path)
+        staged = f"{posixpath.dirname(path)}/.{posixpath.basename(path)}.panther-ops.{suffix}"
+        if e.before is not None:
+            members.append(scripts_apply.Member(f"{wdir}/files/{i}", e.before, e.mode or 0o600))
+        keep_mode = e.before is not None and e.mode is None  # mode unknown: chmod --reference on the robot
+        if e.after is not None:
+            mode = e.mode if e.mode is not None else (0o600 if keep_mode else 0o644)
+            members.append(scripts_apply.Member(staged, e.after, mode))
+        args += [path, _sha(e.before) or "-", staged if e.after is not None else "-", "1" if keep_mode else "0"]
         if e.path == plan.compose_file and e.after is not None and not _values_only(e.before, e.after):
             validate = str(i)
-    manifest_bytes = json.dumps(manifest, indent=2).encode()
-    payload = b"".join(e.after for e in plan.edits if e.after is not None) + manifest_bytes
-    suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
+    payload = scripts_apply.archive(members)
 
     def go_ahead(_: bytes) -> bytes:
         if opts.on_staged:
             opts.on_staged(name)
         return b"go\n"
 
-    argv = [backup_dir, suffix, status, str(len(manifest_bytes)), validate, *args]
+    argv = [wdir, status, str(len(payload)), validate, *args]
     res = ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
                                until=scripts_apply.STAGED_MARK, answer=go_ahead)  # the plan's kept read
     if res is None:

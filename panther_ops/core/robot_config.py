@@ -68,6 +68,8 @@ class ComposeRead:
     home: str
     path: str
     before: bytes
+    mode: int | None = None
+    """The file's permission bits, where the read learnt them."""
 
 
 def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
@@ -90,7 +92,13 @@ def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
         raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory")
     if not res.ok:
         raise TransportError(ctx.robot.name, f"cannot read {path}: {res.stderr.strip()}")
-    return ComposeRead(home.decode(), path, rest)
+    if not keep:
+        return ComposeRead(home.decode(), path, rest)
+    try:
+        got = scripts_apply.read_archive(rest)
+    except ValueError as exc:
+        raise TransportError(ctx.robot.name, f"cannot read {path}: {exc}") from None
+    return ComposeRead(home.decode(), path, got.data, got.mode)
 
 
 def parse_config(raw: ComposeRead, stack_setting: str) -> RobotConfig:

@@ -32,7 +32,9 @@ class Pipe(Protocol):
         """The exit status (-1: the command went away without one)."""
         ...
 
-    def close(self) -> None: ...
+    def close(self) -> None:
+        """Release the pipe; a command still running is ended (its input closed, or killed)."""
+        ...
 
 
 class Conversation:
@@ -55,16 +57,18 @@ class Conversation:
                answer: Callable[[bytes], bytes] | None = None) -> tuple[int, bytes, bytes]:
         """Send ``stdin``; if the output then ends with ``until``, send ``answer(output)``;
         close the input and read to the end. Returns (status, stdout, stderr) of this part."""
-        if stdin:
-            self.pipe.send(stdin)
-        if until is not None and answer is not None and self.read_until(until):
-            self.pipe.send(answer(bytes(self.out)))
-        self.pipe.close_input()
-        while data := self.pipe.recv():
-            self.out += data
-        status = self.pipe.wait()
-        err = self.pipe.stderr()
-        self.pipe.close()
+        try:
+            if stdin:
+                self.pipe.send(stdin)
+            if until is not None and answer is not None and self.read_until(until):
+                self.pipe.send(answer(bytes(self.out)))
+            self.pipe.close_input()
+            while data := self.pipe.recv():
+                self.out += data
+            status = self.pipe.wait()
+            err = self.pipe.stderr()
+        finally:
+            self.pipe.close()  # on an error (an answer that raised, a lost connection) this ends the command
         return status, bytes(self.out), err
 
     def take_output(self) -> bytes:

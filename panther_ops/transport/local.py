@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import contextlib
 import os
+import queue
+import signal
 import subprocess
 import tempfile
 import threading
@@ -77,6 +79,7 @@ class LocalTransport:
         conv = Conversation(pipe)
         if conv.read_until(until):
             self.drop_kept(key)
+            pipe.stop_timer()  # kept: waiting for the operator is not the command taking long
             self._kept[key] = (conv, command)
             return CommandResult(str(command), 0, "", "", time.monotonic() - start, conv.take_output()[: -len(until)])
         status, out, err = conv.finish()
@@ -88,14 +91,17 @@ class LocalTransport:
         if kept is None:
             return None
         conv, command = kept
+        assert isinstance(conv.pipe, _ProcessPipe)
+        conv.pipe.start_timer()
         start = time.monotonic()
         status, out, err = conv.finish(stdin, until, answer)
-        assert isinstance(conv.pipe, _ProcessPipe)
         return self._result(command, conv.pipe, status, out, err, start)
 
     def drop_kept(self, key: str) -> None:
         kept = self._kept.pop(key, None)
         if kept is not None:
+            assert isinstance(kept[0].pipe, _ProcessPipe)
+            kept[0].pipe.start_timer()
             kept[0].finish()  # its input closes: the command ends on its own
 
     def _pipe(self, command: Command, timeout: float | None) -> _ProcessPipe:
@@ -145,37 +151,65 @@ class LocalTransport:
 
 
 class _ProcessPipe:
-    """A local command as a :class:`Pipe`; killed when it outlives ``timeout`` seconds."""
+    """A local command as a :class:`Pipe`, in its own process group.
+
+    Input is written by a thread (a command that echoes a large input while it reads it
+    cannot block us); the whole group is killed when a phase outlives its timeout (the timer
+    runs only while someone waits for the command, not while it is kept).
+    """
 
     def __init__(self, argv: list[str], env: dict[str, str], cwd: Path, timeout: float) -> None:
         self.proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.PIPE, env=env, cwd=cwd)
+                                     stderr=subprocess.PIPE, env=env, cwd=cwd, start_new_session=True)
         self.err = bytearray()
         self._drain = threading.Thread(target=self._read_stderr, daemon=True)
         self._drain.start()
-        self._timer = threading.Timer(timeout, self._expire)
-        self._timer.start()
+        self._writes: queue.SimpleQueue[bytes | None] = queue.SimpleQueue()
+        self._writer = threading.Thread(target=self._write_stdin, daemon=True)
+        self._writer.start()
+        self.timeout = timeout
+        self._timer: threading.Timer | None = None
         self.expired = False
+        self.start_timer()
+
+    def start_timer(self) -> None:
+        self.stop_timer()
+        self._timer = threading.Timer(self.timeout, self._expire)
+        self._timer.daemon = True
+        self._timer.start()
+
+    def stop_timer(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
 
     def _read_stderr(self) -> None:
         assert self.proc.stderr is not None
         while chunk := os.read(self.proc.stderr.fileno(), 65536):
             self.err += chunk
 
+    def _write_stdin(self) -> None:
+        assert self.proc.stdin is not None
+        with contextlib.suppress(OSError):  # the command went away: what it did not read is dropped
+            while (data := self._writes.get()) is not None:
+                self.proc.stdin.write(data)
+                self.proc.stdin.flush()
+        with contextlib.suppress(OSError):
+            self.proc.stdin.close()
+
     def _expire(self) -> None:
         self.expired = True
-        self.proc.kill()
+        self.kill()
+
+    def kill(self) -> None:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(self.proc.pid, signal.SIGKILL)
 
     def send(self, data: bytes) -> None:
-        assert self.proc.stdin is not None
-        with contextlib.suppress(BrokenPipeError):
-            self.proc.stdin.write(data)
-            self.proc.stdin.flush()
+        self._writes.put(data)
 
     def close_input(self) -> None:
-        assert self.proc.stdin is not None
-        with contextlib.suppress(BrokenPipeError):
-            self.proc.stdin.close()
+        self._writes.put(None)
 
     def recv(self) -> bytes:
         assert self.proc.stdout is not None
@@ -189,7 +223,15 @@ class _ProcessPipe:
         return self.proc.wait()
 
     def close(self) -> None:
-        self._timer.cancel()
+        self.stop_timer()
+        if self.proc.poll() is None:  # closed before its end (an error on our side): its input ends,
+            self.close_input()        # so it can clean up (APPLY drops its staged files); then it is killed
+            try:
+                self.proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                self.kill()
+                self.proc.wait()
+        self._writer.join(timeout=5)
         assert self.proc.stdout is not None and self.proc.stderr is not None
         self.proc.stdout.close()
         self.proc.stderr.close()

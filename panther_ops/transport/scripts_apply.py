@@ -1,20 +1,27 @@
 """The shell side of a change: one session that stages, then commits on the go-ahead.
 
-APPLY checks that every file is still what the plan read (sha256), backs the files up beside
-the manifest, stages each new content in a temp file beside its target (same file system),
-fsyncs all of them, optionally asks the robot's own ``docker compose`` about a staged compose
-file, and prints ``STAGED_MARK``. It then waits for one line on stdin: ``go`` renames every
-staged file into place (each rename atomic) and records the status; anything else, or the
-end of the input (the connection died), removes the staged files and renames nothing.
+APPLY checks that every file is still what the plan read (sha256), unpacks one tar archive
+holding the backup (manifest and the old contents) and every new content, each staged in a
+temp file beside its target (same file system, so the rename is atomic), fsyncs them,
+optionally asks the robot's own ``docker compose`` about a staged compose file, and prints
+``STAGED_MARK``. It then waits for one line on stdin: ``go`` renames every staged file into
+place and records the status; anything else, or the end of the input (the connection died),
+removes the staged files and renames nothing.
 
 Nothing user-given is ever part of the script text: paths and values come as positional
-parameters, contents as bytes on stdin, each read with ``head -c SIZE`` (which reads no
-further than its count, so the go-ahead stays in the pipe for ``read``). Every step is a
-builtin but one process per real action (sha256sum, cp, head, chmod, sync, mv): this runs
-on every robot of a fleet at once.
+parameters (absolute paths: the caller resolved ``~``), contents as the archive on stdin,
+read with ``head -c SIZE`` (which reads no further than its count, so the go-ahead stays in
+the pipe for ``read``; tar itself would drain the pipe). Every process counts, since this
+runs on every robot of a fleet at once: a one-file change runs sha256sum, head, tar, sync,
+mv and sync, and chmod only when the caller does not know the file's mode.
 """
 
 from __future__ import annotations
+
+import io
+import tarfile
+import time
+from dataclasses import dataclass
 
 CHANGED_EXIT = 3
 """A file changed on the robot since the plan read it: nothing written."""
@@ -26,39 +33,34 @@ ABANDONED_EXIT = 4
 STAGED_MARK = b"@@staged\n"
 
 _EACH = (
-    'k=0; for a in "$@"; do case $k in 0) p=$a;; 1) want=$a;; 2) mode=$a;; 3) size=$a; '
-    'case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; f="$r$p"; @BODY@ ;; esac; k=$(((k+1)%4)); done; '
+    'k=0; for a in "$@"; do case $k in 0) p=$a; f="$r$a";; 1) want=$a;; 2) t=$a;; 3) ref=$a; '
+    '@BODY@ ;; esac; k=$(((k+1)%4)); done; '
 )
 
 _APPLY_FN = "apply_() { " + (
     "trap '' HUP PIPE; nl='\n'; tab='\t'; r=\"${PANTHER_OPS_ROOT:-}\"; "
-    'b="$1"; case "$b" in "~/"*) b="$HOME/${b#"~/"}";; esac; w="$r$b"; '
-    'sfx="$2"; st="$3"; msize="$4"; val="$5"; shift 5; umask 077; '
-    'staged=""; syncs=""; vt=""; '
+    'w="$r$1"; st="$2"; size="$3"; val="$4"; shift 4; '
+    + _EACH.replace("@BODY@", (
+        'if [ "$want" = - ]; then if [ -e "$f" ]; then '
+        '  printf "%s appeared on the robot since it was read\\n" "$p" >&2; exit 3; fi; '
+        'else got=$(sha256sum < "$f" 2>/dev/null); if [ "${got%% *}" != "$want" ]; then '
+        '  printf "%s changed on the robot since it was read\\n" "$p" >&2; exit 3; fi; fi'
+    ))
+    + 'staged=""; syncs="$w/manifest.json$nl"; vt=""; i=0; '
     'drop() { IFS="$nl"; set -f; for l in $staged; do [ "${l%%"$tab"*}" = - ] || rm -f -- "${l%%"$tab"*}"; done; }; '
-    'fail() { drop; rm -rf -- "$w"; printf "%s\\n" "$2" >&2; exit "$1"; }; '
-    'mkdir -p -- "$w/files" || exit 1; i=0; '
     + _EACH.replace("@BODY@", (
-        'if [ "$want" = - ]; then [ -e "$f" ] && fail 3 "$p appeared on the robot since it was read"; '
-        'else got=$(sha256sum < "$f" 2>/dev/null); [ "${got%% *}" = "$want" ] || '
-        'fail 3 "$p changed on the robot since it was read"; '
-        'cp -p -- "$f" "$w/files/$i" || fail 1 "cannot back up $p"; syncs="$syncs$w/files/$i$nl"; fi; '
-        'i=$((i+1))'
+        'if [ "$t" = - ]; then staged="$staged-$tab$f$nl"; else staged="$staged$r$t$tab$f$nl"; '
+        '  syncs="$syncs$r$t$nl"; [ "$i" = "$val" ] && vt="$r$t"; fi; '
+        '[ "$want" = - ] || syncs="$syncs$w/files/$i$nl"; i=$((i+1))'
     ))
-    + 'i=0; '
-    + _EACH.replace("@BODY@", (
-        'if [ "$size" = - ]; then staged="$staged-$tab$f$nl"; else '
-        'd="${f%/*}"; t="$d/.${f##*/}.panther-ops.$sfx"; '
-        'if [ ! -d "$d" ]; then umask 022; mkdir -p -- "$d" || fail 1 "cannot create ${p%/*}"; umask 077; fi; '
-        'staged="$staged$t$tab$f$nl"; syncs="$syncs$t$nl"; [ "$i" = "$val" ] && vt="$t"; '
-        'head -c "$size" > "$t" || fail 1 "cannot write beside $p"; '
-        'if [ "$mode" != - ]; then chmod "$mode" "$t"; elif [ -e "$f" ]; then chmod --reference="$f" "$t"; '
-        'else chmod 644 "$t"; fi '
-        '|| fail 1 "cannot set the mode of the staged $p"; fi; '
-        'i=$((i+1))'
+    + 'if ! head -c "$size" | tar -x -p --no-same-owner --no-overwrite-dir -f - -C "${r:-/}"; then '
+    '  drop; rm -rf -- "$w"; echo "cannot unpack the upload" >&2; exit 1; fi; '
+    + 'i=0; ' + _EACH.replace("@BODY@", (
+        'if [ "$ref" = 1 ]; then if [ "$t" = - ]; then chmod --reference="$f" -- "$w/files/$i"; '
+        '  else chmod --reference="$f" -- "$r$t" "$w/files/$i"; fi || { drop; rm -rf -- "$w"; '
+        '  printf "cannot give %s its mode\\n" "$p" >&2; exit 1; }; fi; i=$((i+1))'
     ))
-    + 'head -c "$msize" > "$w/manifest.json" || fail 1 "cannot write the backup manifest"; '
-    'IFS="$nl"; set -f; sync -- "$w/manifest.json" $syncs 2>/dev/null || sync; '
+    + 'IFS="$nl"; set -f; sync -- $syncs 2>/dev/null || sync; '
     'if [ -n "$vt" ] && [ -z "$r" ] && command -v docker >/dev/null 2>&1 && docker compose version >/dev/null 2>&1; '
     'then if ! err=$(cd "${vt%/*}" && docker compose -f "$vt" config -q 2>&1); then drop; '
     '  printf "refused: %s\\n" "$err" > "$w/status"; printf "%s\\n" "$err" >&2; exit 5; fi; fi; '
@@ -72,25 +74,79 @@ _APPLY_FN = "apply_() { " + (
 ) + "; }; "
 
 APPLY = _APPLY_FN + 'apply_ "$@"'
-"""$1 backup dir, $2 unique suffix, $3 status to record once renamed (empty: later), $4 size
-of the manifest, $5 index of the file to validate with docker compose (``-``: none), then per
-file: path, sha256 it must have now (``-``: must not exist), octal mode (``-``: keep), size of
-the new content (``-``: remove the file). Stdin: each new content in order, then the manifest,
-then (after ``STAGED_MARK``) the go-ahead line."""
+"""$1 backup dir (absolute), $2 status to record once renamed (empty: later), $3 size of the
+archive on stdin, $4 index of the file to validate with docker compose (``-``: none), then per
+file: absolute path, sha256 it must have now (``-``: must not exist), its staged temp file
+(``-``: remove the file), ``1`` to give the staged file and the backup the target's mode with
+chmod (``0``: the archive has it). Stdin: the archive (:func:`archive`), then, after ``STAGED_MARK``, the
+go-ahead line. Exit 3: a file changed since it was read; 5: docker compose refused."""
+
+
+@dataclass(frozen=True)
+class Member:
+    """One file the archive creates on the robot (an absolute path)."""
+
+    path: str
+    data: bytes | None
+    """None: a directory."""
+    mode: int
+    mtime: float | None = None
+
+
+def archive(members: list[Member]) -> bytes:
+    """A tar archive of ``members``, paths relative to ``/`` (APPLY unpacks it there)."""
+    buf = io.BytesIO()
+    now = time.time()
+    with tarfile.open(fileobj=buf, mode="w", format=tarfile.GNU_FORMAT) as tar:
+        for m in members:
+            info = tarfile.TarInfo(m.path.lstrip("/"))
+            info.mode = m.mode
+            info.mtime = int(m.mtime if m.mtime is not None else now)
+            if m.data is None:
+                info.type = tarfile.DIRTYPE
+                tar.addfile(info)
+            else:
+                info.size = len(m.data)
+                tar.addfile(info, io.BytesIO(m.data))
+    return buf.getvalue()
+
 
 WRITE_KEY = "write"
 """The key a kept read of compose.yaml is held under (see ``Transport.run_kept``)."""
 
 READ_KEPT = (
-    'r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; '
-    'printf "%s\\n" "$HOME"; if [ -f "$r$p" ]; then cat -- "$r$p" || exit 1; '
-    'else echo "no such file: $p" >&2; exit 44; fi; printf "%s\\n" "$2"; '
+    'r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; f="$r$p"; '
+    'printf "%s\\n" "$HOME"; if [ ! -f "$f" ]; then echo "no such file: $p" >&2; exit 44; fi; '
+    'tar -c -b 1 -h -f - -C "${f%/*}/" -- "${f##*/}" || exit 1; printf "%s\\n" "$2"; '
     'IFS= read -r req || exit 0; [ "$req" = apply ] || exit 0; IFS= read -r n || exit 0; set --; '
     'while [ "$n" -gt 0 ]; do IFS= read -r a || exit 0; set -- "$@" "$a"; n=$((n-1)); done; '
 ) + _APPLY_FN + 'apply_ "$@"'
-"""Read compose.yaml as ``READ_WITH_HOME`` does ($1; $HOME on the first line), print the mark
-$2, then wait: a request ``apply``, the number of arguments and one per line, then the bytes
-APPLY reads, carries out the write in this same session; the end of input ends it."""
+"""Read compose.yaml ($1; $HOME on the first line, then the file as a one-member tar archive,
+which carries its mode and mtime), print the mark $2, then wait: a request ``apply``, the
+number of arguments and one per line, then the bytes APPLY reads, carries out the write in
+this same session; the end of input ends it."""
+
+
+@dataclass(frozen=True)
+class ReadFile:
+    """A file as ``READ_KEPT`` sent it."""
+
+    data: bytes
+    mode: int
+    mtime: float
+
+
+def read_archive(data: bytes) -> ReadFile:
+    """The one file of a ``READ_KEPT`` archive (ValueError when it is not one)."""
+    try:
+        with tarfile.open(fileobj=io.BytesIO(data), mode="r:") as tar:
+            member = tar.next()
+            handle = tar.extractfile(member) if member is not None and member.isfile() else None
+            if member is None or handle is None:
+                raise ValueError("the archive holds no file")
+            return ReadFile(handle.read(), member.mode & 0o7777, float(member.mtime))
+    except tarfile.TarError as exc:
+        raise ValueError(f"unreadable archive: {exc}") from None
 
 
 def apply_request(args: list[str]) -> bytes:

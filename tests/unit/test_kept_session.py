@@ -55,34 +55,57 @@ def test_dropping_and_closing_end_the_kept_command(robot: LocalTransport, tmp_pa
 
 
 def test_read_kept_then_apply_in_the_same_session(robot: LocalTransport) -> None:
-    home = robot.root / "home" / "husarion"
-    (home / "compose.yaml").write_bytes(b"old\n")
-    mark = "@@m@@"
-    res = robot.run_kept(Command.sh(scripts_apply.READ_KEPT, "~/compose.yaml", mark), f"{mark}\n".encode(),
-                         scripts_apply.WRITE_KEY)
-    assert res.raw_stdout == b"/home/husarion\nold\n"
     import hashlib
     import json
 
-    manifest = json.dumps({"id": "b1"}).encode()
-    argv = ["~/.panther-ops/backups/b1", "sfx", "applied", str(len(manifest)), "-",
-            "~/compose.yaml", hashlib.sha256(b"old\n").hexdigest(), "-", "4"]
+    home = robot.root / "home" / "husarion"
+    (home / "compose.yaml").write_bytes(b"old\n")
+    (home / "compose.yaml").chmod(0o640)
+    mark = "@@m@@"
+    res = robot.run_kept(Command.sh(scripts_apply.READ_KEPT, "~/compose.yaml", mark), f"{mark}\n".encode(),
+                         scripts_apply.WRITE_KEY)
+    first, _, tar = res.raw_stdout.partition(b"\n")
+    assert first == b"/home/husarion"
+    got = scripts_apply.read_archive(tar)
+    assert (got.data, got.mode) == (b"old\n", 0o640)
+
+    w = "/home/husarion/.panther-ops/backups/b1"
+    staged = "/home/husarion/.compose.yaml.panther-ops.x"
+    payload = scripts_apply.archive([
+        scripts_apply.Member(w, None, 0o700), scripts_apply.Member(f"{w}/files", None, 0o700),
+        scripts_apply.Member(f"{w}/manifest.json", json.dumps({"id": "b1"}).encode(), 0o600),
+        scripts_apply.Member(f"{w}/files/0", b"old\n", got.mode),
+        scripts_apply.Member(staged, b"new\n", got.mode),
+    ])
+    argv = [w, "applied", str(len(payload)), "-",
+            "/home/husarion/compose.yaml", hashlib.sha256(b"old\n").hexdigest(), staged, "0"]
     asked: list[bytes] = []
 
     def answer(out: bytes) -> bytes:
         asked.append(out)
         assert (home / "compose.yaml").read_bytes() == b"old\n", "nothing renamed before the go-ahead"
+        assert (robot.root / staged.lstrip("/")).read_bytes() == b"new\n", "staged beside the target"
         return b"go\n"
 
-    done = robot.resume(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + b"new\n" + manifest,
+    done = robot.resume(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
                         until=scripts_apply.STAGED_MARK, answer=answer)
     assert done is not None and done.exit_status == 0, done
     assert asked == [scripts_apply.STAGED_MARK]
     assert (home / "compose.yaml").read_bytes() == b"new\n"
+    assert (home / "compose.yaml").stat().st_mode & 0o777 == 0o640
     backup = home / ".panther-ops" / "backups" / "b1"
     assert (backup / "files" / "0").read_bytes() == b"old\n"
+    assert (backup / "files" / "0").stat().st_mode & 0o777 == 0o640
     assert json.loads((backup / "manifest.json").read_text()) == {"id": "b1"}
     assert (backup / "status").read_text() == "applied\n"
+    assert backup.stat().st_mode & 0o777 == 0o700
+
+
+def test_read_archive_refuses_what_is_not_one_file() -> None:
+    with pytest.raises(ValueError):
+        scripts_apply.read_archive(b"not a tar")
+    with pytest.raises(ValueError):
+        scripts_apply.read_archive(scripts_apply.archive([scripts_apply.Member("/d", None, 0o755)]))
 
 
 def test_apply_request_refuses_newlines() -> None:

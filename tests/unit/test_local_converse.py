@@ -110,11 +110,9 @@ def test_a_command_that_outlives_its_timeout_raises(robot: LocalTransport, conve
     assert answer.asked == []
 
 
-# -- known defects (strict xfail: once fixed they XPASS, which fails: then drop the marker) ----
+# -- timeouts, big inputs, failing answers, kept commands ---------------------------------------
 
 
-@pytest.mark.xfail(strict=True, reason="LocalTransport kills only `sh`, not its children: the read of stdout "
-                                       "waits until the command's own processes end, so a timeout is not enforced")
 @pytest.mark.parametrize("converse", [True, False])
 def test_the_timeout_is_enforced_promptly(robot: LocalTransport, converse: bool) -> None:
     kw = {"until": MARK, "answer": Answers(b"go\n")} if converse else {}
@@ -137,8 +135,6 @@ def run_child(code: str, limit: float) -> tuple[str, bool]:
         return out, True
 
 
-@pytest.mark.xfail(strict=True, reason="Conversation.finish writes all of stdin before reading stdout: a command "
-                                       "that echoes a big input deadlocks (and the timeout does not end it)")
 def test_big_stdin_to_a_command_that_echoes_it(tmp_path: Path) -> None:
     out, killed = run_child(f"""
         from pathlib import Path
@@ -154,8 +150,6 @@ def test_big_stdin_to_a_command_that_echoes_it(tmp_path: Path) -> None:
     assert out.strip() == "same"
 
 
-@pytest.mark.xfail(strict=True, reason="when `answer` raises, Conversation.finish neither closes the command's "
-                                       "input nor ends it: it keeps waiting (staged files stay) while Python runs")
 def test_an_answer_that_raises_still_ends_the_command(tmp_path: Path) -> None:
     out, killed = run_child(f"""
         import time
@@ -182,9 +176,6 @@ def test_an_answer_that_raises_still_ends_the_command(tmp_path: Path) -> None:
     assert out.split("\n")[:2] == ["raised operator interrupted", "eof"]
 
 
-@pytest.mark.xfail(strict=True, reason="a kept command's timeout runs while it waits for resume (the confirmation "
-                                       "prompt): resume then reports `timed out`, yet the command got the input and "
-                                       "acted on it (only the outer `sh` was killed)")
 def test_a_kept_command_waits_past_its_timeout(robot: LocalTransport, tmp_path: Path) -> None:
     flag = tmp_path / "acted"
     script = 'printf "@@ask@@\\n"; read -r x; printf "%s\\n" "$x" > "$1"; echo done'
