@@ -77,7 +77,12 @@ class LocalTransport:
         start = time.monotonic()
         pipe = self._pipe(command, timeout)
         conv = Conversation(pipe)
-        if conv.read_until(until):
+        try:
+            asked = conv.read_until(until)
+        except BaseException:
+            pipe.close()
+            raise
+        if asked:
             self.drop_kept(key)
             pipe.stop_timer()  # kept: waiting for the operator is not the command taking long
             self._kept[key] = (conv, command)

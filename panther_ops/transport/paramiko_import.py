@@ -1,15 +1,22 @@
-"""Import paramiko without invoke.
+"""Import paramiko without what it loads but a fleet command does not use.
 
-``paramiko.config`` imports invoke (fabric's task runner: ~50 ms, unittest.mock and asyncio
-included) at import time, only to run ``Match exec`` lines of an ssh_config. Every fleet
-command waits for paramiko before its first connection, so the CLI imports it through
-:func:`import_paramiko`: invoke is kept out while paramiko loads and then reached lazily,
-the first time an ssh_config's ``Match exec`` needs it.
+Every fleet command waits for paramiko before its first connection, so the CLI imports it
+through :func:`import_paramiko`, which keeps two imports off that path:
+
+- ``paramiko.config`` imports invoke (fabric's task runner: ~50 ms, unittest.mock and asyncio
+  included) only to run ``Match exec`` lines of an ssh_config: invoke is kept out while
+  paramiko loads and reached lazily, the first time such a line needs it;
+- paramiko 5 reads its own version through ``importlib.metadata`` (~20 ms: the email package
+  and a scan of site-packages): while it loads, a stand-in answers ``version("paramiko")``
+  from the name of paramiko's ``.dist-info`` directory and hands everything else to the real
+  module.
 """
 
 from __future__ import annotations
 
 import importlib
+import importlib.util
+import os
 import sys
 import threading
 from types import ModuleType
@@ -25,6 +32,36 @@ class _LazyInvoke:
         return getattr(importlib.import_module("invoke"), name)
 
 
+class _QuickMetadata(ModuleType):
+    """Stands in for ``importlib.metadata`` while paramiko loads (see the module's text)."""
+
+    def __init__(self, dists: dict[str, str]) -> None:
+        super().__init__("importlib.metadata")
+        self._dists = dists
+
+    def version(self, name: str) -> str:
+        found = self._dists.get(name.lower().replace("-", "_"))
+        return found if found is not None else str(importlib.import_module("importlib.metadata").version(name))
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(importlib.import_module("importlib.metadata"), name)
+
+
+def _dist_versions(package: str) -> dict[str, str]:
+    """``{name: version}`` of the ``*.dist-info`` directories beside ``package`` (names normalised)."""
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.origin:
+        return {}
+    site = os.path.dirname(os.path.dirname(spec.origin))
+    out: dict[str, str] = {}
+    with os.scandir(site) as entries:
+        for e in entries:
+            if e.name.endswith(".dist-info") and "-" in e.name:
+                name, _, version = e.name[: -len(".dist-info")].partition("-")
+                out[name.lower().replace("-", "_").replace(".", "_")] = version
+    return out
+
+
 def import_paramiko() -> ModuleType:
     """``import paramiko``, without importing invoke until an ssh_config needs it."""
     with _lock:
@@ -33,11 +70,16 @@ def import_paramiko() -> ModuleType:
         keep_out = "invoke" not in sys.modules
         if keep_out:
             sys.modules["invoke"] = None  # type: ignore[assignment]  # `import invoke` raises ImportError
+        quick = None
+        if "importlib.metadata" not in sys.modules:
+            quick = sys.modules["importlib.metadata"] = _QuickMetadata(_dist_versions("paramiko"))
         try:
             import paramiko
         finally:
             if keep_out and sys.modules.get("invoke", ...) is None:
                 del sys.modules["invoke"]
+            if quick is not None and sys.modules.get("importlib.metadata") is quick:
+                del sys.modules["importlib.metadata"]
         if keep_out and getattr(paramiko.config, "invoke", None) is None:
             paramiko.config.invoke = _LazyInvoke()  # type: ignore[attr-defined]
         return paramiko

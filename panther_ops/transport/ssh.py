@@ -229,7 +229,13 @@ class SshTransport:
         start = time.monotonic()
         limit = timeout if timeout is not None else self.endpoint.command_timeout
         conv = self._guard(shown, limit, lambda: Conversation(self._pipe(command, limit)))
-        if self._guard(shown, limit, lambda: conv.read_until(until)):
+        try:
+            asked = self._guard(shown, limit, lambda: conv.read_until(until))
+        except TransportError:
+            with contextlib.suppress(Exception):
+                conv.pipe.close()
+            raise
+        if asked:
             self.drop_kept(key)
             self._kept[key] = (conv, shown, limit)
             return _result(shown, 0, conv.take_output()[: -len(until)], b"", start)

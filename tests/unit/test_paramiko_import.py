@@ -35,3 +35,31 @@ def test_invoke_already_loaded_is_left_alone() -> None:
     """)
     proc = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
+
+
+def test_paramiko_knows_its_version_without_importlib_metadata() -> None:
+    code = textwrap.dedent("""
+        import sys
+        from panther_ops.transport.paramiko_import import import_paramiko
+        paramiko = import_paramiko()
+        assert "importlib.metadata" not in sys.modules, "the stand-in is gone, the real module not loaded"
+        import importlib.metadata
+        assert type(importlib.metadata).__name__ == "module"
+        assert paramiko.__version__ == importlib.metadata.version("paramiko")
+        print("ok")
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "ok"
+
+
+def test_quick_metadata_defers_what_it_does_not_know() -> None:
+    from panther_ops.transport.paramiko_import import _dist_versions, _QuickMetadata
+
+    versions = _dist_versions("paramiko")
+    import importlib.metadata
+
+    assert versions["paramiko"] == importlib.metadata.version("paramiko")
+    quick = _QuickMetadata({})
+    assert quick.version("PyYAML") == importlib.metadata.version("PyYAML")
+    assert quick.PackageNotFoundError is importlib.metadata.PackageNotFoundError
