@@ -101,7 +101,7 @@ def compose_plan(ctx: RobotContext, cfg: RobotConfig, summary: str, warnings: li
     edits = list(extra or [])
     after = cfg.compose.text().encode()
     if after != cfg.before:
-        edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after))
+        edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
     warnings = [*warnings, *cfg.compose.notes]
     plan = RobotPlan(ctx.robot.name, summary, edits, (cfg.service,), cfg.compose_path, verify,
                      None if edits else noop, warnings)

@@ -28,6 +28,8 @@ class RobotConfig:
     before: bytes
     compose: ComposeFile
     stack: Stack
+    mode: int | None = None
+    """compose.yaml's permission bits, where the read learnt them (a kept read does)."""
 
     @property
     def service(self) -> str:
@@ -105,7 +107,7 @@ def parse_config(raw: ComposeRead, stack_setting: str) -> RobotConfig:
     """Parse what :func:`read_compose` read; ``stack_setting`` is the inventory's ``stack:``."""
     compose = ComposeFile.parse(raw.before.decode(), raw.path)
     stack = stack_from_version(stack_setting) if stack_setting != "auto" else compose.stack()
-    return RobotConfig(raw.home, raw.path, raw.before, compose, stack)
+    return RobotConfig(raw.home, raw.path, raw.before, compose, stack, raw.mode)
 
 
 def read_config(ctx: RobotContext, *, keep: bool = False) -> RobotConfig:

@@ -9,8 +9,14 @@ carries the write, so a change costs the robot one session instead of two.
 
 from __future__ import annotations
 
+import contextlib
+import time
 from collections.abc import Callable
-from typing import Protocol
+from typing import Protocol, TypeVar
+
+from panther_ops.transport.base import Command, CommandResult
+
+T = TypeVar("T")
 
 
 class Pipe(Protocol):
@@ -35,6 +41,12 @@ class Pipe(Protocol):
     def close(self) -> None:
         """Release the pipe; a command still running is ended (its input closed, or killed)."""
         ...
+
+    def pause_timeout(self) -> None:
+        """The command is kept waiting for a later phase: its time limit does not run meanwhile."""
+        ...
+
+    def resume_timeout(self) -> None: ...
 
 
 class Conversation:
@@ -76,3 +88,79 @@ class Conversation:
         data = bytes(self.out)
         self.out.clear()
         return data
+
+
+class Conversing:
+    """``run``, ``run_kept``, ``resume`` and ``drop_kept`` of a transport, over its pipes.
+
+    A transport supplies :meth:`_open` (start a command), and may wrap each step with
+    :meth:`_guard` (turn its failures into panther-ops errors) and check a finished pipe with
+    :meth:`_check`.
+    """
+
+    _kept: dict[str, tuple[Conversation, Command, float | None]]
+
+    def _open(self, command: Command, timeout: float | None) -> Pipe:
+        raise NotImplementedError
+
+    def _guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
+        return step()
+
+    def _check(self, command: Command, pipe: Pipe) -> None:
+        return None
+
+    def _result(self, command: Command, pipe: Pipe, status: int, out: bytes, err: bytes,
+                start: float) -> CommandResult:
+        self._check(command, pipe)
+        return CommandResult(str(command), status, out.decode(errors="replace"), err.decode(errors="replace"),
+                             time.monotonic() - start, out)
+
+    def _start(self, command: Command, timeout: float | None) -> Conversation:
+        return self._guard(command, timeout, lambda: Conversation(self._open(command, timeout)))
+
+    def run(
+        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
+        until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
+    ) -> CommandResult:
+        start = time.monotonic()
+        conv = self._start(command, timeout)
+        status, out, err = self._guard(command, timeout, lambda: conv.finish(stdin, until, answer))
+        return self._result(command, conv.pipe, status, out, err, start)
+
+    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
+        start = time.monotonic()
+        conv = self._start(command, timeout)
+        try:
+            asked = self._guard(command, timeout, lambda: conv.read_until(until))
+        except BaseException:
+            conv.pipe.close()
+            raise
+        if not asked:
+            status, out, err = self._guard(command, timeout, conv.finish)
+            return self._result(command, conv.pipe, status, out, err, start)
+        self.drop_kept(key)
+        conv.pipe.pause_timeout()  # waiting for the operator is not the command taking long
+        self._kept[key] = (conv, command, timeout)
+        return self._result(command, conv.pipe, 0, conv.take_output()[: -len(until)], b"", start)
+
+    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
+               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
+        kept = self._kept.pop(key, None)
+        if kept is None:
+            return None
+        conv, command, timeout = kept
+        conv.pipe.resume_timeout()
+        start = time.monotonic()
+        status, out, err = self._guard(command, timeout, lambda: conv.finish(stdin, until, answer))
+        return self._result(command, conv.pipe, status, out, err, start)
+
+    def drop_kept(self, key: str) -> None:
+        kept = self._kept.pop(key, None)
+        if kept is not None:
+            kept[0].pipe.resume_timeout()
+            with contextlib.suppress(Exception):  # a kept command whose connection is gone is over anyway
+                kept[0].pipe.close()  # its input closes: the command ends on its own
+
+    def drop_all_kept(self) -> None:
+        for key in list(self._kept):
+            self.drop_kept(key)

@@ -16,27 +16,25 @@ import signal
 import subprocess
 import tempfile
 import threading
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from panther_ops.errors import TransportError, UnreachableError
-from panther_ops.transport.base import Command, CommandResult
-from panther_ops.transport.conversation import Conversation
+from panther_ops.transport.base import Command
+from panther_ops.transport.conversation import Conversing, Pipe
 
 if TYPE_CHECKING:
     from docker import DockerClient
 
 
-class LocalTransport:
+class LocalTransport(Conversing):
     """A robot that is a directory on this machine."""
 
     def __init__(self, name: str, root: Path, user: str = "husarion") -> None:
         self.name = name
         self.root = root
         self.user = user
-        self._kept: dict[str, tuple[Conversation, Command]] = {}
+        self._kept = {}
 
     def connect(self) -> None:
         if not (self.root / "home" / self.user).is_dir():
@@ -47,8 +45,7 @@ class LocalTransport:
             )
 
     def close(self) -> None:
-        for key in list(self._kept):
-            self.drop_kept(key)
+        self.drop_all_kept()
 
     def home(self) -> str:
         return f"/home/{self.user}"
@@ -64,61 +61,13 @@ class LocalTransport:
             raise TransportError(self.name, f"path {path} leaves the demo robot's directory")
         return resolved
 
-    def run(
-        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
-        until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
-    ) -> CommandResult:
-        start = time.monotonic()
-        pipe = self._pipe(command, timeout)
-        status, out, err = Conversation(pipe).finish(stdin, until, answer)
-        return self._result(command, pipe, status, out, err, start)
-
-    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
-        start = time.monotonic()
-        pipe = self._pipe(command, timeout)
-        conv = Conversation(pipe)
-        try:
-            asked = conv.read_until(until)
-        except BaseException:
-            pipe.close()
-            raise
-        if asked:
-            self.drop_kept(key)
-            pipe.stop_timer()  # kept: waiting for the operator is not the command taking long
-            self._kept[key] = (conv, command)
-            return CommandResult(str(command), 0, "", "", time.monotonic() - start, conv.take_output()[: -len(until)])
-        status, out, err = conv.finish()
-        return self._result(command, pipe, status, out, err, start)
-
-    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
-               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
-        kept = self._kept.pop(key, None)
-        if kept is None:
-            return None
-        conv, command = kept
-        assert isinstance(conv.pipe, _ProcessPipe)
-        conv.pipe.start_timer()
-        start = time.monotonic()
-        status, out, err = conv.finish(stdin, until, answer)
-        return self._result(command, conv.pipe, status, out, err, start)
-
-    def drop_kept(self, key: str) -> None:
-        kept = self._kept.pop(key, None)
-        if kept is not None:
-            assert isinstance(kept[0].pipe, _ProcessPipe)
-            kept[0].pipe.start_timer()
-            kept[0].finish()  # its input closes: the command ends on its own
-
-    def _pipe(self, command: Command, timeout: float | None) -> _ProcessPipe:
+    def _open(self, command: Command, timeout: float | None) -> _ProcessPipe:
         env = {**os.environ, "PANTHER_OPS_ROOT": str(self.root), "HOME": self.home()}
         return _ProcessPipe(["sh", "-c", command.render(reveal=True)], env, self.root, timeout or 120)
 
-    def _result(self, command: Command, pipe: _ProcessPipe, status: int, out: bytes, err: bytes,
-                start: float) -> CommandResult:
-        if pipe.expired:
+    def _check(self, command: Command, pipe: Pipe) -> None:
+        if isinstance(pipe, _ProcessPipe) and pipe.expired:
             raise TransportError(self.name, f"`{command}` timed out")
-        return CommandResult(str(command), status, out.decode(errors="replace"), err.decode(errors="replace"),
-                             time.monotonic() - start, out)
 
     def read_file(self, path: str) -> bytes:
         p = self.local_path(path)
@@ -175,15 +124,16 @@ class _ProcessPipe:
         self.timeout = timeout
         self._timer: threading.Timer | None = None
         self.expired = False
-        self.start_timer()
+        self.resume_timeout()
 
-    def start_timer(self) -> None:
-        self.stop_timer()
+    def resume_timeout(self) -> None:
+        """(Re)start the time limit."""
+        self.pause_timeout()
         self._timer = threading.Timer(self.timeout, self._expire)
         self._timer.daemon = True
         self._timer.start()
 
-    def stop_timer(self) -> None:
+    def pause_timeout(self) -> None:
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None
@@ -228,7 +178,7 @@ class _ProcessPipe:
         return self.proc.wait()
 
     def close(self) -> None:
-        self.stop_timer()
+        self.pause_timeout()
         if self.proc.poll() is None:  # closed before its end (an error on our side): its input ends,
             self.close_input()        # so it can clean up (APPLY drops its staged files); then it is killed
             try:

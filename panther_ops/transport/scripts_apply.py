@@ -23,6 +23,8 @@ import tarfile
 import time
 from dataclasses import dataclass
 
+from panther_ops.transport.scripts import RESOLVE
+
 CHANGED_EXIT = 3
 """A file changed on the robot since the plan read it: nothing written."""
 REFUSED_EXIT = 5
@@ -115,7 +117,7 @@ WRITE_KEY = "write"
 """The key a kept read of compose.yaml is held under (see ``Transport.run_kept``)."""
 
 READ_KEPT = (
-    'r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; f="$r$p"; '
+    RESOLVE + 'f="$r$p"; '
     'printf "%s\\n" "$HOME"; if [ ! -f "$f" ]; then echo "no such file: $p" >&2; exit 44; fi; '
     'tar -c -b 1 -h -f - -C "${f%/*}/" -- "${f##*/}" || exit 1; printf "%s\\n" "$2"; '
     'IFS= read -r req || exit 0; [ "$req" = apply ] || exit 0; IFS= read -r n || exit 0; set --; '

@@ -7,18 +7,16 @@ of it, so the robot's sshd sees exactly one connection.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import secrets
 import socket
-import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from panther_ops.errors import HostKeyError, TransportError, UnreachableError
 from panther_ops.transport import scripts
-from panther_ops.transport.base import Command, CommandResult, Endpoint
-from panther_ops.transport.conversation import Conversation
+from panther_ops.transport.base import Command, Endpoint
+from panther_ops.transport.conversation import Conversation, Conversing
 from panther_ops.transport.filecache import parsed
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 from panther_ops.transport.ssh_config import Hop, resolve
@@ -156,10 +154,11 @@ class _ChannelPipe:
     def close(self) -> None:
         self.chan.close()
 
+    def pause_timeout(self) -> None:
+        return None  # a channel's timeout only limits the reads we wait on
 
-def _result(shown: str, status: int, out: bytes, err: bytes, start: float) -> CommandResult:
-    return CommandResult(shown, status, out.decode(errors="replace"), err.decode(errors="replace"),
-                         time.monotonic() - start, out)
+    def resume_timeout(self) -> None:
+        return None
 
 
 def exec_channel(
@@ -177,7 +176,7 @@ def exec_channel(
     return Conversation(_ChannelPipe(transport, command, timeout)).finish(stdin, until, answer)
 
 
-class SshTransport:
+class SshTransport(Conversing):
     """A robot reached over SSH. Connects on :meth:`connect`; every step reuses it."""
 
     def __init__(self, endpoint: Endpoint) -> None:
@@ -188,7 +187,7 @@ class SshTransport:
         self._home: str | None = None
         self._docker: DockerClient | None = None
         self._docker_checked = False
-        self._kept: dict[str, tuple[Conversation, str, float]] = {}
+        self._kept = {}
 
     # -- connection ---------------------------------------------------------------
     def connect(self) -> None:
@@ -202,8 +201,7 @@ class SshTransport:
         return self._client
 
     def close(self) -> None:
-        for key in list(self._kept):
-            self.drop_kept(key)
+        self.drop_all_kept()
         if self._docker is not None:
             self._docker.close()
             self._docker = None
@@ -212,69 +210,26 @@ class SshTransport:
         self._clients.clear()
         self._client = None
 
-    # -- commands -----------------------------------------------------------------
-    def run(
-        self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
-        until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
-    ) -> CommandResult:
-        shown = command.render(reveal=False)
-        start = time.monotonic()
-        limit = timeout if timeout is not None else self.endpoint.command_timeout
-        conv = self._guard(shown, limit, lambda: Conversation(self._pipe(command, limit)))
-        status, out, err = self._guard(shown, limit, lambda: conv.finish(stdin, until, answer))
-        return _result(shown, status, out, err, start)
-
-    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
-        shown = command.render(reveal=False)
-        start = time.monotonic()
-        limit = timeout if timeout is not None else self.endpoint.command_timeout
-        conv = self._guard(shown, limit, lambda: Conversation(self._pipe(command, limit)))
-        try:
-            asked = self._guard(shown, limit, lambda: conv.read_until(until))
-        except TransportError:
-            with contextlib.suppress(Exception):
-                conv.pipe.close()
-            raise
-        if asked:
-            self.drop_kept(key)
-            self._kept[key] = (conv, shown, limit)
-            return _result(shown, 0, conv.take_output()[: -len(until)], b"", start)
-        status, out, err = self._guard(shown, limit, conv.finish)
-        return _result(shown, status, out, err, start)
-
-    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
-               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
-        kept = self._kept.pop(key, None)
-        if kept is None:
-            return None
-        conv, shown, limit = kept
-        start = time.monotonic()
-        status, out, err = self._guard(shown, limit, lambda: conv.finish(stdin, until, answer))
-        return _result(shown, status, out, err, start)
-
-    def drop_kept(self, key: str) -> None:
-        kept = self._kept.pop(key, None)
-        if kept is not None:
-            with contextlib.suppress(Exception):  # the command ends on its own when its input closes
-                kept[0].pipe.close_input()
-                kept[0].pipe.close()
-
-    def _pipe(self, command: Command, limit: float) -> _ChannelPipe:
+    # -- commands (run, run_kept, resume, drop_kept: Conversing) ------------------
+    def _open(self, command: Command, timeout: float | None) -> _ChannelPipe:
         transport = self.client.get_transport()
         if transport is None or not transport.is_active():
             raise UnreachableError(self.name, "connection lost")
-        return _ChannelPipe(transport, command.render(reveal=True), limit)
+        return _ChannelPipe(transport, command.render(reveal=True), self._limit(timeout))
 
-    def _guard(self, shown: str, limit: float, step: Callable[[], T]) -> T:
+    def _limit(self, timeout: float | None) -> float:
+        return timeout if timeout is not None else self.endpoint.command_timeout
+
+    def _guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
         """Run one step of a command; SSH failures become panther-ops errors."""
         import paramiko
 
         try:
             return step()
         except TimeoutError:
-            raise TransportError(self.name, f"`{shown}` timed out after {limit:.0f} s") from None
+            raise TransportError(self.name, f"`{command}` timed out after {self._limit(timeout):.0f} s") from None
         except (paramiko.SSHException, OSError, EOFError) as exc:
-            raise UnreachableError(self.name, f"connection lost during `{shown}`: {exc}") from None
+            raise UnreachableError(self.name, f"connection lost during `{command}`: {exc}") from None
 
     # -- files ----------------------------------------------------------------------
     def read_file(self, path: str) -> bytes:
