@@ -39,15 +39,18 @@ def mutate(
 ) -> int:
     """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline)."""
     from panther_ops.cli.render import error, finish, print_results
-    from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet
+    from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
     from panther_ops.core.pipeline import ApplyOptions
     from panther_ops.core.runner import Connections, RunOptions
     from panther_ops.errors import ExitCode
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
+    apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
+    early = yes and not dry_run and applier is None  # no question to wait for: stage while planning
     with Connections(inv) as conns:
-        fp = plan_fleet(command, inv, chosen, planner, conns, opts)
+        fp = plan_fleet(command, inv, chosen, planner, conns, opts, stage=apply if early else None)
         if fp.usage_errors:
+            unstage_fleet(fp, inv, chosen, conns, opts)
             for name, exc in fp.usage_errors.items():
                 error(f"{name}: {exc}")
             sys.stderr.write("nothing was changed on any robot\n")
@@ -63,7 +66,6 @@ def mutate(
             if not typer.confirm(f"{verb} {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
                 sys.stderr.write("nothing was changed\n")
                 return int(ExitCode.USAGE)
-        apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
         result = apply_fleet(fp, inv, chosen, conns, opts, apply, applier=applier) if applier else \
             apply_fleet(fp, inv, chosen, conns, opts, apply)
     return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))

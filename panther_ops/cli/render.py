@@ -95,8 +95,6 @@ def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: b
 def print_diffs(fleet: FleetResult) -> None:
     """Each distinct diff once, under the robots it belongs to (a fleet of one release
     usually gets one diff for all its robots)."""
-    from rich.syntax import Syntax
-
     groups: dict[tuple[str, str], list[str]] = {}
     for r in fleet.results:
         for d in r.diffs:
@@ -105,7 +103,24 @@ def print_diffs(fleet: FleetResult) -> None:
     for (path, unified), robots in groups.items():
         who = robots[0] if len(robots) == 1 else f"{len(robots)} robots ({', '.join(robots)})"
         out.print(f"[bold]{esc(who)}[/]: {esc(path)}")
-        out.print(Syntax(unified, "diff", theme="ansi_dark", background_color="default"))
+        out.print(styled_diff(unified))
+
+
+DIFF_STYLE = (("+++", "bold"), ("---", "bold"), ("@@", "cyan"), ("+", "green"), ("-", "red"))
+
+
+def styled_diff(unified: str) -> Any:
+    """A unified diff as rich Text: headers bold, hunks cyan, additions green, removals red.
+
+    The text is shown as is (no markup, no wrapping: a diff line is never folded into two).
+    """
+    from rich.text import Text
+
+    text = Text(no_wrap=True, overflow="ignore", end="")
+    for line in unified.splitlines(keepends=True):
+        style = next((st for prefix, st in DIFF_STYLE if line.startswith(prefix)), "")
+        text.append(line, style=style)
+    return text
 
 
 def print_warnings(fleet: FleetResult) -> None:

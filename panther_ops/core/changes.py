@@ -4,17 +4,24 @@ Phase 1 plans every targeted robot (reads only). A planning error that is the op
 (a bad key or value for that robot's stack) stops the whole command before anything is
 written anywhere (exit 2). Phase 2, after the CLI showed the diffs and got confirmation,
 applies the plans through the pipeline on the same connections.
+
+When the command needs no confirmation (``--yes``), phase 1 also stages each robot's write
+as soon as its plan is known: the backup and the new files wait beside their targets while
+the rest of the fleet is still being planned, and nothing is renamed until phase 2 gives
+the go-ahead. If phase 2 does not come for a robot (another robot's plan was refused, or a
+canary failed), its staging is taken back: the robot is left as it was.
 """
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from panther_ops.core.inventory import Inventory, Robot
-from panther_ops.core.pipeline import ApplyOptions, RobotPlan, apply_plan
+from panther_ops.core.pipeline import ApplyOptions, RobotPlan, Staged, apply_plan, apply_staged, stage_plan, unstage
 from panther_ops.core.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
-from panther_ops.errors import UsageError
+from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
 Planner = Callable[[RobotContext], RobotPlan]
@@ -35,6 +42,8 @@ class FleetPlan:
     plans: dict[str, RobotPlan] = field(default_factory=dict)
     results: FleetResult = field(default_factory=lambda: FleetResult("plan"))
     usage_errors: dict[str, UsageError] = field(default_factory=dict)
+    staged: dict[str, Staged] = field(default_factory=dict)
+    """Writes staged during planning, waiting for the go-ahead (see the module's text)."""
 
     @property
     def to_change(self) -> list[str]:
@@ -42,7 +51,9 @@ class FleetPlan:
 
 
 def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
-               options: RunOptions, progress: Progress | None = None) -> FleetPlan:
+               options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None) -> FleetPlan:
+    """Plan every robot; with ``stage`` (the options phase 2 will apply with) also stage each
+    robot's file edits through the pipeline as soon as its plan is known."""
     fp = FleetPlan(command)
 
     def task(ctx: RobotContext) -> RobotResult:
@@ -51,6 +62,8 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         except UsageError as exc:
             fp.usage_errors[ctx.robot.name] = exc
             raise
+        if stage is not None and plan.edits and not plan.data.get("action") and not stage.dry_run:
+            fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
         fp.plans[ctx.robot.name] = plan
         outcome = Outcome.CHANGED if does_something(plan) else Outcome.OK
         message = plan.summary if does_something(plan) else (plan.noop or "nothing to change")
@@ -70,14 +83,31 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
     todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])]
 
     def task(ctx: RobotContext) -> RobotResult:
-        return applier(ctx, fp.plans[ctx.robot.name], apply)
+        plan = fp.plans[ctx.robot.name]
+        staged = fp.staged.pop(ctx.robot.name, None)
+        return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 
     applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections)
+    unstage_fleet(fp, inventory, robots, connections, options)  # robots never started (canary, max-fail)
     for r in applied.results:
         by_name[r.robot] = r
     out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
     out.duration_s = fp.results.duration_s + applied.duration_s
     return out
+
+
+def unstage_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
+                  options: RunOptions) -> None:
+    """Take back every write still staged: those robots are left exactly as they were."""
+    waiting = [r for r in robots if fp.staged.pop(r.name, None) is not None]
+
+    def task(ctx: RobotContext) -> RobotResult:
+        with contextlib.suppress(OpsError):  # the session is gone: the robot dropped the staged files itself
+            unstage(ctx)
+        return RobotResult(ctx.robot.name, Outcome.SKIPPED, "staged write taken back")
+
+    if waiting:
+        run_fleet(fp.command, inventory, waiting, task, RunOptions(forks=options.forks), None, connections)
 
 
 def dry_run_result(fp: FleetPlan) -> FleetResult:

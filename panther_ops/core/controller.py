@@ -19,12 +19,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from panther_ops.core.config_files import ConfigKind, config_file
 from panther_ops.core.stack import Stack
-from panther_ops.core.yamldoc import YamlDocument
 from panther_ops.errors import InputError, UsageError
+
+if TYPE_CHECKING:  # the YAML editor (ruamel) loads when a file is edited, not for validating values
+    from panther_ops.core.yamldoc import YamlDocument
 
 AXES = ("linear.x", "linear.y", "angular.z")
 BOOL_PARAMS = ("has_velocity_limits", "has_acceleration_limits", "has_jerk_limits")
@@ -234,6 +236,8 @@ class ControllerConfig:
     def parse(
         cls, text: str, stack: Stack, wheel_type: str, *, path: str | None = None, force: bool = False
     ) -> ControllerConfig:
+        from panther_ops.core.yamldoc import YamlDocument
+
         return cls(YamlDocument(text, path), stack, wheel_type, force=force)
 
     @classmethod

@@ -22,10 +22,13 @@ import re
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import TYPE_CHECKING
 
-from panther_ops.core.compose import ComposeFile, Volume
 from panther_ops.core.stack import Family, Stack
 from panther_ops.errors import UsageError
+
+if TYPE_CHECKING:  # validating a value needs no YAML editor (ruamel loads when a compose file is edited)
+    from panther_ops.core.compose import ComposeFile, Volume
 
 Version = tuple[int, int, int]
 

@@ -24,11 +24,12 @@ from datetime import datetime, timezone
 from typing import Any
 
 from panther_ops.core.diff import unified_diff
+from panther_ops.core.memo import Memo
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Diff, Outcome, RobotResult
 from panther_ops.transport import scripts_apply, scripts_backup
-from panther_ops.transport.base import Command
+from panther_ops.transport.base import Command, CommandResult
 
 BACKUP_ROOT = scripts_backup.BACKUP_ROOT
 
@@ -105,26 +106,53 @@ def new_backup_id(now: datetime | None = None) -> str:
     return f"{stamp}-{secrets.token_hex(2)}"
 
 
+@dataclass(frozen=True)
+class Staged:
+    """A robot's write, staged and waiting on the robot for the go-ahead (or why it is not)."""
+
+    backup_id: str
+    final: bool
+    """Nothing follows the write (no recreate): the backup's status is recorded with it."""
+    problem: str | None = None
+    """Why nothing was staged (the robot refused or failed): reported instead of applying."""
+
+
 def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
     """Carry out one robot's plan; every outcome is a RobotResult."""
-    name = ctx.robot.name
-    diffs = plan.diffs
-    result = RobotResult(name, Outcome.OK, plan.noop or plan.summary, diffs=diffs,
-                         warnings=list(plan.warnings), data=dict(plan.data))
+    if not plan.edits or opts.dry_run:
+        return _unwritten(ctx.robot.name, plan, opts)
+    return apply_staged(ctx, plan, opts, stage_plan(ctx, plan, opts))
+
+
+def _result(name: str, plan: RobotPlan) -> RobotResult:
+    return RobotResult(name, Outcome.OK, plan.noop or plan.summary, diffs=plan.diffs,
+                       warnings=list(plan.warnings), data=dict(plan.data))
+
+
+def _unwritten(name: str, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+    """The result of a plan with nothing to write, or of a dry run."""
+    result = _result(name, plan)
     if not plan.edits:
         result.message = plan.noop or "nothing to change"
-        return result
-    if opts.dry_run:
+    else:
         result.outcome = Outcome.CHANGED
         result.message = f"would change (dry run): {plan.summary}"
         result.data["dry_run"] = True
-        return result
+    return result
+
+
+def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Staged:
+    """Back up and stage the plan's files on the robot; it then waits for :func:`apply_staged`.
+
+    The session stays open (kept under ``scripts_apply.WRITE_KEY``) until the go-ahead, a
+    stop (:func:`unstage`), or the end of the connection: until then no file is replaced.
+    Raises the transport's errors (the robot went away: nothing was renamed).
+    """
     backup_id = new_backup_id()
-    backup_dir = f"{BACKUP_ROOT}/{backup_id}"
     manifest = {
         "id": backup_id,
         "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-        "robot": name,
+        "robot": ctx.robot.name,
         "command": opts.command,
         "summary": plan.summary,
         "compose_file": plan.compose_file,
@@ -132,18 +160,31 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
         "files": [
             {"path": e.path, "backup": f"files/{i}" if e.before is not None else None,
              "sha256_before": _sha(e.before), "sha256_after": _sha(e.after), "diff": d.unified}
-            for i, (e, d) in enumerate(zip(plan.edits, diffs, strict=True))
+            for i, (e, d) in enumerate(zip(plan.edits, plan.diffs, strict=True))
         ],
     }
     final = not plan.recreate or not opts.restart
     status = ("applied" + (" (not recreated)" if plan.recreate else "")) if final else ""
-    problem = _write(ctx, plan, opts, backup_dir, manifest, status)
+    problem = _stage(ctx, plan, f"{BACKUP_ROOT}/{backup_id}", manifest, status)
+    return Staged(backup_id, final, problem)
+
+
+def unstage(ctx: RobotContext) -> None:
+    """Tell a staged write not to go ahead: the robot removes all it staged, backup included."""
+    ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.STOP)
+
+
+def apply_staged(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, staged: Staged) -> RobotResult:
+    """Give a staged write its go-ahead, then recreate, verify and roll back as needed."""
+    result = _result(ctx.robot.name, plan)
+    problem = staged.problem or _commit(ctx, plan, opts)
     if problem is not None:
         result.outcome = Outcome.FAILED
         result.message = problem
         return result
+    backup_id = staged.backup_id
     result.data["backup"] = backup_id
-    if final:
+    if staged.final:
         result.outcome = Outcome.CHANGED
         result.message = plan.summary + ("; not recreated (--no-restart)" if plan.recreate else "")
         return result
@@ -156,19 +197,27 @@ def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotR
     return _roll_back(ctx, plan, opts, result, problem, backup_id)
 
 
-@functools.lru_cache(maxsize=64)
+_VALUES_ONLY: Memo[bool] = Memo()
+
+
 def _values_only(before: bytes | None, after: bytes | None) -> bool:
     """True when the two compose files differ only in services' ``command`` or ``image`` values.
 
     Those are free-form strings to docker compose (any text passes its schema), and the YAML
     editor has already re-parsed the result, so asking the robot's compose adds nothing.
+    Robots with the same files share one answer (computed once, with libyaml where built).
     """
-    import yaml
-
     if before is None or after is None:
         return False
+    return _VALUES_ONLY.get((before, after), lambda: _compare_values(before, after))
+
+
+def _compare_values(before: bytes, after: bytes) -> bool:
+    import yaml
+
+    loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
     try:
-        old, new = yaml.safe_load(before), yaml.safe_load(after)
+        old, new = yaml.load(before, Loader=loader), yaml.load(after, Loader=loader)  # noqa: S506  # a safe loader
     except yaml.YAMLError:
         return False
     if not (isinstance(old, dict) and isinstance(new, dict)):
@@ -190,12 +239,9 @@ def _remove(ctx: RobotContext, path: str) -> None:
                                  'esac; rm -f -- "$r$p"', path))
 
 
-def _write(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, backup_dir: str, manifest: dict[str, Any],
-           status: str) -> str | None:
-    """One session: check, unpack backup and staged files, (validate,) rename on the go-ahead.
-
-    Returns why nothing was written, or None when every file is in place.
-    """
+def _stage(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[str, Any], status: str) -> str | None:
+    """Unpack the backup and the staged files and (maybe) validate, in one session kept for
+    the go-ahead. Returns why nothing was staged, or None when the robot waits for it."""
     name = ctx.robot.name
     home = plan.home or ctx.transport.home()
 
@@ -225,18 +271,32 @@ def _write(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, backup_dir: s
         if e.path == plan.compose_file and e.after is not None and not _values_only(e.before, e.after):
             validate = str(i)
     payload = scripts_apply.archive(members)
-
-    def go_ahead(_: bytes) -> bytes:
-        if opts.on_staged:
-            opts.on_staged(name)
-        return b"go\n"
-
     argv = [wdir, status, str(len(payload)), validate, *args]
-    res = ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
-                               until=scripts_apply.STAGED_MARK, answer=go_ahead)  # the plan's kept read
+    t = ctx.transport
+    res = t.advance(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
+                    until=scripts_apply.STAGED_MARK)  # the plan's kept read carries the write
     if res is None:
-        res = ctx.transport.run(Command.sh(scripts_apply.APPLY, *argv), stdin=payload,
-                                until=scripts_apply.STAGED_MARK, answer=go_ahead)
+        res = t.run_kept(Command.sh(scripts_apply.APPLY, *argv), scripts_apply.STAGED_MARK, scripts_apply.WRITE_KEY,
+                         stdin=payload)
+    if t.kept(scripts_apply.WRITE_KEY):
+        return None
+    return _write_problem(name, plan, res) or f"the write ended before staging (exit {res.exit_status})"
+
+
+def _commit(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> str | None:
+    """The go-ahead for a staged write. Returns why nothing was written, or None when it was."""
+    name = ctx.robot.name
+    if opts.on_staged:
+        opts.on_staged(name)
+    res = ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.GO)
+    if res is None:
+        raise TransportError(name, "no staged write to go ahead with (a bug: see --debug)")
+    return _write_problem(name, plan, res)
+
+
+def _write_problem(name: str, plan: RobotPlan, res: CommandResult) -> str | None:
+    """What a finished write session says went wrong (None: all renamed); raises when the
+    connection died or the robot failed."""
     if res.exit_status == scripts_apply.CHANGED_EXIT:
         return "a file changed on the robot since it was read; nothing written, run again"
     if res.exit_status == scripts_apply.REFUSED_EXIT:

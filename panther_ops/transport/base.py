@@ -136,11 +136,24 @@ class Transport(Protocol):
         is sent and the input closed; a command that ends without asking is not answered."""
         ...
 
-    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
-        """Run a command up to the moment its output ends with ``until``, and keep it running,
-        waiting for input, under ``key`` (for :meth:`resume` in a later phase; closed with the
-        transport). The result holds the output before ``until``. A command that ends without
-        printing ``until`` is not kept: its result is returned as :meth:`run` would."""
+    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None,
+                 stdin: bytes | None = None) -> CommandResult:
+        """Run a command (sending it ``stdin``) up to the moment its output ends with ``until``,
+        and keep it running, waiting for input, under ``key`` (for :meth:`advance` or
+        :meth:`resume` in a later phase; closed with the transport). The result holds the
+        output before ``until``. A command that ends without printing ``until`` is not kept:
+        its result is returned as :meth:`run` would."""
+        ...
+
+    def advance(self, key: str, stdin: bytes, until: bytes) -> CommandResult | None:
+        """Send ``stdin`` to the command kept under ``key`` and read up to its next ``until``:
+        it stays kept, and the result holds what it printed meanwhile; a command that ends
+        instead is no longer kept and its result is returned as :meth:`run` would. None
+        when none is kept."""
+        ...
+
+    def kept(self, key: str) -> bool:
+        """Whether a command is kept under ``key``."""
         ...
 
     def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,

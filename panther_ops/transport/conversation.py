@@ -83,6 +83,12 @@ class Conversation:
             self.pipe.close()  # on an error (an answer that raised, a lost connection) this ends the command
         return status, bytes(self.out), err
 
+    def send(self, data: bytes | None) -> bool:
+        """Send ``data`` (if any) to the command's input; True (for chaining)."""
+        if data:
+            self.pipe.send(data)
+        return True
+
     def take_output(self) -> bytes:
         """The output so far, which then starts afresh (for the next phase of a kept command)."""
         data = bytes(self.out)
@@ -127,21 +133,38 @@ class Conversing:
         status, out, err = self._guard(command, timeout, lambda: conv.finish(stdin, until, answer))
         return self._result(command, conv.pipe, status, out, err, start)
 
-    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None) -> CommandResult:
+    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None,
+                 stdin: bytes | None = None) -> CommandResult:
         start = time.monotonic()
         conv = self._start(command, timeout)
+        self.drop_kept(key)
+        return self._keep(key, conv, command, timeout, stdin, until, start)
+
+    def advance(self, key: str, stdin: bytes, until: bytes) -> CommandResult | None:
+        kept = self._kept.pop(key, None)
+        if kept is None:
+            return None
+        conv, command, timeout = kept
+        conv.pipe.resume_timeout()
+        return self._keep(key, conv, command, timeout, stdin, until, time.monotonic())
+
+    def _keep(self, key: str, conv: Conversation, command: Command, timeout: float | None, stdin: bytes | None,
+              until: bytes, start: float) -> CommandResult:
+        """Send ``stdin``, read to ``until`` and keep the command under ``key``; or finish it."""
         try:
-            asked = self._guard(command, timeout, lambda: conv.read_until(until))
+            asked = self._guard(command, timeout, lambda: conv.send(stdin) and conv.read_until(until))
         except BaseException:
             conv.pipe.close()
             raise
         if not asked:
             status, out, err = self._guard(command, timeout, conv.finish)
             return self._result(command, conv.pipe, status, out, err, start)
-        self.drop_kept(key)
         conv.pipe.pause_timeout()  # waiting for the operator is not the command taking long
         self._kept[key] = (conv, command, timeout)
         return self._result(command, conv.pipe, 0, conv.take_output()[: -len(until)], b"", start)
+
+    def kept(self, key: str) -> bool:
+        return key in self._kept
 
     def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
                answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:

@@ -1,19 +1,29 @@
 """The shell side of a change: one session that stages, then commits on the go-ahead.
 
-APPLY checks that every file is still what the plan read (sha256), unpacks one tar archive
-holding the backup (manifest and the old contents) and every new content, each staged in a
-temp file beside its target (same file system, so the rename is atomic), fsyncs them,
-optionally asks the robot's own ``docker compose`` about a staged compose file, and prints
-``STAGED_MARK``. It then waits for one line on stdin: ``go`` renames every staged file into
-place and records the status; anything else, or the end of the input (the connection died),
-removes the staged files and renames nothing.
+APPLY unpacks one tar archive holding the backup (manifest and the old contents) and every
+new content, each staged in a temp file beside its target (same file system, so the rename
+is atomic), fsyncs them, optionally asks the robot's own ``docker compose`` about a staged
+compose file, and prints ``STAGED_MARK``. It then waits for one line on stdin:
+
+- ``go``: checks that every file is still what the plan read (sha256; exit 3 and nothing
+  left behind when one changed), renames every staged file into place, fsyncs the
+  directories and records the status;
+- ``stop`` (the command will not go ahead: another robot's plan was refused, or the
+  operator said no): removes all it made, backup included, and renames nothing;
+- anything else, or the end of the input (the connection died): removes the staged files,
+  records the attempt as abandoned beside the backup, and renames nothing.
+
+The check comes after the go-ahead, right before the renames, so a write staged early
+(while the rest of the fleet is still being planned) is still checked against the robot's
+file as it is at the moment it is replaced.
 
 Nothing user-given is ever part of the script text: paths and values come as positional
 parameters (absolute paths: the caller resolved ``~``), contents as the archive on stdin,
 read with ``head -c SIZE`` (which reads no further than its count, so the go-ahead stays in
 the pipe for ``read``; tar itself would drain the pipe). Every process counts, since this
-runs on every robot of a fleet at once: a one-file change runs sha256sum, head, tar, sync,
-mv and sync, and chmod only when the caller does not know the file's mode.
+runs on every robot of a fleet at once: a one-file change runs head, tar and sync before
+the go-ahead and sha256sum, mv and sync after it, and chmod only when the caller does not
+know the file's mode.
 """
 
 from __future__ import annotations
@@ -39,27 +49,29 @@ _EACH = (
     '@BODY@ ;; esac; k=$(((k+1)%4)); done; '
 )
 
+_CHECK = _EACH.replace("@BODY@", (
+    'if [ "$want" = - ]; then if [ -e "$f" ]; then '
+    '  printf "%s appeared on the robot since it was read\\n" "$p" >&2; unmake; exit 3; fi; '
+    'else got=$(sha256sum < "$f" 2>/dev/null); if [ "${got%% *}" != "$want" ]; then '
+    '  printf "%s changed on the robot since it was read\\n" "$p" >&2; unmake; exit 3; fi; fi'
+))
+
 _APPLY_FN = "apply_() { " + (
     "trap '' HUP PIPE; nl='\n'; tab='\t'; r=\"${PANTHER_OPS_ROOT:-}\"; "
     'w="$r$1"; st="$2"; size="$3"; val="$4"; shift 4; '
-    + _EACH.replace("@BODY@", (
-        'if [ "$want" = - ]; then if [ -e "$f" ]; then '
-        '  printf "%s appeared on the robot since it was read\\n" "$p" >&2; exit 3; fi; '
-        'else got=$(sha256sum < "$f" 2>/dev/null); if [ "${got%% *}" != "$want" ]; then '
-        '  printf "%s changed on the robot since it was read\\n" "$p" >&2; exit 3; fi; fi'
-    ))
     + 'staged=""; syncs="$w/manifest.json$nl"; vt=""; i=0; '
     'drop() { IFS="$nl"; set -f; for l in $staged; do [ "${l%%"$tab"*}" = - ] || rm -f -- "${l%%"$tab"*}"; done; }; '
+    'unmake() { drop; rm -rf -- "$w"; rmdir -- "${w%/*}" "${w%/*/*}" 2>/dev/null; }; '
     + _EACH.replace("@BODY@", (
         'if [ "$t" = - ]; then staged="$staged-$tab$f$nl"; else staged="$staged$r$t$tab$f$nl"; '
         '  syncs="$syncs$r$t$nl"; [ "$i" = "$val" ] && vt="$r$t"; fi; '
         '[ "$want" = - ] || syncs="$syncs$w/files/$i$nl"; i=$((i+1))'
     ))
     + 'if ! head -c "$size" | tar -x -p --no-same-owner --no-overwrite-dir -f - -C "${r:-/}"; then '
-    '  drop; rm -rf -- "$w"; echo "cannot unpack the upload" >&2; exit 1; fi; '
+    '  unmake; echo "cannot unpack the upload" >&2; exit 1; fi; '
     + 'i=0; ' + _EACH.replace("@BODY@", (
-        'if [ "$ref" = 1 ]; then if [ "$t" = - ]; then chmod --reference="$f" -- "$w/files/$i"; '
-        '  else chmod --reference="$f" -- "$r$t" "$w/files/$i"; fi || { drop; rm -rf -- "$w"; '
+        'if [ "$ref" = 1 ] && [ -e "$f" ]; then if [ "$t" = - ]; then chmod --reference="$f" -- "$w/files/$i"; '
+        '  else chmod --reference="$f" -- "$r$t" "$w/files/$i"; fi || { unmake; '
         '  printf "cannot give %s its mode\\n" "$p" >&2; exit 1; }; fi; i=$((i+1))'
     ))
     + 'IFS="$nl"; set -f; sync -- $syncs 2>/dev/null || sync; '
@@ -67,8 +79,10 @@ _APPLY_FN = "apply_() { " + (
     'then if ! err=$(cd "${vt%/*}" && docker compose -f "$vt" config -q 2>&1); then drop; '
     '  printf "refused: %s\\n" "$err" > "$w/status"; printf "%s\\n" "$err" >&2; exit 5; fi; fi; '
     'printf "@@staged\\n"; go=""; read -r go; '
+    'if [ "$go" = stop ]; then unmake; exit 4; fi; '
     'if [ "$go" != go ]; then drop; printf "abandoned: no go-ahead (%s)\\n" "${go:-connection closed}" > "$w/status"; '
     '  exit 4; fi; '
+    'unset IFS; set +f; ' + _CHECK + 'IFS="$nl"; set -f; '
     'dirs=""; for l in $staged; do t="${l%%"$tab"*}"; f="${l#*"$tab"}"; '
     '  if [ "$t" = - ]; then rm -f -- "$f" || exit 1; else mv -f -- "$t" "$f" || exit 1; fi; dirs="$dirs${f%/*}$nl"; '
     'done; sync -- $dirs 2>/dev/null; '
@@ -78,10 +92,16 @@ _APPLY_FN = "apply_() { " + (
 APPLY = _APPLY_FN + 'apply_ "$@"'
 """$1 backup dir (absolute), $2 status to record once renamed (empty: later), $3 size of the
 archive on stdin, $4 index of the file to validate with docker compose (``-``: none), then per
-file: absolute path, sha256 it must have now (``-``: must not exist), its staged temp file
-(``-``: remove the file), ``1`` to give the staged file and the backup the target's mode with
-chmod (``0``: the archive has it). Stdin: the archive (:func:`archive`), then, after ``STAGED_MARK``, the
-go-ahead line. Exit 3: a file changed since it was read; 5: docker compose refused."""
+file: absolute path, sha256 it must have when renamed over (``-``: must not exist), its staged
+temp file (``-``: remove the file), ``1`` to give the staged file and the backup the target's
+mode with chmod (``0``: the archive has it). Stdin: the archive (:func:`archive`), then, after
+``STAGED_MARK``, ``GO`` or ``STOP``. Exit 3: a file changed since it was read; 4: no go-ahead;
+5: docker compose refused."""
+
+GO = b"go\n"
+"""The go-ahead: check, rename, record."""
+STOP = b"stop\n"
+"""No go-ahead: remove everything the staging made."""
 
 
 @dataclass(frozen=True)

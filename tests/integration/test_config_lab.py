@@ -170,10 +170,12 @@ def test_failing_change_is_rolled_back_and_history_rollback(lab: Any, pristine: 
     assert "wheel_type:=WH04" not in driver_cmd(lab, name)
 
 
-def test_sshd_killed_between_upload_and_rename(lab: Any, pristine: None) -> None:
+@pytest.mark.parametrize("early", [False, True], ids=["staged-after-confirmation", "staged-while-planning"])
+def test_sshd_killed_between_upload_and_rename(lab: Any, pristine: None, early: bool) -> None:
     inv = load_inventory(str(lab.inventory_path))
     robots = list(inv.robots.values())
     victim = robots[2].name
+    lab.sh(victim, "rm -f /home/husarion/.compose.yaml.panther-ops.*")  # a killed session's leftover (earlier case)
     before = {r.name: lab.read_bytes(r.name, COMPOSE) for r in robots}
     reached: list[str] = []
 
@@ -184,12 +186,14 @@ def test_sshd_killed_between_upload_and_rename(lab: Any, pristine: None) -> None
             lab.kill_sshd_and_sessions(victim)
 
     opts = RunOptions(forks=5)
+    apply = ApplyOptions(restart=False, command="t", on_staged=on_staged)
     try:
         with Connections(inv) as conns:
-            fp = plan_fleet("t", inv, robots, lambda c: plan_args(c, {"wheel_type": "WH04"}, []), conns, opts)
+            fp = plan_fleet("t", inv, robots, lambda c: plan_args(c, {"wheel_type": "WH04"}, []), conns, opts,
+                            stage=apply if early else None)
             assert not fp.usage_errors and len(fp.to_change) == 5
-            result = apply_fleet(fp, inv, robots, conns, opts,
-                                 ApplyOptions(restart=False, command="t", on_staged=on_staged))
+            assert len(fp.staged) == (5 if early else 0)
+            result = apply_fleet(fp, inv, robots, conns, opts, apply)
     finally:
         lab.start_sshd(victim)
     assert reached == ["1"], "the victim's new compose.yaml was uploaded (staged) before sshd died"

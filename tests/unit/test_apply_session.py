@@ -49,25 +49,39 @@ class Robot(LocalTransport):
         self.reply: Callable[[bytes], bytes] | None = None
         self.calls: list[str] = []
         self.asked: list[bytes] = []
+        """What each write session printed before it asked for the go-ahead."""
         self.results: list[CommandResult] = []
 
-    def run(self, command: Command, *, until: bytes | None = None,  # type: ignore[override]
-            answer: Callable[[bytes], bytes] | None = None, **kw: Any) -> CommandResult:
+    def _staged(self, key: str, res: CommandResult) -> CommandResult:
+        if key == scripts_apply.WRITE_KEY and self.kept(key):
+            self.asked.append(res.raw_stdout)
+        else:
+            self.results.append(res)  # the session ended before asking
+        return res
+
+    def run(self, command: Command, **kw: Any) -> CommandResult:  # type: ignore[override]
         self.calls.append("run")
-        if until == scripts_apply.STAGED_MARK and answer is not None:
-            pipeline_answer = answer
-
-            def answer(out: bytes) -> bytes:
-                self.asked.append(out)
-                return self.reply(out) if self.reply is not None else pipeline_answer(out)
-
-        res = super().run(command, until=until, answer=answer, **kw)
+        res = super().run(command, **kw)
         self.results.append(res)
         return res
 
+    def run_kept(self, command: Command, until: bytes, key: str, **kw: Any) -> CommandResult:  # type: ignore[override]
+        self.calls.append("run_kept")
+        return self._staged(key, super().run_kept(command, until, key, **kw))
+
+    def advance(self, key: str, stdin: bytes, until: bytes) -> CommandResult | None:
+        self.calls.append("advance")
+        res = super().advance(key, stdin, until)
+        return None if res is None else self._staged(key, res)
+
     def resume(self, key: str, stdin: bytes, **kw: Any) -> Any:  # type: ignore[override]
         self.calls.append("resume")
-        return super().resume(key, stdin, **kw)
+        if key == scripts_apply.WRITE_KEY and stdin == scripts_apply.GO and self.reply is not None:
+            stdin = self.reply(stdin)
+        res = super().resume(key, stdin, **kw)
+        if res is not None:
+            self.results.append(res)
+        return res
 
     @property
     def home_dir(self) -> Path:
@@ -160,7 +174,7 @@ def test_go_renames_every_file_and_keeps_a_backup(ctx: RobotContext, tree: dict[
 
     assert result.outcome is Outcome.CHANGED, result.message
     assert staged == ["r1"], "on_staged: once, with the robot's name"
-    assert robot.asked == [scripts_apply.STAGED_MARK], "asked once, with everything printed so far"
+    assert robot.asked == [b""], "asked once, having printed nothing else"
     assert robot.results[-1].exit_status == 0
     # the edited file: new bytes, its own mode kept
     assert tree["edited"].read_bytes() == b"new: 2\nmore: 3\n"
@@ -221,19 +235,18 @@ def test_explicit_mode_replaces_the_mode_of_an_existing_file(ctx: RobotContext, 
     assert mode_of(tree["edited"]) == 0o600
 
 
-@pytest.mark.parametrize(("reply", "reason"), [(b"stop\n", "stop"), (b"", "connection closed")])
-def test_no_go_ahead_renames_nothing(ctx: RobotContext, tree: dict[str, Path], reply: bytes, reason: str) -> None:
+@pytest.mark.parametrize(("reply", "reason"), [(b"later\n", "later"), (b"", "connection closed")])
+def test_no_go_ahead_renames_nothing_and_records_the_attempt(ctx: RobotContext, tree: dict[str, Path], reply: bytes,
+                                                           reason: str) -> None:
     robot = robot_of(ctx)
     robot.reply = lambda _: reply
     before = snapshot(robot)
-    staged: list[str] = []
 
     with pytest.raises(TransportError, match=f"exit {scripts_apply.ABANDONED_EXIT}"):
-        apply(ctx, standard_plan(), staged.append)
+        apply(ctx, standard_plan())
 
     assert robot.results[-1].exit_status == scripts_apply.ABANDONED_EXIT
-    assert robot.asked == [scripts_apply.STAGED_MARK]
-    assert staged == [], "the pipeline's own answer was not used"
+    assert robot.asked == [b""]
     assert snapshot(robot) == before, "nothing renamed, created or removed"
     assert temp_files(robot) == [], "the staged files are gone"
     [backup] = attempts(robot)
@@ -241,6 +254,31 @@ def test_no_go_ahead_renames_nothing(ctx: RobotContext, tree: dict[str, Path], r
     assert status.startswith("abandoned"), status
     assert f"({reason})" in status
     assert (backup / "files" / "0").read_bytes() == b"old: 1\n", "the backup is kept"
+
+
+def test_stop_removes_everything_the_staging_made(ctx: RobotContext, tree: dict[str, Path]) -> None:
+    robot = robot_of(ctx)
+    robot.reply = lambda _: scripts_apply.STOP
+    before = snapshot(robot)
+
+    with pytest.raises(TransportError, match=f"exit {scripts_apply.ABANDONED_EXIT}"):
+        apply(ctx, standard_plan())
+
+    assert robot.asked == [b""]
+    assert snapshot(robot) == before
+    assert temp_files(robot) == []
+    assert not (robot.home_dir / ".panther-ops").exists(), "no backup, not even the directories made for it"
+
+
+def test_stop_leaves_earlier_backups_alone(ctx: RobotContext, tree: dict[str, Path]) -> None:
+    robot = robot_of(ctx)
+    first = apply(ctx, RobotPlan("r1", "one", [FileEdit("~/other.txt", b"leave me\n", b"changed\n")]))
+    assert first.outcome is Outcome.CHANGED, first.message
+    robot.reply = lambda _: scripts_apply.STOP
+    with pytest.raises(TransportError, match=f"exit {scripts_apply.ABANDONED_EXIT}"):
+        apply(ctx, standard_plan())
+    assert attempts(robot) == [robot.backups / first.data["backup"]]
+    assert temp_files(robot) == []
 
 
 def test_go_without_its_newline_still_goes(ctx: RobotContext, tree: dict[str, Path]) -> None:
@@ -263,7 +301,7 @@ def test_a_file_changed_since_planning_writes_nothing(ctx: RobotContext, tree: d
     assert "changed on the robot" in result.message
     assert robot.results[-1].exit_status == scripts_apply.CHANGED_EXIT
     assert "gone.txt changed on the robot" in robot.results[-1].stderr
-    assert robot.asked == [] and staged == [], "never asked: nothing was staged"
+    assert robot.asked == [b""] and staged == ["r1"], "staged, then checked after the go-ahead"
     assert "backup" not in result.data
     assert snapshot(robot) == before
     assert attempts(robot) == [], "no backup directory is left for the attempt"
@@ -277,7 +315,7 @@ def test_a_file_gone_since_planning_writes_nothing(ctx: RobotContext, tree: dict
     result = apply(ctx, standard_plan())
     assert result.outcome is Outcome.FAILED
     assert robot.results[-1].exit_status == scripts_apply.CHANGED_EXIT
-    assert robot.asked == []
+    assert robot.asked == [b""]
     assert snapshot(robot) == before
     assert attempts(robot) == []
     assert temp_files(robot) == []
@@ -291,7 +329,7 @@ def test_a_file_that_must_not_exist_but_appeared(ctx: RobotContext, tree: dict[s
     assert result.outcome is Outcome.FAILED
     assert robot.results[-1].exit_status == scripts_apply.CHANGED_EXIT
     assert "appeared on the robot" in robot.results[-1].stderr
-    assert robot.asked == []
+    assert robot.asked == [b""]
     assert appeared.read_bytes() == b"created meanwhile\n"
     assert snapshot(robot) == before
     assert attempts(robot) == []

@@ -37,6 +37,27 @@ def test_kept_command_waits_for_input_and_resumes(robot: LocalTransport) -> None
     assert robot.resume("k", b"again\n") is None, "a kept command is resumed once"
 
 
+def test_a_kept_command_advances_from_mark_to_mark(robot: LocalTransport) -> None:
+    script = ('head -c 4 > /dev/null; printf "one\\n@@mark@@\\n"; read -r a; printf "two %s\\n@@mark@@\\n" "$a"; '
+              'read -r b; printf "three %s\\n" "$b"; exit 5')
+    first = robot.run_kept(Command.sh(script), MARK, "k", stdin=b"skip")
+    assert first.raw_stdout == b"one\n" and robot.kept("k")
+    second = robot.advance("k", b"A\n", MARK)
+    assert second is not None and second.exit_status == 0 and second.raw_stdout == b"two A\n"
+    assert robot.kept("k"), "still kept: it printed the mark again"
+    last = robot.resume("k", b"B\n")
+    assert last is not None and (last.exit_status, last.raw_stdout) == (5, b"three B\n")
+    assert not robot.kept("k")
+    assert robot.advance("k", b"x\n", MARK) is None
+
+
+def test_a_command_that_ends_instead_of_asking_again_is_no_longer_kept(robot: LocalTransport) -> None:
+    robot.run_kept(Command.sh('printf "@@mark@@\\n"; read -r a; echo "done $a"; echo why >&2; exit 3'), MARK, "k")
+    res = robot.advance("k", b"x\n", MARK)
+    assert res is not None and (res.exit_status, res.stdout, res.stderr) == (3, "done x\n", "why\n")
+    assert not robot.kept("k")
+
+
 def test_command_that_ends_before_the_mark_is_not_kept(robot: LocalTransport) -> None:
     res = robot.run_kept(Command.sh('echo nope; echo bad >&2; exit 44'), MARK, "k")
     assert (res.exit_status, res.stdout, res.stderr) == (44, "nope\n", "bad\n")
@@ -114,7 +135,7 @@ def test_apply_request_refuses_newlines() -> None:
 
 
 class Counting(LocalTransport):
-    """The demo transport, counting the sessions it starts (run, run_kept) and resumes."""
+    """The demo transport, counting the sessions it starts (run, run_kept) and continues (advance, resume)."""
 
     def __init__(self, inner: LocalTransport) -> None:
         super().__init__(inner.name, inner.root, inner.user)
@@ -127,6 +148,10 @@ class Counting(LocalTransport):
     def run_kept(self, command: Command, until: bytes, key: str, **kw: Any) -> Any:  # type: ignore[override]
         self.calls.append("run_kept")
         return super().run_kept(command, until, key, **kw)
+
+    def advance(self, key: str, stdin: bytes, until: bytes) -> Any:
+        self.calls.append("advance")
+        return super().advance(key, stdin, until)
 
     def resume(self, key: str, stdin: bytes, **kw: Any) -> Any:  # type: ignore[override]
         self.calls.append("resume")
@@ -149,7 +174,8 @@ def test_a_change_costs_one_session(demo_ctx: RobotContext) -> None:
     assert plan.edits
     result = apply_plan(demo_ctx, plan, ApplyOptions(restart=False, command="t"))
     assert result.outcome.value == "changed", result.message
-    assert demo_ctx.transport.calls == ["run_kept", "resume"]  # type: ignore[attr-defined]
+    # the plan's read, kept; the staging request on it; the go-ahead: one session
+    assert demo_ctx.transport.calls == ["run_kept", "advance", "resume"]  # type: ignore[attr-defined]
     compose = plan.edits[0].path
     assert b"wheel_type:=WH04" in (demo_ctx.transport.root / compose.lstrip("/")).read_bytes()  # type: ignore[attr-defined]
 
@@ -159,4 +185,5 @@ def test_without_a_kept_read_the_write_opens_its_own_session(demo_ctx: RobotCont
     demo_ctx.transport.drop_kept(scripts_apply.WRITE_KEY)
     result = apply_plan(demo_ctx, plan, ApplyOptions(restart=False, command="t"))
     assert result.outcome.value == "changed", result.message
-    assert demo_ctx.transport.calls == ["run_kept", "resume", "run"]  # type: ignore[attr-defined]
+    # nothing kept to advance: the write starts its own session and keeps it for the go-ahead
+    assert demo_ctx.transport.calls == ["run_kept", "advance", "run_kept", "resume"]  # type: ignore[attr-defined]

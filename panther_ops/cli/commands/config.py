@@ -88,16 +88,20 @@ def set_(
       panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
     """
     from panther_ops.core.config_checks import precheck
-    from panther_ops.core.config_plans import plan_args, plan_controller
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
     inv, chosen = context.targets(ctx, robot, group, all_)
+    # the planners (and the YAML editor they bring) load while the first robots connect
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
+            from panther_ops.core.config_plans import plan_controller
+
             return plan_controller(c, {key: parsed}, force=force)
     else:
         def planner(c: Any) -> Any:
+            from panther_ops.core.config_plans import plan_args
+
             return plan_args(c, {key: value}, [], force=force)
     return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
