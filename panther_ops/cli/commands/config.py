@@ -16,6 +16,9 @@ app = typer.Typer(
     no_args_is_help=True,
 )
 
+PLANNERS = ("panther_ops.core.config_plans",)
+"""What planning a change imports: loaded in the background while the robots connect."""
+
 KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
 
 
@@ -91,8 +94,8 @@ def set_(
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    # the planners (and the YAML editor they bring) load while the first robots connect
+    inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
+    # the planners (and the YAML editor they bring) load while the robots connect
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
             from panther_ops.core.config_plans import plan_controller
@@ -126,10 +129,14 @@ def unset(
 
     Example: panther-ops config unset wheel_type -r panther-01 --yes
     """
-    from panther_ops.core.config_plans import plan_args
+    inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"config unset {key}", inv, chosen, lambda c: plan_args(c, {}, [key]), yes=yes,
+    def planner(c: Any) -> Any:
+        from panther_ops.core.config_plans import plan_args
+
+        return plan_args(c, {}, [key])
+
+    return mutate(f"config unset {key}", inv, chosen, planner, yes=yes,
                   dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
 
 
