@@ -19,7 +19,6 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
 from panther_ops.core.config_plans import plan_args
 from panther_ops.core.inventory import Inventory, load_inventory
 from panther_ops.core.pipeline import ApplyOptions, FileEdit, RobotPlan, apply_plan
@@ -430,16 +429,8 @@ def test_dry_run_and_noop_plans_write_nothing(ctx: RobotContext) -> None:
 # -- a real planner on the demo fleet ----------------------------------------------------
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Iterator[tuple[Inventory, Connections]]:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    inv = load_inventory(str(tmp_path / "demo"))
-    with Connections(inv) as conns:
-        yield inv, conns
-
-
-def test_a_planned_change_applies_once_then_plans_as_noop(demo: tuple[Inventory, Connections]) -> None:
-    inv, conns = demo
+def test_a_planned_change_applies_once_then_plans_as_noop(demo_connections: tuple[Inventory, Connections]) -> None:
+    inv, conns = demo_connections
     robot = inv.robots["panther-01"]
     ctx = RobotContext(robot, conns.get(robot), inv)
     assert isinstance(ctx.transport, LocalTransport)

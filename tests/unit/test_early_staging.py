@@ -6,7 +6,6 @@ core/changes.py for the design.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -14,21 +13,13 @@ import pytest
 from panther_ops.cli.app import main
 from panther_ops.core.changes import apply_fleet, plan_fleet, unstage_fleet
 from panther_ops.core.config_plans import plan_args
-from panther_ops.core.inventory import Inventory, load_inventory
+from panther_ops.core.inventory import Inventory
 from panther_ops.core.pipeline import ApplyOptions, RobotPlan
 from panther_ops.core.runner import Connections, RobotContext, RunOptions
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome
 
 OPTS = ApplyOptions(restart=False, command="config set wheel_type WH04")
-
-
-@pytest.fixture
-def demo(tmp_path: Path) -> Iterator[tuple[Inventory, Connections]]:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    inv = load_inventory(str(tmp_path / "demo"))
-    with Connections(inv) as conns:
-        yield inv, conns
 
 
 def home(inv: Inventory, name: str) -> Path:
@@ -54,8 +45,8 @@ def plan(ctx: RobotContext) -> RobotPlan:
     return plan_args(ctx, {"wheel_type": "WH04"}, [])
 
 
-def test_staged_while_planning_renamed_on_the_go_ahead(demo: tuple[Inventory, Connections]) -> None:
-    inv, conns = demo
+def test_staged_while_planning_renamed_on_the_go_ahead(demo_connections: tuple[Inventory, Connections]) -> None:
+    inv, conns = demo_connections
     robots = list(inv.robots.values())
     before = {r.name: (home(inv, r.name) / "compose.yaml").read_bytes() for r in robots}
 
@@ -77,8 +68,8 @@ def test_staged_while_planning_renamed_on_the_go_ahead(demo: tuple[Inventory, Co
     assert fp.staged == {}
 
 
-def test_a_refused_plan_elsewhere_takes_every_staging_back(demo: tuple[Inventory, Connections]) -> None:
-    inv, conns = demo
+def test_a_refused_plan_elsewhere_takes_every_staging_back(demo_connections: tuple[Inventory, Connections]) -> None:
+    inv, conns = demo_connections
     robots = list(inv.robots.values())
     before = snapshot(inv)
 
@@ -98,8 +89,8 @@ def test_a_refused_plan_elsewhere_takes_every_staging_back(demo: tuple[Inventory
     assert all(not (home(inv, r.name) / ".panther-ops").exists() for r in robots)
 
 
-def test_a_failed_canary_takes_back_the_rest(demo: tuple[Inventory, Connections]) -> None:
-    inv, conns = demo
+def test_a_failed_canary_takes_back_the_rest(demo_connections: tuple[Inventory, Connections]) -> None:
+    inv, conns = demo_connections
     robots = list(inv.robots.values())
     canary = robots[0].name
     fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(), stage=OPTS)
@@ -117,9 +108,9 @@ def test_a_failed_canary_takes_back_the_rest(demo: tuple[Inventory, Connections]
     assert fp.staged == {}
 
 
-def test_the_cli_stages_early_only_when_it_asks_nothing(demo: tuple[Inventory, Connections],
+def test_the_cli_stages_early_only_when_it_asks_nothing(demo_connections: tuple[Inventory, Connections],
                                                        monkeypatch: pytest.MonkeyPatch) -> None:
-    inv, _ = demo
+    inv, _ = demo_connections
     import panther_ops.core.changes as changes
 
     seen: list[object] = []

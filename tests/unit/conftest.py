@@ -1,0 +1,21 @@
+"""Fixtures shared by the unit tests."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from panther_ops.cli.app import main
+from panther_ops.core.inventory import Inventory, load_inventory
+from panther_ops.core.runner import Connections
+
+
+@pytest.fixture
+def demo_connections(tmp_path: Path) -> Iterator[tuple[Inventory, Connections]]:
+    """A fresh demo fleet (local robot roots) and its connections, closed afterwards."""
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    inv = load_inventory(str(tmp_path / "demo"))
+    with Connections(inv) as conns:
+        yield inv, conns
