@@ -70,8 +70,7 @@ class Conversation:
         """Send ``stdin``; if the output then ends with ``until``, send ``answer(output)``;
         close the input and read to the end. Returns (status, stdout, stderr) of this part."""
         try:
-            if stdin:
-                self.pipe.send(stdin)
+            self.send(stdin)
             if until is not None and answer is not None and self.read_until(until):
                 self.pipe.send(answer(bytes(self.out)))
             self.pipe.close_input()
@@ -83,11 +82,15 @@ class Conversation:
             self.pipe.close()  # on an error (an answer that raised, a lost connection) this ends the command
         return status, bytes(self.out), err
 
-    def send(self, data: bytes | None) -> bool:
-        """Send ``data`` (if any) to the command's input; True (for chaining)."""
+    def send(self, data: bytes | None) -> None:
+        """Send ``data`` (if any) to the command's input."""
         if data:
             self.pipe.send(data)
-        return True
+
+    def ask(self, data: bytes | None, until: bytes) -> bool:
+        """Send ``data``, then read until the output ends with ``until`` (see :meth:`read_until`)."""
+        self.send(data)
+        return self.read_until(until)
 
     def take_output(self) -> bytes:
         """The output so far, which then starts afresh (for the next phase of a kept command)."""
@@ -152,7 +155,7 @@ class Conversing:
               until: bytes, start: float) -> CommandResult:
         """Send ``stdin``, read to ``until`` and keep the command under ``key``; or finish it."""
         try:
-            asked = self._guard(command, timeout, lambda: conv.send(stdin) and conv.read_until(until))
+            asked = self._guard(command, timeout, lambda: conv.ask(stdin, until))
         except BaseException:
             conv.pipe.close()
             raise
