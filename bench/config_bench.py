@@ -33,7 +33,9 @@ the robots is discarded and repeated (up to --retries times). The lab is brought
 size and always torn down.
 
 Needs root (the lab). Ansible and pyinfra come from bench/requirements.txt, installed into
-their own venv (default /root/.cache/panther-ops-bench-venv, created or reused).
+their own venv (default /root/.cache/panther-ops-bench-venv, created or reused); panther-ops
+is this checkout installed as users install it, from a wheel, into a venv of its own
+(default /root/.cache/panther-ops-bench-po-venv; --panther-ops names another executable).
 """
 
 from __future__ import annotations
@@ -57,6 +59,7 @@ from typing import Any
 REPO = Path(__file__).resolve().parent.parent
 REQUIREMENTS = Path(__file__).resolve().parent / "requirements.txt"
 DEFAULT_VENV = Path(os.environ.get("PANTHER_OPS_BENCH_VENV", "/root/.cache/panther-ops-bench-venv"))
+DEFAULT_PO_VENV = Path(os.environ.get("PANTHER_OPS_BENCH_PO_VENV", "/root/.cache/panther-ops-bench-po-venv"))
 COMPOSE = "/home/husarion/compose.yaml"
 USER = "husarion"
 TARGET_VS_PYINFRA = 0.66
@@ -144,6 +147,32 @@ def ensure_tool_venv(venv: Path) -> Path:
     subprocess.run([str(bindir / "python"), "-m", "pip", "install", "-q", "-r", str(REQUIREMENTS)], check=True)
     stamp.write_text(want + "\n")
     return bindir
+
+
+def ensure_panther_ops_venv(venv: Path) -> str:
+    """Install this checkout into its own venv as users install it (a wheel, not editable);
+    returns its panther-ops executable.
+
+    An editable install starts every process with a path finder (site imports pathlib and
+    urllib for it: ~10 ms per start here) that no installed package has, and ansible and
+    pyinfra are measured from wheels too. The dependencies are installed once per version
+    of pyproject.toml; panther_ops itself is reinstalled from the checkout on every run.
+    """
+    pyproject = REPO / "pyproject.toml"
+    stamp = venv / ".pyproject.sha256"
+    want = hashlib.sha256(pyproject.read_bytes()).hexdigest()
+    python = venv / "bin" / "python"
+    if not python.exists():
+        base = REPO / ".venv" / "bin" / "python"
+        subprocess.run([str(base if base.exists() else sys.executable), "-m", "venv", "--clear", str(venv)],
+                       check=True)
+    pip = [str(python), "-m", "pip", "install", "-q", "--disable-pip-version-check"]
+    if not stamp.exists() or stamp.read_text().strip() != want:
+        log(f"installing panther-ops and its dependencies into {venv} ...")
+        subprocess.run([*pip, str(REPO)], check=True)
+        stamp.write_text(want + "\n")
+    subprocess.run([*pip, "--no-deps", "--force-reinstall", str(REPO)], check=True)
+    return str(venv / "bin" / "panther-ops")
 
 
 def version_of(argv: list[str]) -> str:
@@ -562,7 +591,9 @@ def main() -> int:
     ap.add_argument("--json", action="store_true", help="print one JSON document instead of the table")
     ap.add_argument("--venv", type=Path, default=DEFAULT_VENV,
                     help=f"venv for ansible/pyinfra (default {DEFAULT_VENV})")
-    ap.add_argument("--panther-ops", default=str(REPO / ".venv" / "bin" / "panther-ops"), help="panther-ops executable")
+    ap.add_argument("--panther-ops", default=None,
+                    help="panther-ops executable (default: this checkout installed into its own venv, "
+                         f"{DEFAULT_PO_VENV}, as a wheel)")
     ap.add_argument("--prefix", default=None, help="lab prefix (default: the first free one)")
     ap.add_argument("--keep-work", action="store_true", help="keep the generated files and tool logs")
     ap.add_argument("--max-other-cpu", type=float, default=0.5,
@@ -586,7 +617,10 @@ def main() -> int:
         log("config_bench: the lab cannot run here: " + "; ".join(missing))
         return 2
     bindir = ensure_tool_venv(args.venv)
-    compile_bytecode(args.panther_ops)
+    if args.panther_ops is None:
+        args.panther_ops = ensure_panther_ops_venv(DEFAULT_PO_VENV)
+    else:
+        compile_bytecode(args.panther_ops)
     doc: dict[str, Any] = {
         "benchmark": "config set wheel_type WH02 on N robots (compose.yaml edit, no restart)",
         "date": time.strftime("%Y-%m-%d"),

@@ -94,25 +94,55 @@ def _register_module(name: str) -> None:
     _registered[name] = (app.registered_commands[commands:], app.registered_groups[groups:])
 
 
-def _register(command: str | None = None) -> None:
+def _register(command: str | None = None, sub: str | None = None) -> None:
     """Register the commands a run needs: those of a known command word, else all of them.
 
-    typer builds every registered command (parameters, converters) on each run, so a fleet
-    command registers only its own group; --help, an unknown word or no word gets them all.
+    typer builds every registered command (parameters, converters, their annotations) on
+    each run, so a fleet command registers only its own word, and of a group only the
+    subcommand named (``sub``) when the group has it; --help, an unknown word or no word
+    gets them all.
     """
     for name in _NEEDS.get(command or "", _ORDER):
         _register_module(name)
-    app.registered_commands[:] = [c for n in _ORDER if n in _registered for c in _registered[n][0]]
-    app.registered_groups[:] = [g for n in _ORDER if n in _registered for g in _registered[n][1]]
+    commands = [c for n in _ORDER if n in _registered for c in _registered[n][0]]
+    groups = [g for n in _ORDER if n in _registered for g in _registered[n][1]]
+    if command is not None and (any(_name(c) == command for c in commands) or any(g.name == command for g in groups)):
+        commands = [c for c in commands if _name(c) == command]
+        groups = [_only(g, sub) for g in groups if g.name == command]
+    app.registered_commands[:] = commands
+    app.registered_groups[:] = groups
 
 
-def _command_word(argv: list[str]) -> str | None:
-    """The command word after the global options (None with --help/--version or none given)."""
+def _name(info: CommandInfo) -> str:
+    """The word a registered command answers to (typer's rule when none was given)."""
+    from typer.main import get_command_name
+
+    return info.name or get_command_name(getattr(info.callback, "__name__", ""))
+
+
+def _only(group: TyperInfo, sub: str | None) -> TyperInfo:
+    """``group`` with only its command ``sub`` (when it has one by that name), else as it is."""
+    import copy
+
+    inner = group.typer_instance
+    if sub is None or inner is None or not any(_name(c) == sub for c in inner.registered_commands):
+        return group
+    narrowed = copy.copy(inner)
+    narrowed.registered_commands = [c for c in inner.registered_commands if _name(c) == sub]
+    narrowed.registered_groups = []
+    only = copy.copy(group)
+    only.typer_instance = narrowed
+    return only
+
+
+def _command_words(argv: list[str]) -> tuple[str | None, str | None]:
+    """The command word after the global options and the word after it (a group's
+    subcommand) when it is one; None with --help/--version or none given."""
     i = 0
     while i < len(argv):
         a = argv[i]
         if a in ("-h", "--help", "--version"):
-            return None
+            return None, None
         if a == "--inventory":
             i += 2
         elif a.startswith("--"):
@@ -121,8 +151,9 @@ def _command_word(argv: list[str]) -> str | None:
             flags = a[1:]
             i += 2 if flags.endswith("i") else 1  # -i PATH, -vi PATH; -iPATH carries its value
         else:
-            return a
-    return None
+            sub = argv[i + 1] if i + 1 < len(argv) and not argv[i + 1].startswith("-") else None
+            return a, sub
+    return None, None
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -135,7 +166,7 @@ def main(argv: list[str] | None = None) -> int:
     from panther_ops.errors import ExitCode, OpsError
 
     args = list(sys.argv[1:] if argv is None else argv)
-    _register(_command_word(args))
+    _register(*_command_words(args))
     try:
         rv = app(args=args, standalone_mode=False, prog_name="panther-ops")
     except OpsError as exc:

@@ -62,11 +62,17 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (),
+    preload: tuple[str, ...] = (), connect: bool = False,
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import."""
+    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import;
+    ``connect``: the command will connect to every robot chosen: start now (in the background)."""
     inv = load(ctx, preload)
-    return inv, inv.select(robots or [], groups or [], all_)
+    chosen = inv.select(robots or [], groups or [], all_)
+    if connect:
+        from panther_ops.core.runner import connect_ahead
+
+        connect_ahead(inv, chosen)
+    return inv, chosen
 
 
 def run(

@@ -37,8 +37,13 @@ def mutate(
     applier: Applier | None = None,
     verb: str = "Apply to",
 ) -> int:
-    """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline)."""
-    from panther_ops.cli.render import error, finish, print_results
+    """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
+
+    Asked first (no ``--yes``), the plan is a table of every robot with the diffs under it;
+    with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
+    applied, and the results table follows.
+    """
+    from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
     from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
     from panther_ops.core.pipeline import ApplyOptions
     from panther_ops.core.runner import Connections, RunOptions
@@ -58,7 +63,10 @@ def mutate(
         if dry_run or not fp.to_change:
             return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
         if not json_out:
-            print_results(fp.results, title=f"plan: {command}")
+            if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
+                print_plan_diffs(fp.results, command)
+            else:
+                print_results(fp.results, title=f"plan: {command}")
         if not yes:
             if not sys.stdin.isatty():
                 error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")

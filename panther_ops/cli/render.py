@@ -92,6 +92,13 @@ def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: b
     print_summary(fleet)
 
 
+def print_plan_diffs(fleet: FleetResult, command: str) -> None:
+    """The diffs a change is about to write (``--yes``: no plan table), under a heading."""
+    if any(r.diffs for r in fleet.results):
+        _console().print(f"[bold]plan: {esc(command)}[/]")
+        print_diffs(fleet)
+
+
 def print_diffs(fleet: FleetResult) -> None:
     """Each distinct diff once, under the robots it belongs to (a fleet of one release
     usually gets one diff for all its robots)."""

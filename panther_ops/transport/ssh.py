@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from panther_ops.errors import HostKeyError, TransportError, UnreachableError
-from panther_ops.transport import scripts
+from panther_ops.transport import ahead, scripts
 from panther_ops.transport.base import Command, Endpoint
 from panther_ops.transport.conversation import Conversation, Conversing
 from panther_ops.transport.filecache import parsed
@@ -114,7 +114,8 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
     client.set_missing_host_key_policy(_refuse_unknown_policy())
     try:
         if sock is None:
-            sock = connect_tcp(hop.hostname, hop.port, hop.connect_timeout)
+            sock = ahead.take(hop.hostname, hop.port, hop.connect_timeout) or \
+                connect_tcp(hop.hostname, hop.port, hop.connect_timeout)
         client.connect(
             hop.hostname,
             port=hop.port,

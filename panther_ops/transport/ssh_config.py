@@ -13,6 +13,7 @@ from typing import Any
 
 from panther_ops.transport.base import Endpoint
 from panther_ops.transport.filecache import parsed
+from panther_ops.transport.ssh_config_read import QuickConfig, read_file
 
 DEFAULT_KNOWN_HOSTS = "~/.ssh/known_hosts"
 
@@ -55,12 +56,37 @@ def _config_type() -> Any:
     return Config
 
 
-def _lookup(config_path: str | None, alias: str) -> dict[str, object]:
-    """ssh_config's answer for ``alias`` (the file parsed once per command, each alias looked up once)."""
+@dataclass(frozen=True)
+class _Read:
+    config: QuickConfig | None
+    """None: the quick reader gave up on this file (paramiko reads it)."""
+
+
+def _read(path: str) -> _Read:
+    return _Read(read_file(path))
+
+
+class _NeedsParamiko(Exception):
+    """A quick-only lookup met an ssh_config only paramiko reads."""
+
+
+def _lookup(config_path: str | None, alias: str, quick_only: bool = False) -> dict[str, object]:
+    """ssh_config's answer for ``alias`` (the file parsed once per command, each alias looked up once).
+
+    The quick reader (``ssh_config_read``) answers where it can, else paramiko's SSHConfig;
+    ``quick_only`` raises :class:`_NeedsParamiko` instead of loading paramiko.
+    """
     path = os.path.expanduser(config_path or "~/.ssh/config")
-    conf = parsed("ssh_config", path, _config_type().from_path)
-    if conf is None:
+    read = parsed("ssh_config quick", path, _read)
+    if read is None:
         return {}
+    conf: Any = read.config
+    if conf is None:
+        if quick_only:
+            raise _NeedsParamiko(path)
+        conf = parsed("ssh_config", path, _config_type().from_path)
+        if conf is None:
+            return {}
     key = (id(conf), alias)
     if key not in _lookups:
         _lookups[key] = dict(conf.lookup(alias))
@@ -87,7 +113,20 @@ def _parse_jump_spec(spec: str) -> tuple[str | None, str, int | None]:
 
 def resolve(endpoint: Endpoint) -> Hop:
     """Turn an inventory endpoint into a chain of hops, consulting ssh_config."""
-    cfg = _lookup(endpoint.ssh_config, endpoint.host)
+    return _resolve(endpoint, quick_only=False)
+
+
+def resolve_quick(endpoint: Endpoint) -> Hop | None:
+    """:func:`resolve` where the quick reader knows every ssh_config involved, else None
+    (it never loads paramiko)."""
+    try:
+        return _resolve(endpoint, quick_only=True)
+    except _NeedsParamiko:
+        return None
+
+
+def _resolve(endpoint: Endpoint, quick_only: bool) -> Hop:
+    cfg = _lookup(endpoint.ssh_config, endpoint.host, quick_only)
     hostname = str(cfg.get("hostname", endpoint.host))
     port = endpoint.port or int(str(cfg.get("port", 22)))
     user = endpoint.user or str(cfg.get("user", os.environ.get("USER", "husarion")))
@@ -107,7 +146,7 @@ def resolve(endpoint: Endpoint) -> Hop:
 
     jump: Hop | None = None
     if endpoint.jump is not None:
-        jump = resolve(endpoint.jump)
+        jump = _resolve(endpoint.jump, quick_only)
     elif "proxyjump" in cfg and str(cfg["proxyjump"]).lower() != "none":
         # A chain "a,b": connect to a, then through it to b, then to the target.
         for spec in str(cfg["proxyjump"]).split(","):
@@ -121,7 +160,7 @@ def resolve(endpoint: Endpoint) -> Hop:
                 known_hosts=endpoint.known_hosts,
                 connect_timeout=endpoint.connect_timeout,
             )
-            hop = resolve(hop_ep)
+            hop = _resolve(hop_ep, quick_only)
             jump = hop if jump is None else replace(hop, jump=jump)
     return Hop(
         label=endpoint.name,

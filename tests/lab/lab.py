@@ -961,6 +961,11 @@ class Lab:
         path = Path(self._rs(name).dir) / "var/log/sshd.log"
         return len(re.findall(r"Accepted \S+ for husarion", _read(path)))
 
+    def sshd_connections(self, name: str) -> int:
+        """TCP connections the robot's sshd accepted ("Connection from ..." in its log)."""
+        path = Path(self._rs(name).dir) / "var/log/sshd.log"
+        return len(re.findall(r"^Connection from ", _read(path), re.M))
+
     def host_fingerprint(self, name: str) -> str:
         """SHA256 fingerprint of the host key the robot's sshd currently uses (`SHA256:…`)."""
         pub = (Path(self._rs(name).dir) / "etc/ssh/ssh_host_ed25519_key.pub").read_text()

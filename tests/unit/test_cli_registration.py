@@ -13,22 +13,65 @@ TOP = ["status", "doctor", "apply", "trust", "config", "driver", "shutdown", "in
        "manager"]
 
 
-@pytest.mark.parametrize(("argv", "word"), [
-    (["status", "--all"], "status"),
-    (["-i", "fleet.yaml", "config", "set", "wheel_type", "WH02"], "config"),
-    (["--inventory", "fleet.yaml", "-v", "driver", "status"], "driver"),
-    (["--inventory=fleet.yaml", "--debug", "shutdown", "check"], "shutdown"),
-    (["-vi", "fleet.yaml", "apply"], "apply"),
-    (["-ifleet.yaml", "status"], "status"),
-    (["-vv", "trust", "r1"], "trust"),
-    (["--help"], None),
-    (["-h"], None),
-    (["-i", "x", "--version"], None),
-    ([], None),
-    (["-i", "x"], None),
+@pytest.mark.parametrize(("argv", "words"), [
+    (["status", "--all"], ("status", None)),
+    (["-i", "fleet.yaml", "config", "set", "wheel_type", "WH02"], ("config", "set")),
+    (["--inventory", "fleet.yaml", "-v", "driver", "status"], ("driver", "status")),
+    (["--inventory=fleet.yaml", "--debug", "shutdown", "check"], ("shutdown", "check")),
+    (["-vi", "fleet.yaml", "apply"], ("apply", None)),
+    (["-ifleet.yaml", "status"], ("status", None)),
+    (["-vv", "trust", "r1"], ("trust", "r1")),
+    (["config", "--help"], ("config", None)),
+    (["--help"], (None, None)),
+    (["-h"], (None, None)),
+    (["-i", "x", "--version"], (None, None)),
+    ([], (None, None)),
+    (["-i", "x"], (None, None)),
 ])
-def test_command_word(argv: list[str], word: str | None) -> None:
-    assert cli_app._command_word(argv) == word
+def test_command_words(argv: list[str], words: tuple[str | None, str | None]) -> None:
+    assert cli_app._command_words(argv) == words
+
+
+def _built(*argv: str) -> dict[str, list[str]]:
+    """What typer is given to build for ``argv``: {top-level word: its subcommands}."""
+    cli_app._register(*cli_app._command_words(list(argv)))
+    out: dict[str, list[str]] = {cli_app._name(c): [] for c in cli_app.app.registered_commands}
+    for g in cli_app.app.registered_groups:
+        assert g.name is not None and g.typer_instance is not None
+        out[g.name] = [cli_app._name(c) for c in g.typer_instance.registered_commands]
+    return out
+
+
+def test_a_run_builds_only_its_own_command() -> None:
+    assert _built("-i", "x", "config", "set", "wheel_type", "WH02") == {"config": ["set"]}
+    assert _built("config", "restore-defaults", "--all") == {"config": ["restore-defaults"]}
+    assert _built("status", "--all") == {"status": []}
+    assert _built("driver", "update", "humble-2.2.1") == {"driver": ["update"]}
+
+
+def test_a_group_without_the_subcommand_named_is_built_whole() -> None:
+    whole = _built("config", "--help")["config"]
+    assert {"get", "set", "unset", "push", "pull", "restore-defaults"} <= set(whole)
+    assert _built("config", "sett")["config"] == whole  # click names the unknown one and lists the rest
+    assert _built("config", "set")["config"] == ["set"]
+
+
+def test_narrowing_leaves_the_command_modules_whole() -> None:
+    _built("config", "set")
+    from panther_ops.cli.commands import config
+
+    names = [cli_app._name(c) for c in config.app.registered_commands]
+    assert {"get", "set", "unset", "restore-defaults"} <= set(names)
+    _built("--help")
+    listed = {g.name for g in cli_app.app.registered_groups} | {cli_app._name(c) for c in cli_app.app.registered_commands}
+    assert listed == set(TOP)
+
+
+def test_a_narrowed_run_still_works_end_to_end(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli_app.main(["config", "set", "--help"]) == 0
+    assert "wheel_type" in capsys.readouterr().out
+    assert cli_app.main(["config", "sett"]) == 2
+    assert "No such command" in capsys.readouterr().err
 
 
 def test_every_top_level_command_has_its_modules() -> None:
