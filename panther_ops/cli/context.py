@@ -51,10 +51,12 @@ def _preload(modules: tuple[str, ...]) -> None:
     threading.Thread(target=load, name="preload", daemon=True).start()
 
 
-def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
+def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) -> Inventory:
+    """The inventory; ``start``: begin the background imports first (else the caller does)."""
     from panther_ops.core.inventory import load_inventory
 
-    _preload(preload)
+    if start:
+        _preload(preload)
     inv = load_inventory(settings(ctx).inventory)
     info(f"inventory: {inv.path} (from {inv.origin})")
     return inv
@@ -62,16 +64,20 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), connect: bool = False,
+    preload: tuple[str, ...] = (), connect: bool = True,
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import;
-    ``connect``: the command will connect to every robot chosen: start now (in the background)."""
-    inv = load(ctx, preload)
+    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
+
+    Every caller goes on to connect to every robot chosen, its own input already checked, so
+    the robots' TCP connections start now, in the background (``connect=False``: not yet).
+    """
+    inv = load(ctx, preload, start=not connect)
     chosen = inv.select(robots or [], groups or [], all_)
-    if connect:
+    if connect:  # the robots first: their sshd then start while paramiko loads
         from panther_ops.core.runner import connect_ahead
 
         connect_ahead(inv, chosen)
+        _preload(preload)
     return inv, chosen
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.controller import parse_limit_key, validate_limit
 from panther_ops.core.launch_args import validate_arg
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
@@ -20,6 +19,8 @@ def precheck(values: Mapping[str, Any], *, force: bool = False) -> None:
     that robot's own stack.
     """
     for key, value in values.items():
+        if key.startswith("controller."):  # loaded only for controller keys: start-up stays short
+            from panther_ops.core.controller import parse_limit_key, validate_limit
         errors: list[UsageError] = []
         for version in REPRESENTATIVE:
             stack = stack_from_version(version)

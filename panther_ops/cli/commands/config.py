@@ -94,7 +94,7 @@ def set_(
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
-    inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS, connect=True)
+    inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
     # the planners (and the YAML editor they bring) load while the robots connect
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
