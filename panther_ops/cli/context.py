@@ -74,7 +74,7 @@ def targets(
     inv = load(ctx, preload, start=not connect)
     chosen = inv.select(robots or [], groups or [], all_)
     if connect:  # the robots first: their sshd then start while paramiko loads
-        from panther_ops.core.runner import connect_ahead
+        from panther_ops.core.connect_ahead import connect_ahead
 
         connect_ahead(inv, chosen)
         _preload(preload)

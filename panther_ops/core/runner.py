@@ -57,23 +57,6 @@ def open_transport(inventory: Inventory, robot: Robot) -> Transport:
     return SshTransport(inventory.endpoint(robot))
 
 
-def connect_ahead(inventory: Inventory, robots: list[Robot]) -> None:
-    """Start the robots' TCP connections now, in the background (see ``transport.ahead``):
-    their sshd get ready while panther-ops still loads; :class:`Connections` takes them."""
-    from panther_ops.transport import ahead
-
-    endpoints = []
-    for robot in robots:
-        if robot.transport == "local":
-            continue
-        try:
-            endpoints.append(inventory.endpoint(robot))
-        except OpsError:  # reported when the robot is connected
-            continue
-    if endpoints:
-        ahead.open_ahead(endpoints)
-
-
 class Connections:
     """One open transport per robot, kept across the phases of a command (plan, then apply).
 

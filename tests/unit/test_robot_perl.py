@@ -108,10 +108,9 @@ def test_user_input_arrives_as_arguments_only() -> None:
     assert (out.returncode, out.stdout.splitlines()) == (0, evil)
 
 
-def test_the_perl_program_needs_no_module() -> None:
+def test_the_perl_program_loads_no_module_and_is_strict_and_warning_free() -> None:
     for program in (scripts_perl.READ_KEPT_PERL, scripts_perl.APPLY_PERL):
-        assert "\nuse " not in program.replace("use strict;", "")
-        assert "require " not in program
-        check = subprocess.run(["perl", "-c", "-e", program], capture_output=True, text=True, check=False,
-                               env={**os.environ, "LC_ALL": "C"})
-        assert check.returncode == 0, check.stderr
+        assert "use " not in program and "require " not in program
+        check = subprocess.run(["perl", "-Mstrict", "-w", "-c", "-e", program], capture_output=True, text=True,
+                               check=False, env={**os.environ, "LC_ALL": "C"})
+        assert check.returncode == 0 and check.stderr.strip() == "-e syntax OK", check.stderr
