@@ -53,7 +53,7 @@ def mutate(
     apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
     early = yes and not dry_run and applier is None  # no question to wait for: stage while planning
     with Connections(inv) as conns:
-        fp = plan_fleet(command, inv, chosen, planner, conns, opts, stage=apply if early else None)
+        fp = plan_fleet(command, inv, chosen, planner, conns, opts, stage=apply if early else None, go_early=early)
         if fp.usage_errors:
             unstage_fleet(fp, inv, chosen, conns, opts)
             for name, exc in fp.usage_errors.items():

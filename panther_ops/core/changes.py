@@ -10,11 +10,17 @@ as soon as its plan is known: the backup and the new files wait beside their tar
 the rest of the fleet is still being planned, and nothing is renamed until phase 2 gives
 the go-ahead. If phase 2 does not come for a robot (another robot's plan was refused, or a
 canary failed), its staging is taken back: the robot is left as it was.
+
+And when every robot runs at once (as many forks as robots, no canary, no max-fail), the
+go-ahead needs nothing more than every robot's plan: each robot then goes ahead as soon
+as the last plan is known and its own write is staged, instead of waiting for the slowest
+robot's staging too (``go_early``). A refused plan anywhere still stops every robot.
 """
 
 from __future__ import annotations
 
 import contextlib
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -44,6 +50,8 @@ class FleetPlan:
     usage_errors: dict[str, UsageError] = field(default_factory=dict)
     staged: dict[str, Staged] = field(default_factory=dict)
     """Writes staged during planning, waiting for the go-ahead (see the module's text)."""
+    applied: dict[str, RobotResult] = field(default_factory=dict)
+    """Writes that went ahead during phase 1 (``go_early``): phase 2 reports them as they are."""
 
     @property
     def to_change(self) -> list[str]:
@@ -51,10 +59,22 @@ class FleetPlan:
 
 
 def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
-               options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None) -> FleetPlan:
+               options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None,
+               go_early: bool = False) -> FleetPlan:
     """Plan every robot; with ``stage`` (the options phase 2 will apply with) also stage each
-    robot's file edits through the pipeline as soon as its plan is known."""
+    robot's file edits through the pipeline as soon as its plan is known; with ``go_early``
+    too, each staged write goes ahead once every robot's plan is known (see the module's
+    text; only where every robot runs at once, else it is ignored)."""
     fp = FleetPlan(command)
+    go_early = go_early and stage is not None and options.forks >= len(robots) and not options.canary \
+        and options.max_fail_pct is None
+    decided: set[str] = set()
+    all_decided = threading.Condition()
+
+    def decide(name: str) -> None:
+        with all_decided:
+            decided.add(name)
+            all_decided.notify_all()
 
     def task(ctx: RobotContext) -> RobotResult:
         try:
@@ -62,16 +82,28 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         except UsageError as exc:
             fp.usage_errors[ctx.robot.name] = exc
             raise
+        finally:
+            decide(ctx.robot.name)
         if stage is not None and plan.edits and not plan.data.get("action") and not stage.dry_run:
             fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
         fp.plans[ctx.robot.name] = plan
+        if go_early and stage is not None and ctx.robot.name in fp.staged:
+            with all_decided:
+                all_decided.wait_for(lambda: len(decided) >= len(robots))
+            if not fp.usage_errors:
+                fp.applied[ctx.robot.name] = apply_staged(ctx, plan, stage, fp.staged.pop(ctx.robot.name))
         outcome = Outcome.CHANGED if does_something(plan) else Outcome.OK
         message = plan.summary if does_something(plan) else (plan.noop or "nothing to change")
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
+    def noted(res: RobotResult) -> None:  # a robot whose task never ran (unreachable) is decided too
+        decide(res.robot)
+        if progress is not None:
+            progress(res)
+
     plan_opts = RunOptions(forks=options.forks)
-    fp.results = run_fleet(command, inventory, robots, task, plan_opts, progress, connections)
+    fp.results = run_fleet(command, inventory, robots, task, plan_opts, noted, connections)
     return fp
 
 
@@ -84,6 +116,9 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
 
     def task(ctx: RobotContext) -> RobotResult:
         plan = fp.plans[ctx.robot.name]
+        early = fp.applied.pop(ctx.robot.name, None)
+        if early is not None:  # went ahead during phase 1
+            return early
         staged = fp.staged.pop(ctx.robot.name, None)
         return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 

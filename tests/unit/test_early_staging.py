@@ -129,3 +129,79 @@ def test_the_cli_stages_early_only_when_it_asks_nothing(demo_connections: tuple[
     assert seen[0] is None and isinstance(seen[1], ApplyOptions)
     assert all(b"wheel_type:=WH04" in (home(inv, n) / "compose.yaml").read_bytes() for n in inv.robots)
     assert all(staged_files(inv, n) == [] for n in inv.robots)
+
+
+# -- going ahead as soon as every plan is known (go_early) ---------------------------------
+
+
+def test_every_robot_goes_ahead_once_every_plan_is_known(demo_connections: tuple[Inventory, Connections]) -> None:
+    inv, conns = demo_connections
+    robots = list(inv.robots.values())
+    planned: list[str] = []
+    renamed_before_last_plan: list[str] = []
+
+    def planner(ctx: RobotContext) -> RobotPlan:
+        p = plan(ctx)
+        planned.append(ctx.robot.name)
+        if len(planned) == len(robots):  # the last plan: nobody may have gone ahead yet
+            renamed_before_last_plan.extend(
+                n for n in inv.robots if b"wheel_type:=WH04" in (home(inv, n) / "compose.yaml").read_bytes())
+        return p
+
+    fp = plan_fleet("t", inv, robots, planner, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
+    assert renamed_before_last_plan == []
+    assert sorted(fp.applied) == sorted(r.name for r in robots) and fp.staged == {}
+    assert all(b"wheel_type:=WH04" in (home(inv, r.name) / "compose.yaml").read_bytes() for r in robots), (
+        "written during phase 1")
+    result = apply_fleet(fp, inv, robots, conns, RunOptions(forks=len(robots)), OPTS)
+    assert [x.outcome for x in result.results] == [Outcome.CHANGED] * len(robots)
+    assert fp.applied == {}
+    for r in robots:
+        [backup] = (home(inv, r.name) / ".panther-ops" / "backups").iterdir()
+        assert (backup / "status").read_text() == "applied (not recreated)\n"
+
+
+def test_a_refused_plan_stops_every_early_go_ahead(demo_connections: tuple[Inventory, Connections]) -> None:
+    inv, conns = demo_connections
+    robots = list(inv.robots.values())
+    before = snapshot(inv)
+
+    def planner(ctx: RobotContext) -> RobotPlan:
+        if ctx.robot.name == robots[1].name:
+            raise UsageError("not on this robot's stack")
+        return plan(ctx)
+
+    fp = plan_fleet("t", inv, robots, planner, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
+    assert fp.applied == {} and len(fp.staged) == len(robots) - 1
+    unstage_fleet(fp, inv, robots, conns, RunOptions())
+    assert snapshot(inv) == before
+
+
+def test_an_unreachable_robot_does_not_hold_the_others(demo_connections: tuple[Inventory, Connections],
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    from panther_ops.errors import UnreachableError
+
+    inv, conns = demo_connections
+    robots = list(inv.robots.values())
+    get = conns.get
+
+    def flaky(robot: object) -> object:
+        if getattr(robot, "name", None) == robots[0].name:
+            raise UnreachableError(robots[0].name, "no route to host")
+        return get(robot)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(conns, "get", flaky)
+    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
+    assert sorted(fp.applied) == sorted(r.name for r in robots[1:])
+    assert fp.results.results[0].outcome is Outcome.UNREACHABLE
+
+
+@pytest.mark.parametrize("opts", [RunOptions(forks=1), RunOptions(canary=1), RunOptions(max_fail_pct=50.0)])
+def test_no_early_go_ahead_unless_every_robot_runs_at_once(demo_connections: tuple[Inventory, Connections],
+                                                           opts: RunOptions) -> None:
+    inv, conns = demo_connections
+    robots = list(inv.robots.values())
+    fp = plan_fleet("t", inv, robots, plan, conns, opts, stage=OPTS, go_early=True)
+    assert fp.applied == {} and sorted(fp.staged) == sorted(r.name for r in robots)
+    assert not any(b"wheel_type:=WH04" in (home(inv, r.name) / "compose.yaml").read_bytes() for r in robots)
+    unstage_fleet(fp, inv, robots, conns, RunOptions())
