@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from panther_ops.core import inventory_cache
 from panther_ops.core.yamlfile import LineDict, LineList, load_yaml_file
 from panther_ops.errors import InventoryError
 from panther_ops.transport.base import Endpoint
@@ -244,7 +245,7 @@ class _Loader:
         return inv
 
     def read_file(self, f: Path) -> None:
-        doc = load_yaml_file(f)
+        doc = inventory_cache.load(f, load_yaml_file)
         if doc is None:
             return
         if not isinstance(doc, LineDict):
