@@ -146,3 +146,25 @@ def test_lookups_answer_as_paramiko_does_without_asking_for_the_user_per_block(
         # the 2 Match blocks in both passes and the tokens: not once per Host block (24 here)
         assert 0 < len(asked) <= 6, (alias, len(asked))
     assert ssh_config._lookup(str(path), "r02")["user"] == "operator"
+
+
+def test_a_quick_socket_reads_what_arrived_in_one_call(monkeypatch: pytest.MonkeyPatch) -> None:
+    a, b = socket.socketpair()
+    quick = QuickSocket(a.family, a.type, a.proto, fileno=a.detach())
+    calls: list[int] = []
+    real = socket.socket.recv
+
+    def counted(self: socket.socket, n: int, flags: int = 0) -> bytes:
+        calls.append(n)
+        return real(self, n, flags)
+
+    monkeypatch.setattr(socket.socket, "recv", counted)
+    b.sendall(b"HEADER" + b"body of the packet")
+    assert quick.recv(6) == b"HEADER"  # one system call read the whole packet...
+    assert quick.recv(100) == b"body of the packet"  # ...the rest comes from it
+    assert len(calls) == 1
+    b.sendall(b"next")
+    assert quick.recv(2) == b"ne" and quick.recv(2) == b"xt" and len(calls) == 2
+    b.close()
+    assert quick.recv(10) == b""  # the end is still the end
+    quick.close()
