@@ -20,6 +20,7 @@ from panther_ops.transport.base import Command, Endpoint
 from panther_ops.transport.conversation import Conversation, Conversing
 from panther_ops.transport.filecache import parsed
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
+from panther_ops.transport.paramiko_import import import_paramiko
 from panther_ops.transport.ssh_config import Hop, resolve
 from panther_ops.transport.tcp import connect_tcp
 
@@ -90,6 +91,7 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
     """Connect one hop (through its jump chain); every client opened is appended to ``clients``."""
     import paramiko
 
+    import_paramiko()  # already loaded: makes sure its per-packet helpers are the quick ones
     sock: Any = None
     if hop.jump is not None:
         via = open_client(hop.jump, robot, clients)

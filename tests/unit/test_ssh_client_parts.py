@@ -168,3 +168,21 @@ def test_a_quick_socket_reads_what_arrived_in_one_call(monkeypatch: pytest.Monke
     b.close()
     assert quick.recv(10) == b""  # the end is still the end
     quick.close()
+
+
+def test_the_c_helpers_answer_as_paramikos_own() -> None:
+    import random
+
+    from panther_ops.transport.paramiko_import import REPLACED, import_paramiko
+
+    util = import_paramiko().util
+    assert set(REPLACED) == {"constant_time_bytes_eq", "safe_string"}
+    rnd = random.Random(7)
+    for _ in range(300):
+        a = bytes(rnd.randrange(256) for _ in range(rnd.randrange(40)))
+        b = a if rnd.random() < 0.5 else bytes(rnd.randrange(256) for _ in range(rnd.randrange(40)))
+        assert util.constant_time_bytes_eq(a, b) == REPLACED["constant_time_bytes_eq"](a, b)
+        assert util.safe_string(a) == REPLACED["safe_string"](a)
+    for a, b in [("|1|abc=", "|1|abc="), ("|1|abc=", "|1|abd="), ("é", "é"), ("é", "e")]:
+        assert util.constant_time_bytes_eq(a, b) == REPLACED["constant_time_bytes_eq"](a, b)
+    assert util.safe_string("text é") == REPLACED["safe_string"]("text é")
