@@ -112,17 +112,21 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
                 applier: Applier = apply_plan) -> FleetResult:
     """Apply every plan that does something; the others keep their plan-phase result."""
     by_name = {r.robot: r for r in fp.results.results}
-    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])]
+    early = [fp.applied.pop(r.name) for r in robots if r.name in fp.applied]  # went ahead in phase 1
+    for r in early:
+        by_name[r.robot] = r
+        if progress is not None:
+            progress(r)
+    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])
+            and r.name not in {e.robot for e in early}]
 
     def task(ctx: RobotContext) -> RobotResult:
         plan = fp.plans[ctx.robot.name]
-        early = fp.applied.pop(ctx.robot.name, None)
-        if early is not None:  # went ahead during phase 1
-            return early
         staged = fp.staged.pop(ctx.robot.name, None)
         return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 
-    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections)
+    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
+        FleetResult(fp.command)
     unstage_fleet(fp, inventory, robots, connections, options)  # robots never started (canary, max-fail)
     for r in applied.results:
         by_name[r.robot] = r

@@ -44,10 +44,18 @@ class _QuickMetadata(ModuleType):
 
     def version(self, name: str) -> str:
         found = self._dists.get(name.lower().replace("-", "_"))
-        return found if found is not None else str(importlib.import_module("importlib.metadata").version(name))
+        return found if found is not None else str(_real_metadata().version(name))
 
     def __getattr__(self, name: str) -> Any:
-        return getattr(importlib.import_module("importlib.metadata"), name)
+        return getattr(_real_metadata(), name)
+
+
+def _real_metadata() -> ModuleType:
+    """The real ``importlib.metadata``, imported now if need be (the stand-in steps aside)."""
+    current = sys.modules.get("importlib.metadata")
+    if isinstance(current, _QuickMetadata):
+        sys.modules.pop("importlib.metadata", None)
+    return importlib.import_module("importlib.metadata")
 
 
 def _dist_versions(package: str) -> dict[str, str]:
@@ -66,17 +74,25 @@ def _dist_versions(package: str) -> dict[str, str]:
 
 
 def import_paramiko() -> ModuleType:
-    """``import paramiko``, without importing invoke until an ssh_config needs it."""
+    """``import paramiko``, without importing invoke until an ssh_config needs it.
+
+    The stand-ins are in ``sys.modules`` while paramiko loads, for every thread: panther-ops
+    imports paramiko only through this function (a lock orders the threads), so no other
+    thread is half-way through importing paramiko meanwhile (which once made a task that
+    imported it directly find the stand-in in the middle of loading the real module).
+    """
     with _lock:
         if "paramiko" in sys.modules:
             _quicker(sys.modules["paramiko"])
             return sys.modules["paramiko"]
-        keep_out = "invoke" not in sys.modules
-        if keep_out:
-            sys.modules["invoke"] = None  # type: ignore[assignment]  # `import invoke` raises ImportError
-        quick = None
+        # Stand-ins only where nothing is (setdefault: never over a module another thread is
+        # importing); every import of paramiko in panther-ops comes through here, serialized.
+        keep_out = "invoke" not in sys.modules and sys.modules.setdefault("invoke", None) is None  # type: ignore[arg-type]
+        quick: _QuickMetadata | None = None
         if "importlib.metadata" not in sys.modules:
-            quick = sys.modules["importlib.metadata"] = _QuickMetadata(_dist_versions("paramiko"))
+            quick = _QuickMetadata(_dist_versions("paramiko"))
+            if sys.modules.setdefault("importlib.metadata", quick) is not quick:
+                quick = None
         try:
             import paramiko
         finally:

@@ -33,6 +33,7 @@ if TYPE_CHECKING:
 
 def _refuse_unknown_policy() -> Any:
     """A missing-host-key policy that refuses, naming the offered fingerprint."""
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     class RefuseUnknown(paramiko.MissingHostKeyPolicy):
@@ -56,6 +57,7 @@ def _client_type() -> Any:
     error of each format that does not fit, is kept per version of the file. Keys that
     need a passphrase are loaded as paramiko does, every time.
     """
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     load_file = paramiko.SSHClient._key_from_filepath  # type: ignore[attr-defined]  # private, not in the stubs
@@ -82,6 +84,7 @@ def _client_type() -> Any:
 
 
 def _load_host_keys(path: str) -> paramiko.HostKeys:
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     return paramiko.HostKeys(path)
@@ -89,9 +92,9 @@ def _load_host_keys(path: str) -> paramiko.HostKeys:
 
 def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> paramiko.SSHClient:
     """Connect one hop (through its jump chain); every client opened is appended to ``clients``."""
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
-    import_paramiko()  # already loaded: makes sure its per-packet helpers are the quick ones
     sock: Any = None
     if hop.jump is not None:
         via = open_client(hop.jump, robot, clients)
@@ -263,6 +266,7 @@ class SshTransport(Conversing):
 
     def _guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
         """Run one step of a command; SSH failures become panther-ops errors."""
+        import_paramiko()  # the first import of paramiko is serialized there
         import paramiko
 
         try:
@@ -332,6 +336,7 @@ class SshTransport(Conversing):
 
 def default_password_accepted(endpoint: Endpoint, password: str) -> bool:
     """Try one password login on a fresh connection (host key still verified strictly)."""
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     hop = resolve(endpoint)
@@ -367,6 +372,7 @@ def default_password_accepted(endpoint: Endpoint, password: str) -> bool:
 
 def fetch_host_key(endpoint: Endpoint) -> tuple[Hop, Any]:
     """Ask a robot for its host key without authenticating (jump hosts verified strictly)."""
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     hop = resolve(endpoint)
@@ -397,6 +403,7 @@ def fetch_host_key(endpoint: Endpoint) -> tuple[Hop, Any]:
 
 def known_keys(hop: Hop) -> list[Any]:
     """Keys known_hosts holds for a hop (any key type)."""
+    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     keys = paramiko.HostKeys()

@@ -186,3 +186,59 @@ def test_the_c_helpers_answer_as_paramikos_own() -> None:
     for a, b in [("|1|abc=", "|1|abc="), ("|1|abc=", "|1|abd="), ("é", "é"), ("é", "e")]:
         assert util.constant_time_bytes_eq(a, b) == REPLACED["constant_time_bytes_eq"](a, b)
     assert util.safe_string("text é") == REPLACED["safe_string"]("text é")
+
+
+def test_paramiko_is_only_imported_through_import_paramiko() -> None:
+    """A task importing paramiko itself while the preload thread imports it through
+    import_paramiko (stand-ins in sys.modules) broke both imports: every run-time import
+    of paramiko in the operator side goes through the serialized function first."""
+    import re
+    from pathlib import Path
+
+    import panther_ops
+
+    root = Path(panther_ops.__file__).parent
+    offenders = []
+    for path in root.rglob("*.py"):
+        if "manager" in path.parts or path.name == "paramiko_import.py":
+            continue  # the runtime manager runs on robots, in its own process
+        lines = path.read_text().splitlines()
+        for i, line in enumerate(lines):
+            if re.fullmatch(r"\s*(import paramiko|from paramiko\b.*)", line):
+                j = i - 1
+                while j > 0 and re.fullmatch(r"\s*(import paramiko|from paramiko\b.*)", lines[j]):
+                    j -= 1  # a run of paramiko imports: what comes before the first counts
+                before = lines[j].strip()
+                if not (before.startswith("if TYPE_CHECKING") or before.startswith("import_paramiko()")):
+                    offenders.append(f"{path.relative_to(root)}:{i + 1}")
+    assert offenders == []
+
+
+def test_import_paramiko_beside_other_threads_importing() -> None:
+    """Fresh interpreters: import_paramiko in one thread while others ask importlib.metadata
+    and import paramiko through it too; every thread gets what it asked for."""
+    import subprocess
+    import sys
+
+    code = """
+import importlib, sys, threading
+from panther_ops.transport.paramiko_import import import_paramiko
+errors, got = [], []
+def via():
+    try: got.append(import_paramiko().Transport.__name__)
+    except BaseException as e: errors.append(repr(e))
+def meta():
+    try: got.append(importlib.import_module("importlib.metadata").version("pip"))
+    except BaseException as e: errors.append(repr(e))
+ts = [threading.Thread(target=via)] + [threading.Thread(target=f) for f in (meta, via, meta, via)]
+for t in ts: t.start()
+for t in ts: t.join()
+assert not errors, errors
+assert got.count("Transport") == 3 and len(got) == 5, got
+import importlib.metadata as m
+assert not type(m).__name__.startswith("_Quick"), "the stand-in is gone"
+print("ok")
+"""
+    for _ in range(5):
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+        assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
