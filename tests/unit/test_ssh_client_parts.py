@@ -176,7 +176,7 @@ def test_the_c_helpers_answer_as_paramikos_own() -> None:
     from panther_ops.transport.paramiko_import import REPLACED, import_paramiko
 
     util = import_paramiko().util
-    assert set(REPLACED) == {"constant_time_bytes_eq", "safe_string"}
+    assert set(REPLACED) == {"constant_time_bytes_eq", "safe_string", "start_handshake", "handshake_timed_out"}
     rnd = random.Random(7)
     for _ in range(300):
         a = bytes(rnd.randrange(256) for _ in range(rnd.randrange(40)))
@@ -242,3 +242,24 @@ print("ok")
     for _ in range(5):
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
         assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
+
+
+def test_a_key_exchange_deadline_instead_of_a_timer_thread() -> None:
+    import time
+
+    from panther_ops.transport.paramiko_import import import_paramiko
+
+    paramiko = import_paramiko()
+    a, b = socket.socketpair()
+    packetizer = paramiko.packet.Packetizer(a)
+    threads = threading.active_count()
+    assert not packetizer.handshake_timed_out()  # not started: never
+    packetizer.start_handshake(0.05)
+    assert threading.active_count() == threads, "no timer thread"
+    assert not packetizer.handshake_timed_out()
+    time.sleep(0.06)
+    assert packetizer.handshake_timed_out()
+    packetizer.complete_handshake()
+    assert not packetizer.handshake_timed_out()  # completed: no longer
+    a.close()
+    b.close()
