@@ -52,8 +52,8 @@ _pending: dict[tuple[str, int], list[_Pending]] = {}
 _expected: dict[tuple[str, int], int] = {}
 """Connects of the current opening not started yet, per address."""
 _round = [0]
-"""Which opening is current: :func:`open_ahead` and :func:`discard` start a new one, and a
-connect of an older one that completes afterwards is closed at once."""
+"""Bumped by :func:`discard`: a connect started before it that completes afterwards is
+closed at once."""
 
 
 def _literal(host: str) -> int | None:
@@ -116,38 +116,41 @@ changes hands at once; names that need resolving come after, at the default inte
 
 
 def open_ahead(endpoints: list[Endpoint]) -> None:
-    """Start connecting to every endpoint whose address is sure (in the background).
+    """Start connecting to every endpoint whose address is sure (in the background); an
+    address already connected or being connected ahead is not connected twice.
 
     The addresses are worked out here (the quick ssh_config reader: ~1 ms for 30 robots),
     so a connection that wants its socket before the opener reached it waits for it.
     """
     addresses = [a for a in map(guess_address, endpoints) if a is not None]
     with _lock:
-        _round[0] += 1
         round_ = _round[0]
-        _expected.clear()
-        for address in addresses:
+        fresh = [a for a in addresses if not _pending.get(a) and not _expected.get(a)]
+        for address in fresh:
             _expected[address] = _expected.get(address, 0) + 1
+    ordered = [a for a in fresh if _literal(a[0]) is not None] + [a for a in fresh if _literal(a[0]) is None]
+    literal = len([a for a in fresh if _literal(a[0]) is not None])
 
     def run() -> None:
-        names = [a for a in addresses if _literal(a[0]) is None]
+        done = 0
         default = sys.getswitchinterval()
         sys.setswitchinterval(min(default, QUICK_SWITCH))
         try:
-            for address in addresses:
-                if address not in names:
-                    _start(address, round_)
-            sys.setswitchinterval(default)
-            for address in names:
+            for address in ordered:
+                if done == literal:
+                    sys.setswitchinterval(default)  # names resolve at the default interval
                 _start(address, round_)
+                done += 1
         finally:
             sys.setswitchinterval(default)
             with _lock:  # whatever did not start never will: nobody waits for it
                 if round_ == _round[0]:
-                    _expected.clear()
+                    for address in ordered[done:]:
+                        if _expected.get(address):
+                            _expected[address] -= 1
                 _lock.notify_all()
 
-    if addresses:
+    if ordered:
         threading.Thread(target=run, name="connect-ahead", daemon=True).start()
 
 

@@ -173,3 +173,18 @@ def test_connections_close_discards_what_was_not_taken(tmp_path: Path, listener:
     peer.settimeout(2)
     assert peer.recv(10) == b""  # closed without a byte sent
     peer.close()
+
+
+def test_an_address_opened_ahead_is_not_opened_twice(tmp_path: Path, listener: socket.socket) -> None:
+    port = listener.getsockname()[1]
+    endpoint = Endpoint(name="r", host="127.0.0.1", port=port, ssh_config=str(tmp_path / "none"))
+    ahead.open_ahead([endpoint])
+    _wait_pending(1)
+    ahead.open_ahead([endpoint])  # a second opening for the same robot
+    time.sleep(0.2)
+    assert sum(len(v) for v in ahead._pending.values()) == 1
+    listener.settimeout(0.2)
+    first, _ = listener.accept()
+    with pytest.raises(TimeoutError):
+        listener.accept()
+    first.close()
