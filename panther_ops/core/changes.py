@@ -117,8 +117,8 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
         by_name[r.robot] = r
         if progress is not None:
             progress(r)
-    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])
-            and r.name not in {e.robot for e in early}]
+    went = {r.robot for r in early}
+    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name]) and r.name not in went]
 
     def task(ctx: RobotContext) -> RobotResult:
         plan = fp.plans[ctx.robot.name]

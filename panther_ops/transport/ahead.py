@@ -128,8 +128,8 @@ def open_ahead(endpoints: list[Endpoint]) -> None:
         fresh = [a for a in addresses if not _pending.get(a) and not _expected.get(a)]
         for address in fresh:
             _expected[address] = _expected.get(address, 0) + 1
-    ordered = [a for a in fresh if _literal(a[0]) is not None] + [a for a in fresh if _literal(a[0]) is None]
-    literal = len([a for a in fresh if _literal(a[0]) is not None])
+    literal = [a for a in fresh if _literal(a[0]) is not None]
+    ordered = literal + [a for a in fresh if a not in literal]  # IP addresses first, names after
 
     def run() -> None:
         done = 0
@@ -137,7 +137,7 @@ def open_ahead(endpoints: list[Endpoint]) -> None:
         sys.setswitchinterval(min(default, QUICK_SWITCH))
         try:
             for address in ordered:
-                if done == literal:
+                if done == len(literal):
                     sys.setswitchinterval(default)  # names resolve at the default interval
                 _start(address, round_)
                 done += 1
