@@ -1,0 +1,96 @@
+"""`panther-ops reimage`: flash and verify a robot's card on this machine (the card in a reader)."""
+
+from __future__ import annotations
+
+import sys
+from typing import Annotated, Optional
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.options import Json
+
+app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
+
+ImageArg = Annotated[str, typer.Argument(help="Disk image: .img, .img.xz or .img.gz.")]
+Device = Annotated[str, typer.Option("--device", "-d", help="The card's whole block device, e.g. /dev/sdb.")]
+Sha256 = Annotated[
+    Optional[str],  # noqa: UP045
+    typer.Option("--sha256", help="The image file's expected sha256 (default: IMAGE.sha256 beside it)."),
+]
+
+
+@app.command("flash")
+def flash(
+    image: ImageArg,
+    device: Device,
+    sha256: Sha256 = None,
+    yes: Annotated[bool, typer.Option("--yes", "-y", help="Erase the device without asking.")] = False,
+    json_out: Json = False,
+) -> int:
+    """Write IMAGE to the card in this machine's reader, then read it back and compare.
+
+    The image's sha256 is checked first (--sha256 or IMAGE.sha256); the device must be a
+    whole block device, unmounted, not holding this machine's root, at least the image's
+    size. The first MiB (partition table) is written last. Exit 2: refused, nothing written;
+    exit 3: the card does not read back as the image.
+
+    Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
+    """
+    from panther_ops.cli.reimage_view import progress
+    from panther_ops.cli.render import emit_json, error
+    from panther_ops.core.reimage.device import describe
+    from panther_ops.core.reimage.flash import check_sha256, eligible_device, flash, inspect_image
+    from panther_ops.errors import ExitCode
+
+    with progress() as step:
+        img = inspect_image(image, sha256, require_checksum=True, progress=step)
+        facts = eligible_device(device, img)
+        file_sha = check_sha256(img, step)
+        what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
+        if not yes:
+            if not sys.stdin.isatty():
+                error(f"writing {what} would erase {describe(facts)}: pass --yes; nothing was written")
+                return int(ExitCode.USAGE)
+            if not typer.confirm(f"Erase {describe(facts)} and write {image}?", default=False):
+                context.info("nothing was written")
+                return int(ExitCode.USAGE)
+        context.info(f"writing {what} to {describe(facts)}")
+        done = flash(img, facts, file_sha, step)
+    v = done.verdict
+    if json_out:
+        emit_json({"version": 1, "command": "reimage flash", "ok": v.ok, **done.to_json()})
+    else:
+        w = done.write
+        io = "direct I/O" if w.direct else "buffered I/O (the device refused O_DIRECT)"
+        typer.echo(f"wrote {w.bytes_written} bytes to {device} in {w.seconds:.1f} s "
+                   f"({w.bytes_written / (1 << 20) / max(w.seconds, 1e-9):.1f} MiB/s, {io})")
+        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
+    return 0 if v.ok else int(ExitCode.PARTIAL)
+
+
+@app.command("verify")
+def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Json = False) -> int:
+    """Read DEVICE back and compare it with IMAGE (sha256, and the first differing byte).
+
+    The image's own sha256 is checked too when --sha256 or IMAGE.sha256 gives one.
+    Exit 3 when the device differs.
+
+    Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
+    """
+    from panther_ops.cli.reimage_view import progress
+    from panther_ops.cli.render import emit_json
+    from panther_ops.core.reimage.flash import check_sha256, inspect_image, verify
+    from panther_ops.errors import ExitCode
+
+    with progress() as step:
+        img = inspect_image(image, sha256, require_checksum=False, progress=step)
+        if img.expected_sha256 is not None:
+            check_sha256(img, step)
+        v = verify(img, device, step)
+    if json_out:
+        emit_json({"version": 1, "command": "reimage verify", "image": img.to_json(), "ok": v.ok,
+                   "verify": v.to_json()})
+    else:
+        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
+    return 0 if v.ok else int(ExitCode.PARTIAL)
