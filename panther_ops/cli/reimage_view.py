@@ -7,8 +7,12 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
 
 from panther_ops.cli.render import human_bytes
+
+if TYPE_CHECKING:
+    from panther_ops.results import FleetResult
 
 ProgressFn = Callable[[str, int, "int | None"], None]
 PHASES = {"size": "measuring", "checksum": "checksum", "write": "writing", "verify": "verifying",
@@ -77,3 +81,27 @@ def _bar() -> Iterator[ProgressFn]:
                 bar.update(tasks[phase], completed=done, total=total)  # type: ignore[arg-type]
 
         yield step
+
+
+def print_carried(fleet: FleetResult, *, title: str) -> None:
+    """The per-robot results, then each robot's files (path, role, size, mode, owner, secret)."""
+    from rich.table import Table
+
+    from panther_ops.cli.render import _console, esc, print_results
+
+    print_results(fleet, title=title)
+    out = _console()
+    for r in fleet.results:
+        files = r.data.get("files") or []
+        if not files:
+            continue
+        ident = r.data.get("robot") or {}
+        head = ", ".join(f"{k} {ident[k]}" for k in ("model", "serial", "stack", "os_build", "host_key")
+                         if ident.get(k))
+        table = Table(title=f"{r.robot}: {head}" if head else r.robot, title_justify="left")
+        for col in ("path", "role", "size", "mode", "owner", "secret"):
+            table.add_column(col, justify="right" if col == "size" else "left")
+        for f in files:
+            table.add_row(esc(f["path"] + (f" -> {f['link']}" if f.get("link") else "")), esc(f["role"]),
+                          human_bytes(f["size"]), f["mode"], esc(f["owner"]), "yes" if f["secret"] else "")
+        out.print(table)

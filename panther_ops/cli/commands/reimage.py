@@ -8,7 +8,7 @@ from typing import Annotated, Optional
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.options import Json
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots
 
 app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
 
@@ -59,7 +59,7 @@ def flash(
         done = flash(img, facts, file_sha, step)
     v = done.verdict
     if json_out:
-        emit_json({"version": 1, "command": "reimage flash", "ok": v.ok, **done.to_json()})
+        emit_json({"schema": 1, "command": "reimage flash", "ok": v.ok, **done.to_json()})
     else:
         w = done.write
         io = "direct I/O" if w.direct else "buffered I/O (the device refused O_DIRECT)"
@@ -89,8 +89,63 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Jso
             check_sha256(img, step)
         v = verify(img, device, step)
     if json_out:
-        emit_json({"version": 1, "command": "reimage verify", "image": img.to_json(), "ok": v.ok,
+        emit_json({"schema": 1, "command": "reimage verify", "image": img.to_json(), "ok": v.ok,
                    "verify": v.to_json()})
     else:
         typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
     return 0 if v.ok else int(ExitCode.PARTIAL)
+
+
+@app.command("plan")
+def plan(
+    ctx: typer.Context,
+    robots: Robots = None,
+    groups: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """List what `reimage backup` would carry from each robot (read only).
+
+    The compose file, the config tree, every file the driver mounts from the robot, the
+    shutdown hosts file, the robot's SSH key pair, known_hosts and authorized_keys, the
+    deployed manager, and the inventory's desired: block; per file its mode, owner, size and
+    whether it is a secret.
+
+    Example: panther-ops reimage plan -r panther-01
+    """
+    from panther_ops.cli.reimage_view import print_carried
+    from panther_ops.cli.render import finish
+    from panther_ops.core.reimage.tasks import plan_task
+
+    inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
+    fleet = context.run("reimage plan", inv, chosen, plan_task, forks=forks, json_out=json_out)
+    return finish(fleet, json_out, lambda f: print_carried(f, title="reimage plan"))
+
+
+@app.command("backup")
+def backup(
+    ctx: typer.Context,
+    robots: Robots = None,
+    groups: Groups = None,
+    all_: All = False,
+    out: Annotated[str, typer.Option("--out", "-o", help="Directory for the archives (created 0700).")] = "backups",
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Back up each robot into one archive (OUT/ROBOT-TIME.tar.gz, mode 0600) with a manifest.
+
+    Read over the robot's one connection; robots are read in parallel. The manifest names the
+    robot, model, serial, stack and version, OS build, host key fingerprint, and per file its
+    path, mode, owner, sha256 and whether it is a secret (private keys, shutdown secrets).
+
+    Example: panther-ops reimage backup --all --out backups/
+    """
+    from panther_ops.cli.render import finish, print_results
+    from panther_ops.core.reimage.archive import out_dir
+    from panther_ops.core.reimage.tasks import backup_task
+
+    directory = out_dir(out)
+    inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
+    fleet = context.run("reimage backup", inv, chosen, backup_task(directory), forks=forks, json_out=json_out)
+    return finish(fleet, json_out, lambda f: print_results(f, title="reimage backup"))
