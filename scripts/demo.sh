@@ -22,3 +22,6 @@ $PO -i demo-fleet config set wheel_type WH02 -g warehouse --yes
 $PO -i demo-fleet config set controller.linear.x.max_velocity 0.8 -r panther-01 --yes
 $PO -i demo-fleet config diff --all
 $PO -i demo-fleet config history -r panther-01
+# OS reimage: what a backup carries from a robot, then one 0600 archive per robot with a manifest.
+$PO -i demo-fleet reimage plan -r panther-03
+$PO -i demo-fleet reimage backup --all --out demo-fleet-backups

@@ -46,7 +46,8 @@ def progress(*, plain_every: float = 2.0) -> Iterator[ProgressFn]:
         line = f"{PHASES.get(phase, phase)}: {human_bytes(done)}"
         if total:
             line += f" of {human_bytes(total)} ({100 * done / total:.0f}%)"
-        line += f", {_rate(done, took)}"
+        if took >= 0.01:
+            line += f", {_rate(done, took)}"
         if total and done < total and done > 0 and took > 0:
             line += f", ETA {(total - done) * took / done:.0f} s"
         elif finished:

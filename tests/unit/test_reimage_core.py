@@ -99,3 +99,8 @@ def test_verdict() -> None:
     bad = Verdict("/dev/sdb", 10, H, "cd" * 32, 7, 0.5)
     assert not bad.ok
     assert bad.message.startswith("/dev/sdb: differs from the image: first difference at byte 7 (0x7)")
+
+
+def test_mounts_are_grouped_by_source() -> None:
+    points = [Mount("8:16", "/dev/sdb", f"/m{i}") for i in range(5)]
+    assert refusals(facts(mounts=points), 1) == ["/dev/sdb is mounted at /m0, /m1, /m2 (and 2 more)"]

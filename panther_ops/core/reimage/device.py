@@ -31,9 +31,14 @@ def refusals(facts: DeviceFacts, image_size: int) -> list[str]:
         why.append(f"{dev} is a partition of /dev/{facts.parent}: give the whole device, /dev/{facts.parent}")
     if facts.holds_root:
         why.append(f"{dev} holds this machine's root file system (/)")
+    by_source: dict[str, list[str]] = {}
     for m in facts.mounts:
         if m.mount_point != "/":
-            why.append(f"{dev}: {m.source} is mounted at {m.mount_point}")
+            by_source.setdefault(m.source, []).append(m.mount_point)
+    for source, points in by_source.items():
+        where = ", ".join(points[:3]) + (f" (and {len(points) - 3} more)" if len(points) > 3 else "")
+        who = dev if source in (facts.path, facts.real_path) else f"{dev}: {source}"
+        why.append(f"{who} is mounted at {where}")
     if facts.swaps:
         why.append(f"{dev}: {', '.join(facts.swaps)} is in use as swap")
     if facts.holders:
