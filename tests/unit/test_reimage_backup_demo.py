@@ -92,3 +92,17 @@ def test_backup_out_must_be_a_directory(demo: Path, tmp_path: Path, capsys: pyte
     f.write_text("x")
     code, _, text = run(capsys, "-i", str(demo), "reimage", "backup", "--all", "--out", str(f))
     assert code == 2 and f"--out {f}: not a directory" in text
+
+
+def test_an_unreachable_robot_does_not_stop_the_others(
+    demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:
+    import shutil
+
+    shutil.rmtree(demo / "robots" / "panther-02")
+    out = tmp_path / "backups"
+    code, doc, _ = run(capsys, "-i", str(demo), "reimage", "backup", "--all", "--out", str(out), "--json")
+    assert code == 3
+    outcome = {r["robot"]: r["outcome"] for r in doc["robots"]}
+    assert outcome == {"panther-01": "ok", "panther-02": "unreachable", "panther-03": "ok"}
+    assert sorted(p.name.rsplit("-", 1)[0] for p in out.iterdir()) == ["panther-01", "panther-03"]
