@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import stat
 import tarfile
@@ -106,3 +107,75 @@ def test_an_unreachable_robot_does_not_stop_the_others(
     outcome = {r["robot"]: r["outcome"] for r in doc["robots"]}
     assert outcome == {"panther-01": "ok", "panther-02": "unreachable", "panther-03": "ok"}
     assert sorted(p.name.rsplit("-", 1)[0] for p in out.iterdir()) == ["panther-01", "panther-03"]
+
+
+def _backup(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], robot: str) -> Path:
+    code, doc, _ = run(capsys, "-i", str(demo), "reimage", "backup", "-r", robot, "--out", str(tmp_path / "bk"),
+                       "--json")
+    assert code == 0
+    return Path(doc["robots"][0]["data"]["archive"])
+
+
+def test_restore_puts_the_files_back_then_applies_desired(
+    demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:
+    root = demo / "robots" / "panther-03"
+    hosts = root / "home/husarion/config/husarion_ugv_manager/config/shutdown_hosts.yaml"
+    archive = _backup(demo, tmp_path, capsys, "panther-03")
+    saved = hosts.read_bytes()
+    hosts.write_text("hosts: []\n")
+    (root / "home/husarion/config/common/.env").unlink()
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-03", "--from", str(archive),
+                        "--dry-run")
+    assert code == 0 and "+++ b/home/husarion/config/common/.env" in text and hosts.read_text() == "hosts: []\n"
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-03", "--from", str(archive),
+                        "--yes")
+    assert code == 0, text
+    assert hosts.read_bytes() == saved and (root / "home/husarion/config/common/.env").exists()
+    assert "restore 2 file(s)" in text and "panther-ops doctor" in text
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-03", "--from", str(archive),
+                        "--yes")
+    assert code == 0 and "every file is as in the backup" in text
+
+
+def test_restore_masks_a_private_key_in_its_diff(
+    demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:
+    key = demo / "robots" / "panther-02" / "home/husarion/.ssh/id_rsa"
+    content = "-----BEGIN OPENSSH PRIVATE KEY-----\nstand-in\n-----END OPENSSH PRIVATE KEY-----\n"
+    key.write_text(content)
+    key.chmod(0o600)
+    archive = _backup(demo, tmp_path, capsys, "panther-02")
+    key.unlink()
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-02", "--from", str(archive),
+                        "--yes")
+    assert code == 0, text
+    assert f"+(secret: {len(content)} bytes, sha256 " in text and "stand-in" not in text
+    assert key.read_text().startswith("-----BEGIN") and stat.S_IMODE(key.stat().st_mode) == 0o600
+
+
+def test_restore_refusals(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    archive = _backup(demo, tmp_path, capsys, "panther-01")
+    compose = demo / "robots" / "panther-01" / "home/husarion/compose.yaml"
+    before = compose.read_text()
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-02", "--from", str(archive))
+    assert code == 2 and "is of robot 'panther-01', not 'panther-02'" in text
+    compose.write_text(before.replace("humble-2.1.1-20240828", "humble-2.1.2-20241108"))
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from", str(archive),
+                        "--yes")
+    assert code == 2 and "the robot now runs stack 2.1.2" in " ".join(text.split())
+    assert "humble-2.1.2-20241108" in compose.read_text()
+    damaged = tmp_path / "damaged.tar.gz"
+    with tarfile.open(archive) as src, tarfile.open(damaged, "w:gz") as dst:
+        for m in src.getmembers():
+            fh = src.extractfile(m)
+            data = fh.read() if fh is not None else b""
+            if m.name.endswith("compose.yaml"):
+                data = data.replace(b"panther", b"PANTHER", 1)
+            dst.addfile(m, io.BytesIO(data))
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from", str(damaged))
+    assert code == 2
+    assert "/home/husarion/compose.yaml does not match its sha256 in the manifest (damaged)" in " ".join(text.split())
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from",
+                        str(tmp_path / "nope.tar.gz"))
+    assert code == 2 and "no such file" in text

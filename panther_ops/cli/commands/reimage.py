@@ -8,6 +8,7 @@ from typing import Annotated, Optional
 import typer
 
 from panther_ops.cli import context
+from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes
 from panther_ops.cli.options import All, Forks, Groups, Json, Robots
 
 app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
@@ -149,3 +150,66 @@ def backup(
     inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
     fleet = context.run("reimage backup", inv, chosen, backup_task(directory), forks=forks, json_out=json_out)
     return finish(fleet, json_out, lambda f: print_results(f, title="reimage backup"))
+
+
+@app.command("restore")
+def restore(
+    ctx: typer.Context,
+    robot: Annotated[str, typer.Option("--robot", "-r", help="The robot the backup was taken from.")],
+    from_: Annotated[str, typer.Option("--from", help="The robot's backup archive (reimage backup).")],
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+) -> int:
+    """Put a backup back onto the robot after its OS was reinstalled.
+
+    The robot's new host key is shown beside the backup's and must be trusted first
+    (`panther-ops trust ROBOT --replace` after checking it on the robot): never silently.
+    Then, as one plan with diffs through the pipeline (confirm, backup on the robot, atomic
+    writes, recreate, verify, roll back): every file of the backup under the robot user's
+    home that differs (key pair, known_hosts, authorized_keys, config tree, mounted files,
+    the deployed manager, compose.yaml byte-identical); then `apply` of the inventory's
+    desired: block, and a doctor summary (which reports a default password still accepted).
+    Restoring onto another stack version than the backup's is refused (exit 2).
+
+    Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
+    """
+    from panther_ops.cli.mutate import mutate
+    from panther_ops.cli.status_view import print_doctor
+    from panther_ops.core.config_plans import plan_desired
+    from panther_ops.core.doctor import make_doctor_task
+    from panther_ops.core.reimage.restore import load_backup, restore_planner
+    from panther_ops.errors import UsageError
+
+    backup = load_backup(from_)
+    inv = context.load(ctx)
+    (target,) = inv.select([robot], [], False)[:1]
+    taken_from = backup.robot.get("name")
+    if taken_from != target.name:
+        raise UsageError(f"--from {from_}: the backup is of robot {taken_from!r}, not {target.name!r}")
+    old_key = backup.robot.get("host_key") or "none recorded"
+    if target.transport != "local":
+        from panther_ops.core.trust import plan_trust
+
+        trust = plan_trust(inv, target)
+        context.info(f"{target.name} offers host key {trust.key_type} {trust.fingerprint}; "
+                     f"the backup recorded {old_key}")
+        if trust.state != "known":
+            again = " --replace" if trust.state == "changed" else ""
+            raise UsageError(
+                f"{target.name}: its host key {trust.fingerprint} is not trusted "
+                f"({'changed' if again else 'new'}; the backup recorded {old_key}): refused, nothing was changed",
+                hint=f"check it on the robot (ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub), "
+                     f"then `panther-ops trust {target.name}{again}`",
+            )
+    code = mutate("reimage restore", inv, [target], restore_planner(backup), yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, verb="Restore onto")
+    if code != 0 or dry_run:
+        return code
+    if target.desired:
+        code = mutate("apply", inv, [target], plan_desired, yes=yes, dry_run=False,
+                      restart=not no_restart, settle=settle)
+    summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
+    print_doctor(summary)
+    return code

@@ -103,7 +103,8 @@ def _identity(ctx: RobotContext, facts: RobotFacts, home: str, stack: dict[str, 
         "name": ctx.robot.name, "host": ctx.robot.host, "hostname": facts.hostname,
         "model": facts.robot_model, "serial": facts.serial, "robot_version": facts.robot_version,
         "stack": stack.get("stack"), "stack_version": stack.get("stack_version"),
-        "driver_image": stack.get("driver_image"), "os_build": facts.system_build_version, "os": facts.os_name,
+        "driver_service": stack.get("driver_service"), "driver_image": stack.get("driver_image"),
+        "os_build": facts.system_build_version, "os": facts.os_name,
         "host_key": fp() if callable(fp) else None, "home": home,
     }
 
