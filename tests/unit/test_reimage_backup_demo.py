@@ -179,3 +179,24 @@ def test_restore_refusals(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixt
     code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from",
                         str(tmp_path / "nope.tar.gz"))
     assert code == 2 and "no such file" in text
+
+
+def test_restore_reads_what_is_there_now_even_where_the_new_compose_mounts_nothing(
+    demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:
+    home = demo / "robots" / "panther-01" / "home/husarion"
+    compose = home / "compose.yaml"
+    factory = compose.read_text()
+    mount = "      - ~/.ssh/id_rsa:/root/.ssh/id_rsa\n"
+    compose.write_text(factory.replace(mount, mount + "      - ./my_controller.yaml:/config/my_controller.yaml\n"))
+    (home / "my_controller.yaml").write_text("backed: up\n")
+    code, doc, _ = run(capsys, "-i", str(demo), "reimage", "plan", "-r", "panther-01", "--json")
+    roles = {f["path"]: f["role"] for f in doc["robots"][0]["data"]["files"]}
+    assert roles["/home/husarion/my_controller.yaml"] == "driver mount"
+    archive = _backup(demo, tmp_path, capsys, "panther-01")
+    compose.write_text(factory)
+    (home / "my_controller.yaml").write_text("there: now\n")
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from", str(archive),
+                        "--dry-run")
+    assert code == 0
+    assert "-there: now\n+backed: up" in text

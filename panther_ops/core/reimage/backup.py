@@ -128,8 +128,9 @@ def _files(raw: bytes, chosen: list[Candidate]) -> list[CarriedFile]:
     return out
 
 
-def collect(ctx: RobotContext) -> Carried:
-    """Read the robot: one probe, one tar stream of every path to carry."""
+def collect(ctx: RobotContext, also: tuple[str, ...] = ()) -> Carried:
+    """Read the robot: one probe, one tar stream of every path to carry (and of ``also``: the
+    paths a restore will write, so their current content is read too)."""
     res = ctx.transport.run(probe_command(ctx.robot.compose_file), timeout=30)
     if "@@end" not in res.stdout:
         raise TransportError(ctx.robot.name, f"probe failed (exit {res.exit_status}): {res.stderr.strip()[:200]}")
@@ -137,6 +138,8 @@ def collect(ctx: RobotContext) -> Carried:
     home = facts.home or ctx.transport.home()
     mounts, stack = _driver_mounts(facts)
     chosen = candidates(ctx.robot, home, mounts)
+    chosen += [Candidate(p, "restored") for p in also
+               if not any(p == c.path or p.startswith(c.path + "/") for c in chosen)]
     tar = ctx.transport.run(Command.sh(TAR, *[c.path for c in chosen]), timeout=600)
     if tar.exit_status not in (0, 2) or (tar.exit_status == 2 and not tar.raw_stdout):
         raise TransportError(ctx.robot.name, f"reading the files failed (exit {tar.exit_status}): "

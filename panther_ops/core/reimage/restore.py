@@ -103,7 +103,7 @@ def restore_planner(backup: Backup) -> Planner:
     """The plan writing the backup's files back where they differ."""
 
     def plan(ctx: RobotContext) -> RobotPlan:
-        now = collect(ctx)
+        now = collect(ctx, tuple(f.path for f in backup.files))
         was, cur = backup.robot.get("stack_version"), now.identity.get("stack_version")
         if was != cur:
             raise UsageError(
