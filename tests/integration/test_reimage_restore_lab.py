@@ -23,6 +23,12 @@ def rlab(lab_factory: Callable[..., Lab]) -> Lab:
     return lab_factory(1, docker=True, images=("2.1.1",))
 
 
+@pytest.fixture(scope="module")
+def factory(rlab: Lab) -> str:
+    """r01's compose file as the lab made it (read before any test changes it)."""
+    return rlab.read("r01", COMPOSE)
+
+
 def po(capsys: pytest.CaptureFixture[str], lab: Lab, *argv: str) -> tuple[int, str]:
     capsys.readouterr()
     code = main(["-i", str(lab.inventory_path), *argv])
@@ -56,8 +62,7 @@ def driver_cmd(lab: Lab) -> str:
     return str(cp.stdout)
 
 
-def test_backup_reinstall_restore(rlab: Lab, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    factory = rlab.read("r01", COMPOSE)
+def test_backup_reinstall_restore(rlab: Lab, factory: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     # a customised robot: wheel type, a custom controller file (mounted), shutdown hosts, the manager's files
     changes = (("wheel_type", "WH02"), ("controller.linear.x.max_velocity", "0.8"))
     for key, value in changes:
@@ -97,20 +102,29 @@ def test_backup_reinstall_restore(rlab: Lab, tmp_path: Path, capsys: pytest.Capt
     assert "doctor" in text
 
 
-def test_restore_onto_another_stack_version_is_refused(
-    rlab: Lab, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+def test_restore_onto_a_newer_release_keeps_its_image_and_reapplies_the_customisations(
+    rlab: Lab, factory: str, tmp_path: Path, capsys: pytest.CaptureFixture[str],
 ) -> None:
+    """After the first test r01 runs customised (wheel type, controller file mounted): backed up,
+    then reinstalled with a newer 2.1.x image (the lab's stand-in image under the newer tag)."""
     code, text = po(capsys, rlab, "reimage", "backup", "-r", "r01", "--out", str(tmp_path))
     assert code == 0, text
     (archive,) = tmp_path.glob("r01-*.tar.gz")
-    before = rlab.read("r01", COMPOSE)
-    newer = before.replace("husarion/panther:humble-2.1.1-20240828", "husarion/panther:humble-2.1.2-20241108")
-    assert newer != before
-    rlab.write("r01", COMPOSE, newer)
-    try:
-        code, text = po(capsys, rlab, "reimage", "restore", "-r", "r01", "--from", str(archive), "--yes")
-        assert code == 2, text
-        assert "the robot now runs stack 2.1.2, the backup" in " ".join(text.split())
-        assert rlab.read("r01", COMPOSE) == newer
-    finally:
-        rlab.write("r01", COMPOSE, before)
+    customised = rlab.read("r01", COMPOSE)
+    assert "wheel_type:=WH02" in customised and "controller_config_path:=" in customised
+    old_tag, new_tag = "husarion/panther:humble-2.1.1-20240828", "husarion/panther:humble-2.1.2-20241108"
+    assert old_tag in factory
+    rlab.docker("r01", "tag", old_tag, new_tag, check=True)
+    rlab.write("r01", COMPOSE, factory.replace(old_tag, new_tag))
+    code, text = po(capsys, rlab, "reimage", "restore", "-r", "r01", "--from", str(archive), "--yes",
+                    "--settle", "1")
+    assert code == 0, text
+    flat = " ".join(text.split())
+    assert "stack 2.1.1 -> 2.1.2: the new image's compose file kept, re-applied: wheel_type:=WH02" in flat
+    assert "+ command: ros2 launch panther_bringup bringup.launch.py wheel_type:=WH02" in flat  # the diff
+    now = rlab.read("r01", COMPOSE)
+    assert new_tag in now and old_tag not in now
+    assert "wheel_type:=WH02" in now and "controller_config_path:=" in now
+    cp = rlab.docker("r01", "inspect", "-f", "{{.Config.Image}}", rlab.robot("r01").driver_container, check=True)
+    assert str(cp.stdout).strip() == new_tag
+    assert "wheel_type:=WH02" in driver_cmd(rlab)

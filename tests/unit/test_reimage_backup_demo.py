@@ -160,11 +160,13 @@ def test_restore_refusals(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixt
     before = compose.read_text()
     code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-02", "--from", str(archive))
     assert code == 2 and "is of robot 'panther-01', not 'panther-02'" in text
-    compose.write_text(before.replace("humble-2.1.1-20240828", "humble-2.1.2-20241108"))
+    other_line = before.replace("husarion/panther:humble-2.1.1-20240828", "husarion/husarion-ugv:humble-2.2.2-20250702")
+    compose.write_text(other_line)
     code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from", str(archive),
                         "--yes")
-    assert code == 2 and "the robot now runs stack 2.1.2" in " ".join(text.split())
-    assert "humble-2.1.2-20241108" in compose.read_text()
+    assert code == 2 and "the robot now runs stack 2.2.2" in " ".join(text.split())
+    assert "across release lines" in " ".join(text.split()) and compose.read_text() == other_line
+    compose.write_text(before)
     damaged = tmp_path / "damaged.tar.gz"
     with tarfile.open(archive) as src, tarfile.open(damaged, "w:gz") as dst:
         for m in src.getmembers():
@@ -200,3 +202,28 @@ def test_restore_reads_what_is_there_now_even_where_the_new_compose_mounts_nothi
                         "--dry-run")
     assert code == 0
     assert "-there: now\n+backed: up" in text
+
+
+def test_restore_onto_a_newer_release_keeps_its_image_and_reapplies_the_customisations(
+    demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+) -> None:
+    compose = demo / "robots" / "panther-01" / "home/husarion/compose.yaml"
+    factory = compose.read_text()
+    mount = "      - ~/.ssh/id_rsa:/root/.ssh/id_rsa\n"
+    compose.write_text(factory.replace(mount, mount + "      - ~/maps:/maps:ro\n"))
+    code, _, text = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH04", "-r", "panther-01", "--yes")
+    assert code == 0, text
+    archive = _backup(demo, tmp_path, capsys, "panther-01")
+    newer = factory.replace("humble-2.1.1-20240828", "humble-2.1.2-20241108")
+    compose.write_text(newer)  # reinstalled with a newer 2.1.x image
+    code, _, text = run(capsys, "-i", str(demo), "reimage", "restore", "-r", "panther-01", "--from", str(archive),
+                        "--yes")
+    assert code == 0, text
+    flat = " ".join(text.split())
+    assert "stack 2.1.1 -> 2.1.2: the new image's compose file kept, re-applied: wheel_type:=WH04, mount ~/maps:/maps:ro" \
+        in flat
+    assert "+ - ~/maps:/maps:ro" in flat  # the diff shown
+    now = compose.read_text()
+    assert "husarion/panther:humble-2.1.2-20241108" in now and "humble-2.1.1" not in now
+    assert "      - ~/maps:/maps:ro\n" in now
+    assert "wheel_type:=WH02" in now  # then the inventory's desired: block (apply) on top

@@ -171,7 +171,9 @@ def restore(
     home that differs (key pair, known_hosts, authorized_keys, config tree, mounted files,
     the deployed manager, compose.yaml byte-identical); then `apply` of the inventory's
     desired: block, and a doctor summary (which reports a default password still accepted).
-    Restoring onto another stack version than the backup's is refused (exit 2).
+    Onto a newer image of the same release line (2.1.1 -> 2.1.x) the new compose file and its
+    image tags are kept and the backup's launch arguments, mounts and extra services are
+    re-applied onto it; across release lines restore is refused (exit 2).
 
     Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """

@@ -4,9 +4,9 @@ The archive is read and checked first (manifest, every file's sha256, paths); th
 reads the robot's files as a backup would and writes back every file of the robot user's home
 that differs (content or mode) as one plan with exact diffs: the key pair, known_hosts and
 authorized_keys, the config tree, mounted files, the deployed manager and the compose file,
-then recreates the driver and verifies it. Restoring onto another stack version than the
-backup's (which needs the customisations re-applied onto the new image's compose file) is
-refused with exit 2.
+then recreates the driver and verifies it. Onto a newer release of the same line the new
+compose file is kept and the backup's customisations are re-applied onto it (``reapply``);
+across release lines restore is refused with exit 2.
 """
 
 from __future__ import annotations
@@ -23,7 +23,9 @@ from panther_ops.core.changes import Planner
 from panther_ops.core.diff import unified_diff
 from panther_ops.core.pipeline import FileEdit, RobotPlan, Verify
 from panther_ops.core.reimage.backup import MANIFEST_VERSION, collect
+from panther_ops.core.reimage.reapply import reapply, same_line
 from panther_ops.core.runner import RobotContext
+from panther_ops.core.stack import parse_version
 from panther_ops.errors import UsageError
 from panther_ops.results import Diff
 
@@ -105,14 +107,17 @@ def restore_planner(backup: Backup) -> Planner:
     def plan(ctx: RobotContext) -> RobotPlan:
         now = collect(ctx, tuple(f.path for f in backup.files))
         was, cur = backup.robot.get("stack_version"), now.identity.get("stack_version")
-        if was != cur:
+        home = str(now.identity.get("home") or ctx.transport.home())
+        compose = posixpath.join(home, ctx.robot.compose_file[2:]) if ctx.robot.compose_file.startswith("~/") \
+            else ctx.robot.compose_file
+        reapplied: list[str] = []
+        if was != cur and not (was and cur and same_line(parse_version(was), parse_version(cur))):
             raise UsageError(
                 f"the robot now runs stack {cur or 'unknown'}, the backup {backup.path} was taken on {was}: "
-                "restoring onto another stack version (re-applying the customisations onto the new image's "
-                "compose file) is not supported; nothing was changed",
-                hint="restore onto an image of the backup's stack version, then update with `driver update`",
+                "restoring across release lines (e.g. 2.1 -> 2.2, where files move) is not supported; "
+                "nothing was changed",
+                hint="restore onto an image of the backup's release line, then update with `driver update`",
             )
-        home = str(now.identity.get("home") or ctx.transport.home())
         current = {f.path: f for f in now.files}
         edits, warnings = [], [f"not restored: {p} (a symbolic link)" for p in backup.links]
         for f in backup.files:
@@ -120,12 +125,17 @@ def restore_planner(backup: Backup) -> Planner:
                 warnings.append(f"not restored: {f.path} (outside {home}; restore it by hand)")
                 continue
             old = current.get(f.path)
-            if old is not None and old.data == f.data and int(old.mode, 8) == f.mode:
+            data = f.data
+            if f.path == compose and was != cur and old is not None:
+                text, reapplied = reapply(f.data.decode(), old.data.decode(), compose)
+                data = text.encode()
+            if old is not None and old.data == data and int(old.mode, 8) == f.mode:
                 continue
-            edits.append(_edit(f, old.data if old is not None else None))
-        service = str(backup.robot.get("driver_service") or now.identity.get("driver_service") or "")
-        compose = posixpath.join(home, ctx.robot.compose_file[2:]) if ctx.robot.compose_file.startswith("~/") \
-            else ctx.robot.compose_file
+            edits.append(_edit(BackupFile(f.path, f.mode, data, f.secret), old.data if old is not None else None))
+        if reapplied:
+            warnings.append(f"stack {was} -> {cur}: the new image's compose file kept, re-applied: "
+                            + ", ".join(reapplied))
+        service = str(now.identity.get("driver_service") or backup.robot.get("driver_service") or "")
         return RobotPlan(
             ctx.robot.name, f"restore {len(edits)} file(s) from {Path(backup.path).name}", edits,
             recreate=(service,) if service else (), compose_file=compose,
