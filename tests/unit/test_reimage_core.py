@@ -104,3 +104,26 @@ def test_verdict() -> None:
 def test_mounts_are_grouped_by_source() -> None:
     points = [Mount("8:16", "/dev/sdb", f"/m{i}") for i in range(5)]
     assert refusals(facts(mounts=points), 1) == ["/dev/sdb is mounted at /m0, /m1, /m2 (and 2 more)"]
+
+
+def test_reapply_keeps_the_new_images_and_puts_back_args_mounts_and_services() -> None:
+    from pathlib import Path
+
+    from panther_ops.core.compose import ComposeFile
+    from panther_ops.core.reimage.reapply import reapply, same_line
+
+    factory = (Path(__file__).resolve().parents[2] / "templates/compose/panther-2.1.1.yaml").read_text()
+    saved = ComposeFile.parse(factory)
+    saved.set_arg("wheel_type", "WH04")
+    saved.add_volume("~/maps", "/maps", ro=True)
+    saved.add_service("nmea_gps", {"image": "husarion/nmea-gps:humble", "network_mode": "host"})
+    newer = factory.replace("humble-2.1.1-20240828", "humble-2.1.2-20241108")
+    text, done = reapply(saved.text(), newer, "compose.yaml")
+    assert done == ["wheel_type:=WH04", "mount ~/maps:/maps:ro", "service nmea_gps"]
+    result = ComposeFile.parse(text)
+    assert result.driver_image == "husarion/panther:humble-2.1.2-20241108"
+    assert result.args["wheel_type"] == "WH04"
+    assert any(v.target == "/maps" and v.read_only for v in result.list_volumes())
+    assert result.service("nmea_gps")["image"] == "husarion/nmea-gps:humble"
+    assert reapply(text, text, "compose.yaml") == (text, [])
+    assert same_line((2, 1, 1), (2, 1, 2)) and not same_line((2, 1, 1), (2, 2, 0))
