@@ -279,7 +279,8 @@ def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: Man
     argv = [f"python3 {lay.container_archive}",
             f"--config {lay.container_config('manager.yaml')}",
             f"--lights-bt {lay.container_config('behavior_trees', 'PantherLightsBT.btproj')}",
-            f"--safety-bt {lay.container_config('behavior_trees', 'PantherSafetyBT.btproj')}"]
+            f"--safety-bt {lay.container_config('behavior_trees', 'PantherSafetyBT.btproj')}",
+            f"--stack {cfg.stack.version_str}"]  # message package, topics and services of this stack
     namespace = ctx.robot.namespace or cfg.compose.args.get("namespace")
     if namespace:
         argv.append(f"--namespace {namespace}")
@@ -390,6 +391,13 @@ def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | N
     lay = Layout(cfg.home, bundle.version)
     state = read_state(ctx, cfg.home)
     spec = service_spec(ctx, cfg, lay, settings)
+    ssh_via = None
+    if settings.mode == "ros2":  # the stock manager stands down: ours must do what it did
+        from panther_ops.core.manager_checks import check_safety
+
+        command = str(settings.params.get("shutdown_localhost_command", spec.localhost_command))
+        w, ssh_via = check_safety(ctx, cfg, spec.hosts_file, spec.hosts_source, command)
+        warnings += w
     arg = _arg_name(cfg)
     files, what = _deploy_files(cfg, lay, settings, spec, bundle, state, arg)
     edits = _file_edits(ctx, lay, files, state)
@@ -418,7 +426,8 @@ def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | N
     if not plan.edits:
         plan.warnings += _running_warning(ctx)
     plan.data.update({"action": "deploy", "version": bundle.version, "mode": settings.mode, "service": SERVICE,
-                      "image": cfg.compose.driver_image, "shutdown_hosts": spec.hosts_source})
+                      "image": cfg.compose.driver_image, "shutdown_hosts": spec.hosts_source,
+                      "stack": cfg.stack.version_str, "ssh_shutdowns": ssh_via})
     return plan
 
 

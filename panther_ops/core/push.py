@@ -168,8 +168,14 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
             arg = ""
         main_data = bundle.data
         extra = {}
+        if kind in (PushKind.USER_ANIMATIONS, PushKind.LED):  # animation types of this stack
+            from panther_ops.core.animation_types import for_stack
+
+            text, translated = for_stack(main_data.decode(), cfg.stack)
+            main_data = text.encode()
+            warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
         if kind is PushKind.USER_ANIMATIONS and bundle.extra:
-            main_data = _rewrite_images(bundle.data.decode(), posixpath.dirname(container_dir)).encode()
+            main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
             extra = {f"../{k}": v for k, v in bundle.extra.items()}
         if kind is PushKind.CONTROLLER:
             ctrl = ControllerConfig.parse(bundle.data.decode(), cfg.stack, _wheel(cfg), path=str(bundle.main),
