@@ -155,6 +155,9 @@ def test_archive_runs_alone_on_python_310(tmp_path: Path) -> None:
 # ------------------------------------------------------------------ deploy plans on the templates
 
 
+STACKS = {"panther-2.0.4.yaml": "2.0.4", "panther-2.1.1.yaml": "2.1.1", "husarion-ugv-2.2.2.yaml": "2.2.2"}
+
+
 @pytest.mark.parametrize("template", list(CASES))
 def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: str) -> None:
     tmp, cs = ctxs
@@ -190,6 +193,7 @@ def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: s
         "--config", "/opt/panther-ops/manager/config/manager.yaml",
         "--lights-bt", "/opt/panther-ops/manager/config/behavior_trees/PantherLightsBT.btproj",
         "--safety-bt", "/opt/panther-ops/manager/config/behavior_trees/PantherSafetyBT.btproj",
+        "--stack", STACKS[template],
         *(["--namespace", "panther"] if template == "panther-2.0.4.yaml" else [])]
     params = yaml.safe_load(next(e.after for e in plan.edits if e.path.endswith("manager.yaml")))  # type: ignore[arg-type]
     assert params["/**"]["ros__parameters"] == {"shutdown_hosts_path": hosts, "shutdown_localhost_command": poweroff}
@@ -454,6 +458,8 @@ def test_entry_point_warns_when_ssh_hosts_cannot_be_shut_down(tmp_path: Path,
     hosts.write_text("hosts:\n  - {ip: 192.0.2.3, username: husarion}\n  - {ip: 192.0.2.4, port: 3003, secret: s}\n")
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "paramiko" else real(name, *a))
-    assert hosts_warnings(str(hosts)) == ["no paramiko in this image: SSH shutdown of 192.0.2.3 will fail "
-                                          "(HTTP hosts of husarion-shutdown need nothing more)"]
+    assert hosts_warnings(str(hosts)) == []  # no paramiko, but the ssh client on PATH does it
+    monkeypatch.setenv("PATH", str(tmp_path))  # no ssh client either
+    assert hosts_warnings(str(hosts)) == ["neither paramiko nor an ssh client in this image: SSH shutdown of "
+                                          "192.0.2.3 will fail (HTTP hosts of husarion-shutdown need nothing more)"]
     assert hosts_warnings(str(tmp_path / "missing.yaml")) == []
