@@ -13,10 +13,8 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.manager_checks import losses, parse_probe, ssh_hosts
 from panther_ops.core.push import PushKind, plan_push, read_bundle
 from panther_ops.core.templates import template_path
-from panther_ops.manager.adapters.interfaces import interfaces_for, parse_stack
 from tests.unit.test_manager_deploy import ctxs, make_fleet  # noqa: F401 - fixture
 
 EXAMPLE = template_path("lights", "user_animations.example.yaml")
@@ -88,6 +86,8 @@ def test_lights_deploy_on_a_22_robot_writes_husarion_ugv_types(tmp_path: Path,
     ("2.2.2", "husarion_ugv_msgs", "hardware/robot_driver_state", "lights/set_animation"),
 ])
 def test_manager_ros_interfaces_per_stack(version: str, msgs: str, driver_topic: str, lights: str) -> None:
+    from panther_ops.manager.adapters.interfaces import interfaces_for, parse_stack
+
     ros = interfaces_for(parse_stack(version))
     assert ros.msg_package == msgs and ros.driver_state == driver_topic
     assert ros.service("lights/set_animation") == lights
@@ -120,6 +120,8 @@ DBUS_CMD = "dbus-send --system --print-reply --dest=org.freedesktop.login1 /org/
     ("has python3\nhas dbus-send\n", None, DBUS_CMD, []),  # no hosts file: nothing to shut down
 ])
 def test_what_deploy_would_lose(probe: str, hosts: str | None, command: str, lost: list[str]) -> None:
+    from panther_ops.core.manager_checks import losses, parse_probe, ssh_hosts
+
     output = probe + (f"--- panther-ops hosts file ---\n{hosts}" if hosts is not None else "")
     facts = parse_probe("husarion/panther:humble-2.1.1-20240828", output)
     assert facts.hosts_text == hosts
