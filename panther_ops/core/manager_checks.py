@@ -149,7 +149,7 @@ def check_safety(ctx: RobotContext, cfg: RobotConfig, hosts_file: str, hosts_sou
     lost = losses(facts, hosts, hosts_source, localhost_command)
     if lost:
         raise UsageError(
-            f"{ctx.robot.name}: deploying the manager would lose what the stock manager does on "
+            "deploying the manager would lose what the stock manager does on "
             f"{cfg.stack.label()}: " + "; ".join(lost) + f" ({facts.describe()})",
             hint="use an image with an ssh client (or paramiko), switch the hosts to husarion-shutdown over "
                  "HTTP (2.2.1+), or keep the stock manager; nothing was changed")
