@@ -5,7 +5,10 @@ robot (SSH through libssh on 2.0 - 2.2.0, HTTP on 2.2.1+) and then the robot its
 ``husarion@localhost`` on 2.0/2.1, D-Bus ``PowerOff`` on 2.2). The deployed manager runs on the
 driver's own image and needs, there:
 
-* for SSH hosts: paramiko or an ``ssh`` client (`panther_ops.manager.shutdown_executor.ssh_method`);
+* for SSH hosts: paramiko or an ``ssh`` client (`panther_ops.manager.shutdown_executor.ssh_method`),
+  and each host's key in the robot's ``~/.ssh/known_hosts`` (mounted into the container): the
+  stock node (libssh) never checks host keys, ours refuses unknown ones, so a host missing there
+  would no longer be shut down;
 * for the robot's own power-off: the program its command starts (``ssh`` or ``dbus-send``).
 
 `probe_image` asks the image once, over the robot's existing connection (``docker exec`` in the
@@ -25,6 +28,7 @@ from typing import Any
 from panther_ops.core.robot_config import RobotConfig
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import RemoteStateError, UsageError
+from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 
 _HOSTS_MARK = "--- panther-ops hosts file ---"
 #: $1 = the hosts file as manager.yaml names it (container path or $(find pkg)/rest)
@@ -100,8 +104,8 @@ def probe_image(ctx: RobotContext, cfg: RobotConfig, hosts_file: str) -> ImageFa
     return parse_probe(cfg.compose.driver_image, output)
 
 
-def ssh_hosts(hosts_text: str | None, source: str) -> list[str]:
-    """``user@ip:port`` of every SSH entry of a hosts file's text (HTTP entries need nothing more)."""
+def ssh_hosts(hosts_text: str | None, source: str) -> list[ShutdownHost]:
+    """Every SSH entry of a hosts file's text (HTTP entries need nothing more)."""
     if not hosts_text:
         return []
     import yaml
@@ -113,15 +117,29 @@ def ssh_hosts(hosts_text: str | None, source: str) -> list[str]:
         parsed = parse_shutdown_hosts(yaml.safe_load(hosts_text), source)
     except (yaml.YAMLError, ManagerError):
         return []  # the stock manager could not read it either: nothing of it is lost
-    return [h.describe() for h in parsed.hosts if h.method is Method.SSH]
+    return [h for h in parsed.hosts if h.method is Method.SSH]
 
 
-def losses(facts: ImageFacts, hosts: list[str], hosts_source: str, localhost_command: str) -> list[str]:
+def unknown_host_keys(known_hosts_text: str, hosts: list[ShutdownHost]) -> list[ShutdownHost]:
+    """The SSH hosts whose key is not in the robot's known_hosts (plain or hashed entries)."""
+    from panther_ops.core.shutdown.remote import host_keys_from_text
+    from panther_ops.transport.hostkeys import known_hosts_name
+
+    known = host_keys_from_text(known_hosts_text)
+    return [h for h in hosts if not known.lookup(known_hosts_name(h.ip, h.port))]
+
+
+def losses(facts: ImageFacts, hosts: list[ShutdownHost], hosts_source: str, localhost_command: str,
+           unknown_keys: list[ShutdownHost] | None = None) -> list[str]:
     """What the deployed manager could not do that the stock one does on this robot."""
     lost: list[str] = []
     if hosts and facts.ssh_method is None:
-        lost.append(f"shutting down the User Computers of {hosts_source} over SSH ({', '.join(hosts)}): "
-                    "the manager needs paramiko or an ssh client for that")
+        lost.append(f"shutting down the User Computers of {hosts_source} over SSH "
+                    f"({', '.join(h.describe() for h in hosts)}): the manager needs paramiko or an ssh client for that")
+    if unknown_keys:
+        lost.append(f"shutting down {', '.join(h.describe() for h in unknown_keys)} over SSH: no host key in the "
+                    "robot's ~/.ssh/known_hosts (the stock manager does not check host keys; this one refuses "
+                    "unknown ones)")
     words = shlex.split(localhost_command) if localhost_command.strip() else []
     program = words[0].rsplit("/", 1)[-1] if words else ""
     if program in ("ssh", "dbus-send") and program not in facts.programs:
@@ -146,11 +164,19 @@ def check_safety(ctx: RobotContext, cfg: RobotConfig, hosts_file: str, hosts_sou
         except FileNotFoundError:
             text = None
     hosts = ssh_hosts(text, hosts_source)
-    lost = losses(facts, hosts, hosts_source, localhost_command)
+    unknown: list[ShutdownHost] = []
+    if hosts:
+        try:
+            known_text = ctx.transport.read_file(f"{cfg.home}/.ssh/known_hosts").decode(errors="replace")
+        except FileNotFoundError:
+            known_text = ""
+        unknown = unknown_host_keys(known_text, hosts)
+    lost = losses(facts, hosts, hosts_source, localhost_command, unknown)
     if lost:
         raise UsageError(
             "deploying the manager would lose what the stock manager does on "
             f"{cfg.stack.label()}: " + "; ".join(lost) + f" ({facts.describe()})",
-            hint="use an image with an ssh client (or paramiko), switch the hosts to husarion-shutdown over "
-                 "HTTP (2.2.1+), or keep the stock manager; nothing was changed")
+            hint="use an image with an ssh client (or paramiko); record the hosts' keys on the robot "
+                 "(panther-ops shutdown setup / shutdown check); switch the hosts to husarion-shutdown over "
+                 "HTTP (2.2.1+); or keep the stock manager. Nothing was changed")
     return [], facts.ssh_method if hosts else None

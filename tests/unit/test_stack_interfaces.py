@@ -129,3 +129,24 @@ def test_what_deploy_would_lose(probe: str, hosts: str | None, command: str, los
     assert len(found) == len(lost) and all(w in f for w, f in zip(lost, found, strict=True)), found
     if lost and "User Computers" in lost[0]:
         assert "husarion@192.0.2.3:22" in found[0] and "192.0.2.4" not in found[0]
+
+
+def test_ssh_hosts_without_a_host_key_on_the_robot_would_be_lost() -> None:
+    """The stock node (libssh) does not check host keys; the deployed manager refuses unknown ones."""
+    import paramiko
+
+    from panther_ops.core.manager_checks import losses, parse_probe, ssh_hosts, unknown_host_keys
+
+    pub = "ssh-ed25519 AAAAC3NzaC1lZDI1NTE5AAAAIOMqqnkVzrm0SdG6UOoqKLsabgH5C9okWi0dh2l9GKJl"
+    text = "hosts:\n  - {ip: 192.0.2.3, username: husarion}\n  - {ip: 192.0.2.5, username: pi, port: 2222}\n" \
+           "  - {ip: 192.0.2.6, username: root}\n"
+    hosts = ssh_hosts(text, "hosts.yaml")
+    known = (f"192.0.2.3 {pub}\n"
+             f"{paramiko.HostKeys.hash_host('[192.0.2.5]:2222')} {pub}\n"  # hashed, non-default port
+             f"192.0.2.6:22 {pub}\n")  # not how ssh names port 22: does not count
+    assert [h.ip for h in unknown_host_keys(known, hosts)] == ["192.0.2.6"]
+    facts = parse_probe("img", "has ssh\n")
+    found = losses(facts, hosts, "hosts.yaml", "", unknown_host_keys(known, hosts))
+    assert found == ["shutting down root@192.0.2.6:22 over SSH: no host key in the robot's ~/.ssh/known_hosts "
+                     "(the stock manager does not check host keys; this one refuses unknown ones)"]
+    assert unknown_host_keys("", hosts) == hosts
