@@ -122,11 +122,9 @@ def ssh_hosts(hosts_text: str | None, source: str) -> list[ShutdownHost]:
 
 def unknown_host_keys(known_hosts_text: str, hosts: list[ShutdownHost]) -> list[ShutdownHost]:
     """The SSH hosts whose key is not in the robot's known_hosts (plain or hashed entries)."""
-    from panther_ops.core.shutdown.remote import host_keys_from_text
-    from panther_ops.transport.hostkeys import known_hosts_name
+    from panther_ops.manager.shutdown_executor.knownhosts import is_known
 
-    known = host_keys_from_text(known_hosts_text)
-    return [h for h in hosts if not known.lookup(known_hosts_name(h.ip, h.port))]
+    return [h for h in hosts if not is_known(known_hosts_text, h.ip, h.port)]
 
 
 def losses(facts: ImageFacts, hosts: list[ShutdownHost], hosts_source: str, localhost_command: str,

@@ -127,7 +127,7 @@ def _config(args: argparse.Namespace) -> Any:
     return config
 
 
-def hosts_warnings(path: str) -> list[str]:
+def hosts_warnings(path: str, known_hosts: str | None = None) -> list[str]:
     """What keeps the hosts of a shutdown hosts file from being shut down from here."""
     from panther_ops.manager.errors import ManagerError
     from panther_ops.manager.shutdown_executor.backends import ssh_method
@@ -144,6 +144,15 @@ def hosts_warnings(path: str) -> list[str]:
     if ssh and ssh_method() is None:
         out.append(f"neither paramiko nor an ssh client in this image: SSH shutdown of {', '.join(ssh)} will fail "
                    "(HTTP hosts of husarion-shutdown need nothing more)")
+    if ssh:
+        from panther_ops.manager.shutdown_executor.knownhosts import is_known
+
+        kh = Path(known_hosts) if known_hosts else Path.home() / ".ssh" / "known_hosts"
+        text = kh.read_text(errors="replace") if kh.is_file() else ""
+        unknown = [h.describe() for h in loaded.hosts if h.secret is None and not is_known(text, h.ip, h.port)]
+        if unknown:
+            out.append(f"no host key in {kh} for {', '.join(unknown)}: their SSH shutdown will fail "
+                       "(unknown host keys are refused)")
     return out
 
 
@@ -172,7 +181,7 @@ def check(args: argparse.Namespace) -> int:
     trees = _trees(args)
     ros = interfaces(args)
     if not args.sim:
-        for warning in hosts_warnings(config.safety.shutdown_hosts_path):
+        for warning in hosts_warnings(config.safety.shutdown_hosts_path, args.known_hosts):
             _say(f"warning: {warning}")
     scenario = load_scenario(args.scenario) if args.scenario else None
     clock = ManualClock()
@@ -197,7 +206,7 @@ def run_ros2(args: argparse.Namespace) -> int:  # pragma: no cover - needs ROS 2
     ros = interfaces(args)
     _say(f"{version_line()}: ROS 2 mode, namespace {namespace or '/'}, {ros.stack} interfaces ({ros.msg_package})")
     config = _config(args)
-    for warning in hosts_warnings(config.safety.shutdown_hosts_path):
+    for warning in hosts_warnings(config.safety.shutdown_hosts_path, args.known_hosts):
         _say(f"warning: {warning}")
     run_on_ros2(config, trees=_trees(args), namespace=namespace, known_hosts=args.known_hosts, interfaces=ros)
     _say("manager: the Shutdown tree is done")

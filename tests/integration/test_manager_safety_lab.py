@@ -71,7 +71,7 @@ try:
 finally:
     backends.close()
 print(json.dumps({"method": ssh_method(), "backend": type(backends.ssh).__name__,
-                  "warnings": hosts_warnings(sys.argv[2]),
+                  "warnings": hosts_warnings(sys.argv[2], sys.argv[3]),
                   "results": [{"state": r.state.value, "message": r.message} for r in results]}))
 """
 
@@ -110,8 +110,11 @@ def test_deployed_archive_refuses_an_unknown_host_key_of_a_user_computer(
     cp = subprocess.run([sys.executable, "-I", "-S", "-c", _DRIVER, str(pyz), str(hosts), str(empty),
                          str(lab.dir / "id_ed25519")], capture_output=True, text=True, timeout=60, check=False)
     assert cp.returncode == 0, cp.stderr
-    result = json.loads(cp.stdout)["results"][0]
+    doc = json.loads(cp.stdout)
+    result = doc["results"][0]
     assert result["state"] == "FAILURE" and "Host key verification failed" in result["message"], result
+    assert doc["warnings"] == [f"no host key in {empty} for husarion@{user_computer.ip}:22: their SSH shutdown "
+                               "will fail (unknown host keys are refused)"]  # said at start, too
     assert lab.power_calls(COMPUTER)[calls_before:] == []
     assert empty.read_text() == ""
 

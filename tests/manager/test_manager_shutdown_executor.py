@@ -338,3 +338,24 @@ def test_real_backends_choose_paramiko_here_and_openssh_without_it(tmp_path: Pat
     assert isinstance(chosen, OpenSshShutdown) and chosen.known_hosts == tmp_path / "kh"
     monkeypatch.setenv("PATH", str(tmp_path))
     assert ssh_method() is None
+
+
+def test_known_hosts_lookup_matches_openssh(loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
+    """`is_known` agrees with the real ssh-keygen on plain, hashed and non-default-port names."""
+    from panther_ops.manager.shutdown_executor.knownhosts import is_known
+
+    port = loopback_sshd["port"]
+    path = tmp_path / "known_hosts"
+    path.write_text(loopback_sshd["known_line"] + "192.0.2.9,192.0.2.10 " + " ".join(
+        loopback_sshd["known_line"].split()[1:]) + "\n")
+    subprocess.run(["ssh-keygen", "-q", "-H", "-f", str(path)], check=True, capture_output=True)  # hash all names
+    hashed = path.read_text()
+    assert "192.0.2.9" not in hashed and "[127.0.0.1]" not in hashed
+    for text in (loopback_sshd["known_line"], hashed):
+        assert is_known(text, "127.0.0.1", port)
+        assert not is_known(text, "127.0.0.1", 22) and not is_known(text, "127.0.0.2", port)
+    assert is_known(hashed, "192.0.2.10") and not is_known(hashed, "192.0.2.11")
+    for name, expected in (("127.0.0.1", True), ("192.0.2.10", True), ("192.0.2.11", False)):
+        found = subprocess.run(["ssh-keygen", "-F", f"[{name}]:{port}" if name == "127.0.0.1" else name,
+                                "-f", str(path)], capture_output=True, check=False).returncode == 0
+        assert found is expected  # the real tool says the same

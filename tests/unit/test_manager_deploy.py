@@ -458,8 +458,14 @@ def test_entry_point_warns_when_ssh_hosts_cannot_be_shut_down(tmp_path: Path,
     hosts.write_text("hosts:\n  - {ip: 192.0.2.3, username: husarion}\n  - {ip: 192.0.2.4, port: 3003, secret: s}\n")
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "paramiko" else real(name, *a))
-    assert hosts_warnings(str(hosts)) == []  # no paramiko, but the ssh client on PATH does it
+    known = tmp_path / "known_hosts"
+    known.write_text("192.0.2.3 ssh-ed25519 AAAAC3NzaC1lZDI1NTE5AAAAIOMqqnkVzrm0SdG6UOoqKLsabgH5C9okWi0dh2l9GKJl\n")
+    assert hosts_warnings(str(hosts), str(known)) == []  # no paramiko, but the ssh client on PATH does it
+    assert hosts_warnings(str(hosts), str(tmp_path / "none")) == [
+        f"no host key in {tmp_path / 'none'} for husarion@192.0.2.3:22: their SSH shutdown will fail "
+        "(unknown host keys are refused)"]
     monkeypatch.setenv("PATH", str(tmp_path))  # no ssh client either
-    assert hosts_warnings(str(hosts)) == ["neither paramiko nor an ssh client in this image: SSH shutdown of "
-                                          "192.0.2.3 will fail (HTTP hosts of husarion-shutdown need nothing more)"]
+    assert hosts_warnings(str(hosts), str(known)) == [
+        "neither paramiko nor an ssh client in this image: SSH shutdown of "
+        "192.0.2.3 will fail (HTTP hosts of husarion-shutdown need nothing more)"]
     assert hosts_warnings(str(tmp_path / "missing.yaml")) == []
