@@ -15,10 +15,10 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.compose import ComposeFile
-from panther_ops.core.container_logs import prefix_lines
-from panther_ops.core.docker_times import human_duration, parse_timestamp
-from panther_ops.core.driver import (
+from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.containers.logs import prefix_lines
+from panther_ops.core.containers.times import human_duration, parse_timestamp
+from panther_ops.core.driver.operations import (
     HUB_TAG,
     HubTag,
     RegistryError,
@@ -35,9 +35,9 @@ from panther_ops.core.driver import (
     plan_update,
     tag_key,
 )
-from panther_ops.core.inventory import load_inventory
-from panther_ops.core.runner import Connections, RobotContext
-from panther_ops.core.templates import template_path
+from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.runner import Connections, RobotContext
+from panther_ops.core.fleet.templates import template_path
 from panther_ops.errors import RemoteStateError, UsageError
 
 # A Docker Hub answer in the shape of GET /v2/namespaces/husarion/repositories/husarion-ugv/tags

@@ -152,7 +152,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     if not _confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", yes, "shutting hosts down"):
         return 2
     if via:
-        from panther_ops.core.runner import Connections
+        from panther_ops.core.fleet.runner import Connections
         from panther_ops.core.shutdown.remote import RobotLink, backends_via
 
         inv = context.load(ctx)
@@ -340,7 +340,7 @@ def hosts_validate(
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.stack import stack_from_version
+            from panther_ops.core.fleet.stack import stack_from_version
 
             mode = Mode.HTTP if stack_from_version(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
@@ -411,8 +411,8 @@ def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run:
     import tempfile
 
     from panther_ops.cli.render import emit_json, print_diffs
-    from panther_ops.core.diff import unified_diff
     from panther_ops.core.shutdown.hostsfile import mask_secrets
+    from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
     changed = after != (before or "")
@@ -707,7 +707,7 @@ def robot_(
 
     Example: panther-ops shutdown robot -r panther-01 --yes
     """
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.shutdown.run import RobotShutdownPlan, plan_robot_shutdown, shutdown_robot
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult

@@ -29,7 +29,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.yamldoc import DocumentError, Flow, YamlDocument
+from panther_ops.core.yaml.document import DocumentError, Flow, YamlDocument
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor import ShutdownHost
 from panther_ops.transport.base import Secret

@@ -1,0 +1,1 @@
+"""Feature: the driver container (status, logs, restart, versions, update, restore-defaults)."""
