@@ -192,7 +192,7 @@ def apply_staged(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, staged:
     if problem is None:
         result.outcome = Outcome.CHANGED
         result.message = plan.summary
-        _mark(ctx, backup_id, "applied")
+        mark_backup(ctx, backup_id, "applied")
         return result
     return _roll_back(ctx, plan, opts, result, problem, backup_id)
 
@@ -328,11 +328,11 @@ def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: R
         return result
     result.outcome = Outcome.ROLLED_BACK
     result.message = f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
-    _mark(ctx, backup_id, f"rolled-back: {problem}")
+    mark_backup(ctx, backup_id, f"rolled-back: {problem}")
     return result
 
 
-def _mark(ctx: RobotContext, backup_id: str, status: str) -> None:
+def mark_backup(ctx: RobotContext, backup_id: str, status: str) -> None:
     """Record beside the backup how the attempt ended (best effort: one short command)."""
     try:
         ctx.transport.run(Command.sh(scripts_backup.MARK, f"{BACKUP_ROOT}/{backup_id}", status))
