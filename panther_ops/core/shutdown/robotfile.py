@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, mask_secrets, parse_hosts
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan
 from panther_ops.core.config.push import Bundle, PushKind, plan_push, pull
@@ -27,7 +28,6 @@ from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.pipeline import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Stack
-from panther_ops.core.shutdown.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, mask_secrets, parse_hosts
 from panther_ops.errors import UsageError
 from panther_ops.results import Diff
 
