@@ -14,7 +14,8 @@ from panther_ops.cli.app import main
 from panther_ops.core.config.plans import plan_args
 from panther_ops.core.fleet.changes import apply_fleet, plan_fleet, unstage_fleet
 from panther_ops.core.fleet.inventory import Inventory
-from panther_ops.core.fleet.pipeline import ApplyOptions, RobotPlan
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext, RunOptions
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome

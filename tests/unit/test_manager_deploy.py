@@ -19,7 +19,8 @@ import yaml
 
 from panther_ops.cli.app import main
 from panther_ops.core.fleet.inventory import Inventory, load_inventory
-from panther_ops.core.fleet.pipeline import ApplyOptions, RobotPlan
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.manager_ops import bundle as manager_bundle

@@ -26,7 +26,7 @@ from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan, edit_args
 from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.fleet.pipeline import FileEdit, RobotPlan
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import InputError, UsageError
 
@@ -199,7 +199,7 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
         w, v = edit_args(cfg, {arg: main_container}, [], force)
         warnings += w
         contains = v.cmd_contains
-    from panther_ops.core.fleet.pipeline import Verify
+    from panther_ops.core.fleet.plan import Verify
 
     summary = f"{kind.value}: {bundle.main.name} -> {robot_dir}/{name}" + (f" ({arg}:={main_container})" if arg else "")
     plan = compose_plan(ctx, cfg, summary, warnings, [Verify(cfg.service, contains)],

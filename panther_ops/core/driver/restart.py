@@ -4,12 +4,8 @@ from __future__ import annotations
 
 from panther_ops.core.config.robot import read_config
 from panther_ops.core.driver.containers import compose_argv, engine, service_containers
-from panther_ops.core.fleet.pipeline import (
-    ApplyOptions,
-    RobotPlan,
-    Verify,
-    recreate_and_verify,
-)
+from panther_ops.core.fleet.pipeline import ApplyOptions, recreate_and_verify
+from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Family
 from panther_ops.results import Outcome, RobotResult

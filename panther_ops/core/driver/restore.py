@@ -14,13 +14,12 @@ from panther_ops.core.driver.containers import engine, last_line
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
     ApplyOptions,
-    RobotPlan,
-    Verify,
     apply_plan,
     mark_backup,
     new_backup_id,
     recreate_and_verify,
 )
+from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import OpsError, RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult

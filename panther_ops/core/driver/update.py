@@ -14,14 +14,8 @@ from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.driver.containers import engine, last_line, service_containers
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.driver.restart import DEFAULT_SERVICE
-from panther_ops.core.fleet.pipeline import (
-    ApplyOptions,
-    RobotPlan,
-    Verify,
-    apply_plan,
-    mark_backup,
-    recreate_and_verify,
-)
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, mark_backup, recreate_and_verify
+from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Family, parse_image
 from panther_ops.errors import OpsError, UsageError

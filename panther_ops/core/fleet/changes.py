@@ -25,15 +25,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from panther_ops.core.fleet.inventory import Inventory, Robot
-from panther_ops.core.fleet.pipeline import (
-    ApplyOptions,
-    RobotPlan,
-    Staged,
-    apply_plan,
-    apply_staged,
-    stage_plan,
-    unstage,
-)
+from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult

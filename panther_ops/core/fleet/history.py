@@ -11,7 +11,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from panther_ops.core.fleet.pipeline import BACKUP_ROOT, FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.pipeline import BACKUP_ROOT
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError, TransportError, UsageError
 from panther_ops.transport import scripts_backup

@@ -37,7 +37,8 @@ from panther_ops.core.config.compose import Volume
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.plans import compose_plan, edit_args
 from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.fleet.pipeline import ApplyOptions, FileEdit, RobotPlan, Verify, apply_plan
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Family
 from panther_ops.core.fleet.templates import template_file

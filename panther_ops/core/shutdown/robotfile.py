@@ -25,7 +25,7 @@ from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan
 from panther_ops.core.config.push import Bundle, PushKind, plan_push, pull
 from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.fleet.pipeline import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Stack
 from panther_ops.errors import UsageError
