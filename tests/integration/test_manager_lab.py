@@ -20,7 +20,7 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.manager_bundle import build_bundle
+from panther_ops.core.manager_ops.bundle import build_bundle
 from tests.lab.pyimage import restore_driver_image, use_python_image
 
 pytestmark = pytest.mark.lab

@@ -23,7 +23,7 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.manager_bundle import build_bundle
+from panther_ops.core.manager_ops.bundle import build_bundle
 from tests.lab.computers import ComputerSpec, is_silent
 from tests.lab.pyimage import restore_driver_image, use_python_image
 

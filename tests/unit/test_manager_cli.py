@@ -7,8 +7,8 @@ import pytest
 from PIL import Image
 
 from panther_ops.cli.app import main
-from panther_ops.core.lights_ops import service_call_argv
-from panther_ops.core.templates import template_path
+from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.manager_ops.lights import service_call_argv
 
 
 def test_bt_validate_shipped_projects(capsys: pytest.CaptureFixture[str]) -> None:

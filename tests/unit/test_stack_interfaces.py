@@ -13,8 +13,8 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.push import PushKind, plan_push, read_bundle
-from panther_ops.core.templates import template_path
+from panther_ops.core.config.push import PushKind, plan_push, read_bundle
+from panther_ops.core.fleet.templates import template_path
 from tests.unit.test_manager_deploy import ctxs, make_fleet  # noqa: F401 - fixture
 
 EXAMPLE = template_path("lights", "user_animations.example.yaml")
@@ -120,7 +120,7 @@ DBUS_CMD = "dbus-send --system --print-reply --dest=org.freedesktop.login1 /org/
     ("has python3\nhas dbus-send\n", None, DBUS_CMD, []),  # no hosts file: nothing to shut down
 ])
 def test_what_deploy_would_lose(probe: str, hosts: str | None, command: str, lost: list[str]) -> None:
-    from panther_ops.core.manager_checks import losses, parse_probe, ssh_hosts
+    from panther_ops.core.manager_ops.checks import losses, parse_probe, ssh_hosts
 
     output = probe + (f"--- panther-ops hosts file ---\n{hosts}" if hosts is not None else "")
     facts = parse_probe("husarion/panther:humble-2.1.1-20240828", output)
@@ -135,7 +135,7 @@ def test_ssh_hosts_without_a_host_key_on_the_robot_would_be_lost() -> None:
     """The stock node (libssh) does not check host keys; the deployed manager refuses unknown ones."""
     import paramiko
 
-    from panther_ops.core.manager_checks import losses, parse_probe, ssh_hosts, unknown_host_keys
+    from panther_ops.core.manager_ops.checks import losses, parse_probe, ssh_hosts, unknown_host_keys
 
     pub = "ssh-ed25519 AAAAC3NzaC1lZDI1NTE5AAAAIOMqqnkVzrm0SdG6UOoqKLsabgH5C9okWi0dh2l9GKJl"
     text = "hosts:\n  - {ip: 192.0.2.3, username: husarion}\n  - {ip: 192.0.2.5, username: pi, port: 2222}\n" \
