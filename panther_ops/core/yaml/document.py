@@ -32,27 +32,16 @@ from typing import Any, cast
 
 from ruamel.yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
-from panther_ops.core.yaml.nodes import (
-    _MISSING,
-    AliasRef,
+from panther_ops.core.yaml.nodes import MISSING, NodeInfo, YamlNodes, is_flow
+from panther_ops.core.yaml.paths import (
     DocumentError,
-    NodeInfo,
     PathError,
     PathLike,
     PathPart,
-    YamlNodes,
-    _as_index,
-    _flow,
-    _nest,
-    _normalise,
-    _path_key,
-    _plain_value,
-    _py_delete,
-    _py_delete_path,
-    _py_set,
-    _same,
+    as_index,
     format_path,
     parse_path,
+    path_key,
 )
 from panther_ops.core.yaml.render import (
     Alias,
@@ -68,6 +57,16 @@ from panther_ops.core.yaml.render import (
     render_item,
     render_scalar,
     render_value_lines,
+)
+from panther_ops.core.yaml.values import (
+    AliasRef,
+    nest,
+    normalise,
+    plain_value,
+    py_delete,
+    py_delete_path,
+    py_set,
+    same_value,
 )
 
 __all__ = [
@@ -127,7 +126,7 @@ class YamlDocument(YamlNodes):
         """The whole document as plain Python values, merges and aliases resolved."""
         return None if self._root is None else self._resolved(self._root)
 
-    def get(self, path: PathLike, default: Any = _MISSING) -> Any:
+    def get(self, path: PathLike, default: Any = MISSING) -> Any:
         """The value at ``path`` as plain Python (merges resolved).
 
         Raises:
@@ -135,7 +134,7 @@ class YamlDocument(YamlNodes):
         """
         found = self._find(parse_path(path))
         if found is None:
-            if default is _MISSING:
+            if default is MISSING:
                 raise self._path_error(parse_path(path), "not found")
             return default
         return self._resolved(found[0])
@@ -155,7 +154,7 @@ class YamlDocument(YamlNodes):
             kind, style = "scalar", node.style
         else:
             kind = "mapping" if isinstance(node, MappingNode) else "sequence"
-            style = "flow" if _flow(node) else "block"
+            style = "flow" if is_flow(node) else "block"
         if self._text[start : start + 1] == "*":
             kind = "alias"
         line = self._text.count("\n", 0, start) + 1
@@ -220,7 +219,7 @@ class YamlDocument(YamlNodes):
         if not parts:
             raise PathError("cannot replace the whole document", path=self.path)
         found = self._find(parts)
-        if found is not None and _same(self._resolved(found[0]), _plain_value(value)):
+        if found is not None and same_value(self._resolved(found[0]), plain_value(value)):
             return False
         self._edit_set(parts, value)
         return True
@@ -261,7 +260,7 @@ class YamlDocument(YamlNodes):
             raise self._path_error(parts, "not found")
         if merged_from is not None:
             full = copy.deepcopy(self._resolved_at(parts[:-1]))
-            _py_delete(full, parts[-1])
+            py_delete(full, parts[-1])
             self._materialize(parts[:-1], full)
             return True
         self._edit_delete(parts, parent, slot)
@@ -279,7 +278,7 @@ class YamlDocument(YamlNodes):
             raise self._path_error(parts, "is not a sequence")
         if merged_from is not None or self._is_alias_path(parts):
             full = copy.deepcopy(self._resolved(node))
-            full.append(_plain_value(value))
+            full.append(plain_value(value))
             self._materialize(parts, full)
             return True
         self._edit_set((*parts, len(node.value)), value)
@@ -306,7 +305,7 @@ class YamlDocument(YamlNodes):
         new_text: str,
         *,
         path: PathLike,
-        expected: Any = _MISSING,
+        expected: Any = MISSING,
         check: Callable[[Any], bool] | None = None,
     ) -> bool:
         """Low-level splice of ``text[start:end]`` for an edit inside the value at ``path``.
@@ -319,7 +318,7 @@ class YamlDocument(YamlNodes):
             return False
         parts = parse_path(path)
         new = self._text[:start] + new_text + self._text[end:]
-        if expected is _MISSING:
+        if expected is MISSING:
             probe = YamlDocument(new, self.path)
             expected = probe.get(parts)
         if check is not None and not check(expected):
@@ -367,7 +366,7 @@ class YamlDocument(YamlNodes):
         got = probe._unresolved(root)
         if got is None and expected == {}:
             got = {}
-        if not _same(_normalise(got), _normalise(expected)):
+        if not same_value(normalise(got), normalise(expected)):
             raise DocumentError(
                 f"internal: editing {format_path(parts)} would change more than that value; "
                 "the file was left as it was",
@@ -408,9 +407,9 @@ class YamlDocument(YamlNodes):
                 node = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
                 continue
             if isinstance(node, SequenceNode):
-                idx = _as_index(part)
+                idx = as_index(part)
                 if idx is not None and idx == len(node.value):
-                    new_value = _nest(rest, value)
+                    new_value = nest(rest, value)
                     self._append_item(here[:-1], node, new_value, parts)
                     return
                 raise self._path_error(here, f"index out of range (the sequence has {len(node.value)} items)")
@@ -423,14 +422,14 @@ class YamlDocument(YamlNodes):
                     full = value
                 self._materialize(here, full)
                 return
-            self._insert_entry(here[:-1], cast("MappingNode", node), part, _nest(rest, value), parts)
+            self._insert_entry(here[:-1], cast("MappingNode", node), part, nest(rest, value), parts)
             return
 
     def _py_set_checked(self, tree: Any, rest: Sequence[PathPart], value: Any, here: Sequence[PathPart]) -> None:
         if not rest:
             raise DocumentError(f"{format_path(here)}: nothing to set", path=self.path)
         try:
-            _py_set(tree, rest, value, allow_create=True)
+            py_set(tree, rest, value, allow_create=True)
         except (KeyError, IndexError, TypeError) as exc:
             raise self._path_error((*here, *rest), f"cannot be set ({exc})") from exc
 
@@ -449,7 +448,7 @@ class YamlDocument(YamlNodes):
                 sub = copy.deepcopy(self.get(here))
                 rest = parts[depth + 1 :]
                 if rest:
-                    _py_set(sub, rest, full)
+                    py_set(sub, rest, full)
                 else:
                     sub = full
                 self.notes.append(
@@ -463,7 +462,7 @@ class YamlDocument(YamlNodes):
                 sub = copy.deepcopy(self.get(here))
                 rest = parts[depth + 1 :]
                 if rest:
-                    _py_set(sub, rest, full)
+                    py_set(sub, rest, full)
                 else:
                     sub = full
                 anchor_name = (node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]).anchor
@@ -481,10 +480,10 @@ class YamlDocument(YamlNodes):
         parts = tuple(parts)
         old = node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]
         start, end = self._slot_span(node, slot)
-        flow = bool(_flow(node))
+        flow = bool(is_flow(node))
         expected = self._unresolved_with(parts, value)
         is_alias = (id(node), slot) in self._alias_slots
-        old_block = isinstance(old, MappingNode | SequenceNode) and not _flow(old) and not is_alias
+        old_block = isinstance(old, MappingNode | SequenceNode) and not is_flow(old) and not is_alias
         if isinstance(node, MappingNode):
             head = self._colon_after(node.value[slot][0])
             base_col = node.value[slot][0].start_mark.column
@@ -500,14 +499,14 @@ class YamlDocument(YamlNodes):
         ):
             self._commit(self._splice(start, end, self._block_scalar_text(old, start, end, value)), expected, parts)
             return
-        original = self._original_scalars.get(_path_key(parts))
+        original = self._original_scalars.get(path_key(parts))
         if (
             original is not None
             and isinstance(old, ScalarNode)
             and not is_alias
             and not is_collection(value)
             and not isinstance(value, Folded | Literal | Quoted | Alias)
-            and _same(original[0], value)
+            and same_value(original[0], value)
             and (original[2] is None or original[2] == old.style)
         ):
             self._commit(self._splice(start, end, original[1]), expected, parts)
@@ -527,9 +526,9 @@ class YamlDocument(YamlNodes):
             inline = render_scalar(value, style=style, raw=self._text[start:end]) if not isinstance(
                 value, Folded | Literal
             ) else None
-        elif isinstance(old, MappingNode | SequenceNode) and _flow(old) and is_alias:
+        elif isinstance(old, MappingNode | SequenceNode) and is_flow(old) and is_alias:
             inline = render_inline(value, flow=True)  # a copy in the style of the anchored value
-        elif isinstance(old, MappingNode | SequenceNode) and _flow(old) and not is_alias:
+        elif isinstance(old, MappingNode | SequenceNode) and is_flow(old) and not is_alias:
             # an empty [] / {} has no style to keep: nested content goes in block style
             nested = isinstance(value, Mapping) or (
                 is_collection(value) and not isinstance(value, Flow) and any(is_collection(v) for v in value)
@@ -579,9 +578,9 @@ class YamlDocument(YamlNodes):
 
     def _existing_child_col(self, old: Node, key_col: int) -> int:
         """Column to use as the 'key column' when re-rendering a block value in place."""
-        if isinstance(old, MappingNode) and old.value and not _flow(old):
+        if isinstance(old, MappingNode) and old.value and not is_flow(old):
             return cast("int", old.value[0][0].start_mark.column) - self._indent.mapping
-        if isinstance(old, SequenceNode) and old.value and not _flow(old):
+        if isinstance(old, SequenceNode) and old.value and not is_flow(old):
             dash = self._dash_col(old.value[0])
             if dash is not None:
                 return dash - self._indent.offset
@@ -601,7 +600,7 @@ class YamlDocument(YamlNodes):
     ) -> None:
         key_parts = (*tuple(parent_parts), key)
         expected = self._unresolved_with(key_parts, value)
-        if _flow(node):
+        if is_flow(node):
             entry = f"{render_scalar(str(key), flow=True)}: {render_inline(value, flow=True)}"
             if node.value:
                 at = self._slot_span(node, len(node.value) - 1)[1]
@@ -628,14 +627,14 @@ class YamlDocument(YamlNodes):
     ) -> None:
         expected = self._unresolved_with((*tuple(seq_parts), len(node.value)), value)
         text = self._text
-        if _flow(node) and not node.value and is_collection(value) and not isinstance(value, Flow) and seq_parts:
+        if is_flow(node) and not node.value and is_collection(value) and not isinstance(value, Flow) and seq_parts:
             parent_found = self._find(tuple(seq_parts)[:-1]) if len(seq_parts) > 1 else self._root_found()
-            if parent_found is not None and not _flow(parent_found[0]):
+            if parent_found is not None and not is_flow(parent_found[0]):
                 slot = self._slot(parent_found[0], tuple(seq_parts)[-1])
                 if slot is not None:
                     self._replace_slot(tuple(seq_parts), parent_found[0], slot, [value])
                     return
-        if _flow(node):
+        if is_flow(node):
             rendered = render_inline(value, flow=True) or ""
             if not node.value:
                 close = node.end_mark.index - 1
@@ -665,12 +664,12 @@ class YamlDocument(YamlNodes):
     def _create_root(self, parts: tuple[PathPart, ...], value: Any) -> None:
         if isinstance(parts[0], int):
             raise PathError("an empty document can only get mapping keys", path=self.path)
-        tree = _nest(parts[1:], value)
+        tree = nest(parts[1:], value)
         lines = render_entry(parts[0], tree, 0, self._indent)
         text = self._text
         if text and not text.endswith("\n"):
             text += "\n"
-        expected = {parts[0]: _plain_value(tree)}
+        expected = {parts[0]: plain_value(tree)}
         self._commit(text + "\n".join(lines) + "\n", expected, parts)
 
     # --------------------------------------------------------- delete engine
@@ -678,8 +677,8 @@ class YamlDocument(YamlNodes):
     def _edit_delete(self, parts: tuple[PathPart, ...], parent: Node, slot: int) -> None:
         text = self._text
         tree = self._unresolved(self._root)
-        _py_delete_path(tree, parts)
-        if _flow(parent):
+        py_delete_path(tree, parts)
+        if is_flow(parent):
             start = self._entry_start(parent, slot)
             end = self._slot_span(parent, slot)[1]
             if slot + 1 < len(parent.value):

@@ -10,62 +10,27 @@ changes the text; `panther_ops.core.yaml.document.YamlDocument` does.
 from __future__ import annotations
 
 import builtins
-import math
-import re
-import threading
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import date
 from typing import Any, cast
 
-from ruamel.yaml import YAML
 from ruamel.yaml.error import MarkedYAMLError, YAMLError
 from ruamel.yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
+from panther_ops.core.yaml.paths import DocumentError, PathError, PathPart, as_index, format_path
 from panther_ops.core.yaml.render import (
-    Alias,
-    Flow,
-    Folded,
     Indentation,
-    Literal,
-    Quoted,
-    block_scalar_lines,
-    is_collection,
 )
-from panther_ops.errors import InputError
-
-PathPart = str | int
-PathLike = str | Sequence[PathPart]
+from panther_ops.core.yaml.values import AliasRef, construct_scalar, plain_value, py_set, thread_parser
 
 _MERGE_TAG = "tag:yaml.org,2002:merge"
+
+
 _IdSet = set[int]  # `set` is a method name inside YamlDocument
-_MISSING: Any = object()
-# Only node positions and styles are needed (the text itself is kept), so the plain
-# composer is enough: same YAML 1.2 resolution as round-trip mode, without comment tokens.
-_local = threading.local()
 
 
-def _parser() -> YAML:
-    """A YAML instance of this thread: ruamel's are not safe to share between threads."""
-    y = getattr(_local, "yaml", None)
-    if y is None:
-        y = _local.yaml = YAML(typ="safe", pure=True)
-    return y
-
-
-class DocumentError(InputError):
-    """A YAML document cannot be parsed, or cannot be edited as asked (names file and line)."""
-
-
-class PathError(DocumentError):
-    """A path does not exist in the document, or goes through a scalar."""
-
-
-@dataclass(frozen=True)
-class AliasRef:
-    """An alias (``*anchor``) in the unresolved view of a document."""
-
-    anchor: str
+MISSING: Any = object()
 
 
 @dataclass(frozen=True)
@@ -96,116 +61,9 @@ class NodeInfo:
     raw: str = ""
 
 
-def parse_path(path: PathLike) -> tuple[PathPart, ...]:
-    """Split a dotted path (``a.b[0].c``, ``a\\.b`` for a literal dot) into parts."""
-    if not isinstance(path, str):
-        return tuple(path)
-    parts: list[PathPart] = []
-    buf = ""
-    i = 0
-    while i < len(path):
-        c = path[i]
-        if c == "\\" and i + 1 < len(path):
-            buf += path[i + 1]
-            i += 2
-            continue
-        if c == ".":
-            parts.append(buf)
-            buf = ""
-        elif c == "[":
-            close = path.find("]", i)
-            if close < 0:
-                raise PathError(f"path {path!r}: unclosed '['")
-            if buf:
-                parts.append(buf)
-                buf = ""
-            parts.append(int(path[i + 1 : close]))
-            i = close + 1
-            if i < len(path) and path[i] == ".":
-                i += 1
-            continue
-        else:
-            buf += c
-        i += 1
-    if buf or (path and path[-1] == "."):
-        parts.append(buf)
-    return tuple(parts)
-
-
-def format_path(parts: Sequence[PathPart]) -> str:
-    out = ""
-    for p in parts:
-        if isinstance(p, int):
-            out += f"[{p}]"
-        else:
-            out += ("." if out else "") + p.replace(".", "\\.")
-    return out
-
-
-def _same(a: Any, b: Any) -> bool:
-    """Equality that tells bool from int and int from float (types matter to ROS params)."""
-    if isinstance(a, bool) or isinstance(b, bool):
-        return type(a) is type(b) and a == b
-    if isinstance(a, float) and isinstance(b, float):
-        return a == b or (math.isnan(a) and math.isnan(b))
-    if isinstance(a, int | float) and isinstance(b, int | float):
-        return type(a) is type(b) and a == b
-    if isinstance(a, dict) and isinstance(b, dict):
-        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
-    if isinstance(a, list) and isinstance(b, list):
-        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
-    return type(a) is type(b) and bool(a == b)
-
-
-def _plain_value(value: Any) -> Any:
-    """A Python value as it reads back from YAML (tuples -> lists, markers -> content)."""
-    if isinstance(value, Quoted):
-        return value.text
-    if isinstance(value, Folded | Literal):
-        return _block_value(value)
-    if isinstance(value, Flow):
-        return _plain_value(value.value)
-    if isinstance(value, Alias):
-        return AliasRef(value.anchor)
-    if isinstance(value, Mapping):
-        return {k: _plain_value(v) for k, v in value.items()}
-    if is_collection(value):
-        return [_plain_value(v) for v in value]
-    return value
-
-
-def _flow(node: Node) -> bool:
+def is_flow(node: Node) -> bool:
     return bool(getattr(node, "flow_style", False))
 
-
-def _block_value(value: Folded | Literal) -> str:
-    """The string a rendered block scalar reads back as (folding applied)."""
-    header, lines = block_scalar_lines(value, 2)
-    node = _parser().compose("k: " + header + "\n" + "\n".join(lines) + "\n")
-    return cast("str", _construct_scalar(node.value[0][1]))
-
-
-def _construct_scalar(node: ScalarNode) -> Any:
-    tag = node.tag
-    value = node.value.replace("\a", "") if node.style == ">" else node.value
-    if tag == "tag:yaml.org,2002:null":
-        return None
-    if tag == "tag:yaml.org,2002:bool":
-        return value.lower() == "true"
-    if tag == "tag:yaml.org,2002:int":
-        text = value.replace("_", "")
-        try:
-            return int(text, 0)
-        except ValueError:
-            return int(text, 10)
-    if tag == "tag:yaml.org,2002:float":
-        text = value.replace("_", "").lower()
-        if text.endswith(".nan"):
-            return math.nan
-        if text.endswith(".inf"):
-            return -math.inf if text.startswith("-") else math.inf
-        return float(text)
-    return value
 
 class YamlNodes:
     """Parsed view of a YAML text (positions, merges, aliases). Read-only."""
@@ -246,7 +104,7 @@ class YamlNodes:
 
     def _compose(self, text: str) -> Node | None:
         try:
-            return cast("Node | None", _parser().compose(text))
+            return cast("Node | None", thread_parser().compose(text))
         except MarkedYAMLError as exc:
             mark = exc.problem_mark or exc.context_mark
             line = mark.line + 1 if mark is not None else None
@@ -275,7 +133,7 @@ class YamlNodes:
                     if id(v) in seen:
                         self._alias_slots.add((id(node), i))
                         continue
-                    if not _flow(node):
+                    if not is_flow(node):
                         self._sample_indent(k, v, map_steps, seq_offsets)
                     walk(v)
             elif isinstance(node, SequenceNode):
@@ -339,7 +197,7 @@ class YamlNodes:
                 start, end = self._scalar_span(node)
                 raw = self._text[start:end]
                 if "\n" not in raw and start != end:
-                    out[path] = (_construct_scalar(node), raw, node.style)
+                    out[path] = (construct_scalar(node), raw, node.style)
 
         if self._root is not None:
             walk(self._root, ())
@@ -381,7 +239,7 @@ class YamlNodes:
                     return i
             return None
         if isinstance(node, SequenceNode):
-            idx = _as_index(part)
+            idx = as_index(part)
             if idx is None:
                 return None
             if idx < 0:
@@ -461,7 +319,7 @@ class YamlNodes:
 
     def _resolved(self, node: Node) -> Any:
         if isinstance(node, ScalarNode):
-            return _construct_scalar(node)
+            return construct_scalar(node)
         if isinstance(node, SequenceNode):
             return [self._resolved(n) for n in node.value]
         out: dict[Any, Any] = {}
@@ -489,7 +347,7 @@ class YamlNodes:
             return AliasRef(node.anchor or "?")
         seen.add(id(node))
         if isinstance(node, ScalarNode):
-            value = _construct_scalar(node)
+            value = construct_scalar(node)
             return value.isoformat() if isinstance(value, date) else value
         if isinstance(node, SequenceNode):
             return [self._unresolved(n, seen) for n in node.value]
@@ -503,7 +361,7 @@ class YamlNodes:
         tree = self._unresolved(self._root)
         if tree is None:
             tree = {}
-        _py_set(tree, parts, _plain_value(value))
+        py_set(tree, parts, plain_value(value))
         return tree
 
     # ----------------------------------------------------------- text geometry
@@ -540,7 +398,7 @@ class YamlNodes:
         """End (exclusive) of the last character that belongs to ``node``'s content."""
         if isinstance(node, ScalarNode):
             return self._scalar_span(node)[1]
-        if _flow(node) or not node.value:
+        if is_flow(node) or not node.value:
             return cast("int", node.end_mark.index)
         last = len(node.value) - 1
         return self._slot_span(node, last)[1]
@@ -552,13 +410,13 @@ class YamlNodes:
             after = self._colon_after(key)
         else:
             value = node.value[slot]
-            after = self._slot_span(node, slot - 1)[1] if slot else node.start_mark.index + int(_flow(node))
+            after = self._slot_span(node, slot - 1)[1] if slot else node.start_mark.index + int(is_flow(node))
         if (id(node), slot) in self._alias_slots:
             token = "*" + (value.anchor or "")
             start = self._find_token(token, after)
             return start, start + len(token)
         if isinstance(value, ScalarNode) and value.tag == "tag:yaml.org,2002:null" and value.value == "":
-            if isinstance(node, SequenceNode) and not _flow(node):
+            if isinstance(node, SequenceNode) and not is_flow(node):
                 dash = self._find_token("-", after if slot else node.start_mark.index)
                 return dash + 1, dash + 1
             return after, after
@@ -585,7 +443,7 @@ class YamlNodes:
         for part in parts:
             if node is None or isinstance(node, ScalarNode):
                 return False
-            if _flow(node):
+            if is_flow(node):
                 return True
             slot = self._slot(node, part)
             if slot is None:
@@ -608,98 +466,3 @@ class YamlNodes:
         start = self._slot_span(node, slot)[0]
         dash = self._dash_pos(start)
         return dash if dash is not None else start
-
-
-# ------------------------------------------------------------------ helpers
-
-
-def _path_key(parts: Sequence[PathPart]) -> tuple[PathPart, ...]:
-    """Normalise a path for `_original_scalars` (digit strings -> indices)."""
-    out: list[PathPart] = []
-    for part in parts:
-        index = _as_index(part) if isinstance(part, str) else None
-        out.append(part if index is None else index)
-    return tuple(out)
-
-
-def _as_index(part: PathPart) -> int | None:
-    if isinstance(part, int):
-        return part
-    if re.fullmatch(r"-?\d+", part):
-        return int(part)
-    return None
-
-
-def _nest(rest: Sequence[PathPart], value: Any) -> Any:
-    out = value
-    for part in reversed(rest):
-        if isinstance(part, int):
-            raise PathError(f"cannot create a sequence index [{part}]; set the list instead")
-        out = {part: out}
-    return out
-
-
-def _py_set(tree: Any, parts: Sequence[PathPart], value: Any, *, allow_create: bool = True) -> None:
-    node = tree
-    for i, part in enumerate(parts):
-        last = i == len(parts) - 1
-        if isinstance(node, list):
-            idx = _as_index(part)
-            if idx is None:
-                raise TypeError(f"{part!r} is not an index")
-            if idx == len(node) and last:
-                node.append(_plain_value(value))
-                return
-            if last:
-                node[idx] = _plain_value(value)
-                return
-            node = node[idx]
-        elif isinstance(node, dict):
-            key = _dict_key(node, part)
-            if last:
-                node[key] = _plain_value(value)
-                return
-            if key not in node:
-                if not allow_create:
-                    raise KeyError(part)
-                node[key] = {}
-            node = node[key]
-        else:
-            raise TypeError("goes through a scalar")
-
-
-def _dict_key(node: dict[Any, Any], part: PathPart) -> Any:
-    if part in node:
-        return part
-    for k in node:
-        if str(k) == str(part):
-            return k
-    return str(part) if isinstance(part, int) else part
-
-
-def _py_delete(tree: Any, part: PathPart) -> None:
-    if isinstance(tree, list):
-        idx = _as_index(part)
-        if idx is None:
-            raise PathError(f"{part!r} is not an index")
-        del tree[idx]
-    elif isinstance(tree, dict):
-        del tree[_dict_key(tree, part)]
-
-
-def _py_delete_path(tree: Any, parts: Sequence[PathPart]) -> None:
-    node = tree
-    for part in parts[:-1]:
-        node = node[_as_index(part) or 0] if isinstance(node, list) else node[_dict_key(node, part)]
-    _py_delete(node, parts[-1])
-
-
-def _normalise(value: Any) -> Any:
-    """Make `_same` comparisons insensitive to key order and date objects."""
-    if isinstance(value, dict):
-        return {str(k): _normalise(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [_normalise(v) for v in value]
-    if isinstance(value, date):
-        return value.isoformat()
-    return value
