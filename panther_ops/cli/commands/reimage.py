@@ -179,8 +179,8 @@ def restore(
     """
     from panther_ops.cli.mutate import mutate
     from panther_ops.cli.status_view import print_doctor
-    from panther_ops.core.config_plans import plan_desired
-    from panther_ops.core.doctor import make_doctor_task
+    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError
 
@@ -192,7 +192,7 @@ def restore(
         raise UsageError(f"--from {from_}: the backup is of robot {taken_from!r}, not {target.name!r}")
     old_key = backup.robot.get("host_key") or "none recorded"
     if target.transport != "local":
-        from panther_ops.core.trust import plan_trust
+        from panther_ops.core.fleet.trust import plan_trust
 
         trust = plan_trust(inv, target)
         context.info(f"{target.name} offers host key {trust.key_type} {trust.fingerprint}; "

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops import __version__
-from panther_ops.core.facts import RobotFacts, parse_probe, probe_command
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.health.facts import RobotFacts, parse_probe, probe_command
 from panther_ops.core.reimage.carry import Candidate, candidates, is_secret, role_of
-from panther_ops.core.runner import RobotContext
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.transport.base import Command
 from panther_ops.transport.scripts_reimage import TAR
@@ -79,7 +79,7 @@ def _driver_mounts(facts: RobotFacts) -> tuple[list[str], dict[str, Any]]:
     """(host paths the driver service mounts, stack facts) from the robot's compose file."""
     if facts.compose_text is None:
         return [], {}
-    from panther_ops.core.compose import ComposeFile
+    from panther_ops.core.config.compose import ComposeFile
 
     compose = ComposeFile.parse(facts.compose_text)
     try:

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from panther_ops.core.inventory import Robot
+    from panther_ops.core.fleet.inventory import Robot
 
 SSH_FILES = (("~/.ssh/id_rsa", "ssh key pair (shutdown)"), ("~/.ssh/id_rsa.pub", "ssh key pair (shutdown)"),
              ("~/.ssh/known_hosts", "ssh known_hosts"), ("~/.ssh/authorized_keys", "ssh authorized_keys"))

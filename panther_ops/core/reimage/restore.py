@@ -19,13 +19,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.changes import Planner
-from panther_ops.core.diff import unified_diff
-from panther_ops.core.pipeline import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.changes import Planner
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import parse_version
 from panther_ops.core.reimage.backup import MANIFEST_VERSION, collect
 from panther_ops.core.reimage.reapply import reapply, same_line
-from panther_ops.core.runner import RobotContext
-from panther_ops.core.stack import parse_version
+from panther_ops.core.yaml.diff import unified_diff
 from panther_ops.errors import UsageError
 from panther_ops.results import Diff
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from panther_ops.core.fleet.runner import RobotContext, Task
 from panther_ops.core.reimage.archive import write_archive
 from panther_ops.core.reimage.backup import Carried, collect
 from panther_ops.core.reimage.device import human_size
-from panther_ops.core.runner import RobotContext, Task
 from panther_ops.results import Outcome, RobotResult
 
 
