@@ -19,11 +19,10 @@ import re
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import Any
 
 from panther_ops.core.config_files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
 from panther_ops.core.config_plans import compose_plan, edit_args
-from panther_ops.core.controller import ControllerConfig
+from panther_ops.core.filekinds import FileKind, Target, check_file
 from panther_ops.core.launch_args import spec
 from panther_ops.core.pipeline import FileEdit, RobotPlan
 from panther_ops.core.robot_config import RobotConfig, read_config
@@ -65,54 +64,46 @@ class Bundle:
     """name (relative to the main file's robot directory) -> content"""
 
 
-def read_bundle(kind: PushKind, path: Path) -> Bundle:
-    """Read and check the local files before any robot is contacted (bad input: exit 2)."""
+_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
+
+
+def file_kind(kind: PushKind) -> FileKind:
+    """The validator registry's kind of a push kind (the same names)."""
+    return FileKind(kind.value)
+
+
+def read_bundle(kind: PushKind, path: Path, *, force: bool = False) -> Bundle:
+    """Read and check the local files before any robot is contacted (bad input: exit 2).
+
+    The content goes through the kind's one validator (`core.filekinds`) with what needs no
+    robot; `plan_push` checks it again against each robot's stack and wheel type.
+    """
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror}", path=str(path)) from None
+    if not _NAME.match(path.name):
+        raise InputError(f"the file name {path.name!r} becomes a path in the driver's command: use letters, "
+                         "digits and _ . + - only", path=str(path))
     bundle = Bundle(path, data)
     if kind in _BT_ARGS:
-        _bt_bundle(bundle)
+        if path.suffix != ".btproj":
+            raise InputError("a BT project is pushed by its .btproj file", path=str(path))
+        from panther_ops.core.filekinds.bt import project_files
+
+        check_file(file_kind(kind), str(path), data, local=path, force=force)
+        bundle.extra = {rel: src.read_bytes() for rel, src in project_files(path).items()}
         return bundle
-    import yaml
-
-    try:
-        doc = yaml.safe_load(data)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise InputError(f"not valid YAML: {getattr(exc, 'problem', exc)}", path=str(path),
-                         line=mark.line + 1 if mark else None) from None
-    if not isinstance(doc, dict):
-        raise InputError("must be a YAML mapping", path=str(path))
+    check_file(file_kind(kind), str(path), data, local=path, force=force)
     if kind is PushKind.USER_ANIMATIONS:
-        _animation_images(bundle, doc)
+        _animation_images(bundle)
     return bundle
-
-
-def _bt_bundle(bundle: Bundle) -> None:
-    import xml.etree.ElementTree as ET
-
-    if bundle.main.suffix != ".btproj":
-        raise InputError("a BT project is pushed by its .btproj file", path=str(bundle.main))
-    try:
-        root = ET.fromstring(bundle.data)  # noqa: S314
-    except ET.ParseError as exc:
-        raise InputError(f"not valid XML: {exc}", path=str(bundle.main)) from None
-    for inc in root.iter("include"):
-        rel = inc.get("path")
-        if not rel:
-            continue
-        src = (bundle.main.parent / rel).resolve()
-        if not src.is_file():
-            raise InputError(f"includes {rel}, which does not exist", path=str(bundle.main))
-        bundle.extra[rel] = src.read_bytes()
 
 
 _IMAGE = re.compile(r"^(\s*image:\s*)(['\"]?)([^'\"\n#]+?)\2(\s*(#.*)?)$", re.MULTILINE)
 
 
-def _animation_images(bundle: Bundle, doc: dict[str, Any]) -> None:
+def _animation_images(bundle: Bundle) -> None:
     """Collect local images the animations reference; their paths are rewritten on push."""
     for m in _IMAGE.finditer(bundle.data.decode()):
         ref = m.group(3).strip()
@@ -149,7 +140,9 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
 
 def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
     cfg = read_config(ctx)
-    warnings: list[str] = []
+    warnings = check_file(file_kind(kind), str(bundle.main), bundle.data, local=bundle.main,
+                          target=Target(cfg.stack, _wheel(cfg)), force=force)
+    forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in _BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
         robot_dir = f"{ROBOT_CONFIG_DIR}/{pkg}/behavior_trees"
@@ -171,18 +164,14 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
         if kind is PushKind.USER_ANIMATIONS and bundle.extra:
             main_data = _rewrite_images(bundle.data.decode(), posixpath.dirname(container_dir)).encode()
             extra = {f"../{k}": v for k, v in bundle.extra.items()}
-        if kind is PushKind.CONTROLLER:
-            ctrl = ControllerConfig.parse(bundle.data.decode(), cfg.stack, _wheel(cfg), path=str(bundle.main),
-                                          force=force)
-            problems = ctrl.check()
-            over = [p for p in problems if "exceeds" in p]
-            if over and not force:
-                raise UsageError(f"{bundle.main}: {over[0]}", hint="lower the value, or --force to push it anyway")
-            warnings.extend(problems)
     edits: list[FileEdit] = []
     files = {name: main_data, **extra}
+    inside = posixpath.dirname(robot_dir) if kind is PushKind.USER_ANIMATIONS else robot_dir
     for rel, content in files.items():
         path = posixpath.normpath(posixpath.join(robot_dir, rel))
+        if not path.startswith(inside + "/"):
+            raise InputError(f"{rel} would be written to {path}, outside {inside}", path=str(bundle.main),
+                             hint="the files a push brings stay in the robot's config directory")
         before = _read(ctx, path)
         if before != content:
             edits.append(FileEdit(path, before, content))
@@ -202,6 +191,8 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
     from panther_ops.core.pipeline import Verify
 
     summary = f"{kind.value}: {bundle.main.name} -> {robot_dir}/{name}" + (f" ({arg}:={main_container})" if arg else "")
+    if forced:
+        summary += " [--force: " + "; ".join(forced) + "]"
     plan = compose_plan(ctx, cfg, summary, warnings, [Verify(cfg.service, contains)],
                          f"{robot_dir}/{name} already has this content", extra=edits)
     plan.data["robot_path"] = f"{robot_dir}/{name}"

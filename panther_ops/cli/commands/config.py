@@ -254,9 +254,9 @@ def push(
     except ValueError:
         raise UsageError(f"--as {as_!r} is not a config kind",
                          hint="allowed: " + ", ".join(k.value for k in PushKind)) from None
-    bundle = read_bundle(kind, local)
+    bundle = read_bundle(kind, local, force=force)
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"config push {local.name} --as {kind.value}", inv, chosen,
+    return mutate(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""), inv, chosen,
                   lambda c: plan_push(c, kind, bundle, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)

@@ -1,0 +1,82 @@
+"""BT projects: `validate_bt_project` (as `bt validate`), and every include kept inside the project.
+
+An ``<include path="...">`` is resolved against the including file and must stay inside the
+directory of the ``.btproj``: the included files are copied beside it on the robot, so a
+path that leaves it (``../../.ssh/authorized_keys``, an absolute path, a link out) would
+read or write anywhere. ``ros_pkg`` includes are resolved on the robot (not copied).
+"""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from panther_ops.core.filekinds.common import text_of
+from panther_ops.core.filekinds.lights import on_disk, split
+from panther_ops.core.filekinds.registry import FileKindError, Target
+
+WHAT = "BT project"
+
+
+def project_files(main: Path) -> dict[str, Path]:
+    """Every file a project includes (relative name -> local path), each confined to the
+    project's directory; raises `FileKindError` naming the first path that leaves it."""
+    root = main.parent.resolve()
+    found: dict[str, Path] = {}
+    todo = [main]
+    seen: set[Path] = set()
+    while todo:
+        current = todo.pop()
+        real = current.resolve()
+        if real in seen:
+            continue
+        seen.add(real)
+        try:
+            tree = ET.fromstring(current.read_bytes())  # noqa: S314 - the operator's own file, no DTD/entities used
+        except (OSError, ET.ParseError) as exc:
+            raise FileKindError(str(main), WHAT, [f"{current}: not readable XML: {exc}"]) from None
+        for inc in tree.iter("include"):
+            rel = inc.get("path") or ""
+            if inc.get("ros_pkg"):
+                continue
+            problem = confine(rel, current.parent, root)
+            if problem:
+                raise FileKindError(str(main), WHAT, [f"<include path=\"{rel}\"> in {current}: {problem}"],
+                                    hint="keep the included files in the .btproj's directory (or below it)")
+            target = (current.parent / rel).resolve()
+            name = target.relative_to(root).as_posix()
+            if target.is_file():
+                found[name] = target
+                todo.append(target)
+    return found
+
+
+def confine(rel: str, base: Path, root: Path) -> str | None:
+    """Why ``rel`` (relative to ``base``) may not be used inside ``root``; None when it may."""
+    if not rel:
+        return "an include without a path"
+    if any(ord(c) < 32 for c in rel):
+        return "the path holds a control character"
+    if os.path.isabs(rel) or rel.startswith("~"):
+        return f"{rel} is not relative to the project's directory {root}"
+    target = (base / rel).resolve()
+    if target != root and root not in target.parents:
+        return f"{rel} resolves to {target}, outside the project's directory {root}"
+    return None
+
+
+def check_bt_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    from panther_ops.manager import validate_bt_project
+
+    text_of(source, data, WHAT)
+    if local is not None:
+        project_files(local)
+
+    def check(path: Path) -> list[str]:
+        errors, warnings = split(validate_bt_project(path))
+        if errors:
+            raise FileKindError(source, WHAT, errors, hint=f"panther-ops bt validate {source}")
+        return warnings
+
+    return on_disk(source, data, local, check)
