@@ -42,7 +42,8 @@ def project_files(main: Path) -> dict[str, Path]:
                 continue
             problem = confine(rel, current.parent, root)
             if problem:
-                raise FileKindError(str(main), WHAT, [f"<include path=\"{rel}\"> in {current}: {problem}"],
+                inside = real.relative_to(root).as_posix() if root in real.parents else current.name
+                raise FileKindError(str(main), WHAT, [f"<include path=\"{rel}\"> in {inside}: {problem}"],
                                     hint="keep the included files in the .btproj's directory (or below it)")
             target = (current.parent / rel).resolve()
             name = target.relative_to(root).as_posix()
@@ -59,10 +60,10 @@ def confine(rel: str, base: Path, root: Path) -> str | None:
     if any(ord(c) < 32 for c in rel):
         return "the path holds a control character"
     if os.path.isabs(rel) or rel.startswith("~"):
-        return f"{rel} is not relative to the project's directory {root}"
+        return f"{rel} is not relative to the project's directory"
     target = (base / rel).resolve()
     if target != root and root not in target.parents:
-        return f"{rel} resolves to {target}, outside the project's directory {root}"
+        return f"{rel} resolves to {target}, outside the project's directory"
     return None
 
 
