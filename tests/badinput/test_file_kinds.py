@@ -225,16 +225,16 @@ def _bt(cid: str, kind: str, files: dict[str, bytes], names: list[str]) -> Case:
 for kind in ("bt-lights", "bt-safety"):
     CASES += [
         _bt("include-dotdot", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "../../../.ssh/authorized_keys")
-                                     .encode()}, ["../../../.ssh/authorized_keys", "outside the project's directory"]),
+                                     .encode()}, ["../../../.ssh/authorized_keys", "leaves the project's directory"]),
         _bt("include-sibling", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "../outside.xml").encode()},
-            ["../outside.xml", "outside the project's directory"]),
+            ["../outside.xml", "leaves the project's directory"]),
         _bt("include-absolute", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "/etc/passwd").encode()},
             ["/etc/passwd", "is not relative to the project's directory"]),
         _bt("include-home", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "~/.ssh/id_rsa").encode()},
             ["~/.ssh/id_rsa", "is not relative"]),
         _bt("nested-escape", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "sub/a.xml").encode(),
                                     "sub/a.xml": LIGHTS_PROJ.replace("{inc}", "../../x.xml").encode()},
-            ["../../x.xml", "outside the project's directory"]),
+            ["../../x.xml", "leaves the project's directory"]),
         _bt("missing-include", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "nope.xml").encode()},
             ["My.btproj", "bt-project-unreadable"]),
         _bt("unknown-node", kind, {"My.btproj": LIGHTS_PROJ.replace("{inc}", "lights.xml").encode(),

@@ -63,7 +63,7 @@ def confine(rel: str, base: Path, root: Path) -> str | None:
         return f"{rel} is not relative to the project's directory"
     target = (base / rel).resolve()
     if target != root and root not in target.parents:
-        return f"{rel} resolves to {target}, outside the project's directory"
+        return f"{rel} leaves the project's directory (it resolves to {target})"
     return None
 
 
