@@ -14,7 +14,6 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.filekinds import FileKind, FileKindError, check_file
 from tests.badinput.test_file_kinds import LIGHTS_PROJ, UNKNOWN_NODE, WH01, _anim
 
 CTRL_DIR = "robots/panther-01/home/husarion/config/panther_controller/config"
@@ -195,12 +194,16 @@ def test_the_manuals_animations_example_is_pushed(demo: Path, tmp_path: Path,
 
 
 def test_registry_has_one_validator_per_kind() -> None:
+    from panther_ops.core.filekinds import FileKind, FileKindError, check_file
+
     for kind in FileKind:
         with pytest.raises(FileKindError):
             check_file(kind, "x", b"\xff\xfe")
 
 
 def test_compose_kind() -> None:
+    from panther_ops.core.filekinds import FileKind, FileKindError, check_file
+
     assert check_file(FileKind.COMPOSE, "c.yaml", b"services:\n  a:\n    image: x\n") == []
     with pytest.raises(FileKindError, match="services must be a mapping"):
         check_file(FileKind.COMPOSE, "c.yaml", b"version: 3\n")
