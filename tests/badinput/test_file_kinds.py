@@ -309,6 +309,29 @@ CASES.append(Case("log-level-on-2.2", ["config", "set", "log_level", "LOUD", "-r
                   ["log_level='LOUD' is not an allowed value", "DEBUG"]))
 
 
+# ------------------------------------------------------------------ manager deploy and apply carry kinds too
+for cid, hosts, named in (("ip", b"hosts:\n  - ip: '10.15.20.3;reboot'\n    port: 3003\n", "'10.15.20.3;reboot'"),
+                          ("port", INVALID_EXISTING, "99999 is not a TCP port"),
+                          ("ssh-entry", b"hosts:\n  - ip: 10.15.20.3\n    username: husarion\n", "over HTTP")):
+    CASES.append(Case(f"manager-deploy-hosts-{cid}", ["manager", "deploy", "-r", "panther-03", "--yes"],
+                      ["shutdown_hosts.yaml", named], files={HOSTS_TREE: hosts}))
+APPLY_INV = """version: 1
+robots:
+  panther-01:
+    transport: local
+    root: {demo}/robots/panther-01
+    desired:
+      controller:
+        linear.x.{key}: {value}
+"""
+for key, value, named in (("max_velocity", "fast", "max_velocity='fast' is not a number"),
+                          ("max_velocity", "9.0", "exceeds the WH01 limit of 2.0"),
+                          ("has_velocity_limits", "maybe", "has_velocity_limits='maybe' is not a boolean"),
+                          ("max_speed", "1.0", "unknown controller limit")):
+    CASES.append(Case(f"apply-controller-{key}-{value}", ["apply", "-r", "panther-01", "--yes"], [named],
+                      inventory=APPLY_INV.replace("{key}", key).replace("{value}", value)))
+
+
 @pytest.mark.parametrize("case", CASES, ids=str)
 def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                  monkeypatch: pytest.MonkeyPatch) -> None:
