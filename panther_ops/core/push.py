@@ -100,6 +100,7 @@ def read_bundle(kind: PushKind, path: Path, *, force: bool = False) -> Bundle:
     return bundle
 
 
+_IMAGE_MAGIC = (b"\x89PNG\r\n\x1a\n", b"\xff\xd8\xff", b"GIF87a", b"GIF89a")
 _IMAGE = re.compile(r"^(\s*image:\s*)(['\"]?)([^'\"\n#]+?)\2(\s*(#.*)?)$", re.MULTILINE)
 
 
@@ -111,7 +112,14 @@ def _animation_images(bundle: Bundle) -> None:
             continue
         src = Path(ref) if ref.startswith("/") else bundle.main.parent / ref
         if src.is_file():
-            bundle.extra[f"animations/{src.name}"] = src.read_bytes()
+            data = src.read_bytes()
+            if not data.startswith(_IMAGE_MAGIC):  # only images travel to the robot, whatever the path names
+                raise InputError(f"image {ref} is not a PNG, JPEG or GIF file: not pushed", path=str(bundle.main))
+            name = f"animations/{src.name}"
+            if bundle.extra.get(name, data) != data:
+                raise InputError(f"two different images are named {src.name}: they would land on the same robot "
+                                 "path", path=str(bundle.main))
+            bundle.extra[name] = data
         elif not ref.startswith("/"):
             raise InputError(f"image {ref} not found next to the file", path=str(bundle.main))
 

@@ -331,6 +331,13 @@ for key, value, named in (("max_velocity", "fast", "max_velocity='fast' is not a
     CASES.append(Case(f"apply-controller-{key}-{value}", ["apply", "-r", "panther-01", "--yes"], [named],
                       inventory=APPLY_INV.replace("{key}", key).replace("{value}", value)))
 
+# an image path that names a local file which is not an image: it is not sent to the robot
+NOT_IMAGE = USER_ANIM.format(**{**GOOD, "image": "{tmp}/keys/id_rsa.png"})
+for cmd in (["config", "push", "{tmp}/anims.yaml", "--as", "user-animations"], ["lights", "deploy", "{tmp}/anims.yaml"]):
+    CASES.append(Case(f"{cmd[0]}-{cmd[1]}-image-not-an-image", [*cmd, "-r", "panther-01", "--yes"],
+                      ["anims.yaml", "id_rsa.png is not a PNG, JPEG or GIF file"],
+                      files={"anims.yaml": NOT_IMAGE, "keys/id_rsa.png": b"-----BEGIN OPENSSH PRIVATE KEY-----\n"}))
+
 
 @pytest.mark.parametrize("case", CASES, ids=str)
 def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
