@@ -207,3 +207,35 @@ def test_compose_kind() -> None:
     assert check_file(FileKind.COMPOSE, "c.yaml", b"services:\n  a:\n    image: x\n") == []
     with pytest.raises(FileKindError, match="services must be a mapping"):
         check_file(FileKind.COMPOSE, "c.yaml", b"version: 3\n")
+
+
+def test_a_valid_bt_project_is_pushed_with_its_includes(demo: Path, tmp_path: Path,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    import shutil
+
+    from tests.badinput.test_file_kinds import TEMPLATES
+
+    proj = tmp_path / "proj"
+    proj.mkdir()
+    for name in ("PantherLightsBT.btproj", "lights.xml"):
+        shutil.copy(TEMPLATES / "behavior_trees" / name, proj / name)
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(proj / "PantherLightsBT.btproj"), "--as",
+                       "bt-lights", "-r", "panther-01", "--yes")
+    assert code == 0, err
+    robot = demo / "robots/panther-01/home/husarion/config/panther_manager/behavior_trees"
+    assert (robot / "lights.xml").read_bytes() == (proj / "lights.xml").read_bytes()
+    assert (robot / "PantherLightsBT.btproj").is_file()
+
+
+def test_user_animations_bring_their_images(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from PIL import Image
+
+    image = tmp_path / "mine.png"
+    Image.new("RGB", (46, 10), (255, 0, 0)).save(image)
+    anims = tmp_path / "anims.yaml"
+    anims.write_bytes(_anim(image=str(image)))
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(anims), "--as", "user-animations", "-r",
+                       "panther-01", "--yes")
+    assert code == 0, err
+    pushed = demo / "robots/panther-01/home/husarion/config/panther_lights/animations/mine.png"
+    assert pushed.read_bytes() == image.read_bytes()
