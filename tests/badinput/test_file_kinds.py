@@ -247,6 +247,12 @@ for kind in ("bt-lights", "bt-safety"):
 CASES.append(Case("push-bt-not-btproj", ["config", "push", "{tmp}/lights.xml", "--as", "bt-lights", "-r",
                                          "panther-01", "--yes"], ["lights.xml", "by its .btproj file"],
                   files={"lights.xml": LIGHTS_XML.encode()}))
+CASES.append(_bt("lights-as-safety", "bt-safety", {"My.btproj": LIGHTS_PROJ.replace("{inc}", "lights.xml").encode(),
+                                                   "lights.xml": LIGHTS_XML.encode()},
+                 ["a project for bt-safety needs", "missing: Safety, Shutdown"]))
+CASES.append(_bt("safety-as-lights", "bt-lights", {"My.btproj": SAFETY_PROJ.encode(), "safety.xml": SAFETY_XML.encode(),
+                                                   "shutdown.xml": SHUTDOWN_XML.encode()},
+                 ["a project for bt-lights needs", "missing: Lights"]))
 CASES.append(_bt("no-shutdown-tree", "bt-safety", {"My.btproj": LIGHTS_PROJ.replace("{inc}", "safety.xml").encode(),
                                                    "safety.xml": SAFETY_XML.encode()}, ["'Shutdown' is missing"]))
 

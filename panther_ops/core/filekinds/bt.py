@@ -68,7 +68,22 @@ def confine(rel: str, base: Path, root: Path) -> str | None:
 
 
 def check_bt_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
-    from panther_ops.manager import validate_bt_project
+    """Any BT project (`bt validate`)."""
+    return _check(source, data, local, (), "")
+
+
+def check_lights_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    """The Lights manager's project: `bt validate`, and a Lights tree."""
+    return _check(source, data, local, ("Lights",), "bt-lights")
+
+
+def check_safety_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    """The Safety manager's project: `bt validate`, and Safety and Shutdown trees."""
+    return _check(source, data, local, ("Safety", "Shutdown"), "bt-safety")
+
+
+def _check(source: str, data: bytes, local: Path | None, trees: tuple[str, ...], kind: str) -> list[str]:
+    from panther_ops.manager import load_bt_project, validate_bt_project
 
     text_of(source, data, WHAT)
     if local is not None:
@@ -78,6 +93,12 @@ def check_bt_project(source: str, data: bytes, local: Path | None, target: Targe
         errors, warnings = split(validate_bt_project(path))
         if errors:
             raise FileKindError(source, WHAT, errors, hint=f"panther-ops bt validate {source}")
+        present = set(load_bt_project(path).trees)
+        missing = [t for t in trees if t not in present]
+        if missing:
+            raise FileKindError(source, WHAT, [
+                f"a project for {kind} needs the tree(s) {' and '.join(repr(t) for t in trees)}; missing: "
+                f"{', '.join(missing)} (this project has: {', '.join(sorted(present)) or 'none'})"])
         return warnings
 
     return on_disk(source, data, local, check)

@@ -66,8 +66,8 @@ def _registry() -> dict[FileKind, Validator]:
         FileKind.BATTERY: simple.check_battery,
         FileKind.LED: lights.check_led,
         FileKind.USER_ANIMATIONS: lights.check_user_animations,
-        FileKind.BT_LIGHTS: bt.check_bt_project,
-        FileKind.BT_SAFETY: bt.check_bt_project,
+        FileKind.BT_LIGHTS: bt.check_lights_project,
+        FileKind.BT_SAFETY: bt.check_safety_project,
         FileKind.SHUTDOWN_HOSTS: hosts.check_shutdown_hosts,
         FileKind.COMPOSE: compose.check_compose,
     }
