@@ -239,3 +239,15 @@ def test_user_animations_bring_their_images(demo: Path, tmp_path: Path, capsys: 
     assert code == 0, err
     pushed = demo / "robots/panther-01/home/husarion/config/panther_lights/animations/mine.png"
     assert pushed.read_bytes() == image.read_bytes()
+
+
+def test_config_set_force_is_in_the_history(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "controller.linear.x.max_velocity", "3.0", "-r",
+                       "panther-01", "--yes", "--force")
+    assert code == 0, err
+    assert "exceeds the WH01 limit of 2.0 m/s (forced)" in err
+    code, out, _ = run(capsys, "-i", str(demo), "config", "history", "-r", "panther-01", "--json")
+    entry = json.loads(out)["robots"][0]["data"]["history"][-1]
+    assert entry["command"] == "config set controller.linear.x.max_velocity 3.0 --force"

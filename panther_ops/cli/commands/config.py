@@ -106,7 +106,8 @@ def set_(
             from panther_ops.core.config_plans import plan_args
 
             return plan_args(c, {key: value}, [], force=force)
-    return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
+    label = f"config set {key} {value}" + (" --force" if force else "")
+    return mutate(label, inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 
@@ -348,7 +349,8 @@ def apply(
     from panther_ops.core.config_plans import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("apply", inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
+    label = "apply --force" if force else "apply"
+    return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 
