@@ -107,8 +107,9 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
     check = _Check(target, force)
     if target.stack is not None:
         try:
-            ControllerConfig(doc, target.stack, target.wheel_type or "custom", force=force)
+            ctrl = ControllerConfig(doc, target.stack, target.wheel_type or "custom", force=force)
             check.warnings.extend(doc.notes)
+            check.warnings.extend(w for w in ctrl.check() if "exceeds" not in w)  # limits at zero
         except UsageError as exc:
             check.errors.append(exc.message)
             check.hint = exc.hint
