@@ -24,6 +24,7 @@ from panther_ops.core.config_files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.config_plans import compose_plan, edit_args
 from panther_ops.core.filekinds import FileKind, Target, check_file
 from panther_ops.core.launch_args import spec
+from panther_ops.core.memo import Memo
 from panther_ops.core.pipeline import FileEdit, RobotPlan
 from panther_ops.core.robot_config import RobotConfig, read_config
 from panther_ops.core.runner import RobotContext
@@ -146,10 +147,15 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
         return None
 
 
+_CHECKED: Memo[list[str]] = Memo()
+
+
 def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
     cfg = read_config(ctx)
-    warnings = check_file(file_kind(kind), str(bundle.main), bundle.data, local=bundle.main,
-                          target=Target(cfg.stack, _wheel(cfg)), force=force)
+    target = Target(cfg.stack, _wheel(cfg))
+    warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
+                                 lambda: check_file(file_kind(kind), str(bundle.main), bundle.data,
+                                                    local=bundle.main, target=target, force=force)))
     forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in _BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
