@@ -65,12 +65,13 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     that share one get the same edit.
     """
     raw = read_compose(ctx, keep=True)
-    if "wheel_type" in sets:
+    if "wheel_type" in sets or "wheel_type" in unsets:
         from panther_ops.core.wheel_change import needs_migration
 
         cfg = parse_config(raw, ctx.robot.stack)
-        if needs_migration(cfg, str(sets["wheel_type"])):
-            return _plan_wheel_change(ctx, cfg, sets, unsets, force)
+        new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack)
+        if needs_migration(cfg, new_wheel):
+            return _plan_wheel_change(ctx, cfg, new_wheel, sets, unsets, force)
     key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force)
     out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force))
     edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
@@ -81,12 +82,13 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     return plan
 
 
-def _plan_wheel_change(ctx: RobotContext, cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str],
-                       force: bool) -> RobotPlan:
-    """A wheel type change that migrates the custom controller file in the same plan."""
+def _plan_wheel_change(ctx: RobotContext, cfg: RobotConfig, new_wheel: str, sets: Mapping[str, Any],
+                       unsets: list[str], force: bool) -> RobotPlan:
+    """A wheel type change (set, or unset back to the stack's default) that migrates the custom
+    controller file in the same plan."""
     from panther_ops.core.wheel_change import migrate, point_at
 
-    change = migrate(ctx, cfg, str(sets["wheel_type"]))
+    change = migrate(ctx, cfg, new_wheel)
     assert change is not None
     old_args = dict(cfg.compose.args)
     warnings, verify = edit_args(cfg, {**sets, **point_at(cfg, change)}, unsets, force)

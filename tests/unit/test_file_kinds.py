@@ -251,3 +251,18 @@ def test_config_set_force_is_in_the_history(demo: Path, capsys: pytest.CaptureFi
     code, out, _ = run(capsys, "-i", str(demo), "config", "history", "-r", "panther-01", "--json")
     entry = json.loads(out)["robots"][0]["data"]["history"][-1]
     assert entry["command"] == "config set controller.linear.x.max_velocity 3.0 --force"
+
+
+def test_unsetting_the_wheel_type_migrates_back(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "-r", "panther-01", "--yes")[0] == 0
+    assert run(capsys, "-i", str(demo), "config", "set", "controller.linear.x.max_velocity", "0.5", "-r",
+               "panther-01", "--yes")[0] == 0
+    code, _, err = run(capsys, "-i", str(demo), "config", "unset", "wheel_type", "-r", "panther-01", "--yes")
+    assert code == 0, err
+    compose = (demo / "robots/panther-01/home/husarion/compose.yaml").read_text()
+    assert "controller_config_path:=/config/panther_controller/config/WH01_controller.yaml" in compose
+    assert "wheel_type:=" not in compose
+    doc = yaml.safe_load((demo / CTRL_DIR / "WH01_controller.yaml").read_text())
+    params = doc["/**"]["drive_controller"]["ros__parameters"]
+    assert params["wheel_radius"] == 0.1825 and "y" not in params["linear"]
+    assert params["linear"]["x"]["max_velocity"] == 0.5
