@@ -19,16 +19,16 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from panther_ops.core.config_files import ConfigKind, config_file
-from panther_ops.core.config_plans import compose_plan
-from panther_ops.core.filekinds import FileKindError
-from panther_ops.core.launch_args import spec
-from panther_ops.core.pipeline import FileEdit, RobotPlan, Verify
-from panther_ops.core.push import Bundle, PushKind, plan_push, pull
-from panther_ops.core.robot_config import RobotConfig, read_config
-from panther_ops.core.runner import RobotContext
-from panther_ops.core.shutdown.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, mask_secrets, parse_hosts
-from panther_ops.core.stack import Stack
+from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, mask_secrets, parse_hosts
+from panther_ops.core.config.kinds import FileKindError
+from panther_ops.core.config.launch_args import spec
+from panther_ops.core.config.plans import compose_plan
+from panther_ops.core.config.push import Bundle, PushKind, plan_push, pull
+from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import Stack
 from panther_ops.errors import InputError, UsageError
 from panther_ops.results import Diff
 
@@ -39,7 +39,7 @@ class MaskedFileEdit(FileEdit):
 
     def diff(self) -> Diff:
         plain = super().diff()
-        from panther_ops.core.diff import unified_diff
+        from panther_ops.core.yaml.diff import unified_diff
 
         old = mask_secrets((self.before or b"").decode(errors="replace"))
         new = mask_secrets((self.after or b"").decode(errors="replace"))
