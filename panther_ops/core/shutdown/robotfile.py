@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, mask_secrets, parse_hosts
+from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, MaskedFileEdit, Mode, parse_hosts
 from panther_ops.core.config.kinds import FileKindError
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan
@@ -30,20 +30,6 @@ from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Stack
 from panther_ops.errors import InputError, UsageError
-from panther_ops.results import Diff
-
-
-@dataclass(frozen=True)
-class MaskedFileEdit(FileEdit):
-    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value)."""
-
-    def diff(self) -> Diff:
-        plain = super().diff()
-        from panther_ops.core.yaml.diff import unified_diff
-
-        old = mask_secrets((self.before or b"").decode(errors="replace"))
-        new = mask_secrets((self.after or b"").decode(errors="replace"))
-        return Diff(plain.path, unified_diff(old, new, self.path))
 
 
 @dataclass
