@@ -47,19 +47,22 @@ def test_pushed_animations_use_the_robots_animation_types(ctxs: Any, tmp_path: P
     _tmp, cs = ctxs
     ugv = tmp_path / "ugv_style.yaml"
     ugv.write_text(UGV_STYLE)
-    for source in (EXAMPLE, ugv):
-        for kind in (PushKind.USER_ANIMATIONS, PushKind.LED):
-            plan = plan_push(cs[robot], kind, read_bundle(kind, source))
-            text = _main_file(plan)
-            types = {a["type"] for anim in yaml.safe_load(text)["user_animations"] for a in anim["animations"]}
-            assert types <= {f"{package}::ImageAnimation", f"{package}::ChargingAnimation"}, (robot, kind, types)
-            images = [a["animation"]["image"] for anim in yaml.safe_load(text)["user_animations"]
-                      for a in anim["animations"] if "image" in a["animation"]]
-            assert images and all(i.startswith(find) for i in images), images
-            other = "husarion_ugv_lights::" if package == "panther_lights" else "panther_lights::"
-            assert other not in text
-            if source == ugv:
-                assert "# kept comment" in text  # rewritten as text: comments and layout stay
+    # user animations files (the manual's example, a 2.2-style one) and a led config, each as its own kind
+    led = Path(__file__).resolve().parents[2] / "templates" / "lights" / "led_config.yaml"
+    for source, kind, key in ((EXAMPLE, PushKind.USER_ANIMATIONS, "user_animations"),
+                              (ugv, PushKind.USER_ANIMATIONS, "user_animations"),
+                              (led, PushKind.LED, "led_animations")):
+        plan = plan_push(cs[robot], kind, read_bundle(kind, source))
+        text = _main_file(plan)
+        types = {a["type"] for anim in yaml.safe_load(text)[key] for a in anim["animations"]}
+        assert types <= {f"{package}::ImageAnimation", f"{package}::ChargingAnimation"}, (robot, kind, types)
+        images = [a["animation"]["image"] for anim in yaml.safe_load(text)[key]
+                  for a in anim["animations"] if "image" in a["animation"]]
+        assert images and all(i.startswith(find) for i in images), images
+        other = "husarion_ugv_lights::" if package == "panther_lights" else "panther_lights::"
+        assert other not in text
+        if source == ugv:
+            assert "# kept comment" in text  # rewritten as text: comments and layout stay
 
 
 def test_lights_deploy_on_a_22_robot_writes_husarion_ugv_types(tmp_path: Path,

@@ -106,7 +106,8 @@ def set_(
             from panther_ops.core.config.plans import plan_args
 
             return plan_args(c, {key: value}, [], force=force)
-    return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
+    label = f"config set {key} {value}" + (" --force" if force else "")
+    return mutate(label, inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 
@@ -254,9 +255,9 @@ def push(
     except ValueError:
         raise UsageError(f"--as {as_!r} is not a config kind",
                          hint="allowed: " + ", ".join(k.value for k in PushKind)) from None
-    bundle = read_bundle(kind, local)
+    bundle = read_bundle(kind, local, force=force)
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"config push {local.name} --as {kind.value}", inv, chosen,
+    return mutate(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""), inv, chosen,
                   lambda c: plan_push(c, kind, bundle, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
@@ -348,7 +349,8 @@ def apply(
     from panther_ops.core.config.plans import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("apply", inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
+    label = "apply --force" if force else "apply"
+    return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 

@@ -405,6 +405,14 @@ def _entry(ip: str, user: str | None, port: int | None, command: str | None, tim
     return entry
 
 
+def _check_local(path: Path, after: str) -> None:
+    """The hosts file as it would be written, through the one hosts file validator (an invalid
+    entry already in the file is refused too, naming it)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    check_file(FileKind.SHUTDOWN_HOSTS, str(path), after.encode(), local=path)
+
+
 def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run: bool, json_out: bool,
                  command: str, message: str) -> int:
     import os
@@ -494,6 +502,7 @@ def hosts_add(
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
         before = file.read_text() if file.exists() else None
         edit = add_host(before or "", entry, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts add", edit.message)
     sec = _secret(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
@@ -538,6 +547,7 @@ def hosts_remove(
             raise _usage(f"{file} does not exist")
         before = file.read_text()
         edit = remove_host(before, ip, user, port, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts remove", edit.message)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 

@@ -22,6 +22,8 @@ def precheck(values: Mapping[str, Any], *, force: bool = False) -> None:
         if key.startswith("controller."):  # loaded only for controller keys: start-up stays short
             from panther_ops.core.config.controller import parse_limit_key, validate_limit
         errors: list[UsageError] = []
+        relevant: list[UsageError] = []
+        """errors of stacks that have the key: they are about the value, not about a version"""
         for version in REPRESENTATIVE:
             stack = stack_from_version(version)
             try:
@@ -40,5 +42,18 @@ def precheck(values: Mapping[str, Any], *, force: bool = False) -> None:
                     validate_arg(stack, key, str(value), force=force)
             except UsageError as exc:
                 errors.append(exc)
+                if key.startswith("controller.") or _has_key(stack, key):
+                    relevant.append(exc)
         if len(errors) == len(REPRESENTATIVE):
-            raise errors[0]
+            # no robot is at hand here: a "needs version X; this robot runs Y" of one stack would
+            # name a version the robot may not run; the value's own error is the one that holds
+            raise (relevant or errors)[0]
+
+
+def _has_key(stack: Any, key: str) -> bool:
+    from panther_ops.core.config.launch_args import spec
+
+    try:
+        return spec(key).available(stack)
+    except UsageError:
+        return False

@@ -29,9 +29,12 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
+from panther_ops.core.fleet.plan import FileEdit
+from panther_ops.core.yaml.diff import unified_diff
 from panther_ops.core.yaml.document import DocumentError, Flow, YamlDocument
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor import ShutdownHost
+from panther_ops.results import Diff
 from panther_ops.transport.base import Secret
 
 DEFAULT_COMMAND = "sudo shutdown now"
@@ -527,3 +530,14 @@ _SECRET_LINE = re.compile(r"^(\s*(?:-\s+)?secret\s*:\s*)(?![{\s]|$)([^#\n]*?)(\s
 def mask_secrets(text: str) -> str:
     """`secret: value` lines with the value replaced by ****, for diffs and logs."""
     return _SECRET_LINE.sub(lambda m: f"{m.group(1)}****{m.group(3)}", text)
+
+
+@dataclass(frozen=True)
+class MaskedFileEdit(FileEdit):
+    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value)."""
+
+    def diff(self) -> Diff:
+        plain = super().diff()
+        old = mask_secrets((self.before or b"").decode(errors="replace"))
+        new = mask_secrets((self.after or b"").decode(errors="replace"))
+        return Diff(plain.path, unified_diff(old, new, self.path))

@@ -65,6 +65,13 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     that share one get the same edit.
     """
     raw = read_compose(ctx, keep=True)
+    if "wheel_type" in sets or "wheel_type" in unsets:
+        from panther_ops.core.config.wheel_change import needs_migration
+
+        cfg = parse_config(raw, ctx.robot.stack)
+        new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack)
+        if needs_migration(cfg, new_wheel):
+            return _plan_wheel_change(ctx, cfg, new_wheel, sets, unsets, force)
     key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force)
     out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force))
     edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
@@ -73,6 +80,21 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
     plan.data["stack"] = out.stack
     plan.home = raw.home
     return plan
+
+
+def _plan_wheel_change(ctx: RobotContext, cfg: RobotConfig, new_wheel: str, sets: Mapping[str, Any],
+                       unsets: list[str], force: bool) -> RobotPlan:
+    """A wheel type change (set, or unset back to the stack's default) that migrates the custom
+    controller file in the same plan."""
+    from panther_ops.core.config.wheel_change import migrate, point_at
+
+    change = migrate(ctx, cfg, new_wheel)
+    assert change is not None
+    old_args = dict(cfg.compose.args)
+    warnings, verify = edit_args(cfg, {**sets, **point_at(cfg, change)}, unsets, force)
+    summary = f"{_args_summary(cfg, old_args)}; {change.summary}"
+    return compose_plan(ctx, cfg, summary, [*change.warnings, *warnings], [verify],
+                        _noop_args(sets, unsets), extra=change.edits)
 
 
 def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any], unsets: list[str],
@@ -120,8 +142,9 @@ def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool
 
 
 def controller_edits(ctx: RobotContext, cfg: RobotConfig, limits: Mapping[str, Any],
-                     force: bool) -> tuple[list[FileEdit], list[str], Verify, str]:
-    """Edit (or create from the wheel type's default) the custom controller file."""
+                     force: bool, migrated: Any = None) -> tuple[list[FileEdit], list[str], Verify, str]:
+    """Edit (or create from the wheel type's default) the custom controller file; ``migrated``
+    (a `wheel_change.WheelChange` of the same plan) is the file to edit when the wheel type changes."""
     args = cfg.compose.args
     wheel = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
     if wheel == "custom" and "controller_config_path" not in args:
@@ -143,9 +166,12 @@ def controller_edits(ctx: RobotContext, cfg: RobotConfig, limits: Mapping[str, A
         before: bytes | None = ctx.transport.read_file(host_path)
     except FileNotFoundError:
         before = None
-    ctrl = (ControllerConfig.parse(before.decode(), cfg.stack, wheel, path=host_path, force=force)
-            if before is not None
-            else ControllerConfig.default(cfg.stack, wheel if wheel != "custom" else "WH01"))
+    if migrated is not None and migrated.host_path == host_path:
+        ctrl = migrated.controller
+    elif before is not None:
+        ctrl = ControllerConfig.parse(before.decode(), cfg.stack, wheel, path=host_path, force=force)
+    else:
+        ctrl = ControllerConfig.default(cfg.stack, wheel if wheel != "custom" else "WH01")
     changes = []
     for key, value in limits.items():
         change = ctrl.set(key, value, force=force)
@@ -181,17 +207,31 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     if image and image != cfg.compose.driver_image:
         cfg.compose.set_image(image)
         parts.append(f"image -> {image}")
+    migrated = None
     if desired.get("launch_args"):
-        w, v = edit_args(cfg, desired["launch_args"], [], force)
+        largs = dict(desired["launch_args"])
+        if "wheel_type" in largs:
+            from panther_ops.core.config.wheel_change import migrate, point_at
+
+            migrated = migrate(ctx, cfg, str(largs["wheel_type"]))
+            if migrated is not None:
+                largs.update(point_at(cfg, migrated))
+                warnings += migrated.warnings
+                parts.append(migrated.summary)
+        w, v = edit_args(cfg, largs, [], force)
         warnings += w
         verify.append(v)
     if desired.get("controller"):
-        e, w, v, s = controller_edits(ctx, cfg, desired["controller"], force)
+        e, w, v, s = controller_edits(ctx, cfg, desired["controller"], force, migrated)
+        if migrated is not None:
+            migrated.edits = []  # the controller edit below carries the migrated file
         if e:
             edits += e
             parts.append(s)
         warnings += w
         verify.append(v)
+    if migrated is not None:
+        edits += migrated.edits
     arg_summary = _args_summary(cfg, old_args)
     if arg_summary != "no change":
         parts.insert(0, arg_summary)

@@ -19,13 +19,13 @@ import re
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import Any
 
-from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
+from panther_ops.core.config.kinds import FileKind, Target, check_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan, edit_args
 from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import InputError, UsageError
@@ -65,54 +65,47 @@ class Bundle:
     """name (relative to the main file's robot directory) -> content"""
 
 
-def read_bundle(kind: PushKind, path: Path) -> Bundle:
-    """Read and check the local files before any robot is contacted (bad input: exit 2)."""
+_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
+
+
+def file_kind(kind: PushKind) -> FileKind:
+    """The validator registry's kind of a push kind (the same names)."""
+    return FileKind(kind.value)
+
+
+def read_bundle(kind: PushKind, path: Path, *, force: bool = False) -> Bundle:
+    """Read and check the local files before any robot is contacted (bad input: exit 2).
+
+    The content goes through the kind's one validator (`core.filekinds`) with what needs no
+    robot; `plan_push` checks it again against each robot's stack and wheel type.
+    """
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror}", path=str(path)) from None
+    if not _NAME.match(path.name):
+        raise InputError(f"the file name {path.name!r} becomes a path in the driver's command: use letters, "
+                         "digits and _ . + - only", path=str(path))
     bundle = Bundle(path, data)
     if kind in _BT_ARGS:
-        _bt_bundle(bundle)
-        return bundle
-    import yaml
+        if path.suffix != ".btproj":
+            raise InputError("a BT project is pushed by its .btproj file", path=str(path))
+        from panther_ops.core.config.kinds.bt import project_files
 
-    try:
-        doc = yaml.safe_load(data)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        raise InputError(f"not valid YAML: {getattr(exc, 'problem', exc)}", path=str(path),
-                         line=mark.line + 1 if mark else None) from None
-    if not isinstance(doc, dict):
-        raise InputError("must be a YAML mapping", path=str(path))
+        check_file(file_kind(kind), str(path), data, local=path, force=force)
+        bundle.extra = {rel: src.read_bytes() for rel, src in project_files(path).items()}
+        return bundle
+    check_file(file_kind(kind), str(path), data, local=path, force=force)
     if kind is PushKind.USER_ANIMATIONS:
-        _animation_images(bundle, doc)
+        _animation_images(bundle)
     return bundle
 
 
-def _bt_bundle(bundle: Bundle) -> None:
-    import xml.etree.ElementTree as ET
-
-    if bundle.main.suffix != ".btproj":
-        raise InputError("a BT project is pushed by its .btproj file", path=str(bundle.main))
-    try:
-        root = ET.fromstring(bundle.data)  # noqa: S314
-    except ET.ParseError as exc:
-        raise InputError(f"not valid XML: {exc}", path=str(bundle.main)) from None
-    for inc in root.iter("include"):
-        rel = inc.get("path")
-        if not rel:
-            continue
-        src = (bundle.main.parent / rel).resolve()
-        if not src.is_file():
-            raise InputError(f"includes {rel}, which does not exist", path=str(bundle.main))
-        bundle.extra[rel] = src.read_bytes()
-
-
+_IMAGE_MAGIC = (b"\x89PNG\r\n\x1a\n", b"\xff\xd8\xff", b"GIF87a", b"GIF89a")
 _IMAGE = re.compile(r"^(\s*image:\s*)(['\"]?)([^'\"\n#]+?)\2(\s*(#.*)?)$", re.MULTILINE)
 
 
-def _animation_images(bundle: Bundle, doc: dict[str, Any]) -> None:
+def _animation_images(bundle: Bundle) -> None:
     """Collect local images the animations reference; their paths are rewritten on push."""
     for m in _IMAGE.finditer(bundle.data.decode()):
         ref = m.group(3).strip()
@@ -120,7 +113,14 @@ def _animation_images(bundle: Bundle, doc: dict[str, Any]) -> None:
             continue
         src = Path(ref) if ref.startswith("/") else bundle.main.parent / ref
         if src.is_file():
-            bundle.extra[f"animations/{src.name}"] = src.read_bytes()
+            data = src.read_bytes()
+            if not data.startswith(_IMAGE_MAGIC):  # only images travel to the robot, whatever the path names
+                raise InputError(f"image {ref} is not a PNG, JPEG or GIF file: not pushed", path=str(bundle.main))
+            name = f"animations/{src.name}"
+            if bundle.extra.get(name, data) != data:
+                raise InputError(f"two different images are named {src.name}: they would land on the same robot "
+                                 "path", path=str(bundle.main))
+            bundle.extra[name] = data
         elif not ref.startswith("/"):
             raise InputError(f"image {ref} not found next to the file", path=str(bundle.main))
 
@@ -147,9 +147,16 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
         return None
 
 
+_CHECKED: Memo[list[str]] = Memo()
+
+
 def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
     cfg = read_config(ctx)
-    warnings: list[str] = []
+    target = Target(cfg.stack, _wheel(cfg))
+    warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
+                                 lambda: check_file(file_kind(kind), str(bundle.main), bundle.data,
+                                                    local=bundle.main, target=target, force=force)))
+    forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in _BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
         robot_dir = f"{ROBOT_CONFIG_DIR}/{pkg}/behavior_trees"
@@ -177,18 +184,14 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
         if kind is PushKind.USER_ANIMATIONS and bundle.extra:
             main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
             extra = {f"../{k}": v for k, v in bundle.extra.items()}
-        if kind is PushKind.CONTROLLER:
-            ctrl = ControllerConfig.parse(bundle.data.decode(), cfg.stack, _wheel(cfg), path=str(bundle.main),
-                                          force=force)
-            problems = ctrl.check()
-            over = [p for p in problems if "exceeds" in p]
-            if over and not force:
-                raise UsageError(f"{bundle.main}: {over[0]}", hint="lower the value, or --force to push it anyway")
-            warnings.extend(problems)
     edits: list[FileEdit] = []
     files = {name: main_data, **extra}
+    inside = posixpath.dirname(robot_dir) if kind is PushKind.USER_ANIMATIONS else robot_dir
     for rel, content in files.items():
         path = posixpath.normpath(posixpath.join(robot_dir, rel))
+        if not path.startswith(inside + "/"):
+            raise InputError(f"{rel} would be written to {path}, outside {inside}", path=str(bundle.main),
+                             hint="the files a push brings stay in the robot's config directory")
         before = _read(ctx, path)
         if before != content:
             edits.append(FileEdit(path, before, content))
@@ -208,6 +211,8 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
     from panther_ops.core.fleet.plan import Verify
 
     summary = f"{kind.value}: {bundle.main.name} -> {robot_dir}/{name}" + (f" ({arg}:={main_container})" if arg else "")
+    if forced:
+        summary += " [--force: " + "; ".join(forced) + "]"
     plan = compose_plan(ctx, cfg, summary, warnings, [Verify(cfg.service, contains)],
                          f"{robot_dir}/{name} already has this content", extra=edits)
     plan.data["robot_path"] = f"{robot_dir}/{name}"

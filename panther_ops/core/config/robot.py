@@ -80,14 +80,16 @@ def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
     ``keep``: the read's session stays open on the robot, waiting to carry this command's
     write (the pipeline resumes it), so a change costs the robot one session, not two.
     """
+    from panther_ops.core.fleet.confine import compose_file
+
+    path = compose_file(ctx)
     if keep:
         mark = f"@@panther-ops-{secrets.token_hex(8)}@@"
-        res = ctx.transport.run_kept(scripts_perl.read_kept(ctx.robot.compose_file, mark),
+        res = ctx.transport.run_kept(scripts_perl.read_kept(path, mark),
                                      f"{mark}\n".encode(), scripts_apply.WRITE_KEY)
     else:
-        res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, ctx.robot.compose_file))
+        res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, path))
     home, _, rest = res.raw_stdout.partition(b"\n")
-    path = ctx.robot.compose_file
     if path.startswith("~/"):
         path = posixpath.join(home.decode(), path[2:])
     if res.exit_status == scripts.MISSING_EXIT:

@@ -25,6 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from panther_ops.core.fleet.inventory import Inventory, Robot
+from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
@@ -59,6 +60,24 @@ class FleetPlan:
         return [name for name, p in self.plans.items() if does_something(p)]
 
 
+_COMPOSE_CHECKED: Memo[list[str]] = Memo()
+
+
+def check_written(plan: RobotPlan) -> None:
+    """The compose file a plan writes, through the compose file kind's validator (once per
+    distinct content: the robots of a fleet mostly share one)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    for e in plan.edits:
+        if e.path == plan.compose_file and e.after is not None:
+            path, after = e.path, e.after
+
+            def check(path: str = path, after: bytes = after) -> list[str]:
+                return check_file(FileKind.COMPOSE, path, after)
+
+            _COMPOSE_CHECKED.get((path, after), check)
+
+
 def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
                options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None,
                go_early: bool = False) -> FleetPlan:
@@ -80,6 +99,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
     def task(ctx: RobotContext) -> RobotResult:
         try:
             plan = planner(ctx)
+            check_written(plan)
         except UsageError as exc:
             fp.usage_errors[ctx.robot.name] = exc
             raise

@@ -41,7 +41,10 @@ def list_history(ctx: RobotContext) -> list[dict[str, Any]]:
 
 def plan_rollback(ctx: RobotContext, to: str | None) -> RobotPlan:
     """Restore the files of backup ``to`` (default: the newest) as they were before that change."""
-    entries = list_history(ctx)
+    from panther_ops.core.fleet.confine import backup_entry_ok, backup_ref
+
+    backup_ref(to)
+    entries = [e for e in list_history(ctx) if backup_entry_ok(e.get("id"), e.get("files", []))]
     if not entries:
         raise RemoteStateError("no backups on this robot: nothing to roll back to")
     if to is None:

@@ -304,10 +304,14 @@ def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
                 volumes: dict[str, str]) -> tuple[str, str]:
     """The shutdown hosts file the stock manager reads, made visible to ours: (path, where from)."""
     if settings.shutdown_hosts:
+        if ".." in settings.shutdown_hosts.split("/"):
+            raise UsageError(f"desired.manager.shutdown_hosts: {settings.shutdown_hosts} holds '..': name the file "
+                             "directly")
         if not ctx.transport.exists(settings.shutdown_hosts):
             raise UsageError(f"desired.manager.shutdown_hosts: {settings.shutdown_hosts} does not exist on "
                              f"{ctx.robot.name}",
                              hint="push it first: panther-ops config push FILE --as shutdown-hosts")
+        _check_hosts(ctx, cfg, settings.shutdown_hosts)
         volumes[HOSTS_TARGET] = f"{settings.shutdown_hosts}:{HOSTS_TARGET}:ro"
         return HOSTS_TARGET, settings.shutdown_hosts
     cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
@@ -318,9 +322,23 @@ def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
         vol = _covering(cfg, current)
         if vol is not None:
             volumes[vol.target] = _ro(vol)
-            return current, cfg.host_path_of(current) or current
+            host = cfg.host_path_of(current)
+            if host is not None:
+                _check_hosts(ctx, cfg, host)
+            return current, host or current
         return current, f"{current} (inside the image)"
     return cf.package_path, f"{cf.package_path} (the image's default)"
+
+
+def _check_hosts(ctx: RobotContext, cfg: RobotConfig, path: str) -> None:
+    """The hosts file the deployed manager will read, through the one hosts file validator."""
+    from panther_ops.core.config.kinds import FileKind, Target, check_file
+
+    try:
+        data = ctx.transport.read_file(path)
+    except FileNotFoundError:
+        return
+    check_file(FileKind.SHUTDOWN_HOSTS, path, data, target=Target(cfg.stack))
 
 
 def manager_yaml(settings: ManagerSettings, spec: ServiceSpec, version: str) -> bytes:
