@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops import __version__
+from panther_ops.core.fleet.facts import RobotFacts, parse_probe, probe_command
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.health.facts import RobotFacts, parse_probe, probe_command
 from panther_ops.core.reimage.carry import Candidate, candidates, is_secret, role_of
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.transport.base import Command

@@ -150,7 +150,7 @@ def _edit(f: BackupFile, before: bytes | None) -> FileEdit:
     """The write of one file; a secret's diff is masked (a private key: wholly; a shutdown
     hosts file: its ``secret:`` values)."""
     if f.secret and posixpath.basename(f.path).startswith("shutdown_hosts"):
-        from panther_ops.core.shutdown.robotfile import MaskedFileEdit
+        from panther_ops.core.config.hostsfile import MaskedFileEdit
 
         return MaskedFileEdit(f.path, before, f.data, f.mode)
     if f.secret:
