@@ -15,6 +15,7 @@ import typer
 
 from panther_ops import __version__
 from panther_ops.cli.context import Settings
+from panther_ops.cli.output import ColorMode
 
 if TYPE_CHECKING:
     from typer.models import CommandInfo, TyperInfo
@@ -57,11 +58,17 @@ def root(
     ] = None,
     verbose: Annotated[int, typer.Option("--verbose", "-v", count=True, help="More detail on stderr.")] = 0,
     debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks of unexpected errors.")] = False,
+    color: Annotated[
+        ColorMode, typer.Option("--color", help="Colour: auto (a terminal, unless NO_COLOR is set), always, never.")
+    ] = ColorMode.AUTO,
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
 ) -> None:
     """Global options come before the command: panther-ops -i fleet.yaml status --all."""
+    from panther_ops.cli.output import configure
+
+    configure(color)
     ctx.obj = Settings(inventory=inventory, verbose=verbose, debug=debug)
     level = logging.DEBUG if debug else (logging.INFO if verbose else logging.WARNING)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
@@ -143,7 +150,7 @@ def _command_words(argv: list[str]) -> tuple[str | None, str | None]:
         a = argv[i]
         if a in ("-h", "--help", "--version"):
             return None, None
-        if a == "--inventory":
+        if a in ("--inventory", "--color"):
             i += 2
         elif a.startswith("--"):
             i += 1

@@ -6,7 +6,6 @@ Data goes to stdout, progress and messages to stderr, so ``--json | jq`` works.
 from __future__ import annotations
 
 import contextlib
-import json
 import sys
 import threading
 from collections.abc import Callable, Iterator
@@ -26,11 +25,10 @@ STYLE = {
 
 
 def _console(stderr: bool = False) -> Any:
-    from rich.console import Console
+    """The stream's console as the output module sets it up (terminal or pipe, colour, width)."""
+    from panther_ops.cli.output import console
 
-    stream = sys.stderr if stderr else sys.stdout
-    width = None if stream.isatty() else 160
-    return Console(stderr=stderr, highlight=False, soft_wrap=False, width=width)
+    return console(stderr)
 
 
 @contextlib.contextmanager
@@ -60,7 +58,9 @@ def esc(text: object) -> str:
 
 
 def emit_json(doc: dict[str, Any]) -> None:
-    sys.stdout.write(json.dumps(doc, indent=2, default=str) + "\n")
+    from panther_ops.cli.output import write_json
+
+    write_json(doc)
 
 
 def human_bytes(n: int | None) -> str:
@@ -106,11 +106,13 @@ def print_diffs(fleet: FleetResult) -> None:
     for r in fleet.results:
         for d in r.diffs:
             groups.setdefault((d.path, d.unified), []).append(r.robot)
+    from panther_ops.cli.output import print_exact
+
     out = _console()
     for (path, unified), robots in groups.items():
         who = robots[0] if len(robots) == 1 else f"{len(robots)} robots ({', '.join(robots)})"
-        out.print(f"[bold]{esc(who)}[/]: {esc(path)}")
-        out.print(styled_diff(unified))
+        out.print(f"[bold]{esc(who)}[/]: {esc(path)}", soft_wrap=True)
+        print_exact(styled_diff(unified))
 
 
 DIFF_STYLE = (("+++", "bold"), ("---", "bold"), ("@@", "cyan"), ("+", "green"), ("-", "red"))
@@ -119,7 +121,8 @@ DIFF_STYLE = (("+++", "bold"), ("---", "bold"), ("@@", "cyan"), ("+", "green"), 
 def styled_diff(unified: str) -> Any:
     """A unified diff as rich Text: headers bold, hunks cyan, additions green, removals red.
 
-    The text is shown as is (no markup, no wrapping: a diff line is never folded into two).
+    The text is shown as is (no markup); print it with ``output.print_exact`` (no wrapping:
+    a diff line is never folded into two).
     """
     from rich.text import Text
 
