@@ -64,14 +64,18 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) 
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), connect: bool = True,
+    preload: tuple[str, ...] = (), connect: bool = True, read_only: bool = False,
 ) -> tuple[Inventory, list[Robot]]:
     """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
 
     Every caller goes on to connect to every robot chosen, its own input already checked, so
     the robots' TCP connections start now, in the background (``connect=False``: not yet).
+    ``read_only``: a command that only reads answers for every robot when none is chosen.
     """
     inv = load(ctx, preload, start=not connect)
+    if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
+        info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
+        all_ = True
     chosen = inv.select(robots or [], groups or [], all_)
     if connect:  # the robots first: their sshd then start while paramiko loads
         from panther_ops.core.connect_ahead import connect_ahead

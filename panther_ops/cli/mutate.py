@@ -36,12 +36,14 @@ def mutate(
     max_fail: float | None = None,
     applier: Applier | None = None,
     verb: str = "Apply to",
+    read_only: bool = False,
 ) -> int:
     """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
 
     Asked first (no ``--yes``), the plan is a table of every robot with the diffs under it;
     with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
-    applied, and the results table follows.
+    applied, and the results table follows. ``read_only``: a command that only compares
+    (``config diff``): the plan is shown as a dry run's, without speaking of one.
     """
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
     from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
@@ -61,7 +63,8 @@ def mutate(
             sys.stderr.write("nothing was changed on any robot\n")
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
-            return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
+            return finish(dry_run_result(fp, read_only=read_only) if dry_run else fp.results, json_out,
+                          print_results)
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)

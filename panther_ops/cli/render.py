@@ -145,8 +145,13 @@ def print_warnings(fleet: FleetResult) -> None:
 
 
 def print_summary(fleet: FleetResult) -> None:
-    counts = {o: len(fleet.by_outcome(o)) for o in Outcome}
-    parts = [f"[{STYLE[o]}]{n} {o.value}[/]" for o, n in counts.items() if n]
+    """``3 robots: 2 changed, 1 ok in 0.4 s``; a plan not applied (a dry run) says ``would change``."""
+    counts: dict[tuple[str, str], int] = {}
+    for o in Outcome:
+        for r in fleet.by_outcome(o):
+            word = "would change" if o is Outcome.CHANGED and r.data.get("dry_run") else o.value
+            counts[(word, STYLE[o])] = counts.get((word, STYLE[o]), 0) + 1
+    parts = [f"[{style}]{n} {word}[/]" for (word, style), n in counts.items()]
     code = fleet.exit_code
     tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
     _console(stderr=True).print(

@@ -149,8 +149,13 @@ def unstage_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], conn
         run_fleet(fp.command, inventory, waiting, task, RunOptions(forks=options.forks), None, connections)
 
 
-def dry_run_result(fp: FleetPlan) -> FleetResult:
-    out = FleetResult(fp.command, notes=["dry run: nothing was written"])
+def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
+    """The plan as a dry run's result: each change is what the robot ``would`` get (a plan
+    with an action has a summary that starts with its verb: ``would remove manager ...``).
+
+    ``read_only``: the command never writes (``config diff``): no "dry run" note then.
+    """
+    out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
             action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")

@@ -43,7 +43,7 @@ def get(
     forks: Forks = None,
 ) -> int:
     """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
-    stack's default, with where it came from.
+    stack's default, with where it came from. No robot chosen: every robot of the inventory.
 
     Example: panther-ops config get wheel_type --all
     """
@@ -56,7 +56,7 @@ def get(
         return RobotResult(c.robot.name, Outcome.OK, f"{key} = {info['value']} ({info['source']}; {info['stack']})",
                            data=info)
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config get", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_results)
 
@@ -158,7 +158,7 @@ def diff(
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
-                  forks=forks)
+                  forks=forks, read_only=True)
 
 
 @app.command("history")
