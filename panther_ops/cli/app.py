@@ -61,6 +61,9 @@ def root(
     color: Annotated[
         ColorMode, typer.Option("--color", help="Colour: auto (a terminal, unless NO_COLOR is set), always, never.")
     ] = ColorMode.AUTO,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No live progress and no recap on stderr.")
+    ] = False,
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
@@ -68,7 +71,7 @@ def root(
     """Global options come before the command: panther-ops -i fleet.yaml status --all."""
     from panther_ops.cli.output import configure
 
-    configure(color)
+    configure(color, quiet)
     ctx.obj = Settings(inventory=inventory, verbose=verbose, debug=debug)
     level = logging.DEBUG if debug else (logging.INFO if verbose else logging.WARNING)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)

@@ -96,11 +96,12 @@ def run(
     max_fail: float | None = None,
     json_out: bool = False,
 ) -> FleetResult:
-    from panther_ops.cli.render import progress_printer
+    from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.core.runner import RunOptions, run_fleet
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
-    with progress_printer(len(chosen), enabled=not json_out) as progress:
+    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out) and len(chosen) > 1)
+    with progress.live():
         return run_fleet(command, inv, chosen, task, opts, progress)
 
 

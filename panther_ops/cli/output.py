@@ -7,6 +7,8 @@
   colours even a pipe; ``never`` never does.
 - Width: the terminal's on a terminal, 160 columns in a pipe (tables are not squeezed
   to 80 columns in a log file).
+- Progress: live per-robot phases on stderr only when stderr is a terminal, never with
+  ``--json`` or ``--quiet`` (``cli/progress.py``).
 - Wrapping: table cells and messages wrap to the width; diffs and JSON never do (a diff
   line is written whole, running past the edge of a narrow terminal, so what is shown
   and copied is the exact patch, each line with its ``+``/``-``/space marker).
@@ -31,15 +33,22 @@ class ColorMode(str, Enum):
 
 
 _state: dict[str, ColorMode] = {"color": ColorMode.AUTO}
+_quiet: dict[str, bool] = {"quiet": False}
 
 
-def configure(color: ColorMode | str = ColorMode.AUTO) -> None:
-    """Set the run's colour mode (the root callback does, from ``--color``)."""
+def configure(color: ColorMode | str = ColorMode.AUTO, quiet: bool = False) -> None:
+    """Set the run's colour mode and quietness (the root callback does, from ``--color``, ``--quiet``)."""
     _state["color"] = ColorMode(color)
+    _quiet["quiet"] = quiet
 
 
 def color_mode() -> ColorMode:
     return _state["color"]
+
+
+def quiet() -> bool:
+    """``--quiet``: no live progress and no recap."""
+    return _quiet["quiet"]
 
 
 def stream(stderr: bool = False) -> IO[str]:

@@ -5,14 +5,11 @@ Data goes to stdout, progress and messages to stderr, so ``--json | jq`` works.
 
 from __future__ import annotations
 
-import contextlib
-import sys
-import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
 from panther_ops.errors import ExitCode
-from panther_ops.results import FleetResult, Outcome, RobotResult
+from panther_ops.results import FleetResult, Outcome
 
 STYLE = {
     Outcome.OK: "green",
@@ -29,25 +26,6 @@ def _console(stderr: bool = False) -> Any:
     from panther_ops.cli.output import console
 
     return console(stderr)
-
-
-@contextlib.contextmanager
-def progress_printer(total: int, *, enabled: bool) -> Iterator[Callable[[RobotResult], None]]:
-    """Progress on stderr: a live counter on a terminal, nothing otherwise."""
-    if not enabled or total <= 1 or not sys.stderr.isatty():
-        yield lambda _r: None
-        return
-    from rich.progress import Progress
-
-    lock = threading.Lock()
-    with Progress(console=_console(stderr=True), transient=True) as bar:
-        task = bar.add_task("robots", total=total)
-
-        def step(result: RobotResult) -> None:
-            with lock:
-                bar.update(task, advance=1, description=f"{result.robot}: {result.outcome.value}")
-
-        yield step
 
 
 def esc(text: object) -> str:

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 from panther_ops.core.inventory import Inventory, Robot
 from panther_ops.core.pipeline import ApplyOptions, RobotPlan, Staged, apply_plan, apply_staged, stage_plan, unstage
-from panther_ops.core.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
+from panther_ops.core.runner import Connections, Progress, RobotContext, RunOptions, phase_reporter, run_fleet
 from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -77,6 +77,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
             all_decided.notify_all()
 
     def task(ctx: RobotContext) -> RobotResult:
+        ctx.phase("plan")
         try:
             plan = planner(ctx)
         except UsageError as exc:
@@ -97,13 +98,18 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
-    def noted(res: RobotResult) -> None:  # a robot whose task never ran (unreachable) is decided too
-        decide(res.robot)
-        if progress is not None:
-            progress(res)
+    class Noted:  # a robot whose task never ran (unreachable) is decided too
+        def __call__(self, res: RobotResult) -> None:
+            decide(res.robot)
+            if progress is not None:
+                progress(res)
+
+        def phase(self, robot: str, name: str) -> None:
+            if (report := phase_reporter(progress, robot)) is not None:
+                report(name)
 
     plan_opts = RunOptions(forks=options.forks)
-    fp.results = run_fleet(command, inventory, robots, task, plan_opts, noted, connections)
+    fp.results = run_fleet(command, inventory, robots, task, plan_opts, Noted(), connections)
     return fp
 
 
