@@ -30,6 +30,8 @@ Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots 
 rolled back or were unreachable, 4 every robot unreachable, 130 interrupted.
 
 Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+
+Shell completion (bash, zsh, fish, docs/getting-started.md):  panther-ops --install-completion
 """
 
 app = typer.Typer(
@@ -38,7 +40,7 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
-    add_completion=False,
+    add_completion=True,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 
