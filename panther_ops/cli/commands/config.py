@@ -74,21 +74,26 @@ def set_(
     no_restart: NoRestart = False,
     settle: Settle = 5.0,
     force: Force = False,
+    everywhere: Annotated[bool, typer.Option(
+        "--everywhere", help="namespace: also change it where the robot's other parts name it (the gamepad "
+        "service, ROBOT_NAMESPACE), in the same plan.")] = False,
     json_out: Json = False,
     forks: Forks = None,
     canary: Canary = 0,
     max_fail: MaxFail = None,
 ) -> int:
     """Set a launch argument of the driver (e.g. wheel_type WH02) or a controller limit
-    (controller.linear.x.max_velocity 1.5) on each robot, knowing each key per stack version.
+    (controller.linear.x.max_velocity 1.0) on each robot, knowing each key per stack version.
 
     Plans every robot first and shows the exact diff; then (after --yes or your confirmation)
     backs up, writes atomically, recreates the driver as the robot user, and verifies it keeps
-    running with the new command; a failed change is rolled back.
+    running with the new command; a failed change is rolled back. A new namespace warns of the
+    places that keep the old one (gamepad service, ROBOT_NAMESPACE, the WebUI); --everywhere
+    changes the first two in the same plan.
 
     Examples:
       panther-ops config set wheel_type WH02 -r panther-01 --yes
-      panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
+      panther-ops config set controller.linear.x.max_velocity 1.0 -g warehouse --dry-run
     """
     from panther_ops.core.config_checks import precheck
 
@@ -105,8 +110,9 @@ def set_(
         def planner(c: Any) -> Any:
             from panther_ops.core.config_plans import plan_args
 
-            return plan_args(c, {key: value}, [], force=force)
-    return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
+            return plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
+    command = f"config set {key} {value}" + (" --everywhere" if everywhere else "")
+    return mutate(command, inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 
