@@ -70,12 +70,17 @@ def targets(
 
     Every caller goes on to connect to every robot chosen, its own input already checked, so
     the robots' TCP connections start now, in the background (``connect=False``: not yet).
-    ``read_only``: a command that only reads answers for every robot when none is chosen.
+    ``read_only``: a command that only reads answers, when no robot is chosen, for the
+    inventory's ``settings.default_group``, else for every robot.
     """
     inv = load(ctx, preload, start=not connect)
     if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
-        info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
-        all_ = True
+        if inv.default_group is not None:
+            info(f"no robot chosen: group {inv.default_group} (settings.default_group)")
+            groups = [inv.default_group]
+        else:
+            info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
+            all_ = True
     chosen = inv.select(robots or [], groups or [], all_)
     if connect:  # the robots first: their sshd then start while paramiko loads
         from panther_ops.core.connect_ahead import connect_ahead

@@ -9,7 +9,8 @@
   to 80 columns in a log file).
 - Progress: live per-robot phases on stderr only when stderr is a terminal, never with
   ``--json`` or ``--quiet`` (``cli/progress.py``).
-- Wrapping: table cells and messages wrap to the width; diffs and JSON never do (a diff
+- Wrapping: table cells wrap to the width, and messages on a terminal (in a pipe a
+  message stays one line); diffs and JSON never do (a diff
   line is written whole, running past the edge of a narrow terminal, so what is shown
   and copied is the exact patch, each line with its ``+``/``-``/space marker).
 """
@@ -93,6 +94,12 @@ def console(stderr: bool = False) -> Any:
 def print_exact(text: Any, stderr: bool = False) -> None:
     """Print rich Text (or a plain string) line for line: no wrapping, no cropping."""
     console(stderr).print(text, soft_wrap=True, crop=False, overflow="ignore", no_wrap=True)
+
+
+def print_message(markup: str, stderr: bool = True) -> None:
+    """A one-line message (rich markup): wrapped to a terminal's width, whole in a pipe (a log
+    line stays one line for grep)."""
+    console(stderr).print(markup, soft_wrap=not is_terminal(stderr))
 
 
 def write_json(doc: Any) -> None:

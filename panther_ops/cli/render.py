@@ -112,14 +112,15 @@ def styled_diff(unified: str) -> Any:
 
 
 def print_warnings(fleet: FleetResult) -> None:
-    err = _console(stderr=True)
+    from panther_ops.cli.output import print_message
+
     for r in fleet.results:
         for w in r.warnings:
-            err.print(f"[yellow]warning[/] {r.robot}: {esc(w)}")
+            print_message(f"[yellow]warning[/] {r.robot}: {esc(w)}")
         if "hint" in r.data:
-            err.print(f"[dim]hint[/] {r.robot}: {esc(r.data['hint'])}")
+            print_message(f"[dim]hint[/] {r.robot}: {esc(r.data['hint'])}")
     for n in fleet.notes:
-        err.print(f"[yellow]note[/] {esc(n)}")
+        print_message(f"[yellow]note[/] {esc(n)}")
 
 
 def print_summary(fleet: FleetResult) -> None:
@@ -148,6 +149,6 @@ def finish(fleet: FleetResult, json_out: bool, human: Callable[[FleetResult], No
 
 
 def error(message: str) -> None:
-    from rich.markup import escape
+    from panther_ops.cli.output import print_message
 
-    _console(stderr=True).print(f"[bold red]error[/] {escape(message)}", highlight=False)
+    print_message(f"[bold red]error[/] {esc(message)}")

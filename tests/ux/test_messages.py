@@ -140,3 +140,17 @@ def test_inventory_show_of_a_demo_robot_has_no_ssh_address(demo: Path, capsys: C
     assert code == 0
     assert "host:" not in out and "localhost" not in out and "\nport:" not in out
     assert "transport: local" in out and "root: " in out
+
+
+def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) -> None:
+    inventory = demo / "inventory.yaml"
+    inventory.write_text(inventory.read_text().replace("defaults:", "settings:\n  default_group: field\ndefaults:", 1))
+    for argv in (["config", "get", "wheel_type"], ["status"], ["driver", "status"], ["config", "diff"],
+                 ["doctor"], ["config", "history"], ["driver", "versions"]):
+        code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
+        assert code == 0, (argv, err)
+        assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-03"], argv
+        assert "no robot chosen: group field (settings.default_group)" in err
+    inventory.write_text(inventory.read_text().replace("default_group: field", "default_group: nope"))
+    code, _, err = run(capsys, "-i", str(demo), "status")
+    assert code == 2 and "default_group 'nope' is not a group of the inventory" in err and "field" in err

@@ -162,7 +162,7 @@ def diff(
     """
     from panther_ops.core.config_plans import plan_desired
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
                   forks=forks, read_only=True)
 
@@ -192,7 +192,7 @@ def history(
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config history", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_history)
 

@@ -74,7 +74,7 @@ def status(
     from panther_ops.cli.render import finish
     from panther_ops.core.driver import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("driver status", inv, chosen, status_task, forks=forks, json_out=json_out), json_out,
                   _print_status)
 
@@ -212,7 +212,7 @@ def versions(
     from panther_ops.cli.render import finish
     from panther_ops.core.driver import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags, versions_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     tags: dict[str, list[HubTag]] | None = None
     remote_data: dict[str, Any] = {}
     notes: list[str] = []
