@@ -20,12 +20,11 @@ from collections.abc import Iterator
 from typing import Any
 
 from panther_ops.cli.output import console, is_terminal, quiet
+from panther_ops.cli.render import STYLE
 from panther_ops.results import Outcome, RobotResult
 
 PHASE_STYLE = {"connect": "cyan", "plan": "blue", "write": "yellow", "recreate": "magenta", "verify": "green",
                "roll back": "red"}
-OUTCOME_STYLE = {Outcome.OK: "green", Outcome.CHANGED: "yellow", Outcome.FAILED: "red",
-                 Outcome.ROLLED_BACK: "magenta", Outcome.UNREACHABLE: "red", Outcome.SKIPPED: "dim"}
 
 
 def progress_wanted(json_out: bool) -> bool:
@@ -40,7 +39,7 @@ class FleetProgress:
         self.enabled = enabled
         self._lock = threading.Lock()
         self._current: dict[str, tuple[str, float]] = {}
-        self._times: dict[str, list[tuple[str, float]]] = {r: [] for r in self.robots}
+        self._times: dict[str, dict[str, float]] = {r: {} for r in self.robots}
         self._outcome: dict[str, Outcome] = {}
         self._live: Any = None
 
@@ -50,6 +49,7 @@ class FleetProgress:
         with self._lock:
             self._close_phase(robot, now)
             self._current[robot] = (name, now)
+            self._outcome.pop(robot, None)  # at work again (the plan's result came first)
         self._refresh()
 
     def __call__(self, result: RobotResult) -> None:
@@ -62,11 +62,8 @@ class FleetProgress:
     def _close_phase(self, robot: str, now: float) -> None:
         if robot in self._current:
             name, since = self._current[robot]
-            times = self._times.setdefault(robot, [])
-            if times and times[-1][0] == name:  # the same phase again (staged, then committed)
-                times[-1] = (name, times[-1][1] + now - since)
-            else:
-                times.append((name, now - since))
+            times = self._times.setdefault(robot, {})
+            times[name] = times.get(name, 0.0) + now - since  # a phase met again (write: staged, then committed)
 
     # -- the view -------------------------------------------------------------------------------
     @contextlib.contextmanager
@@ -113,7 +110,7 @@ class FleetProgress:
             counts[o] = counts.get(o, 0) + 1
         summary = Text(f"{len(done)}/{len(self.robots)} robots done")
         for o, n in counts.items():
-            summary.append(f"  {n} {o.value}", style=OUTCOME_STYLE[o])
+            summary.append(f"  {n} {o.value}", style=STYLE[o])
         from rich.console import Group
 
         return Group(grid, summary)
@@ -131,6 +128,6 @@ class FleetProgress:
             outcome = self._outcome.get(robot)
             if outcome is None:
                 continue
-            phases = "  ".join(f"{name} {seconds:.1f} s" for name, seconds in self._times.get(robot, []))
-            err.print(f"{escape(robot):<{width}}  [{OUTCOME_STYLE[outcome]}]{outcome.value:<11}[/] {phases}",
+            phases = "  ".join(f"{name} {seconds:.1f} s" for name, seconds in self._times.get(robot, {}).items())
+            err.print(f"{escape(robot):<{width}}  [{STYLE[outcome]}]{outcome.value:<11}[/] {phases}",
                       soft_wrap=True)

@@ -4,6 +4,7 @@ same plan with --everywhere (issue 16, finding 9), on the demo fleet."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 import yaml
@@ -55,3 +56,26 @@ def test_everywhere_changes_them_in_the_same_plan(demo: Path, capsys: Capsys) ->
     capsys.readouterr()
     assert main(["-i", str(demo), "config", "set", "namespace", "panther2", "--all", "--everywhere", "--yes"]) == 0
     assert "3 robots: 3 ok" in capsys.readouterr().err
+
+
+@pytest.mark.lab
+def test_everywhere_recreates_the_gamepad_service_with_the_driver_on_the_lab(lab: Any) -> None:
+    """On a 2.1.1 lab robot (real sshd, dockerd, Compose v2): one change, both containers
+    recreated, each running with the new namespace."""
+    import json
+
+    robot = next(r for r in lab.robots if "2.1.1" in r.image and not r.jump)
+    saved = lab.read(robot.name, "/" + COMPOSE)
+    try:
+        code = main(["-i", str(lab.inventory_path), "config", "set", "namespace", "panther2", "-r", robot.name,
+                     "--everywhere", "--yes", "--settle", "1", "--json"])
+        assert code == 0
+        for container in (robot.driver_container, "gamepad_controller"):
+            out = lab.docker(robot.name, "inspect", "-f", "{{json .Config.Cmd}}", container, check=True).stdout
+            assert "namespace:=panther2" in " ".join(json.loads(out)), container
+            env = lab.docker(robot.name, "inspect", "-f", "{{json .Config.Env}}", container, check=True).stdout
+            assert "ROBOT_NAMESPACE=panther2" in json.loads(env), container
+    finally:
+        lab.write(robot.name, "/" + COMPOSE, saved)
+        lab.sh(robot.name, "rm -rf /home/husarion/.panther-ops; true")
+        lab.compose(robot.name, "up", "-d", "--force-recreate")

@@ -49,6 +49,7 @@ def test_a_fleet_change_shows_live_phases_and_a_recap_on_a_terminal(fleet: Any) 
     rows = {line.split()[0]: line for line in recap if line.split() and line.split()[0] in names}
     assert set(rows) == set(names)
     assert all(" changed " in row and "recreate " in row and "verify " in row for row in rows.values())
+    assert all(row.count(f"{phase} ") == 1 for row in rows.values() for phase in ("connect", "write"))
     # stdout (piped here) carries the table only
     assert all(n in run.err for n in names) and "recap" not in run.err and "verify" not in run.err
 
