@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.templates import template_path
+from panther_ops.core.fleet.templates import template_path
 
 from .termrun import piped
 

@@ -11,7 +11,7 @@ import pytest
 
 from panther_ops.cli.app import _command_words
 from panther_ops.cli.render import print_diffs
-from panther_ops.core.diff import unified_diff
+from panther_ops.core.yaml.diff import unified_diff
 from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
 from .termrun import on_pty, piped, plain

@@ -39,7 +39,7 @@ from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 if TYPE_CHECKING:
     import paramiko
 
-    from panther_ops.core.inventory import Inventory, Robot
+    from panther_ops.core.fleet.inventory import Inventory, Robot
 
 ROBOT_KEY = "~/.ssh/id_rsa"
 ROBOT_KNOWN_HOSTS = "~/.ssh/known_hosts"
