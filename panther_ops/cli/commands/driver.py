@@ -110,7 +110,8 @@ def logs(
       panther-ops driver logs -r panther-01 -f
     """
     from panther_ops.cli.logs_view import show_logs
-    from panther_ops.core.driver.containers import NoEngineError, open_logs, parse_duration
+    from panther_ops.core.containers.engine import NoEngineError
+    from panther_ops.core.driver.containers import open_logs, parse_duration
 
     since_s = parse_duration(since) if since is not None else None
     inv, chosen = context.targets(ctx, robot, group, all_)
