@@ -24,8 +24,8 @@ def show_logs(command: str, inv: Inventory, chosen: list[Robot], open_logs: Open
     A robot without a docker engine (a demo robot) is ``skipped``, whichever container is asked for.
     """
     from panther_ops.cli.render import error, finish, print_warnings
+    from panther_ops.core.containers.engine import NoEngineError
     from panther_ops.core.containers.logs import LogOptions, prefix_lines
-    from panther_ops.core.driver.containers import NoEngineError
 
     skip = (NoEngineError, *skip)
     from panther_ops.errors import UsageError

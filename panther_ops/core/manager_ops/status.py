@@ -120,7 +120,7 @@ def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
         NoEngineError: no docker engine (a demo robot).
         RemoteStateError: no manager container.
     """
-    from panther_ops.core.driver.containers import NoEngineError, engine
+    from panther_ops.core.containers.engine import NoEngineError, engine
 
     client, why = engine(ctx)
     if client is None:  # a demo robot: skipped, as the driver's logs are
