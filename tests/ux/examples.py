@@ -104,6 +104,8 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
 EXPECTED_EXIT = {
     "panther-ops lights validate bad_animations.yaml": 2,
     "panther-ops shutdown hosts validate bad.yaml": 2,
+    "panther-ops -i demo config push bad_hosts.yaml --as shutdown-hosts -r panther-01 --yes": 2,
+    "panther-ops -i demo config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
 }
 """Examples that show a refusal: their exit code."""
 

@@ -24,6 +24,9 @@ NO_INVENTORY = ("demo", "bt", "manager run", "lights validate", "lights preview"
 BAD_HOSTS = "hosts:\n  - ip: not an address\n    username: Husarion\n"
 GOOD_HOSTS = "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
 BAD_ANIMATIONS = "user_animations:\n  - id: 5\n    animation: {}\n"
+BAD_PUSHED_HOSTS = "hosts:\n  - ip: '10.15.20.5; touch x'\n    username: husarion\n    port: 70000\n"
+ESCAPING_BTPROJ = ('<?xml version="1.0"?>\n<root BTCPP_format="4" project_format="1.0">\n'
+                   '  <include path="../../../.ssh/authorized_keys"/>\n</root>\n')
 
 
 @pytest.fixture
@@ -40,6 +43,9 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "bad_animations.yaml").write_text(BAD_ANIMATIONS)
     (tmp_path / "bad.yaml").write_text(BAD_HOSTS)
     (tmp_path / "my_hosts.yaml").write_text(GOOD_HOSTS)
+    (tmp_path / "bad_hosts.yaml").write_text(BAD_PUSHED_HOSTS)
+    (tmp_path / "proj").mkdir()
+    (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("NUC_SECRET", "a-long-shared-secret-for-the-nuc")
     assert main(["-i", "demo-fleet", "config", "pull", "controller", "-r", "panther-01", "-o",
