@@ -20,6 +20,7 @@ settings:
   forks: 8            # a comment
 defaults:
   user: husarion
+groups: {lab: {}, quoted: {}}
 robots:
   r01:
     host: 10.200.9.11
