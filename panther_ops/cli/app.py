@@ -164,6 +164,7 @@ def main(argv: list[str] | None = None) -> int:
         from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
     from panther_ops.errors import ExitCode, OpsError
+    from panther_ops.manager.errors import ManagerError
 
     args = list(sys.argv[1:] if argv is None else argv)
     _register(*_command_words(args))
@@ -174,6 +175,11 @@ def main(argv: list[str] | None = None) -> int:
 
         error(str(exc))
         return int(exc.exit_code)
+    except ManagerError as exc:  # a file the manager reads (scenario, animations, BT project...) is bad
+        from panther_ops.cli.render import error
+
+        error(str(exc))
+        return int(ExitCode.USAGE)
     except typer.Exit as exc:
         return int(getattr(exc, "exit_code", 0))
     except typer.Abort:

@@ -20,8 +20,9 @@ app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behavio
 def run(
     sim: Annotated[bool, typer.Option("--sim", help="Run on the simulated Panther (the only mode off-robot).")] = False,
     scenario: Annotated[
-        Optional[Path],  # noqa: UP045
-        typer.Option("--scenario", help="Scenario YAML (timed events); default: the shipped charging scenario."),
+        Optional[str],  # noqa: UP045
+        typer.Option("--scenario", help="A shipped scenario (charging, low_battery, ...) or a scenario YAML file "
+                     "(timed events); default: charging."),
     ] = None,
     duration: Annotated[
         Optional[float],  # noqa: UP045
@@ -58,7 +59,11 @@ def run(
     if not sim:
         raise UsageError("off the robot the manager runs only in simulation: add --sim",
                          hint="on a robot it runs as a compose service: panther-ops manager deploy")
-    path = scenario or template_path("manager", "scenarios", "charging.yaml")
+    from panther_ops.core.manager_deploy import scenario_path
+    from panther_ops.manager import load_scenario
+
+    path = scenario_path(scenario or "charging")
+    loaded = load_scenario(path)  # the one scenario validator: a bad file is refused before anything runs
     if (lights_bt is None) != (safety_bt is None):
         raise UsageError("--lights-bt and --safety-bt go together")
     if lights_bt and safety_bt:
@@ -70,7 +75,7 @@ def run(
         trees = TreeSource.python()
     # Nobody watches a pipe: there the simulation runs as fast as it can.
     clock: Any = ManualClock() if json_out or not sys.stdout.isatty() else ScaledClock(speed)
-    snapshots = run_simulation(path, trees=trees, clock=clock, duration=duration)
+    snapshots = run_simulation(loaded, trees=trees, clock=clock, duration=duration)
     if json_out:
         import dataclasses
         import json

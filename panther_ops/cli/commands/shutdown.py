@@ -340,9 +340,9 @@ def hosts_validate(
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.stack import stack_from_version
+            from panther_ops.core.stack import stack_option
 
-            mode = Mode.HTTP if stack_from_version(stack).shutdown_over_http else Mode.SSH
+            mode = Mode.HTTP if stack_option(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
         results = [_validate_result(str(file), parsed, str(file))]
         fleet = FleetResult("shutdown hosts validate", results)
