@@ -9,7 +9,7 @@ from __future__ import annotations
 import logging
 import os
 import sys
-from typing import TYPE_CHECKING, Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 
@@ -111,6 +111,15 @@ def _register(command: str | None = None, sub: str | None = None) -> None:
         groups = [_only(g, sub) for g in groups if g.name == command]
     app.registered_commands[:] = commands
     app.registered_groups[:] = groups
+
+
+def full_command() -> Any:
+    """The click command of the whole application with every command registered (tests walk
+    it to reach every command and subcommand)."""
+    from typer.main import get_command
+
+    _register()
+    return get_command(app)
 
 
 def _name(info: CommandInfo) -> str:

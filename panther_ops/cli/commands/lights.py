@@ -126,6 +126,12 @@ def test(
     """
     from panther_ops.cli.render import finish, print_results
     from panther_ops.core.lights_ops import set_animation
+    from panther_ops.errors import UsageError
+
+    if not 0 <= anim_id <= 65535:
+        raise UsageError(f"animation id {anim_id} is not allowed", hint="0-65535 (the message's uint16)")
+    if any(ord(c) < 32 or ord(c) == 127 for c in param):
+        raise UsageError(f"--param {param!r} holds a control character", hint="one line of printable text")
 
     def task(c: Any) -> Any:
         return set_animation(c, anim_id, param, repeating)

@@ -11,7 +11,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, Settle, Yes
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots, finite
 
 app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behaviour trees).", no_args_is_help=True)
 
@@ -26,9 +26,10 @@ def run(
     ] = None,
     duration: Annotated[
         Optional[float],  # noqa: UP045
-        typer.Option("--duration", min=0.1, help="Simulated seconds (default: the scenario's)."),
+        typer.Option("--duration", min=0.1, callback=finite, help="Simulated seconds (default: the scenario's)."),
     ] = None,
-    speed: Annotated[float, typer.Option("--speed", min=0.1, help="Simulated seconds per real second.")] = 1.0,
+    speed: Annotated[float, typer.Option("--speed", min=0.1, callback=finite,
+                                         help="Simulated seconds per real second.")] = 1.0,
     xml: Annotated[bool, typer.Option("--xml", help="Run the shipped BT.CPP XML trees instead of the Python trees.")]
     = False,
     lights_bt: Annotated[
@@ -44,12 +45,12 @@ def run(
     """Tick the Lights and Safety trees at 10 Hz against a simulated Panther (linear battery,
     temperatures, e-stop, fan, AUX, charger) driven by a scenario, and show both bumpers,
     battery, temperatures, fan/AUX/e-stop and each tree's active branch live in the terminal.
-    With --json, one JSON line per tick (a snapshot) instead; when stdout is not a terminal the
+    With --json, one JSON document with a snapshot per tick instead; when stdout is not a terminal the
     simulation runs as fast as it can and prints one line per simulated second.
 
     Examples:
-      panther-ops manager run --sim --scenario templates/manager/scenarios/battery_overheat.yaml --speed 10
-      panther-ops manager run --sim --xml --duration 30 --json | jq .calls
+      panther-ops manager run --sim --scenario battery_overheat --speed 10
+      panther-ops manager run --sim --xml --duration 30 --json | jq '.snapshots[].calls'
     """
     from panther_ops.core.templates import template_path
     from panther_ops.errors import UsageError
@@ -78,10 +79,11 @@ def run(
     snapshots = run_simulation(loaded, trees=trees, clock=clock, duration=duration)
     if json_out:
         import dataclasses
-        import json
 
-        for snap in snapshots:
-            sys.stdout.write(json.dumps(dataclasses.asdict(snap), default=str) + "\n")
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "manager run --sim", "scenario": loaded.name, "source": str(path),
+                   "snapshots": [dataclasses.asdict(snap) for snap in snapshots]})
         return 0
     from panther_ops.cli.sim_view import live
 
@@ -131,8 +133,12 @@ def deploy(
     """
     from panther_ops.cli.mutate import mutate
     from panther_ops.core.manager_bundle import build_bundle
-    from panther_ops.core.manager_deploy import apply_manager, plan_deploy
+    from panther_ops.core.manager_deploy import apply_manager, plan_deploy, scenario_path
 
+    if scenario is not None:  # checked once, here, whichever robots it would go to
+        from panther_ops.manager import load_scenario
+
+        load_scenario(scenario_path(scenario))
     bundle = build_bundle()
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))

@@ -17,7 +17,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
 
 if TYPE_CHECKING:
     from panther_ops.core.shutdown.hostsfile import HostsFile
@@ -38,7 +38,8 @@ FileArg = Annotated[
 ]
 PowerBudget = Annotated[
     float,
-    typer.Option("--power-budget", min=0.1, help="Seconds the robot's hardware gives its computers before it cuts "
+    typer.Option("--power-budget", min=0.1, callback=finite,
+                 help="Seconds the robot's hardware gives its computers before it cuts "
                  "the power (a timeout above it is warned)."),
 ]
 OptStr = Optional[str]  # noqa: UP045
@@ -136,14 +137,28 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     from panther_ops.core.shutdown.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
+    for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
+        if given is not None and not given.is_file():
+            raise _usage(f"{option} {given}: no such file")
+    if via is not None:  # the robot must exist, dry run or not
+        inv = context.load(ctx)
+        if via not in inv.robots:
+            inv.select([via], [], False)  # no robot matches: exit 2 naming the robots
+            raise _usage(f"--via {via!r}: name one robot of the inventory (not a glob)")
     parsed = load_hosts_file(path, power_budget=power_budget)
     _print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
+    where = f"through {via}" if via else "from here"
+    if json_out and (dry_run or not hosts):
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": f"shutdown --hosts {path}", "via": via, "dry_run": dry_run,
+                   "hosts": [e.row() for e in parsed.entries], "warnings": [str(w) for w in parsed.warnings]})
+        return 0
     if not hosts:
         context.info(f"{path}: no hosts, nothing to shut down")
         return 0
-    where = f"through {via}" if via else "from here"
-    if dry_run or not json_out:
+    if not json_out:
         _print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
     if dry_run:
         context.info("dry run: nothing was contacted")
@@ -155,8 +170,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
         from panther_ops.core.runner import Connections
         from panther_ops.core.shutdown.remote import RobotLink, backends_via
 
-        inv = context.load(ctx)
-        (robot,) = inv.select([via], [], False)[:1]
+        robot = inv.robots[via]
         with Connections(inv) as conns:
             link = RobotLink(conns.get(robot), robot.name)
             fleet = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
@@ -313,6 +327,16 @@ def _finish_list(fleet: FleetResult, json_out: bool) -> int:
     return int(fleet.exit_code)
 
 
+def _check_ip(ip: str) -> None:
+    """--ip must be an address or hostname (never an option, a path or shell text)."""
+    from panther_ops.core.hostspec import HOST_FORMS, HostSpecError, check_host
+
+    try:
+        check_host(ip)
+    except HostSpecError as exc:
+        raise _usage(f"--ip: {exc}", hint=f"allowed: {HOST_FORMS}") from None
+
+
 @hosts_app.command("validate")
 def hosts_validate(
     ctx: typer.Context,
@@ -337,6 +361,8 @@ def hosts_validate(
     from panther_ops.results import FleetResult, Outcome
 
     _local_or_robots(file, robot, group, all_)
+    if stack and file is None:
+        raise _usage("--stack goes with a local FILE (a robot's hosts file is checked for the robot's own stack)")
     if file is not None:
         mode = None
         if stack:
@@ -450,8 +476,8 @@ def hosts_add(
     port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
     command: Annotated[OptStr, typer.Option("--command", help="Command run over SSH (default: sudo shutdown "
                                             "now).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", help="Seconds to wait for the host to go down "
-                                              "(default 5).")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+                                              help="Seconds to wait for the host to go down (default 5).")] = None,
     no_ping: Annotated[bool, typer.Option("--no-ping-for-success", help="Done at the response (no pinging).")] = False,
     http: Annotated[bool, typer.Option("--http", help="A husarion-shutdown (HTTP) host (2.2.1+ robots).")] = False,
     secret_env: SecretEnv = None,
@@ -481,6 +507,7 @@ def hosts_add(
 
     if not ip:
         raise _usage("--ip is required")
+    _check_ip(ip)
     _local_or_robots(file, robot, group, all_)
     if file is not None:
         secret_value: Any = None
@@ -532,6 +559,7 @@ def hosts_remove(
 
     if not ip:
         raise _usage("--ip is required")
+    _check_ip(ip)
     _local_or_robots(file, robot, group, all_)
     if file is not None:
         if not file.exists():
@@ -558,7 +586,8 @@ def setup(
     user: Annotated[OptStr, typer.Option("--user", "-u", help="User on the computer (SSH era; default "
                                          "husarion).")] = None,
     port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", help="The host's timeout in the hosts file.")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+                                              help="The host's timeout in the hosts file.")] = None,
     ask_password: Annotated[bool, typer.Option("--ask-password", help="Ask the user's password (login once and "
                                                "sudo on the computer); never on the command line, never "
                                                "logged.")] = False,
@@ -737,7 +766,7 @@ def robot_(
             for name, exc in usage.items():
                 error(f"{name}: {exc}")
             return int(ExitCode.USAGE)
-        if not json_out or dry_run:
+        if not json_out:  # with --json, stdout holds one JSON document and nothing else
             print_results(planned, title="shutdown robot: " + ("dry run" if dry_run else "plan"))
         if dry_run or not plans:
             if json_out:
