@@ -464,7 +464,9 @@ def _address(k: str, v: str) -> str:
         parse_jump(v)
         return v
     except HostSpecError as exc:
-        raise _Bad(str(exc), f"allowed: {HOST_FORMS if k == 'host' else JUMP_FORMS}") from None
+        if k == "host":
+            raise _Bad(str(exc), f"allowed: {HOST_FORMS}") from None
+        raise _Bad(f"{exc}: neither a robot of the inventory nor user@host[:port]", f"allowed: {JUMP_FORMS}") from None
 
 
 def _user(v: Any) -> str:

@@ -133,7 +133,7 @@ REACHES_ROBOT = [
     Case("robot-lights-param", ["lights", "test", "21", "--param", "0.5\nx", "-r", "panther-01"], ["--param"]),
     Case("robot-lights-id", ["lights", "test", "70000", "-r", "panther-01"], ["70000"]),
     Case("robot-hosts-add-ip", ["shutdown", "hosts", "add", "--ip", "10.15.20.3;id", "--user", "husarion", *R1],
-         ["--ip", "10.15.20.3;id"]),
+         ["10.15.20.3;id", "IP address"]),
     Case("robot-hosts-add-ip-option", ["shutdown", "hosts", "add", "--ip", "-oProxyCommand=x", "--user", "husarion",
                                        *R1], ["-oProxyCommand=x"]),
     Case("robot-hosts-remove-ip", ["shutdown", "hosts", "remove", "--ip", INJECT, *R1], [INJECT]),

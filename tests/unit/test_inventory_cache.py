@@ -20,13 +20,13 @@ settings:
   forks: 8            # a comment
 defaults:
   user: husarion
-groups: {lab: {}, quoted: {}}
 robots:
   r01:
     host: 10.200.9.11
     groups: [lab, "quoted"]
     vars: {floor: 2, ratio: 0.5, on: true, none: null}
   r02: {host: 10.200.9.12, port: 2222}
+groups: {lab: {}, quoted: {}}
 """
 
 

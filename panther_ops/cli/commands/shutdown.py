@@ -328,13 +328,11 @@ def _finish_list(fleet: FleetResult, json_out: bool) -> int:
 
 
 def _check_ip(ip: str) -> None:
-    """--ip must be an address or hostname (never an option, a path or shell text)."""
-    from panther_ops.core.hostspec import HOST_FORMS, HostSpecError, check_host
+    """--ip of `hosts remove` is what a hosts file's ip may be (the hosts file validator's rule)."""
+    from panther_ops.core.shutdown.hostsfile import valid_address
 
-    try:
-        check_host(ip)
-    except HostSpecError as exc:
-        raise _usage(f"--ip: {exc}", hint=f"allowed: {HOST_FORMS}") from None
+    if not valid_address(ip):
+        raise _usage(f"--ip {ip!r} is not an IP address or host name")
 
 
 @hosts_app.command("validate")
@@ -507,7 +505,6 @@ def hosts_add(
 
     if not ip:
         raise _usage("--ip is required")
-    _check_ip(ip)
     _local_or_robots(file, robot, group, all_)
     if file is not None:
         secret_value: Any = None
