@@ -215,7 +215,24 @@ STACKS = [
          ["--stack", "FILE"]),
 ]
 
-CASES = INVENTORY + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
+BOMB = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
+    f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]\n" for i in range(1, 9))
+
+ALIASES = [
+    Case("alias-hosts-recursive", ["shutdown", "hosts", "validate", "{tmp}/h.yaml"], ["h.yaml", "recursive"],
+         files={"h.yaml": esc("hosts: &h [{ip: *h}]\n")}),
+    Case("alias-hosts-bomb", ["shutdown", "hosts", "validate", "{tmp}/h.yaml"], ["h.yaml", "aliases expanded"],
+         files={"h.yaml": esc(BOMB + "hosts: *a8\n")}),
+    Case("alias-hosts-add-bomb", ["shutdown", "hosts", "add", "{tmp}/h.yaml", "--ip", "10.15.20.4", "--user",
+                                  "husarion", "--yes"], ["h.yaml", "aliases expanded"],
+         files={"h.yaml": esc(BOMB + "hosts: *a8\n")}),
+    Case("alias-scenario-recursive", ["manager", "run", "--sim", "--scenario", "{tmp}/s.yaml"], ["s.yaml"],
+         files={"s.yaml": esc("robot: &r {bat_temp: 1, x: *r}\n")}),
+    Case("alias-animations-recursive", ["lights", "validate", "{tmp}/a.yaml"], ["a.yaml"],
+         files={"a.yaml": esc("animations: &a [{id: 21, name: *a}]\n")}),
+]
+
+CASES = INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
 
 
 def test_the_corpus_is_large_and_unique() -> None:
