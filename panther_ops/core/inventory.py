@@ -157,18 +157,25 @@ class Inventory:
             hits = [r for n, r in self.robots.items() if fnmatch.fnmatchcase(n, pat)]
             if not hits:
                 raise InventoryError(
-                    f"no robot matches --robot {pat!r}", path=str(self.path),
+                    f"no robot matches --robot {pat!r}" + _did_you_mean(pat, self.robots), path=str(self.path),
                     hint=f"robots: {', '.join(self.robots)}",
                 )
             chosen.update((r.name, r) for r in hits)
         for g in groups:
             if g not in self.groups:
                 raise InventoryError(
-                    f"no group {g!r}", path=str(self.path),
+                    f"no group {g!r}" + _did_you_mean(g, self.groups), path=str(self.path),
                     hint=f"groups: {', '.join(self.groups) or '(none defined)'}",
                 )
             chosen.update((r.name, r) for r in self.robots.values() if g in r.groups)
         return [r for n, r in self.robots.items() if n in chosen]
+
+
+def _did_you_mean(name: str, known: Any) -> str:
+    import difflib
+
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def find_inventory(explicit: str | None) -> tuple[Path, str]:

@@ -89,7 +89,9 @@ INVENTORY = [
 
 SELECTORS = [
     Case("sel-unknown-robot", ["config", "set", "wheel_type", "WH02", "-r", "panther-99", "--yes"], ["panther-99"]),
-    Case("sel-unknown-group", ["config", "set", "wheel_type", "WH02", "-g", "warehous", "--yes"], ["warehous"]),
+    Case("sel-unknown-group", ["config", "set", "wheel_type", "WH02", "-g", "warehous", "--yes"],
+         ["'warehous'", "did you mean 'warehouse'"]),
+    Case("sel-robot-typo", ["status", "-r", "panther-1"], ["'panther-1'", "did you mean 'panther-01'"]),
     Case("sel-injection-robot", ["status", "-r", INJECT], [INJECT]),
     Case("sel-injection-group", ["status", "-g", "x;id"], ["x;id"]),
     Case("sel-empty-glob", ["driver", "restart", "-r", "", "--yes"], ["''"]),
