@@ -29,6 +29,7 @@ PLAUSIBLE: dict[str, str] = {
 FILES = {
     "controller.yaml": "# a stand-in file: the walk refuses before using it\n",
     "hosts.yaml": "hosts:\n  - ip: 127.0.0.1\n    username: husarion\n",
+    "broken.yaml": "version: 1\nrobots:\n  panther-01: &r {host: panther-01, vars: {me: *r}}\n",
 }
 GROUP_NEEDS = {"shutdown": ["--hosts", "{tmp}/hosts.yaml"]}
 """What a group that runs by itself needs to do something (else it prints its help)."""
@@ -76,6 +77,8 @@ def _cases() -> list[tuple[str, Command, list[str], str | None]]:
         cases.append((f"{cmd}|--no-such-option", cmd, [*base, "--no-such-option"], None))
         if cmd.option("--robot"):
             cases.append((f"{cmd}|unknown-robot", cmd, [*base, "-r", "nobody-*"], None))
+            for inv in ("missing", "broken"):
+                cases.append((f"{cmd}|{inv}-inventory", cmd, ["-i", f"{{tmp}}/{inv}.yaml", *base], None))
         else:
             cases.append((f"{cmd}|extra-argument", cmd, [*base, "extra", "garbage"], None))
         for i, arg in enumerate(cmd.arguments):
@@ -117,7 +120,8 @@ def test_bad_input_is_refused(args: list[str], param: str | None, fleet: Path, c
     monkeypatch.chdir(fleet)
     monkeypatch.setattr("sys.stdin", io.StringIO(""))
     monkeypatch.setenv("PANTHER_OPS_CACHE_DIR", "")
-    argv = ["-i", str(fleet / "demo"), *(a.format(tmp=fleet) for a in args)]
+    given = [a.format(tmp=fleet) for a in args]
+    argv = given if given[0] == "-i" else ["-i", str(fleet / "demo"), *given]
     before = tree_hashes(fleet / "demo")
     capsys.readouterr()
     code = main(argv)
