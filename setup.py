@@ -1,6 +1,6 @@
 """The templates ship inside the package: ``templates/`` (kept at the top of the repository)
 is installed as ``panther_ops/templates`` (found at run time with importlib.resources, see
-panther_ops/core/templates.py). Everything else is in pyproject.toml."""
+panther_ops/core/fleet/templates.py). Everything else is in pyproject.toml."""
 
 from __future__ import annotations
 

@@ -37,7 +37,7 @@ import sys
 from pathlib import Path
 
 import panther_ops
-from panther_ops.core.templates import templates_dir
+from panther_ops.core.fleet.templates import templates_dir
 
 repo = Path(sys.argv[1]).resolve()
 for where in (Path(panther_ops.__file__).resolve(), templates_dir().resolve()):
@@ -45,6 +45,6 @@ for where in (Path(panther_ops.__file__).resolve(), templates_dir().resolve()):
 print(f"panther_ops from {Path(panther_ops.__file__).parent}, templates {templates_dir()}", file=sys.stderr)
 PY
 PO="$PO" bash "$REPO/scripts/demo-job.sh" >/dev/null
-"$PO" lights validate "$("$WORK/venv/bin/python" -c 'from panther_ops.core.templates import template_path; print(template_path("lights", "user_animations.example.yaml"))')"
+"$PO" lights validate "$("$WORK/venv/bin/python" -c 'from panther_ops.core.fleet.templates import template_path; print(template_path("lights", "user_animations.example.yaml"))')"
 "$PO" manager run --sim --scenario low_battery --duration 2 --json >/dev/null
 echo "== the wheel runs the main job" >&2

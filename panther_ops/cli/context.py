@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING
 import typer
 
 if TYPE_CHECKING:
-    from panther_ops.core.inventory import Inventory, Robot
-    from panther_ops.core.runner import Task
+    from panther_ops.core.fleet.inventory import Inventory, Robot
+    from panther_ops.core.fleet.runner import Task
     from panther_ops.results import FleetResult
 
 
@@ -53,7 +53,7 @@ def _preload(modules: tuple[str, ...]) -> None:
 
 def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) -> Inventory:
     """The inventory; ``start``: begin the background imports first (else the caller does)."""
-    from panther_ops.core.inventory import load_inventory
+    from panther_ops.core.fleet.inventory import load_inventory
 
     if start:
         _preload(preload)
@@ -74,7 +74,7 @@ def targets(
     inv = load(ctx, preload, start=not connect)
     chosen = inv.select(robots or [], groups or [], all_)
     if connect:  # the robots first: their sshd then start while paramiko loads
-        from panther_ops.core.connect_ahead import connect_ahead
+        from panther_ops.core.fleet.connect_ahead import connect_ahead
 
         connect_ahead(inv, chosen)
         _preload(preload)
@@ -93,7 +93,7 @@ def run(
     json_out: bool = False,
 ) -> FleetResult:
     from panther_ops.cli.render import progress_printer
-    from panther_ops.core.runner import RunOptions, run_fleet
+    from panther_ops.core.fleet.runner import RunOptions, run_fleet
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
     with progress_printer(len(chosen), enabled=not json_out) as progress:

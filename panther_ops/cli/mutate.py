@@ -10,8 +10,8 @@ import typer
 from panther_ops.cli.options import finite
 
 if TYPE_CHECKING:
-    from panther_ops.core.changes import Applier, Planner
-    from panther_ops.core.inventory import Inventory, Robot
+    from panther_ops.core.fleet.changes import Applier, Planner
+    from panther_ops.core.fleet.inventory import Inventory, Robot
 
 Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
 DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
@@ -47,9 +47,9 @@ def mutate(
     applied, and the results table follows.
     """
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
-    from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
-    from panther_ops.core.pipeline import ApplyOptions
-    from panther_ops.core.runner import Connections, RunOptions
+    from panther_ops.core.fleet.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
+    from panther_ops.core.fleet.pipeline import ApplyOptions
+    from panther_ops.core.fleet.runner import Connections, RunOptions
     from panther_ops.errors import ExitCode
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)

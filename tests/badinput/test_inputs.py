@@ -255,7 +255,7 @@ def test_the_corpus_is_large_and_unique() -> None:
 def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                  monkeypatch: pytest.MonkeyPatch) -> None:
     if case.files.get("led.yaml") == "":  # the stock led_config, copied in
-        from panther_ops.core.templates import template_path
+        from panther_ops.core.fleet.templates import template_path
 
         case = Case(case.id, case.args, case.names,
                     files={"led.yaml": esc(template_path("lights", "led_config.yaml").read_text())},

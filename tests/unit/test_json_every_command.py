@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.templates import template_path
+from panther_ops.core.fleet.templates import template_path
 from tests.badinput.commands import every_command
 
 R = ["-r", "panther-01"]

@@ -44,7 +44,7 @@ def test_the_wheel_carries_the_templates_and_uses_them(tmp_path: Path) -> None:
                                "sys.exit(main(sys.argv[1:]))", *args], check=False, cwd=run, env=env,
                               capture_output=True, text=True, timeout=120)
 
-    where = subprocess.run([sys.executable, "-c", "import panther_ops; from panther_ops.core.templates import "
+    where = subprocess.run([sys.executable, "-c", "import panther_ops; from panther_ops.core.fleet.templates import "
                             "templates_dir; print(panther_ops.__file__); print(templates_dir())"],
                            cwd=run, env=env, capture_output=True, text=True, check=True)
     package, templates = where.stdout.split()

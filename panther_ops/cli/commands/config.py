@@ -16,7 +16,7 @@ app = typer.Typer(
     no_args_is_help=True,
 )
 
-PLANNERS = ("panther_ops.core.config_plans",)
+PLANNERS = ("panther_ops.core.config.plans",)
 """What planning a change imports: loaded in the background while the robots connect."""
 
 KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
@@ -48,8 +48,8 @@ def get(
     Example: panther-ops config get wheel_type --all
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.config_checks import precheck_key
-    from panther_ops.core.config_plans import read_arg
+    from panther_ops.core.config.checks import precheck_key
+    from panther_ops.core.config.plans import read_arg
     from panther_ops.results import Outcome, RobotResult
 
     precheck_key(key)
@@ -93,7 +93,7 @@ def set_(
       panther-ops config set wheel_type WH02 -r panther-01 --yes
       panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
     """
-    from panther_ops.core.config_checks import precheck
+    from panther_ops.core.config.checks import precheck
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
@@ -101,15 +101,16 @@ def set_(
     # the planners (and the YAML editor they bring) load while the robots connect
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
-            from panther_ops.core.config_plans import plan_controller
+            from panther_ops.core.config.plans import plan_controller
 
             return plan_controller(c, {key: parsed}, force=force)
     else:
         def planner(c: Any) -> Any:
-            from panther_ops.core.config_plans import plan_args
+            from panther_ops.core.config.plans import plan_args
 
             return plan_args(c, {key: value}, [], force=force)
-    return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
+    label = f"config set {key} {value}" + (" --force" if force else "")
+    return mutate(label, inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 
@@ -132,13 +133,13 @@ def unset(
 
     Example: panther-ops config unset wheel_type -r panther-01 --yes
     """
-    from panther_ops.core.config_checks import precheck_key
+    from panther_ops.core.config.checks import precheck_key
 
     precheck_key(key, known=False)  # an argument not in the catalogue can be removed, a malformed name not
     inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
 
     def planner(c: Any) -> Any:
-        from panther_ops.core.config_plans import plan_args
+        from panther_ops.core.config.plans import plan_args
 
         return plan_args(c, {}, [key])
 
@@ -160,7 +161,7 @@ def diff(
 
     Example: panther-ops config diff --all
     """
-    from panther_ops.core.config_plans import plan_desired
+    from panther_ops.core.config.plans import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
@@ -183,7 +184,7 @@ def history(
     """
     from panther_ops.cli.history_view import print_history
     from panther_ops.cli.render import finish
-    from panther_ops.core.history import list_history
+    from panther_ops.core.fleet.history import list_history
     from panther_ops.results import Outcome, RobotResult
 
     def task(c: Any) -> RobotResult:
@@ -221,7 +222,7 @@ def rollback(
     """
     import re
 
-    from panther_ops.core.history import plan_rollback
+    from panther_ops.core.fleet.history import plan_rollback
     from panther_ops.errors import UsageError
 
     if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
@@ -258,7 +259,7 @@ def push(
 
     Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
-    from panther_ops.core.push import PushKind, plan_push, read_bundle
+    from panther_ops.core.config.push import PushKind, plan_push, read_bundle
     from panther_ops.errors import UsageError
 
     try:
@@ -266,9 +267,9 @@ def push(
     except ValueError:
         raise UsageError(f"--as {as_!r} is not a config kind",
                          hint="allowed: " + ", ".join(k.value for k in PushKind)) from None
-    bundle = read_bundle(kind, local)
+    bundle = read_bundle(kind, local, force=force)
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"config push {local.name} --as {kind.value}", inv, chosen,
+    return mutate(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""), inv, chosen,
                   lambda c: plan_push(c, kind, bundle, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
@@ -300,8 +301,8 @@ def pull(
     import sys
 
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.push import PushKind
-    from panther_ops.core.push import pull as pull_file
+    from panther_ops.core.config.push import PushKind
+    from panther_ops.core.config.push import pull as pull_file
     from panther_ops.errors import UsageError
     from panther_ops.results import Outcome, RobotResult
 
@@ -359,10 +360,11 @@ def apply(
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.config_plans import plan_desired
+    from panther_ops.core.config.plans import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("apply", inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
+    label = "apply --force" if force else "apply"
+    return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 

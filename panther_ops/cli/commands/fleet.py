@@ -27,7 +27,7 @@ def status(
     """
     from panther_ops.cli.render import finish
     from panther_ops.cli.status_view import print_status
-    from panther_ops.core.status import status_task
+    from panther_ops.core.health.status import status_task
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     fleet = context.run("status", inv, chosen, status_task, forks=forks, json_out=json_out)
@@ -56,7 +56,7 @@ def doctor(
     """
     from panther_ops.cli.render import finish
     from panther_ops.cli.status_view import print_doctor
-    from panther_ops.core.doctor import fleet_findings, make_doctor_task
+    from panther_ops.core.health.doctor import fleet_findings, make_doctor_task
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     fleet = context.run("doctor", inv, chosen, make_doctor_task(password_check=password_check),

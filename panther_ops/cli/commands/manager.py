@@ -52,7 +52,7 @@ def run(
       panther-ops manager run --sim --scenario battery_overheat --speed 10
       panther-ops manager run --sim --xml --duration 30 --json | jq '.snapshots[].calls'
     """
-    from panther_ops.core.templates import template_path
+    from panther_ops.core.fleet.templates import template_path
     from panther_ops.errors import UsageError
     from panther_ops.manager import ManualClock, TreeSource, run_simulation
     from panther_ops.manager.clock import ScaledClock
@@ -60,7 +60,7 @@ def run(
     if not sim:
         raise UsageError("off the robot the manager runs only in simulation: add --sim",
                          hint="on a robot it runs as a compose service: panther-ops manager deploy")
-    from panther_ops.core.manager_deploy import scenario_path
+    from panther_ops.core.manager_ops.deploy import scenario_path
     from panther_ops.manager import load_scenario
 
     path = scenario_path(scenario or "charging")
@@ -132,8 +132,8 @@ def deploy(
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_bundle import build_bundle
-    from panther_ops.core.manager_deploy import apply_manager, plan_deploy, scenario_path
+    from panther_ops.core.manager_ops.bundle import build_bundle
+    from panther_ops.core.manager_ops.deploy import apply_manager, plan_deploy, scenario_path
 
     if scenario is not None:  # checked once, here, whichever robots it would go to
         from panther_ops.manager import load_scenario
@@ -167,7 +167,7 @@ def remove(
     Example: panther-ops manager remove -r panther-01 --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_deploy import apply_manager, plan_remove
+    from panther_ops.core.manager_ops.deploy import apply_manager, plan_remove
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("manager remove", inv, chosen, plan_remove, applier=apply_manager, yes=yes, dry_run=dry_run,
@@ -178,7 +178,7 @@ def _print_status(fleet: Any) -> None:
     from rich.table import Table
 
     from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.docker_times import human_duration
+    from panther_ops.core.containers.times import human_duration
 
     table = Table(title="panther-ops manager status")
     for col in ("robot", "result", "version", "mode", "state", "uptime", "restarts", "disable_manager", "message"):
@@ -213,7 +213,7 @@ def status(
     Example: panther-ops manager status --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.manager_status import status_task
+    from panther_ops.core.manager_ops.status import status_task
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return finish(context.run("manager status", inv, chosen, status_task, forks=forks, json_out=json_out),
@@ -244,7 +244,7 @@ def logs(
       panther-ops manager logs -r panther-01 -f
     """
     from panther_ops.cli.logs_view import show_logs
-    from panther_ops.core.manager_status import open_logs
+    from panther_ops.core.manager_ops.status import open_logs
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return show_logs("manager logs", inv, chosen, open_logs, lines=lines, since_s=None, timestamps=timestamps,

@@ -20,7 +20,7 @@ from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
 from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
 
 if TYPE_CHECKING:
-    from panther_ops.core.shutdown.hostsfile import HostsFile
+    from panther_ops.core.config.hostsfile import HostsFile
     from panther_ops.results import FleetResult, RobotResult
     from panther_ops.transport.base import Secret
 
@@ -134,7 +134,7 @@ def shutdown(
 
 def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Path | None,
                    known_hosts: Path | None, yes: bool, dry_run: bool, power_budget: float, json_out: bool) -> int:
-    from panther_ops.core.shutdown.hostsfile import load_hosts_file
+    from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
     for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
@@ -167,7 +167,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     if not _confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", yes, "shutting hosts down"):
         return 2
     if via:
-        from panther_ops.core.runner import Connections
+        from panther_ops.core.fleet.runner import Connections
         from panther_ops.core.shutdown.remote import RobotLink, backends_via
 
         robot = inv.robots[via]
@@ -267,7 +267,7 @@ def hosts_list(
 
     Example: panther-ops shutdown hosts list -r panther-01
     """
-    from panther_ops.core.shutdown.hostsfile import load_hosts_file
+    from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.results import FleetResult, Outcome, RobotResult
 
     _local_or_robots(file, robot, group, all_)
@@ -329,7 +329,7 @@ def _finish_list(fleet: FleetResult, json_out: bool) -> int:
 
 def _check_ip(ip: str) -> None:
     """--ip of `hosts remove` is what a hosts file's ip may be (the hosts file validator's rule)."""
-    from panther_ops.core.shutdown.hostsfile import valid_address
+    from panther_ops.core.config.hostsfile import valid_address
 
     if not valid_address(ip):
         raise _usage(f"--ip {ip!r} is not an IP address or host name")
@@ -355,7 +355,7 @@ def hosts_validate(
 
     Example: panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
     """
-    from panther_ops.core.shutdown.hostsfile import Mode, load_hosts_file
+    from panther_ops.core.config.hostsfile import Mode, load_hosts_file
     from panther_ops.results import FleetResult, Outcome
 
     _local_or_robots(file, robot, group, all_)
@@ -364,7 +364,7 @@ def hosts_validate(
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.stack import stack_option
+            from panther_ops.core.fleet.stack import stack_option
 
             mode = Mode.HTTP if stack_option(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
@@ -415,7 +415,7 @@ def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
 
 def _entry(ip: str, user: str | None, port: int | None, command: str | None, timeout: float | None,
            no_ping: bool, http: bool, secret: Any) -> dict[str, Any]:
-    from panther_ops.core.shutdown.hostsfile import check_entry, new_entry
+    from panther_ops.core.config.hostsfile import check_entry, new_entry
 
     if http and user:
         raise _usage("--http hosts have no --user (husarion-shutdown takes a signed request, not a login)")
@@ -429,14 +429,22 @@ def _entry(ip: str, user: str | None, port: int | None, command: str | None, tim
     return entry
 
 
+def _check_local(path: Path, after: str) -> None:
+    """The hosts file as it would be written, through the one hosts file validator (an invalid
+    entry already in the file is refused too, naming it)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    check_file(FileKind.SHUTDOWN_HOSTS, str(path), after.encode(), local=path)
+
+
 def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run: bool, json_out: bool,
                  command: str, message: str) -> int:
     import os
     import tempfile
 
     from panther_ops.cli.render import emit_json, print_diffs
-    from panther_ops.core.diff import unified_diff
-    from panther_ops.core.shutdown.hostsfile import mask_secrets
+    from panther_ops.core.config.hostsfile import mask_secrets
+    from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
     changed = after != (before or "")
@@ -501,7 +509,7 @@ def hosts_add(
       panther-ops shutdown hosts add -r panther-01 --ip 10.15.20.3 --user husarion --yes
       panther-ops shutdown hosts add hosts.yaml --ip 10.15.20.5 --http --secret-env NUC_SECRET
     """
-    from panther_ops.core.shutdown.hostsfile import add_host
+    from panther_ops.core.config.hostsfile import add_host
 
     if not ip:
         raise _usage("--ip is required")
@@ -518,6 +526,7 @@ def hosts_add(
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
         before = file.read_text() if file.exists() else None
         edit = add_host(before or "", entry, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts add", edit.message)
     sec = _secret(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
@@ -552,7 +561,7 @@ def hosts_remove(
 
     Example: panther-ops shutdown hosts remove -r panther-01 --ip 10.15.20.3 --yes
     """
-    from panther_ops.core.shutdown.hostsfile import remove_host
+    from panther_ops.core.config.hostsfile import remove_host
 
     if not ip:
         raise _usage("--ip is required")
@@ -563,6 +572,7 @@ def hosts_remove(
             raise _usage(f"{file} does not exist")
         before = file.read_text()
         edit = remove_host(before, ip, user, port, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts remove", edit.message)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
@@ -612,7 +622,7 @@ def setup(
     """
     import getpass
 
-    from panther_ops.core.shutdown.hostsfile import check_entry, new_entry
+    from panther_ops.core.config.hostsfile import check_entry, new_entry
     from panther_ops.core.shutdown.setup import SetupRequest, run_setup
     from panther_ops.transport.base import Secret
 
@@ -733,7 +743,7 @@ def robot_(
 
     Example: panther-ops shutdown robot -r panther-01 --yes
     """
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.shutdown.run import RobotShutdownPlan, plan_robot_shutdown, shutdown_robot
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult
