@@ -19,9 +19,15 @@ OpenLogs = Callable[[Any, "LogOptions"], tuple[str, Any]]
 def show_logs(command: str, inv: Inventory, chosen: list[Robot], open_logs: OpenLogs, *, lines: int | None,
               since_s: float | None, timestamps: bool, follow: bool, json_out: bool,
               skip: tuple[type[Exception], ...] = ()) -> int:
-    """Print each robot's log (prefixed ``robot | `` when several), or follow one robot's."""
+    """Print each robot's log (prefixed ``robot | `` when several), or follow one robot's.
+
+    A robot without a docker engine (a demo robot) is ``skipped``, whichever container is asked for.
+    """
     from panther_ops.cli.render import error, finish, print_warnings
+    from panther_ops.core.containers.engine import NoEngineError
     from panther_ops.core.containers.logs import LogOptions, prefix_lines
+
+    skip = (NoEngineError, *skip)
     from panther_ops.errors import UsageError
     from panther_ops.results import Outcome, RobotResult
 

@@ -43,7 +43,7 @@ def get(
     forks: Forks = None,
 ) -> int:
     """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
-    stack's default, with where it came from.
+    stack's default, with where it came from. No robot chosen: every robot of the inventory.
 
     Example: panther-ops config get wheel_type --all
     """
@@ -59,7 +59,7 @@ def get(
         return RobotResult(c.robot.name, Outcome.OK, f"{key} = {info['value']} ({info['source']}; {info['stack']})",
                            data=info)
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config get", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_results)
 
@@ -77,21 +77,26 @@ def set_(
     no_restart: NoRestart = False,
     settle: Settle = 5.0,
     force: Force = False,
+    everywhere: Annotated[bool, typer.Option(
+        "--everywhere", help="namespace: also change it where the robot's other parts name it (the gamepad "
+        "service, ROBOT_NAMESPACE), in the same plan.")] = False,
     json_out: Json = False,
     forks: Forks = None,
     canary: Canary = 0,
     max_fail: MaxFail = None,
 ) -> int:
     """Set a launch argument of the driver (e.g. wheel_type WH02) or a controller limit
-    (controller.linear.x.max_velocity 1.5) on each robot, knowing each key per stack version.
+    (controller.linear.x.max_velocity 1.0) on each robot, knowing each key per stack version.
 
     Plans every robot first and shows the exact diff; then (after --yes or your confirmation)
     backs up, writes atomically, recreates the driver as the robot user, and verifies it keeps
-    running with the new command; a failed change is rolled back.
+    running with the new command; a failed change is rolled back. A new namespace warns of the
+    places that keep the old one (gamepad service, ROBOT_NAMESPACE, the WebUI); --everywhere
+    changes the first two in the same plan.
 
     Examples:
       panther-ops config set wheel_type WH02 -r panther-01 --yes
-      panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
+      panther-ops config set controller.linear.x.max_velocity 1.0 -g warehouse --dry-run
     """
     from panther_ops.core.config.checks import precheck
 
@@ -108,8 +113,9 @@ def set_(
         def planner(c: Any) -> Any:
             from panther_ops.core.config.plans import plan_args
 
-            return plan_args(c, {key: value}, [], force=force)
-    label = f"config set {key} {value}" + (" --force" if force else "")
+            return plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
+    label = (f"config set {key} {value}" + (" --everywhere" if everywhere else "")
+             + (" --force" if force else ""))
     return mutate(label, inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
@@ -163,9 +169,9 @@ def diff(
     """
     from panther_ops.core.config.plans import plan_desired
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
-                  forks=forks)
+                  forks=forks, read_only=True)
 
 
 @app.command("history")
@@ -193,7 +199,7 @@ def history(
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config history", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_history)
 

@@ -74,7 +74,7 @@ def status(
     from panther_ops.cli.render import finish
     from panther_ops.core.driver.containers import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("driver status", inv, chosen, status_task, forks=forks, json_out=json_out), json_out,
                   _print_status)
 
@@ -110,7 +110,8 @@ def logs(
       panther-ops driver logs -r panther-01 -f
     """
     from panther_ops.cli.logs_view import show_logs
-    from panther_ops.core.driver.containers import NoEngineError, open_logs, parse_duration
+    from panther_ops.core.containers.engine import NoEngineError
+    from panther_ops.core.driver.containers import open_logs, parse_duration
 
     since_s = parse_duration(since) if since is not None else None
     inv, chosen = context.targets(ctx, robot, group, all_)
@@ -213,7 +214,7 @@ def versions(
     from panther_ops.core.driver.containers import versions_task
     from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     tags: dict[str, list[HubTag]] | None = None
     remote_data: dict[str, Any] = {}
     notes: list[str] = []

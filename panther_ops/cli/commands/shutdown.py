@@ -149,6 +149,12 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     _print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
     where = f"through {via}" if via else "from here"
+    inv = link_robot = None
+    if via:  # the dry run refuses what the real run would refuse
+        from panther_ops.core.shutdown.remote import lan_robot
+
+        inv = context.load(ctx)
+        link_robot = lan_robot(inv, via)
     if json_out and (dry_run or not hosts):
         from panther_ops.cli.render import emit_json
 
@@ -166,13 +172,12 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     names = ", ".join(h.describe() for h in hosts)
     if not _confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", yes, "shutting hosts down"):
         return 2
-    if via:
+    if inv is not None and link_robot is not None:
         from panther_ops.core.fleet.runner import Connections
         from panther_ops.core.shutdown.remote import RobotLink, backends_via
 
-        robot = inv.robots[via]
         with Connections(inv) as conns:
-            link = RobotLink(conns.get(robot), robot.name)
+            link = RobotLink(conns.get(link_robot), link_robot.name)
             fleet = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
     else:
         from panther_ops.core.shutdown.remote import backends_here
@@ -675,8 +680,10 @@ def _finish_steps(fleet: FleetResult, json_out: bool) -> int:
         _stdout().print(table)
     print_diffs(fleet)
     print_warnings(fleet)
-    for r in fleet.results:
-        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/] {_esc(r.message)}")
+    for r in fleet.results:  # the message once: a failure's is the table's failing step
+        shown = r.data.get("steps") and not r.outcome.is_failure
+        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
+                        + (f" {_esc(r.message)}" if shown else ""))
     return int(fleet.exit_code)
 
 

@@ -496,6 +496,12 @@ def _replacement_hint(s: ArgSpec, stack: Stack) -> str | None:
         return "from 2.0.2 use localization_config_path"
     if s.key == "simulation_engine":
         return "from 2.0.2 the simulator is chosen by the simulation launch files"
+    if s.key == "launch_nmea_gps":
+        return (f"on {stack.label()} the GPS runs as its own compose service (nmea-gps, from the manual), "
+                "not a launch argument: panther-ops gps enable")
+    if s.key == "launch_gamepad":
+        return (f"on {stack.label()} the gamepad runs as its own compose service (gamepad_controller, "
+                "husarion/joy2twist), not a launch argument: start or stop that service in compose.yaml")
     return None
 
 
@@ -797,6 +803,10 @@ class ArgChange:
     warnings: tuple[str, ...]
 
 
+_SAID_BY_THE_ARG = {"battery-sim-only": "battery_config_path"}
+"""Cross rules whose warning the argument's own check (``validate_arg``) already gives."""
+
+
 def set_launch_args(
     compose: ComposeFile,
     values: Mapping[str, str],
@@ -833,9 +843,10 @@ def set_launch_args(
                     warnings.append(f"replaced {other} (not declared on {stack.label()}) by {va.name}")
         prospective[va.name] = va.value
     volumes = compose.list_volumes(service)
+    said = {v.name for v in validated if v.warnings}  # a rule that says it again in other words is left out
     findings = [
-        f for f in check_args(stack, prospective, volumes=volumes) if set(f.keys) & {v.name for v in validated}
-        or f.level == "error"
+        f for f in check_args(stack, prospective, volumes=volumes) if (set(f.keys) & {v.name for v in validated}
+        or f.level == "error") and not (f.rule in _SAID_BY_THE_ARG and _SAID_BY_THE_ARG[f.rule] in said)
     ]
     warnings.extend(raise_for_errors(findings, force=force))
     changed = False

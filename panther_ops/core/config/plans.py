@@ -13,6 +13,7 @@ from typing import Any
 from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.launch_args import set_launch_args, spec, unset_launch_arg
+from panther_ops.core.config.namespace_follow import follow_in_compose, follow_in_env_file
 from panther_ops.core.config.robot import ComposeRead, RobotConfig, parse_config, read_compose, read_config
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
@@ -53,16 +54,22 @@ class _ArgsOutcome:
     verify: Verify
     service: str
     stack: str
+    also_recreate: tuple[str, ...] = ()
+    """Other services changed with the driver (``config set namespace --everywhere``)."""
+    env_files: tuple[str, ...] = ()
+    """The driver's env files, when the namespace changes (they may carry ROBOT_NAMESPACE)."""
 
 
 _ARGS: Memo[_ArgsOutcome] = Memo()
 
 
-def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False) -> RobotPlan:
+def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
+              everywhere: bool = False) -> RobotPlan:
     """``config set/unset``: launch arguments in the driver's command.
 
     Planned once per distinct compose.yaml (and stack setting) of the fleet; the robots
-    that share one get the same edit.
+    that share one get the same edit. A new ``namespace`` warns of the places that keep
+    the old one (``everywhere``: changes them in the same plan, see namespace_follow).
     """
     raw = read_compose(ctx, keep=True)
     if "wheel_type" in sets or "wheel_type" in unsets:
@@ -72,11 +79,22 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
         new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack)
         if needs_migration(cfg, new_wheel):
             return _plan_wheel_change(ctx, cfg, new_wheel, sets, unsets, force)
-    key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force)
-    out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force))
+    key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force,
+           everywhere)
+    out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force, everywhere))
     edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
-    plan = RobotPlan(ctx.robot.name, out.summary, edits, (out.service,), raw.path, [out.verify],
-                     None if edits else _noop_args(sets, unsets), list(out.warnings))
+    warnings, summary = list(out.warnings), out.summary
+    for path in out.env_files:
+        data = _read(ctx, path)
+        if data is None:
+            continue
+        env = follow_in_env_file(path, data, _value_text(sets["namespace"]), everywhere=everywhere)
+        warnings += env.warnings
+        if env.after is not None and edits:
+            edits.append(FileEdit(path, data, env.after))
+            summary += "; also " + ", ".join(env.changed)
+    plan = RobotPlan(ctx.robot.name, summary, edits, (out.service, *out.also_recreate), raw.path, [out.verify],
+                     None if edits else _noop_args(sets, unsets), warnings)
     plan.data["stack"] = out.stack
     plan.home = raw.home
     return plan
@@ -98,12 +116,29 @@ def _plan_wheel_change(ctx: RobotContext, cfg: RobotConfig, new_wheel: str, sets
 
 
 def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any], unsets: list[str],
-                  force: bool) -> _ArgsOutcome:
+                  force: bool, everywhere: bool = False) -> _ArgsOutcome:
     cfg = parse_config(raw, stack_setting)
     old_args = dict(cfg.compose.args)
     warnings, verify = edit_args(cfg, sets, unsets, force)
-    return _ArgsOutcome(cfg.compose.text().encode(), _args_summary(cfg, old_args),
-                        (*warnings, *cfg.compose.notes), verify, cfg.service, cfg.stack.label())
+    summary = _args_summary(cfg, old_args)
+    also: tuple[str, ...] = ()
+    env_files: tuple[str, ...] = ()
+    if "namespace" in sets and cfg.compose.args.get("namespace") != old_args.get("namespace"):
+        follow = follow_in_compose(cfg.compose, cfg.service, _value_text(sets["namespace"]), everywhere=everywhere)
+        warnings += follow.warnings
+        also = tuple(follow.services)
+        env_files = tuple(cfg.compose.env_files(cfg.service))
+        if follow.changed:
+            summary += "; also " + ", ".join(follow.changed)
+    return _ArgsOutcome(cfg.compose.text().encode(), summary, (*warnings, *cfg.compose.notes), verify, cfg.service,
+                        cfg.stack.label(), also, env_files)
+
+
+def _read(ctx: RobotContext, path: str) -> bytes | None:
+    try:
+        return ctx.transport.read_file(path)
+    except FileNotFoundError:
+        return None
 
 
 def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:

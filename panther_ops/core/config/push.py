@@ -28,7 +28,7 @@ from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import InputError, UsageError
+from panther_ops.errors import InputError
 
 
 class PushKind(str, Enum):
@@ -53,6 +53,7 @@ _KINDS = {
     PushKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
 }
 _BT_ARGS = {PushKind.BT_LIGHTS: "lights_bt_project_path", PushKind.BT_SAFETY: "safety_bt_project_path"}
+_BT_TEMPLATES = {PushKind.BT_LIGHTS: "PantherLightsBT.btproj", PushKind.BT_SAFETY: "PantherSafetyBT.btproj"}
 
 
 @dataclass
@@ -228,8 +229,11 @@ def pull(ctx: RobotContext, kind: PushKind) -> tuple[bytes, str]:
         host = cfg.host_path_of(current) if current else None
         if host and (data := _read(ctx, host)) is not None:
             return data, f"{host} (mounted, {arg})"
-        raise UsageError(f"{kind.value}: no custom project mounted on {ctx.robot.name}; the image's default is used",
-                         hint="BT projects ship with panther-ops: templates/behavior_trees/")
+        from panther_ops.core.fleet.templates import template_file
+
+        project = template_file("behavior_trees", _BT_TEMPLATES[kind])
+        return project.read_bytes(), (f"panther-ops' template {_BT_TEMPLATES[kind]} (templates/behavior_trees/): "
+                                      f"no custom project is mounted, the robot runs its image's default")
     cf = config_file(cfg.stack, _KINDS[kind], wheel_type=_wheel(cfg))
     if cf.launch_arg:
         name = spec(cf.launch_arg).name_for(cfg.stack)
@@ -243,7 +247,10 @@ def pull(ctx: RobotContext, kind: PushKind) -> tuple[bytes, str]:
     from_image = _from_image(ctx, cfg, cf.package, cf.filename)
     if from_image is not None:
         return from_image
-    return cf.template_text().encode(), f"panther-ops template for {cfg.stack.label()} (not found in the image)"
+    why = ("a demo robot has no image" if ctx.robot.transport == "local"
+           else "the driver container could not be read")
+    return cf.template_text().encode(), (f"panther-ops' template for {cfg.stack.label()}: the robot uses its "
+                                         f"image's default, which this template reproduces ({why})")
 
 
 def _from_image(ctx: RobotContext, cfg: RobotConfig, package: str, filename: str) -> tuple[bytes, str] | None:

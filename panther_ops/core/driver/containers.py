@@ -10,6 +10,7 @@ from datetime import datetime
 from typing import Any
 
 from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.containers.engine import NoEngineError, engine
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.driver.images import HubTag, local_images, newer_tags
@@ -18,6 +19,8 @@ from panther_ops.errors import OpsError, RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
 
 _DURATION_PART = re.compile(r"(\d+(?:\.\d+)?)([smhd])")
+
+
 _UNIT_S = {"s": 1.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
 
 
@@ -98,20 +101,6 @@ def describe_container(attrs: Mapping[str, Any], *, compose_image: str | None, c
         view.problem = (f"restarting (exit code {state.get('ExitCode')}, {data['restart_count']} restarts)"
                         if restarting else f"{status} (exit code {state.get('ExitCode')})")
     return view
-
-
-class NoEngineError(RemoteStateError):
-    """The robot has no docker engine to ask (a demo robot, or docker not installed)."""
-
-
-def engine(ctx: RobotContext) -> tuple[Any | None, str | None]:
-    """The robot's docker SDK client over its SSH connection, or (None, why)."""
-    if ctx.robot.transport == "local":
-        return None, "demo robot: no docker engine"
-    client = ctx.transport.docker()
-    if client is None:
-        return None, "no docker engine on this robot"
-    return client, None
 
 
 def _compose_dir(cfg: RobotConfig) -> tuple[str, str]:

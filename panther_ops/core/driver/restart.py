@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from panther_ops.core.config.robot import read_config
-from panther_ops.core.driver.containers import compose_argv, engine, service_containers
+from panther_ops.core.containers.engine import engine
+from panther_ops.core.driver.containers import compose_argv, service_containers
 from panther_ops.core.fleet.pipeline import ApplyOptions, recreate_and_verify
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext

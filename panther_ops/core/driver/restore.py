@@ -10,7 +10,8 @@ from datetime import datetime, timezone
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
 from panther_ops.core.config.plans import compose_plan
 from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.driver.containers import engine, last_line
+from panther_ops.core.containers.engine import engine
+from panther_ops.core.driver.containers import last_line
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
     ApplyOptions,

@@ -11,7 +11,8 @@ from panther_ops.core.config.compose import ComposeError, ComposeFile
 from panther_ops.core.config.launch_args import check_args, migrate_args
 from panther_ops.core.config.plans import compose_plan
 from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.driver.containers import engine, last_line, service_containers
+from panther_ops.core.containers.engine import engine
+from panther_ops.core.driver.containers import last_line, service_containers
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.driver.restart import DEFAULT_SERVICE
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, mark_backup, recreate_and_verify

@@ -28,7 +28,7 @@ from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
 from panther_ops.core.fleet.plan import RobotPlan
-from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
+from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, phase_reporter, run_fleet
 from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -97,6 +97,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
             all_decided.notify_all()
 
     def task(ctx: RobotContext) -> RobotResult:
+        ctx.phase("plan")
         try:
             plan = planner(ctx)
             check_written(plan)
@@ -118,13 +119,18 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
-    def noted(res: RobotResult) -> None:  # a robot whose task never ran (unreachable) is decided too
-        decide(res.robot)
-        if progress is not None:
-            progress(res)
+    class Noted:  # a robot whose task never ran (unreachable) is decided too
+        def __call__(self, res: RobotResult) -> None:
+            decide(res.robot)
+            if progress is not None:
+                progress(res)
+
+        def phase(self, robot: str, name: str) -> None:
+            if (report := phase_reporter(progress, robot)) is not None:
+                report(name)
 
     plan_opts = RunOptions(forks=options.forks)
-    fp.results = run_fleet(command, inventory, robots, task, plan_opts, noted, connections)
+    fp.results = run_fleet(command, inventory, robots, task, plan_opts, Noted(), connections)
     return fp
 
 
@@ -170,8 +176,13 @@ def unstage_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], conn
         run_fleet(fp.command, inventory, waiting, task, RunOptions(forks=options.forks), None, connections)
 
 
-def dry_run_result(fp: FleetPlan) -> FleetResult:
-    out = FleetResult(fp.command, notes=["dry run: nothing was written"])
+def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
+    """The plan as a dry run's result: each change is what the robot ``would`` get (a plan
+    with an action has a summary that starts with its verb: ``would remove manager ...``).
+
+    ``read_only``: the command never writes (``config diff``): no "dry run" note then.
+    """
+    out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
             action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")

@@ -48,6 +48,7 @@ SETTINGS_KEYS = {
     "known_hosts": "known_hosts file(s) to verify host keys against (default ~/.ssh/known_hosts)",
     "forks": "how many robots to work on at once (default 32)",
     "command_timeout": "seconds a remote command may take (default 120)",
+    "default_group": "the group read-only commands (status, config get, ...) answer for when none is chosen",
 }
 GROUP_KEYS = {"vars", "desired", "description"}
 DESIRED_KEYS = {
@@ -103,6 +104,8 @@ class Inventory:
     forks: int = DEFAULT_FORKS
     command_timeout: float = 120.0
     files: tuple[Path, ...] = ()
+    default_group: str | None = None
+    """settings.default_group: what read-only commands answer for when no robot is chosen."""
 
     def endpoint(self, robot: Robot, _seen: tuple[str, ...] = ()) -> Endpoint:
         """How to reach ``robot`` (its jump host resolved, recursively)."""
@@ -214,6 +217,7 @@ class _Loader:
         self.defaults: dict[str, Any] = {}
         self.raw_robots: dict[str, tuple[LineDict, Path]] = {}
         self.groups: dict[str, dict[str, Any]] = {}
+        self.default_group_at: tuple[Path, LineDict] | None = None
 
     def err(self, msg: str, file: Path, doc: LineDict | LineList | None, key: str, sub: str | None = None,
             hint: str | None = None) -> InventoryError:
@@ -247,7 +251,14 @@ class _Loader:
             forks=int(self.settings.get("forks", DEFAULT_FORKS)),
             command_timeout=float(self.settings.get("command_timeout", 120.0)),
             files=tuple(files),
+            default_group=self.settings.get("default_group"),
         )
+        if inv.default_group is not None and inv.default_group not in self.groups:
+            assert self.default_group_at is not None
+            f, s = self.default_group_at
+            raise self.err(f"default_group {inv.default_group!r} is not a group of the inventory", f, s,
+                           "settings.default_group", "default_group",
+                           hint=f"groups: {', '.join(self.groups) or '(none defined)'}")
         for r in robots.values():
             if r.jump in robots:
                 inv.endpoint(r)  # raises on loops
@@ -317,6 +328,11 @@ class _Loader:
                     raise self.err(f"command_timeout {v!r} is not allowed", f, s, f"settings.{k}", k,
                                    hint="a finite number of seconds > 0, e.g. 120")
                 self.settings[k] = float(v)
+            elif k == "default_group":
+                if not isinstance(v, str) or not v:
+                    raise self.err("default_group must be a group name", f, s, f"settings.{k}", k)
+                self.settings[k] = v
+                self.default_group_at = (f, s)
 
     def mapping(self, value: Any, f: Path, parent: LineDict | LineList, key: str) -> LineDict:
         if value is None:

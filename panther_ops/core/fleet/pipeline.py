@@ -94,6 +94,7 @@ def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Staged
     stop (:func:`unstage`), or the end of the connection: until then no file is replaced.
     Raises the transport's errors (the robot went away: nothing was renamed).
     """
+    ctx.phase("write")
     backup_id = new_backup_id()
     manifest = {
         "id": backup_id,
@@ -123,6 +124,7 @@ def unstage(ctx: RobotContext) -> None:
 def apply_staged(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, staged: Staged) -> RobotResult:
     """Give a staged write its go-ahead, then recreate, verify and roll back as needed."""
     result = _result(ctx.robot.name, plan)
+    ctx.phase("write")
     problem = staged.problem or _commit(ctx, plan, opts)
     if problem is not None:
         result.outcome = Outcome.FAILED
@@ -259,6 +261,7 @@ def _write_problem(name: str, plan: RobotPlan, res: CommandResult) -> str | None
 
 def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
                backup_id: str) -> RobotResult:
+    ctx.phase("roll back")
     t = ctx.transport
     try:
         for e in plan.edits:
@@ -294,6 +297,7 @@ def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, res
         return None
     compose = plan.compose_file
     cdir = posixpath.dirname(compose) or "~"
+    ctx.phase("recreate")
     res = ctx.transport.run(
         Command.of("docker", "compose", "-f", posixpath.basename(compose), "up", "-d", "--force-recreate",
                    *plan.recreate, login=True, cwd=cdir),
@@ -301,6 +305,7 @@ def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, res
     )
     if not res.ok:
         return f"docker compose up failed: {res.stderr.strip()[-400:]}"
+    ctx.phase("verify")
     return _watch(client, plan, settle_s)
 
 

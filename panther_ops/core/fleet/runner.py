@@ -30,10 +30,30 @@ class RobotContext:
     transport: Transport
     inventory: Inventory
     warnings: list[str] = field(default_factory=list)
+    on_phase: Callable[[str], None] | None = None
+    """Told each phase the task enters (see :meth:`phase`)."""
+
+    def phase(self, name: str) -> None:
+        """Report the phase this robot's work has reached (one of :data:`PHASES`)."""
+        if self.on_phase is not None:
+            self.on_phase(name)
 
 
 Task = Callable[[RobotContext], RobotResult]
 Progress = Callable[[RobotResult], None]
+"""Told each robot's result as it ends. A progress object that also has a method
+``phase(robot, phase)`` is told each phase a robot enters (connect, plan, write,
+recreate, verify, roll back), as it happens, from the robot's worker thread."""
+
+PHASES = ("connect", "plan", "write", "recreate", "verify", "roll back")
+
+
+def phase_reporter(progress: Progress | None, robot: str) -> Callable[[str], None] | None:
+    """``progress.phase`` bound to ``robot``, when the progress object takes phases."""
+    phase = getattr(progress, "phase", None)
+    if phase is None:
+        return None
+    return lambda name: phase(robot, name)
 
 
 @dataclass(frozen=True)
@@ -107,11 +127,14 @@ class Connections:
         self.close()
 
 
-def run_one(connections: Connections, robot: Robot, task: Task) -> RobotResult:
+def run_one(connections: Connections, robot: Robot, task: Task,
+            on_phase: Callable[[str], None] | None = None) -> RobotResult:
     """Run the task on the robot's (shared) connection; every error becomes a result."""
     start = time.monotonic()
     try:
-        ctx = RobotContext(robot, connections.get(robot), connections.inventory)
+        if on_phase is not None:
+            on_phase("connect")
+        ctx = RobotContext(robot, connections.get(robot), connections.inventory, on_phase=on_phase)
         result = task(ctx)
         result.warnings[:0] = ctx.warnings
     except UnreachableError as exc:
@@ -163,7 +186,9 @@ class _Fleet:
         with ThreadPoolExecutor(max_workers=max(1, min(self.opts.forks, len(todo)))) as pool:
             while queue or pending:
                 while queue and len(pending) < self.opts.forks and self.stop_reason is None:
-                    pending.add(pool.submit(run_one, self.connections, queue.pop(0), self.task))
+                    robot = queue.pop(0)
+                    pending.add(pool.submit(run_one, self.connections, robot, self.task,
+                                            phase_reporter(self.progress, robot.name)))
                 if not pending:
                     break
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)

@@ -433,7 +433,7 @@ def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | N
     old_version = state.get("version") if state else None
     head = (f"manager {old_version} -> {bundle.version}" if old_version and old_version != bundle.version
             else f"manager {bundle.version}")
-    parts = [f"{head} ({settings.mode}) as service {SERVICE} on {cfg.compose.driver_image}"]
+    parts = [f"deploy {head} ({settings.mode}) as service {SERVICE} on {cfg.compose.driver_image}"]
     if driver_changed:
         parts.append(f"{arg}:={cfg.compose.args[arg]} on {cfg.service} (stock manager stands down)")
     noop = (f"manager {bundle.version} ({settings.mode}) already deployed; "

@@ -117,11 +117,14 @@ def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
     """(container name, logs): bytes, or an iterator of chunks when following.
 
     Raises:
-        RemoteStateError: no docker engine, or no manager container.
+        NoEngineError: no docker engine (a demo robot).
+        RemoteStateError: no manager container.
     """
-    client = ctx.transport.docker() if ctx.robot.transport != "local" else None
-    if client is None:
-        raise RemoteStateError("no docker engine on this robot")
+    from panther_ops.core.containers.engine import NoEngineError, engine
+
+    client, why = engine(ctx)
+    if client is None:  # a demo robot: skipped, as the driver's logs are
+        raise NoEngineError(why or "no docker engine on this robot")
     ctrs = service_containers(client)
     if not ctrs:
         raise RemoteStateError(f"no container for service {SERVICE}: the manager is not deployed",
