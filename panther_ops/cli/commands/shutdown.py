@@ -21,6 +21,7 @@ from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
 
 if TYPE_CHECKING:
     from panther_ops.core.config.hostsfile import HostsFile
+    from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.results import FleetResult, RobotResult
     from panther_ops.transport.base import Secret
 
@@ -140,21 +141,20 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
         if given is not None and not given.is_file():
             raise _usage(f"{option} {given}: no such file")
-    if via is not None:  # the robot must exist, dry run or not
+    inv: Inventory | None = None
+    link_robot: Robot | None = None
+    if via is not None:  # the robot must exist and reach its LAN, dry run or not
+        from panther_ops.core.shutdown.remote import lan_robot
+
         inv = context.load(ctx)
         if via not in inv.robots:
             inv.select([via], [], False)  # no robot matches: exit 2 naming the robots
             raise _usage(f"--via {via!r}: name one robot of the inventory (not a glob)")
+        link_robot = lan_robot(inv, via)  # the dry run refuses what the real run would refuse
     parsed = load_hosts_file(path, power_budget=power_budget)
     _print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
     where = f"through {via}" if via else "from here"
-    inv = link_robot = None
-    if via:  # the dry run refuses what the real run would refuse
-        from panther_ops.core.shutdown.remote import lan_robot
-
-        inv = context.load(ctx)
-        link_robot = lan_robot(inv, via)
     if json_out and (dry_run or not hosts):
         from panther_ops.cli.render import emit_json
 
