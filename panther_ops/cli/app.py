@@ -9,7 +9,7 @@ from __future__ import annotations
 import logging
 import os
 import sys
-from typing import TYPE_CHECKING, Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 
@@ -126,6 +126,15 @@ def _register(command: str | None = None, sub: str | None = None) -> None:
     app.registered_groups[:] = groups
 
 
+def full_command() -> Any:
+    """The click command of the whole application with every command registered (tests walk
+    it to reach every command and subcommand)."""
+    from typer.main import get_command
+
+    _register()
+    return get_command(app)
+
+
 def _name(info: CommandInfo) -> str:
     """The word a registered command answers to (typer's rule when none was given)."""
     from typer.main import get_command_name
@@ -177,6 +186,7 @@ def main(argv: list[str] | None = None) -> int:
         from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
     from panther_ops.errors import ExitCode, OpsError
+    from panther_ops.manager.errors import ManagerError
 
     args = list(sys.argv[1:] if argv is None else argv)
     _register(*_command_words(args))
@@ -187,6 +197,11 @@ def main(argv: list[str] | None = None) -> int:
 
         error(str(exc))
         return int(exc.exit_code)
+    except ManagerError as exc:  # a file the manager reads (scenario, animations, BT project...) is bad
+        from panther_ops.cli.render import error
+
+        error(str(exc))
+        return int(ExitCode.USAGE)
     except typer.Exit as exc:
         return int(getattr(exc, "exit_code", 0))
     except typer.Abort:

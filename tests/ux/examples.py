@@ -106,6 +106,8 @@ EXPECTED_EXIT = {
     "panther-ops shutdown hosts validate bad.yaml": 2,
     "panther-ops -i demo config push bad_hosts.yaml --as shutdown-hosts -r panther-01 --yes": 2,
     "panther-ops -i demo config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
+    "panther-ops manager run --sim --scenario low_batery": 2,
+    "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
 }
 """Examples that show a refusal: their exit code."""
 
