@@ -38,6 +38,7 @@ ALLOWED: dict[tuple[str, str], set[int]] = {
     # An output directory that does not exist yet is created (that is no bad input).
     ("demo init", "--dest"): {0},
     ("config pull", "--dest"): {0},
+    ("reimage backup", "--out"): {0},
 }
 
 

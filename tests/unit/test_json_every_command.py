@@ -56,16 +56,29 @@ VALID: dict[str, list[str]] = {
     "manager remove": [*R, "--dry-run"],
     "manager status": ["--all"],
     "manager logs": R,
+    "reimage plan": R,
+    "reimage backup": [*R, "--out", "{tmp}/backups"],
 }
 """Arguments that make each command valid on the demo fleet (a demo robot has no docker engine
 or SSH: some commands report that per robot, in their JSON document)."""
 
-JSON_COMMANDS = sorted(str(c) for c in every_command() if c.option("--json"))
+ON_A_DEVICE = {
+    "reimage flash": "tests/integration/test_reimage_flash_lab.py",
+    "reimage verify": "tests/integration/test_reimage_flash_lab.py",
+}
+"""Commands whose valid input is a block device: their --json runs on loop devices in the lab test named."""
+
+JSON_COMMANDS = sorted(str(c) for c in every_command() if c.option("--json") and str(c) not in ON_A_DEVICE)
 
 
 def test_every_json_command_has_valid_arguments() -> None:
     assert len(JSON_COMMANDS) > 30
     assert set(JSON_COMMANDS) == set(VALID), "a command with --json needs an entry in VALID (and only those)"
+    every = {str(c) for c in every_command() if c.option("--json")}
+    assert set(ON_A_DEVICE) <= every
+    for command, test in ON_A_DEVICE.items():  # the lab test runs it with --json and parses it
+        text = (Path(__file__).resolve().parents[2] / test).read_text()
+        assert f'"reimage", "{command.split()[1]}"' in text and '"--json"' in text, (command, test)
 
 
 @pytest.fixture(scope="module")

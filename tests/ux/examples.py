@@ -97,6 +97,8 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r" -f\b| --follow\b", "follows a live container log (docker on the robot)"),
     (r"config rollback .*--to \d", "needs a backup id from that robot's `config history`"),
     (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
+    (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
+    (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
     (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
