@@ -399,13 +399,6 @@ def write_image(
     return WriteResult(offset, sha, time.monotonic() - start, direct)
 
 
-@dataclass
-class ReadResult:
-    sha256: str
-    seconds: float
-    direct: bool
-
-
 def _read_device_chunks(device: str, length: int) -> Iterator[tuple[memoryview, bool]]:
     """The device's first ``length`` bytes in chunks, read with O_DIRECT where accepted (never
     from the page cache: what is on the device, not what was written to it)."""
@@ -430,44 +423,62 @@ def _read_device_chunks(device: str, length: int) -> Iterator[tuple[memoryview, 
         buf.close()
 
 
-def hash_device(device: str, length: int, progress: Progress | None = None) -> ReadResult:
-    """The sha256 of the device's first ``length`` bytes, read with O_DIRECT where accepted
-    (what is on the device, not what the page cache kept of it); one thread reads, this one hashes."""
-    start = time.monotonic()
-    h = hashlib.sha256()
-    done = 0
-    fd, direct = _open(device, os.O_RDONLY, exclusive=False)
-    if not direct:
-        with contextlib.suppress(OSError):
-            os.posix_fadvise(fd, 0, 0, os.POSIX_FADV_DONTNEED)
-    with open(fd, "rb", buffering=0, closefd=True) as fh:
-        reader = _Reader(fh, limit=length)
-        try:
-            for view in reader.chunks():
-                h.update(view)
-                done += len(view)
-                if progress:
-                    progress("verify", done, length)
-        finally:
-            reader.close()
-    if done != length:
-        raise OSError(errno.EIO, f"{device}: read ended at byte {done} of {length}")
-    return ReadResult(h.hexdigest(), time.monotonic() - start, direct)
+def _equal(a: memoryview, b: memoryview) -> bool:
+    """Whether two equally long byte views hold the same bytes, compared 8 bytes at a time in C
+    (a memoryview of format "B" is compared byte by byte through the struct codes)."""
+    whole = len(a) - len(a) % 8
+    if whole and a[:whole].cast("Q") != b[:whole].cast("Q"):
+        return False
+    return bytes(a[whole:]) == bytes(b[whole:])
 
 
-def _first_diff(a: bytes, b: memoryview) -> int:
+def _first_diff(a: bytes | memoryview, b: memoryview) -> int:
     """The first index where ``a`` and ``b`` differ (they do), halving with C comparisons."""
     n = min(len(a), len(b))
+    a, b = memoryview(a)[:n], b[:n]
     lo, hi = 0, n
-    if a[:n] == b[:n]:
+    if _equal(a, b):
         return n
     while hi - lo > 64:  # a[lo:hi] differs from b[lo:hi]
         mid = (lo + hi) // 2
-        if a[lo:mid] != b[lo:mid]:
+        if not _equal(a[lo:mid], b[lo:mid]):
             hi = mid
         else:
             lo = mid
     return next(i for i in range(lo, hi) if a[i] != b[i])
+
+
+def compare_bytes(device: str, stream: BinaryIO, length: int, progress: Progress | None = None) -> int | None:
+    """The first offset where the device's first ``length`` bytes differ from the stream's (None:
+    identical), compared chunk by chunk; the device is read with O_DIRECT where accepted, the
+    stream (decompressed) by a thread beside those reads. OSError when the device is shorter."""
+    reader = _Reader(stream, limit=length)
+    done = 0
+    pending = memoryview(b"")
+    images = reader.chunks()
+    device_chunks = _read_device_chunks(device, length)
+    try:
+        for view, _ in device_chunks:
+            pos = 0
+            while pos < len(view):
+                if not pending:
+                    nxt = next(images, None)
+                    if nxt is None:  # the image ended before its size: it differs from here
+                        return done + pos
+                    pending = nxt
+                n = min(len(pending), len(view) - pos)
+                if not _equal(pending[:n], view[pos:pos + n]):
+                    return done + pos + _first_diff(pending[:n], view[pos:pos + n])
+                pending, pos = pending[n:], pos + n
+            done += len(view)
+            if progress:
+                progress("verify", done, length)
+    finally:
+        pending.release()
+        device_chunks.close()
+        images.close()
+        reader.close()
+    return None
 
 
 @dataclass

@@ -99,6 +99,10 @@ def test_verdict() -> None:
     bad = Verdict("/dev/sdb", 10, H, "cd" * 32, 7, 0.5)
     assert not bad.ok
     assert bad.message.startswith("/dev/sdb: differs from the image: first difference at byte 7 (0x7)")
+    compared = Verdict("/dev/sdb", 10, H, None, None, 0.5)  # byte for byte: no device hash
+    assert compared.ok and compared.to_json()["compared"] == "bytes"
+    differs = Verdict("/dev/sdb", 10, H, None, 3, 0.5)
+    assert not differs.ok and differs.message.endswith("first difference at byte 3 (0x3) (compared byte for byte)")
 
 
 def test_mounts_are_grouped_by_source() -> None:

@@ -13,29 +13,37 @@ class Verdict:
     device: str
     length: int
     image_sha256: str
-    device_sha256: str
+    device_sha256: str | None
+    """None: the device was compared with the image byte for byte, not hashed."""
     first_difference: int | None
     seconds: float
 
     @property
     def ok(self) -> bool:
-        return self.image_sha256 == self.device_sha256 and self.first_difference is None
+        same_hash = self.device_sha256 is None or self.device_sha256 == self.image_sha256
+        return same_hash and self.first_difference is None
 
     @property
     def message(self) -> str:
         if self.ok:
-            return f"{self.device}: {self.length} bytes identical to the image (sha256 {self.device_sha256})"
+            how = "compared byte for byte" if self.device_sha256 is None else "sha256"
+            return (f"{self.device}: {self.length} bytes identical to the image "
+                    f"({how}; image sha256 {self.image_sha256})")
         where = (
             f"first difference at byte {self.first_difference} (0x{self.first_difference:x})"
             if self.first_difference is not None else "no differing byte found on a second read"
         )
+        if self.device_sha256 is None:
+            return f"{self.device}: differs from the image: {where} (compared byte for byte)"
         return (f"{self.device}: differs from the image: {where}; "
                 f"sha256 read back {self.device_sha256}, image {self.image_sha256}")
 
     def to_json(self) -> dict[str, Any]:
         return {
             "ok": self.ok, "device": self.device, "bytes": self.length, "image_sha256": self.image_sha256,
-            "device_sha256": self.device_sha256, "first_difference": self.first_difference,
+            "device_sha256": self.device_sha256,
+            "compared": "bytes" if self.device_sha256 is None else "sha256",
+            "first_difference": self.first_difference,
             "seconds": round(self.seconds, 3),
             "mib_per_s": round(self.length / (1 << 20) / self.seconds, 1) if self.seconds > 0 else None,
         }
