@@ -20,7 +20,7 @@ import queue
 import stat
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass, field
 from typing import BinaryIO
 
@@ -336,7 +336,7 @@ class _Reader:
         except BaseException as exc:  # handed to the consumer, which raises it
             self.full.put(exc)
 
-    def chunks(self) -> Iterator[memoryview]:
+    def chunks(self) -> Generator[memoryview, None, None]:
         """Each full buffer in turn; it is handed back to the reader when the next is asked for."""
         self.thread.start()
         while (item := self.full.get()) is not None:
@@ -399,7 +399,7 @@ def write_image(
     return WriteResult(offset, sha, time.monotonic() - start, direct)
 
 
-def _read_device_chunks(device: str, length: int) -> Iterator[tuple[memoryview, bool]]:
+def _read_device_chunks(device: str, length: int) -> Generator[tuple[memoryview, bool], None, None]:
     """The device's first ``length`` bytes in chunks, read with O_DIRECT where accepted (never
     from the page cache: what is on the device, not what was written to it)."""
     fd, direct = _open(device, os.O_RDONLY, exclusive=False)

@@ -4,7 +4,9 @@ The archive is read and checked first (manifest, every file's sha256, paths); th
 reads the robot's files as a backup would and writes back every file of the robot user's home
 that differs (content or mode) as one plan with exact diffs: the key pair, known_hosts and
 authorized_keys, the config tree, mounted files, the deployed manager and the compose file,
-then recreates the driver and verifies it. Onto a newer release of the same line the new
+then recreates the driver, and the services the compose file gets back (the manager, an
+nmea-gps service: defined in the backup's compose file, not in the reinstalled one), and
+verifies them. Onto a newer release of the same line the new
 compose file is kept and the backup's customisations are re-applied onto it (``reapply``);
 across release lines restore is refused with exit 2.
 """
@@ -120,6 +122,7 @@ def restore_planner(backup: Backup) -> Planner:
             )
         current = {f.path: f for f in now.files}
         edits, warnings = [], [f"not restored: {p} (a symbolic link)" for p in backup.links]
+        brought_back: list[str] = []
         for f in backup.files:
             if not f.path.startswith(home + "/"):
                 warnings.append(f"not restored: {f.path} (outside {home}; restore it by hand)")
@@ -129,6 +132,8 @@ def restore_planner(backup: Backup) -> Planner:
             if f.path == compose and was != cur and old is not None:
                 text, reapplied = reapply(f.data.decode(), old.data.decode(), compose)
                 data = text.encode()
+            if f.path == compose:
+                brought_back = [n for n in _services(data) if n not in _services(old.data if old else None)]
             if old is not None and old.data == data and int(old.mode, 8) == f.mode:
                 continue
             edits.append(_edit(BackupFile(f.path, f.mode, data, f.secret), old.data if old is not None else None))
@@ -136,14 +141,30 @@ def restore_planner(backup: Backup) -> Planner:
             warnings.append(f"stack {was} -> {cur}: the new image's compose file kept, re-applied: "
                             + ", ".join(reapplied))
         service = str(now.identity.get("driver_service") or backup.robot.get("driver_service") or "")
+        # the driver, and the services the reinstall lost (the manager, nmea-gps, ...) started again
+        recreate = tuple(dict.fromkeys([*([service] if service else []), *brought_back]))
         return RobotPlan(
             ctx.robot.name, f"restore {len(edits)} file(s) from {Path(backup.path).name}", edits,
-            recreate=(service,) if service else (), compose_file=compose,
-            verify=[Verify(service)] if service else [], noop="every file is as in the backup",
+            recreate=recreate, compose_file=compose,
+            verify=[Verify(s) for s in recreate], noop="every file is as in the backup",
             warnings=warnings, home=home,
         )
 
     return plan
+
+
+def _services(data: bytes | None) -> list[str]:
+    """The service names of a compose file's text (none when it does not parse)."""
+    if data is None:
+        return []
+    from ruamel.yaml import YAML
+
+    try:
+        doc = YAML(typ="safe", pure=True).load(data)
+    except Exception:  # a compose file that does not parse defines no service to start
+        return []
+    services = doc.get("services") if isinstance(doc, dict) else None
+    return [str(n) for n in services] if isinstance(services, dict) else []
 
 
 def _edit(f: BackupFile, before: bytes | None) -> FileEdit:
