@@ -7,7 +7,9 @@ from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
-from panther_ops.cli.options import Json
+from panther_ops.cli import context
+from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
+from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.nmea import Fix
@@ -74,3 +76,90 @@ def listen(
             f"bad checksum {stats.bad_checksum}, unknown type {stats.unknown_type}"
             + (f"; --timeout passed before {count} fixes" if code else ""), highlight=False, markup=False)
     return code
+
+
+Port = Annotated[int, typer.Option("--port", help="UDP port the router forwards NMEA to (default 5000).")]
+Ip = Annotated[str, typer.Option("--ip", help="Built-in Computer address the driver listens on (default 10.15.20.2).")]
+Namespace = Annotated[
+    Optional[str],  # noqa: UP045
+    typer.Option("--namespace", help="ROS namespace of the fix topic (default: the robot's, else panther)."),
+]
+Container = Annotated[
+    bool, typer.Option("--container", help="Run the nmea-gps service also on 2.1.1+ (instead of launch_nmea_gps).")
+]
+
+
+@app.command("enable")
+def enable(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    port: Port = 5000,
+    ip: Ip = "10.15.20.2",
+    namespace: Namespace = None,
+    container: Container = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Run the NMEA GPS driver (ANT02 via the router's NMEA forwarding) on each robot, the way
+    its stack does it:
+
+    \b
+      panther_ros 2.0.x-2.1.0: the manual's nmea-gps service added to ~/compose.yaml
+        (husarion/nmea-gps:humble-2.0.1-20240617, network_mode host, restart always,
+        ros2 launch /husarion_utils/nmea_navsat.launch.py robot_namespace:=<ns>);
+        only that service is recreated and checked;
+      panther_ros 2.1.1+ / husarion_ugv 2.2: launch_nmea_gps:=True on the driver; on 2.2 a
+        port or ip other than 5000 / 10.15.20.2 also writes the NMEA parameters file
+        (~/config/husarion_ugv_localization/config/nmea_navsat.yaml, nmea_params_path).
+
+    Plan, diff, confirm, backup, atomic write, recreate, verify, roll back: like config set.
+    A robot already set up reports ok. The fix topic: /<ns>/gps/fix.
+
+    Examples:
+      panther-ops gps enable --all --dry-run
+      panther-ops gps enable -r panther-01 --yes
+    """
+    from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+
+    opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("gps enable", inv, chosen, lambda c: plan_enable(c, opts), applier=apply_gps, yes=yes,
+                  dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks,
+                  canary=canary, max_fail=max_fail)
+
+
+@app.command("disable")
+def disable(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Take back what `gps enable` adds: the nmea-gps service (its container stopped and
+    removed), or launch_nmea_gps, nmea_params_path and the parameters file panther-ops wrote.
+    After an enable, compose.yaml is restored byte for byte.
+
+    Example: panther-ops gps disable -r panther-01 --yes
+    """
+    from panther_ops.core.gps.service import apply_gps, plan_disable
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("gps disable", inv, chosen, plan_disable, applier=apply_gps, yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                  max_fail=max_fail)
