@@ -1,0 +1,170 @@
+"""Issue-13 acceptance, the router: `gps router show|set` against the lab's RUTX11 stand-in on
+a robot's LAN (tests/lab/router.py), reached through the robot's SSH connection; the router's
+NMEA sender follows the forwarding settings, so `router set` changes whether data arrives at
+the robot's UDP port."""
+
+from __future__ import annotations
+
+import json
+import os
+import stat
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+from tests.lab.router import Router, add_router, renew_certificate
+
+pytestmark = pytest.mark.lab
+PASSWORD = "lab-router-pass"
+CAPTURE = (
+    "import socket,sys\n"
+    "s=socket.socket(socket.AF_INET,socket.SOCK_DGRAM);s.bind(('0.0.0.0',int(sys.argv[1])));s.settimeout(2.5)\n"
+    "try:\n  print(s.recv(65535).decode())\nexcept socket.timeout:\n  print('NOTHING')\n"
+)
+
+
+@pytest.fixture(scope="module")
+def router_lab(lab_factory: Any) -> tuple[Any, Router]:
+    lab = lab_factory(1, docker=False, images=("2.1.1",))
+    return lab, add_router(lab, "r01", password=PASSWORD, token_ttl=3.0)
+
+
+@pytest.fixture
+def env(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    pins = tmp_path / "pins"
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PINS", str(pins))
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", PASSWORD)
+    monkeypatch.delenv("PANTHER_OPS_ROUTER_USER", raising=False)
+    return pins
+
+
+def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, (json.loads(out) if out.strip().startswith("{") else {}), out + err
+
+
+def arrives(lab: Any, port: int = 5000) -> str:
+    return str(lab.exec("r01", [sys.executable, "-c", CAPTURE, str(port)], timeout=20).stdout)
+
+
+@pytest.fixture
+def reset(router_lab: tuple[Any, Router]) -> Iterator[None]:
+    _lab, router = router_lab
+    saved = (router.dir / "rutx-state.json").read_text()
+    yield
+    (router.dir / "rutx-state.json").write_text(saved)
+    router.set_password(PASSWORD)
+    router.sender(on=True)
+
+
+def test_show_set_and_forwarding(router_lab: tuple[Any, Router], env: Path, reset: None,
+                                 capsys: pytest.CaptureFixture[str]) -> None:
+    lab, router = router_lab
+    inv = str(lab.inventory_path)
+    base = ["-i", inv]
+    code, doc, text = cli(capsys, *base, "gps", "router", "show", "-r", "r01", "--address", router.ip, "--json")
+    assert code == 0, text
+    d = doc["robots"][0]["data"]
+    assert (d["forwarding"], d["hostname"], d["port"], d["proto"]) == (False, router.robot_lan_ip, "5000", "udp")
+    assert d["sentences"] == ["GPGSV", "GPGGA", "GPRMC", "GPGSA"]
+    assert PASSWORD not in text
+    # pinned on first use, 0600
+    pin = env.read_text().split()
+    assert pin == [f"r01/{router.ip}", d["certificate"]] and stat.S_IMODE(os.stat(env).st_mode) == 0o600
+    assert "NOTHING" in arrives(lab)
+
+    code, doc, text = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip, "--enable",
+                          "--sentences", "GPGGA,GPRMC", "--dry-run", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed" and router.state()["forwarding"]["enabled"] == "0"
+
+    code, doc, text = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip, "--enable",
+                          "--sentences", "GPGGA,GPRMC", "--yes", "--json")
+    assert code == 0, text
+    st = router.state()
+    assert st["forwarding"] == {"id": "nmea_forwarding", "enabled": "1", "hostname": router.robot_lan_ip,
+                                "port": "5000", "proto": "udp"}
+    assert {r["id"] for r in st["rules"] if r["forwarding_enabled"] == "1"} == {"GPGGA", "GPRMC"}
+    got = arrives(lab)
+    assert "$GPGGA," in got and "$GPRMC," in got and "$GPGSA" not in got
+    code, doc, _ = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip, "--enable",
+                       "--sentences", "GPGGA,GPRMC", "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "ok"
+
+    code, doc, text = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip, "--port",
+                          "5009", "--yes", "--json")
+    assert code == 0, text
+    assert router.state()["forwarding"]["port"] == "5009" and "NOTHING" in arrives(lab, 5000)
+    assert "$GPGGA," in arrives(lab, 5009)
+    code, doc, text = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip, "--disable",
+                          "--port", "5000", "--yes", "--json")
+    assert code == 0 and router.state()["forwarding"]["enabled"] == "0" and "NOTHING" in arrives(lab)
+    assert not [e for e in router.events() if e["event"] == "put-refused"]
+
+
+def test_bad_input_and_wrong_password(router_lab: tuple[Any, Router], env: Path, reset: None,
+                                      capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    lab, router = router_lab
+    base = ["-i", str(lab.inventory_path), "gps", "router", "set", "-r", "r01", "--address", router.ip, "--yes"]
+    before = router.state()
+    for argv, says in ((["--port", "70000"], "--port 70000"), (["--hostname", "bad host"], "--hostname"),
+                       (["--sentences", "GPGGA,GPXYZ"], "unknown sentence id 'GPXYZ'"), ([], "nothing to set")):
+        code, _doc, text = cli(capsys, *base, *argv)
+        assert code == 2 and says in text, (argv, text)
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "wrong-secret")
+    code, _doc, text = cli(capsys, *base, "--enable")
+    assert code == 2 and "refused the login" in text and "wrong-secret" not in text
+    assert router.state() == before
+
+
+def test_credentials_file_mode_and_pin_mismatch(router_lab: tuple[Any, Router], env: Path, reset: None,
+                                                tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    lab, router = router_lab
+    base = ["-i", str(lab.inventory_path), "gps", "router", "show", "-r", "r01", "--address", router.ip, "--json"]
+    monkeypatch.delenv("PANTHER_OPS_ROUTER_PASSWORD")
+    creds = tmp_path / "creds"
+    creds.write_text(f"default:\n  username: admin\n  password: {PASSWORD}\n")
+    os.chmod(creds, 0o644)
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_CREDENTIALS", str(creds))
+    code, _doc, text = cli(capsys, *base)
+    assert code == 2 and "chmod 600" in text
+    os.chmod(creds, 0o600)
+    code, doc, text = cli(capsys, *base)
+    assert code == 0 and doc["robots"][0]["outcome"] == "ok", text
+    renew_certificate(lab, router)
+    code, doc, text = cli(capsys, *base)
+    assert code == 3 and doc["robots"][0]["outcome"] == "failed"
+    assert "not the pinned" in doc["robots"][0]["message"]
+
+
+def test_expired_token_logs_in_again(router_lab: tuple[Any, Router], env: Path) -> None:
+    """One client kept past the token's 3 s: its next call is refused (401), it logs in again."""
+    import time
+
+    from panther_ops.core.inventory import load_inventory
+    from panther_ops.core.runner import Connections
+    from panther_ops.transport import pins
+    from panther_ops.transport.base import Secret
+    from panther_ops.transport.rutx import RouterClient
+    from panther_ops.transport.tunnel import open_tcp
+
+    lab, router = router_lab
+    inv = load_inventory(str(lab.inventory_path))
+    with Connections(inv) as conns:
+        ssh = conns.get(inv.robots["r01"]).client  # type: ignore[attr-defined]
+        api = RouterClient(lambda: open_tcp(ssh, "r01", router.ip, 443), "r01", router.ip, pinned=None,
+                           pin=lambda fp: pins.pin("r01/x", fp))
+        api.login("admin", Secret(PASSWORD))
+        logins = sum(e["event"] == "login" for e in router.events())
+        assert api.call("GET", "/api/gps/global")["enabled"] == "1"
+        time.sleep(3.3)
+        assert api.call("GET", "/api/gps/nmea/config/nmea_forwarding")["proto"] == "udp"
+    events = router.events()
+    assert any(e["event"] == "unauthorised" and e["expired"] for e in events)
+    assert sum(e["event"] == "login" for e in events) == logins + 1
