@@ -168,3 +168,66 @@ def test_expired_token_logs_in_again(router_lab: tuple[Any, Router], env: Path) 
     events = router.events()
     assert any(e["event"] == "unauthorised" and e["expired"] for e in events)
     assert sum(e["event"] == "login" for e in events) == logins + 1
+
+
+def test_status_verdicts_follow_the_router(router_lab: tuple[Any, Router], env: Path, reset: None,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    lab, router = router_lab
+    base = ["-i", str(lab.inventory_path), "gps"]
+    at = ["-r", "r01", "--address", router.ip]
+
+    def status(*extra: str) -> dict[str, Any]:
+        code, doc, text = cli(capsys, *base, "status", *at, "--window", "2.5", "--json", *extra)
+        assert code in (0, 3), text
+        res = doc["robots"][0]
+        assert (code == 0) == (res["outcome"] == "ok")
+        return dict(res["data"])
+
+    lat, lon = 52.2297123, 21.0122456
+    router.sender(on=True, lat=lat, lon=lon)
+    d = status("--router")
+    assert d["verdict"] == "router not forwarding" and d["router"]["forwarding"] is False
+    assert d["robot_lan_ip"] == router.robot_lan_ip
+    assert status()["verdict"] == "no data"  # without --router: nothing arrived, cause unknown
+
+    assert cli(capsys, *base, "router", "set", *at, "--enable", "--yes")[0] == 0
+    d = status("--router")
+    assert d["verdict"] == "fix", d
+    assert abs(d["fix"]["lat"] - lat) < 1e-6 and abs(d["fix"]["lon"] - lon) < 1e-6
+    assert d["fix"]["fix_quality"] == 1 and d["fix"]["satellites"] == 9 and d["fix"]["hdop"] == 0.8
+    assert d["sentences_per_s"] > 0 and d["counts"]["bad_checksum"] == 0 and 0 <= d["age_s"] < 2.6
+    assert d["counts"]["by_type"]["GGA"] >= 2
+
+    router.sender(on=True, lat=lat, lon=lon, quality=0)
+    assert status()["verdict"] == "data but no fix"
+
+    router.sender(on=False)
+    d = status("--router")
+    assert d["verdict"] == "no data" and d["counts"]["sentences"] == 0
+
+    router.sender(on=True, lat=lat, lon=lon)
+    assert cli(capsys, *base, "router", "set", *at, "--port", "5009", "--yes")[0] == 0
+    d = status("--router")
+    assert d["verdict"] == "forwarding to wrong host/port" and "5009" in d["detail"]
+    assert cli(capsys, *base, "router", "set", *at, "--hostname", "10.200.250.7", "--port", "5000", "--yes")[0] == 0
+    d = status("--router")
+    assert d["verdict"] == "forwarding to wrong host/port" and "10.200.250.7:5000" in d["detail"]
+
+
+def test_status_port_busy(router_lab: tuple[Any, Router], env: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A listener already holds the port (the NMEA driver, gpsd): nothing captured, said so."""
+    import subprocess
+
+    lab, _router = router_lab
+    holder = "import socket,time\ns=socket.socket(socket.AF_INET,socket.SOCK_DGRAM);s.bind(('0.0.0.0',5000))\n" \
+             "print('bound',flush=True);time.sleep(30)\n"
+    p = subprocess.Popen([*lab._nsenter(lab._rs("r01")), sys.executable, "-c", holder], stdout=subprocess.PIPE,
+                         text=True)
+    try:
+        assert p.stdout is not None and p.stdout.readline().strip() == "bound"
+        code, doc, _ = cli(capsys, "-i", str(lab.inventory_path), "gps", "status", "-r", "r01", "--json")
+        res = doc["robots"][0]
+        assert code == 0 and res["outcome"] == "skipped" and res["data"]["verdict"] == "port busy"
+    finally:
+        p.kill()
+        p.wait()

@@ -276,3 +276,64 @@ def router_set(
     return mutate("gps router set", inv, chosen, lambda c: plan_router(c, address, creds, req),
                   applier=apply_router(address, creds, req), yes=yes, dry_run=dry_run, json_out=json_out,
                   forks=forks, verb="Change the router of")
+
+
+def _print_status(fleet: FleetResult) -> None:
+    from rich.table import Table
+
+    from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
+
+    table = Table(title="panther-ops gps status")
+    for col in ("robot", "result", "verdict", "sentences/s", "position", "sats", "hdop", "age", "driver", "detail"):
+        table.add_column(col, overflow="fold")
+    for r in fleet.results:
+        d = r.data
+        fix = d.get("fix") or {}
+        pos = f"{fix['lat']:.7f} {fix['lon']:.7f}" if fix.get("lat") is not None else "-"
+        rate = d.get("sentences_per_s")
+        age = d.get("age_s")
+        table.add_row(
+            r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d.get("verdict", "")),
+            "-" if rate is None else f"{rate:g}" + (" (recorded)" if d.get("recorded") else ""), pos,
+            str(fix.get("satellites", "-")), str(fix.get("hdop", "-")), "-" if age is None else f"{age:.1f} s",
+            esc((d.get("driver") or {}).get("mode", "")), esc(d.get("detail", r.message)),
+        )
+    _console().print(table)
+    print_warnings(fleet)
+    print_summary(fleet)
+
+
+@app.command("status")
+def status(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
+    window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds to listen (3).")] = 3.0,
+    router: Annotated[
+        bool, typer.Option("--router", help="Also read the router's forwarding (credentials as for gps router).")
+    ] = False,
+    address: Address = "10.15.20.1",
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Per robot: is NMEA arriving at its UDP port (listened to on the robot for --window
+    seconds, decoded here with pynmea2: sentences per second, fix quality, satellites, HDOP,
+    position, age), and a verdict: fix, data but no fix, router not forwarding, forwarding to
+    wrong host/port (with --router), no data, or port busy (the NMEA driver or gpsd holds the
+    port). `ok` only with a fix; `failed` (exit 3) otherwise. Demo robots answer with a
+    recorded NMEA file.
+
+    Examples:
+      panther-ops gps status --all
+      panther-ops gps status -r panther-01 --router --json
+    """
+    from panther_ops.cli.render import finish
+    from panther_ops.core.gps.status import StatusOptions, status_task
+
+    creds = _credentials() if router else None
+    opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return finish(context.run("gps status", inv, chosen, status_task(opts), forks=forks, json_out=json_out),
+                  json_out, _print_status)

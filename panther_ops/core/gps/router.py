@@ -66,14 +66,14 @@ def parse_sentences(text: str | None) -> tuple[str, ...] | None:
     return ids
 
 
-def _client(ctx: RobotContext, address: str, creds: Credentials) -> Any:
+def open_router(ctx: RobotContext, address: str, creds: Credentials) -> Any:
     from panther_ops.transport import pins
     from panther_ops.transport.rutx import RouterClient
     from panther_ops.transport.tunnel import open_tcp
 
     client = getattr(ctx.transport, "client", None)
     if client is None:
-        raise _NoRouter(f"{ctx.robot.name} is reached without SSH (a demo robot): no router behind it")
+        raise NoRouter(f"{ctx.robot.name} is reached without SSH (a demo robot): no router behind it")
     key = f"{ctx.robot.name}/{address}"
     api = RouterClient(lambda: open_tcp(client, ctx.robot.name, address, 443), ctx.robot.name, address,
                        pinned=pins.pinned(key), pin=lambda fp: pins.pin(key, fp))
@@ -82,7 +82,7 @@ def _client(ctx: RobotContext, address: str, creds: Credentials) -> Any:
     return api
 
 
-class _NoRouter(UsageError):
+class NoRouter(UsageError):
     pass
 
 
@@ -103,8 +103,8 @@ def summary_of(state: dict[str, Any]) -> dict[str, Any]:
 def show_task(address: str, creds: Credentials) -> Any:
     def task(ctx: RobotContext) -> RobotResult:
         try:
-            api = _client(ctx, address, creds)
-        except _NoRouter as exc:
+            api = open_router(ctx, address, creds)
+        except NoRouter as exc:
             return RobotResult(ctx.robot.name, Outcome.SKIPPED, exc.message)
         state = summary_of(read_state(api))
         data = {"router": address, **state, "certificate": api.fingerprint}
@@ -164,7 +164,7 @@ def _describe(state: dict[str, Any], puts: dict[str, Any]) -> str:
 
 
 def plan_router(ctx: RobotContext, address: str, creds: Credentials, req: RouterRequest) -> RobotPlan:
-    api = _client(ctx, address, creds)
+    api = open_router(ctx, address, creds)
     state = read_state(api)
     puts = changes(state, req)
     plan = RobotPlan(ctx.robot.name, f"change router {address}: {_describe(state, puts)}" if puts else "",
@@ -183,7 +183,7 @@ def apply_router(address: str, creds: Credentials, req: RouterRequest) -> Any:
     def apply(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
         result = RobotResult(ctx.robot.name, Outcome.CHANGED, plan.summary, warnings=list(plan.warnings),
                              data=dict(plan.data))
-        api = _client(ctx, address, creds)
+        api = open_router(ctx, address, creds)
         for path, body in plan.data["puts"].items():
             api.call("PUT", path, {"data": body})
         state = read_state(api)
