@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import stat
 import sys
 from collections.abc import Iterator
@@ -16,6 +17,7 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
+from tests.lab._sys import wait_child
 from tests.lab.router import Router, add_router, renew_certificate
 
 pytestmark = pytest.mark.lab
@@ -223,11 +225,45 @@ def test_status_port_busy(router_lab: tuple[Any, Router], env: Path, capsys: pyt
              "print('bound',flush=True);time.sleep(30)\n"
     p = subprocess.Popen([*lab._nsenter(lab._rs("r01")), sys.executable, "-c", holder], stdout=subprocess.PIPE,
                          text=True)
+    child = wait_child(p.pid)  # nsenter forks: the holder is its child
     try:
         assert p.stdout is not None and p.stdout.readline().strip() == "bound"
         code, doc, _ = cli(capsys, "-i", str(lab.inventory_path), "gps", "status", "-r", "r01", "--json")
         res = doc["robots"][0]
         assert code == 0 and res["outcome"] == "skipped" and res["data"]["verdict"] == "port busy"
+        assert res["data"]["gpsd"] == {"running": False}
     finally:
-        p.kill()
-        p.wait()
+        os.kill(child, signal.SIGKILL)
+        p.wait(timeout=10)
+        if p.stdout is not None:
+            p.stdout.close()
+
+
+def test_status_through_a_real_gpsd(router_lab: tuple[Any, Router], env: Path, reset: None,
+                                    capsys: pytest.CaptureFixture[str]) -> None:
+    """gpsd on the robot takes the router's NMEA (`gpsd -N udp://<robot>:5000`, as the manual
+    says): the port is gpsd's, and status reads gpsd's fix through gpsd-py3."""
+    import shutil
+    import subprocess
+    import time
+
+    lab, router = router_lab
+    gpsd = shutil.which("gpsd") or "/usr/sbin/gpsd"
+    lat, lon = 50.0614123, 19.9365456
+    router.sender(on=True, lat=lat, lon=lon)
+    at = ["-r", "r01", "--address", router.ip]
+    assert cli(capsys, "-i", str(lab.inventory_path), "gps", "router", "set", *at, "--enable", "--yes")[0] == 0
+    p = subprocess.Popen([*lab._nsenter(lab._rs("r01")), gpsd, "-N", "-n", "-S", "2947",
+                          f"udp://{router.robot_lan_ip}:5000"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    child = wait_child(p.pid)
+    try:
+        time.sleep(2.5)  # gpsd binds, the next 1 Hz bursts give it a fix
+        code, doc, text = cli(capsys, "-i", str(lab.inventory_path), "gps", "status", *at, "--router", "--json")
+        res = doc["robots"][0]
+        assert code == 0 and res["outcome"] == "ok", text
+        d = res["data"]
+        assert d["source"] == "gpsd" and d["verdict"] == "fix" and d["gpsd"]["mode"] >= 2
+        assert abs(d["gpsd"]["lat"] - lat) < 1e-6 and abs(d["gpsd"]["lon"] - lon) < 1e-6
+    finally:
+        os.kill(child, signal.SIGTERM)
+        p.wait(timeout=10)

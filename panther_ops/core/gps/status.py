@@ -164,12 +164,13 @@ def status_task(opts: StatusOptions) -> Any:
             if api.pinned_now:
                 warnings.append(f"router certificate pinned on first use: {api.fingerprint}")
         info, got, end = capture(ctx, opts, opts.router or "10.15.20.1")
+        from panther_ops.core.gps.gpsd_view import gpsd_view
+
+        data["gpsd"] = view = gpsd_view(ctx)
         if info.get("bind") != "ok":
-            data.update({"verdict": BUSY, "detail": f"udp :{opts.port}: {info.get('bind')}", "port": opts.port,
-                         "router": router})
-            return RobotResult(ctx.robot.name, Outcome.SKIPPED,
-                               f"{BUSY}: a listener holds udp :{opts.port} ({info.get('bind')}); nothing captured",
-                               warnings=warnings, data=data)
+            result = _busy(ctx, opts, data, view, router, info)
+            result.warnings[:0] = warnings
+            return result
         fixes: list[Fix] = []
         for when, payload in got:
             fixes += dec.feed(payload, received_at=when)
@@ -180,3 +181,24 @@ def status_task(opts: StatusOptions) -> Any:
         return result
 
     return task
+
+
+def _busy(ctx: RobotContext, opts: StatusOptions, data: dict[str, Any], view: dict[str, Any] | None,
+          router: dict[str, Any] | None, info: dict[str, Any]) -> RobotResult:
+    """The port is held (gpsd or the NMEA driver): gpsd's view decides where gpsd runs."""
+    data.update({"port": opts.port, "router": router, "robot_lan_ip": info.get("lan_ip"), "fix": None})
+    if not view or not view.get("running"):
+        data.update({"verdict": BUSY, "detail": f"udp :{opts.port}: {info.get('bind')}"})
+        return RobotResult(ctx.robot.name, Outcome.SKIPPED,
+                           f"{BUSY}: a listener holds udp :{opts.port} ({info.get('bind')}); nothing captured",
+                           data=data)
+    if view.get("active") and view.get("mode", 0) >= 2:
+        v, why = FIX, f"gpsd: {view['lat']:.7f} {view['lon']:.7f}, mode {view['mode']}D, " \
+                      f"{view.get('satellites_used')} satellites used"
+    elif view.get("active"):
+        v, why = NO_FIX, f"gpsd: mode {view.get('mode')}: no position fix"
+    else:
+        v, why = verdict(None, 0, router, (info.get("lan_ip"), opts.port))
+        why = f"gpsd has no data; {why}"
+    data.update({"verdict": v, "detail": why, "source": "gpsd"})
+    return RobotResult(ctx.robot.name, Outcome.OK if v == FIX else Outcome.FAILED, f"{v}: {why}", data=data)
