@@ -101,7 +101,7 @@ class RouterClient:
                                     None)
         token = (doc.get("data") or {}).get("token") if isinstance(doc, dict) else None
         if status in (401, 403) or (status == 200 and not token):
-            raise RouterAuthError(f"{self.robot}: the router {self.host} refused the login of {username!r}",
+            raise RouterAuthError(f"the router {self.host} refused the login of {username!r}",
                                   hint="check PANTHER_OPS_ROUTER_PASSWORD or the credentials file")
         if status != 200:
             raise TransportError(self.robot, f"router {self.host}: login answered HTTP {status}: {_errors(doc)}")

@@ -30,13 +30,16 @@ def test_decoder_gga_rmc_exact() -> None:
     f = fixes[0]
     assert abs(f.lat - LAT) < 1e-6 and abs(f.lon - LON) < 1e-6  # type: ignore[operator]
     assert (f.fix_quality, f.satellites, f.hdop, f.altitude_m, f.talker) == (1, 9, 0.8, 120.4, "GP")
-    assert f.time == "03:04:05" and f.date is None  # RMC comes after GGA in this burst
-    # the next epoch's GGA finds this epoch's RMC only when the time matches
+    assert f.time == "03:04:05" and f.date == "2026-11-24"  # the RMC after the GGA, same datagram
+    assert (f.valid, f.speed_knots, f.course_deg) == (True, 0.02, 84.4)
+    # a GGA alone finds the RMC seen before only when the time matches
+    other = dec.feed(nmea.burst(LAT, LON, when=WHEN.replace(second=6)).split(b"\r\n")[0] + b"\r\n")
+    assert other[0].time == "03:04:06" and other[0].date is None
     rmc_first = [s for s in nmea.sentences(LAT, LON, when=WHEN) if "RMC" in s]
     gga = [s for s in nmea.sentences(LAT, LON, when=WHEN) if "GGA" in s]
     fixes = dec.feed(("\r\n".join(rmc_first + gga) + "\r\n").encode())
     assert fixes[0].date == "2026-11-24" and fixes[0].valid is True and fixes[0].speed_knots == 0.02
-    assert dict(dec.stats.by_type) == {"GGA": 2, "GSA": 1, "RMC": 2, "GSV": 1}
+    assert dict(dec.stats.by_type) == {"GGA": 3, "GSA": 1, "RMC": 2, "GSV": 1}
     assert (dec.stats.malformed, dec.stats.bad_checksum, dec.stats.unknown_type) == (0, 0, 0)
 
 

@@ -3,9 +3,9 @@ everything else.
 
 A *fix* is one GGA sentence (any talker: GP, GN, GL, GA, BD): latitude, longitude, fix
 quality, satellites in use, HDOP, altitude, UTC time. An RMC sentence of the same UTC time
-seen before it (in the same datagram or an earlier one) adds the date, validity, speed and
-course. GSA and GSV are counted by type; anything that is not NMEA, has a bad or missing
-checksum or has unreadable fields is counted, never raised.
+(before it, or after it in the same datagram) adds the date, validity, speed and course.
+GSA and GSV are counted by type; anything that is not NMEA, has a bad or missing checksum or
+has unreadable fields is counted, never raised.
 """
 
 from __future__ import annotations
@@ -118,6 +118,9 @@ class NmeaDecoder:
                 fix = self.feed_line(line, received_at=received_at)
                 if fix is not None:
                     fixes.append(fix)
+        for fix in fixes:  # an RMC after the GGA of its epoch, in the same datagram
+            if fix.date is None and fix.time is not None and self._rmc.get("time") == fix.time:
+                self._enrich(fix)
         return fixes
 
     def feed_line(self, line: str, *, received_at: float | None = None) -> Fix | None:
@@ -159,9 +162,12 @@ class NmeaDecoder:
         fix = Fix(lat=lat, lon=lon, fix_quality=quality, satellites=_int(msg.num_sats), hdop=_float(msg.horizontal_dil),
                   altitude_m=_float(msg.altitude), time=when, talker=str(msg.talker), received_at=received_at)
         if when is not None and self._rmc.get("time") == when:
-            fix.date, fix.valid = self._rmc["date"], self._rmc["valid"]
-            fix.speed_knots, fix.course_deg = self._rmc["speed_knots"], self._rmc["course_deg"]
+            self._enrich(fix)
         return fix
+
+    def _enrich(self, fix: Fix) -> None:
+        fix.date, fix.valid = self._rmc["date"], self._rmc["valid"]
+        fix.speed_knots, fix.course_deg = self._rmc["speed_knots"], self._rmc["course_deg"]
 
     def _remember_rmc(self, msg: Any) -> None:
         _coords(msg)  # garbage coordinates make the sentence malformed
