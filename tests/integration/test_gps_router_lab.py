@@ -200,6 +200,10 @@ def test_status_verdicts_follow_the_router(router_lab: tuple[Any, Router], env: 
     assert d["sentences_per_s"] > 0 and d["counts"]["bad_checksum"] == 0 and 0 <= d["age_s"] < 2.6
     assert d["counts"]["by_type"]["GGA"] >= 2
 
+    code, doc, text = cli(capsys, *base, "watch", *at, "--window", "1.5", "--count", "2", "--json")
+    assert code == 0, text
+    assert [r["robots"][0]["data"]["verdict"] for r in doc["rounds"]] == ["fix", "fix"]
+
     router.sender(on=True, lat=lat, lon=lon, quality=0)
     assert status()["verdict"] == "data but no fix"
 

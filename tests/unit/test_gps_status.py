@@ -46,3 +46,16 @@ ROUTER = {"gps_enabled": True, "forwarding": True, "hostname": "10.15.20.2", "po
 ])
 def test_verdicts(fix: Fix | None, n: int, router: dict[str, object] | None, want: str) -> None:
     assert verdict(fix, n, router, ("10.15.20.2", 5000))[0] == want
+
+
+def test_watch_json_rounds_and_needs_count(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    capsys.readouterr()
+    inv = str(tmp_path / "demo")
+    assert main(["-i", inv, "gps", "watch", "-r", "panther-02", "--count", "2", "--window", "0.5", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["command"] == "gps watch" and len(doc["rounds"]) == 2
+    assert doc["rounds"][1]["time"] - doc["rounds"][0]["time"] >= 0.45
+    assert [r["robots"][0]["data"]["verdict"] for r in doc["rounds"]] == [FIX, FIX]
+    assert main(["-i", inv, "gps", "watch", "-r", "panther-02", "--json"]) == 2
+    assert "--count" in capsys.readouterr().err

@@ -279,11 +279,19 @@ def router_set(
 
 
 def _print_status(fleet: FleetResult) -> None:
+    from panther_ops.cli.render import _console, print_summary, print_warnings
+
+    _console().print(_status_table(fleet, "panther-ops gps status"))
+    print_warnings(fleet)
+    print_summary(fleet)
+
+
+def _status_table(fleet: FleetResult, title: str) -> Any:
     from rich.table import Table
 
-    from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
+    from panther_ops.cli.render import STYLE, esc
 
-    table = Table(title="panther-ops gps status")
+    table = Table(title=title)
     for col in ("robot", "result", "verdict", "sentences/s", "position", "sats", "hdop", "age", "driver", "detail"):
         table.add_column(col, overflow="fold")
     for r in fleet.results:
@@ -298,9 +306,7 @@ def _print_status(fleet: FleetResult) -> None:
             str(fix.get("satellites", "-")), str(fix.get("hdop", "-")), "-" if age is None else f"{age:.1f} s",
             esc((d.get("driver") or {}).get("mode", "")), esc(d.get("detail", r.message)),
         )
-    _console().print(table)
-    print_warnings(fleet)
-    print_summary(fleet)
+    return table
 
 
 @app.command("status")
@@ -337,3 +343,71 @@ def status(
     inv, chosen = context.targets(ctx, robot, group, all_)
     return finish(context.run("gps status", inv, chosen, status_task(opts), forks=forks, json_out=json_out),
                   json_out, _print_status)
+
+
+@app.command("watch")
+def watch(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
+    window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds per refresh (2).")] = 2.0,
+    count: Annotated[
+        Optional[int],  # noqa: UP045
+        typer.Option("--count", "-n", min=1, help="Stop after N refreshes (needed with --json)."),
+    ] = None,
+    router: Annotated[bool, typer.Option("--router", help="Also read the router's forwarding each time.")] = False,
+    address: Address = "10.15.20.1",
+    json_out: Json = False,
+) -> int:
+    """`gps status` again and again over the same connections: a live table on a terminal
+    (one table per refresh when piped), until Ctrl-C or --count refreshes. With --json (and
+    --count) one document: every refresh's robots.
+
+    Example: panther-ops gps watch -r panther-01 --router
+    """
+    import time
+
+    from panther_ops.cli.render import _console, emit_json
+    from panther_ops.core.gps.status import StatusOptions, status_task
+    from panther_ops.core.runner import Connections, RunOptions, run_fleet
+    from panther_ops.errors import UsageError
+
+    if json_out and count is None:
+        raise UsageError("gps watch --json needs --count N (one JSON document at the end)")
+    creds = _credentials() if router else None
+    opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    rounds: list[dict[str, Any]] = []
+    code = 0
+    live = None
+    if not json_out and sys.stdout.isatty():
+        from rich.live import Live
+
+        live = Live(console=_console(), auto_refresh=False)
+        live.start()
+    try:
+        with Connections(inv) as conns:
+            started = time.monotonic()
+            while count is None or len(rounds) < count:
+                if rounds:  # a refresh every --window seconds at most (demo robots answer at once)
+                    time.sleep(max(0.0, window - (time.monotonic() - started)))
+                started = time.monotonic()
+                fleet = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), None,
+                                  conns)
+                code = int(fleet.exit_code)
+                rounds.append({"time": round(time.time(), 3), **fleet.to_json()})
+                title = f"panther-ops gps watch ({time.strftime('%H:%M:%S')}, refresh {len(rounds)})"
+                if live is not None:
+                    live.update(_status_table(fleet, title), refresh=True)
+                elif not json_out:
+                    _console().print(_status_table(fleet, title))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if live is not None:
+            live.stop()
+    if json_out:
+        emit_json({"schema": 1, "command": "gps watch", "exit_code": code, "rounds": rounds})
+    return code
