@@ -271,3 +271,32 @@ def test_status_through_a_real_gpsd(router_lab: tuple[Any, Router], env: Path, r
     finally:
         os.kill(child, signal.SIGTERM)
         p.wait(timeout=10)
+
+
+def test_enable_with_router_in_one_plan(router_lab: tuple[Any, Router], env: Path, reset: None,
+                                        capsys: pytest.CaptureFixture[str]) -> None:
+    """`gps enable --router`: the driver (here the nmea-gps service, --container, listening on
+    the robot's LAN address) and the router's forwarding to it, one plan; then a fix."""
+    lab, router = router_lab
+    compose = "/home/husarion/compose.yaml"
+    before = lab.read("r01", compose)
+    argv = ["-i", str(lab.inventory_path), "gps", "enable", "-r", "r01", "--router", "--address", router.ip,
+            "--container", "--ip", router.robot_lan_ip]
+    router.sender(on=True, lat=47.3769123, lon=8.5417456)
+    code, doc, text = cli(capsys, *argv, "--dry-run", "--json")
+    assert code == 0 and router.state()["forwarding"]["enabled"] == "0" and lab.read("r01", compose) == before
+    msg = doc["robots"][0]["message"]
+    assert "add service nmea-gps" in msg and "forwarding.enabled: 0 -> 1" in msg, msg
+    code, doc, text = cli(capsys, *argv, "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed", text
+    assert f"-p ip:={router.robot_lan_ip} -p port:=5000" in lab.read("r01", compose)
+    assert router.state()["forwarding"]["enabled"] == "1"
+    assert doc["robots"][0]["data"]["router_after"]["forwarding"] is True
+    code, doc, text = cli(capsys, *argv, "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "ok" and "already forwards" in doc["robots"][0]["message"]
+    code, doc, text = cli(capsys, "-i", str(lab.inventory_path), "gps", "status", "-r", "r01", "--json")
+    d = doc["robots"][0]["data"]
+    assert d["verdict"] == "fix" and d["driver"]["mode"] == "service"
+    assert abs(d["fix"]["lat"] - 47.3769123) < 1e-6 and abs(d["fix"]["lon"] - 8.5417456) < 1e-6
+    code, doc, text = cli(capsys, "-i", str(lab.inventory_path), "gps", "disable", "-r", "r01", "--yes", "--json")
+    assert code == 0 and lab.read("r01", compose) == before

@@ -100,6 +100,12 @@ def enable(
     ip: Ip = "10.15.20.2",
     namespace: Namespace = None,
     container: Container = False,
+    router: Annotated[
+        bool, typer.Option("--router", help="Also set the router's NMEA forwarding to --ip:--port (same plan).")
+    ] = False,
+    address: Annotated[
+        str, typer.Option("--address", help="The router's address on the robot's LAN (with --router).")
+    ] = "10.15.20.1",
     yes: Yes = False,
     dry_run: DryRun = False,
     no_restart: NoRestart = False,
@@ -122,15 +128,27 @@ def enable(
         (~/config/husarion_ugv_localization/config/nmea_navsat.yaml, nmea_params_path).
 
     Plan, diff, confirm, backup, atomic write, recreate, verify, roll back: like config set.
-    A robot already set up reports ok. The fix topic: /<ns>/gps/fix.
+    A robot already set up reports ok. The fix topic: /<ns>/gps/fix. With --router the
+    router's forwarding (GNSS and forwarding on, --ip:--port, udp) is part of the same plan,
+    applied after the driver (credentials as for `gps router`).
 
     Examples:
       panther-ops gps enable --all --dry-run
       panther-ops gps enable -r panther-01 --yes
+      panther-ops gps enable -r panther-01 --router --yes
     """
     from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
 
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
+    if router:
+        from panther_ops.core.gps.combined import enable_applier, plan_enable_with_router
+
+        creds = _credentials()
+        inv, chosen = context.targets(ctx, robot, group, all_)
+        return mutate("gps enable", inv, chosen, lambda c: plan_enable_with_router(c, opts, address, creds),
+                      applier=enable_applier(address, creds, opts), yes=yes, dry_run=dry_run,
+                      restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                      max_fail=max_fail)
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("gps enable", inv, chosen, lambda c: plan_enable(c, opts), applier=apply_gps, yes=yes,
                   dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks,

@@ -148,7 +148,7 @@ def changes(state: dict[str, Any], req: RouterRequest) -> dict[str, Any]:
     return out
 
 
-def _describe(state: dict[str, Any], puts: dict[str, Any]) -> str:
+def describe(state: dict[str, Any], puts: dict[str, Any]) -> str:
     bits = []
     for path, body in puts.items():
         if path == RULES:
@@ -167,7 +167,7 @@ def plan_router(ctx: RobotContext, address: str, creds: Credentials, req: Router
     api = open_router(ctx, address, creds)
     state = read_state(api)
     puts = changes(state, req)
-    plan = RobotPlan(ctx.robot.name, f"change router {address}: {_describe(state, puts)}" if puts else "",
+    plan = RobotPlan(ctx.robot.name, f"change router {address}: {describe(state, puts)}" if puts else "",
                      noop=None if puts else f"router {address} already as asked")
     plan.data.update({"router": address, "before": summary_of(state), "certificate": api.fingerprint})
     if puts:
@@ -191,7 +191,7 @@ def apply_router(address: str, creds: Credentials, req: RouterRequest) -> Any:
         left = changes(state, req)
         if left:
             result.outcome = Outcome.FAILED
-            result.message = f"the router did not keep: {_describe(state, left)}"
+            result.message = f"the router did not keep: {describe(state, left)}"
         return result
 
     return apply
