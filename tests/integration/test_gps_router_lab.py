@@ -300,3 +300,28 @@ def test_enable_with_router_in_one_plan(router_lab: tuple[Any, Router], env: Pat
     assert abs(d["fix"]["lat"] - 47.3769123) < 1e-6 and abs(d["fix"]["lon"] - 8.5417456) < 1e-6
     code, doc, text = cli(capsys, "-i", str(lab.inventory_path), "gps", "disable", "-r", "r01", "--yes", "--json")
     assert code == 0 and lab.read("r01", compose) == before
+
+
+def test_doctor_gps_check(router_lab: tuple[Any, Router], env: Path, reset: None,
+                          capsys: pytest.CaptureFixture[str]) -> None:
+    """A robot whose inventory says it has GNSS (desired.gps.enabled) gets a gps finding."""
+    lab, router = router_lab
+    text = lab.inventory_path.read_text()
+    assert "  r01:\n" in text
+    inv = lab.inventory_path.parent / "inventory-gps.yaml"  # beside it: its relative paths hold
+    inv.write_text(text.replace("  r01:\n", "  r01:\n    desired:\n      gps: {enabled: true}\n", 1))
+
+    def finding() -> dict[str, Any]:
+        _code, doc, _out = cli(capsys, "-i", str(inv), "doctor", "-r", "r01", "--json")
+        (f,) = [f for f in doc["robots"][0]["data"]["findings"] if f["check"] == "gps"]
+        return dict(f)
+
+    try:
+        f = finding()
+        assert f["state"] == "fail" and f["detail"].startswith("no data") and "gps status -r r01" in f["fix"]
+        assert cli(capsys, "-i", str(inv), "gps", "router", "set", "-r", "r01", "--address", router.ip, "--enable",
+                   "--yes")[0] == 0
+        f = finding()
+        assert f["detail"].startswith("fix: ") and f["state"] == "warn" and "gps enable -r r01" in f["fix"]
+    finally:
+        inv.unlink()

@@ -59,3 +59,28 @@ def test_watch_json_rounds_and_needs_count(tmp_path: Path, capsys: pytest.Captur
     assert [r["robots"][0]["data"]["verdict"] for r in doc["rounds"]] == [FIX, FIX]
     assert main(["-i", inv, "gps", "watch", "-r", "panther-02", "--json"]) == 2
     assert "--count" in capsys.readouterr().err
+
+
+def test_doctor_gps_check_for_robots_with_gnss(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    demo = tmp_path / "demo"
+    assert main(["demo", "init", "--dest", str(demo)]) == 0
+    inv = demo / "inventory.yaml"
+    text = inv.read_text()
+    assert "  panther-01:\n" in text
+    inv.write_text(text.replace("  panther-01:\n", "  panther-01:\n    desired:\n      gps: {enabled: true}\n", 1))
+    capsys.readouterr()
+
+    def gps_findings() -> dict[str, list[dict[str, object]]]:
+        main(["-i", str(demo), "doctor", "--all", "--json"])
+        doc = json.loads(capsys.readouterr().out)
+        return {r["robot"]: [f for f in r["data"]["findings"] if f["check"] == "gps"] for r in doc["robots"]}
+
+    found = gps_findings()
+    assert found["panther-02"] == [] and found["panther-03"] == []  # no GNSS in their inventory
+    (f,) = found["panther-01"]
+    assert f["state"] == "warn" and str(f["detail"]).startswith("fix: ") and "no NMEA driver" in str(f["detail"])
+    assert f["fix"] == "panther-ops gps enable -r panther-01"
+    assert main(["-i", str(demo), "gps", "enable", "-r", "panther-01", "--yes"]) == 0
+    capsys.readouterr()
+    (f,) = gps_findings()["panther-01"]
+    assert f["state"] == "ok" and f["fix"] is None
