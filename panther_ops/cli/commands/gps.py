@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from panther_ops.results import FleetResult
 
 app = typer.Typer(
-    help="GPS (ANT02 / the RUTX11's GNSS): decode NMEA, enable or disable the NMEA driver on robots.",
+    help="GPS (ANT02 on the RUTX11): the NMEA driver on robots, the router's forwarding, fix status, NMEA decoding.",
     no_args_is_help=True,
 )
 
