@@ -87,6 +87,14 @@ def read_bundle(kind: PushKind, path: Path) -> Bundle:
         raise InputError("must be a YAML mapping", path=str(path))
     if kind is PushKind.USER_ANIMATIONS:
         _animation_images(bundle, doc)
+    if kind is PushKind.COMPONENTS:  # the one validator of components files (also `sim gps add`)
+        from panther_ops.core.sim.components import validate_components
+
+        validate_components(doc, str(path))
+    if kind is PushKind.BATTERY:  # the one validator of battery plugin files (also `sim battery check`)
+        from panther_ops.core.sim.battery import validate_battery
+
+        validate_battery(doc, str(path))
     return bundle
 
 
