@@ -173,6 +173,7 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
         return compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
     cfg = read_config(ctx, keep=True)
     old_args = dict(cfg.compose.args)
+    driver_before = cfg.compose.service(cfg.service)
     warnings: list[str] = []
     verify: list[Verify] = []
     edits: list[FileEdit] = []
@@ -192,14 +193,31 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
             parts.append(s)
         warnings += w
         verify.append(v)
+    recreate: tuple[str, ...] = ()
+    driver_files = bool(edits)
+    if desired.get("gps") is not None:
+        from panther_ops.core.gps.desired import desired_gps
+
+        gps = desired_gps(ctx, cfg, desired["gps"])
+        edits += gps.extra
+        warnings += gps.warnings
+        verify += gps.verify
+        parts += gps.parts
+        recreate = gps.recreate
     arg_summary = _args_summary(cfg, old_args)
     if arg_summary != "no change":
         parts.insert(0, arg_summary)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller"})
+    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps"})
     if unsupported:
         warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
-    return compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
-                         "matches the inventory's desired state", extra=edits)
+    plan = compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
+                        "matches the inventory's desired state", extra=edits)
+    if plan.edits and recreate:  # desired.gps: the nmea-gps service alone when the driver is as it was
+        driver_same = not driver_files and cfg.compose.service(cfg.service) == driver_before
+        plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
+        if driver_same:
+            plan.verify = [v for v in plan.verify if v.service in recreate]
+    return plan
 
 
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:

@@ -144,3 +144,31 @@ def test_bad_input_changes_nothing(lab: Any, capsys: pytest.CaptureFixture[str])
         code, _doc, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", n, "--yes", *argv)
         assert code == 2 and err, argv
     assert lab.read(n, COMPOSE) == before
+
+
+def test_apply_desired_gps_recreates_only_the_service(lab: Any, restored: None,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """`apply` with desired.gps on a 2.0.4 robot adds and starts nmea-gps; the driver is untouched."""
+    name = robot_of(lab, "2.0.4")
+    use_nmea_image(lab, name)
+    text = lab.inventory_path.read_text()
+    assert f"  {name}:\n" in text
+    inv = lab.inventory_path.parent / "inventory-gps-desired.yaml"
+    inv.write_text(text.replace(f"  {name}:\n", f"  {name}:\n    desired:\n      gps: {{enabled: true}}\n", 1))
+    before = lab.read(name, COMPOSE)
+    running = containers(lab, name)
+    try:
+        code, doc, err = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed" and lab.read(name, COMPOSE) == before
+        code, doc, err = run_cli(capsys, "-i", str(inv), "apply", "-r", name, "--yes", "--settle", "1", "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed", (doc, err)
+        after = containers(lab, name)
+        gps = [c for k, c in after.items() if "nmea-gps" in k]
+        assert len(gps) == 1 and gps[0]["state"] == "running"
+        assert {k: v["id"] for k, v in after.items() if "nmea-gps" not in k} == {k: v["id"] for k, v in running.items()}
+        code, doc, _ = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
+        assert doc["robots"][0]["outcome"] == "ok"
+        assert run_cli(capsys, "-i", str(inv), "gps", "disable", "-r", name, "--yes", "--settle", "1")[0] == 0
+        assert lab.read(name, COMPOSE) == before
+    finally:
+        inv.unlink()

@@ -118,3 +118,32 @@ def test_mixed_modes_refused(capsys: pytest.CaptureFixture[str], demo: Path) -> 
     before = snapshot(demo)
     code, _doc, err = run(capsys, demo, "gps", "enable", "-r", "panther-01", "--container", "--yes")
     assert code == 2 and "launch_nmea_gps:=True" in err and snapshot(demo) == before
+
+
+def test_desired_gps_in_config_diff_and_apply(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    inv = demo / "inventory.yaml"
+    text = inv.read_text()
+    for name, block in (("panther-02", "gps: {enabled: true, namespace: rover}"),
+                        ("panther-03", "gps: {enabled: true, router: {enabled: true}}")):
+        assert f"  {name}:\n" in text
+        text = text.replace(f"  {name}:\n", f"  {name}:\n    desired:\n      {block}\n", 1)
+    inv.write_text(text)
+    code, doc, _ = run(capsys, demo, "config", "diff", "--all", "--json")
+    assert code == 0
+    by = {r["robot"]: r for r in doc["robots"]}
+    assert by["panther-02"]["outcome"] == "changed" and "add service nmea-gps" in by["panther-02"]["message"]
+    assert "robot_namespace:=rover" in by["panther-02"]["diffs"][0]["unified"]
+    assert "launch_nmea_gps:=true" in by["panther-03"]["message"]
+    assert any("desired.gps.router" in w for w in by["panther-03"]["warnings"])
+    code, doc, _ = run(capsys, demo, "apply", "--all", "--yes", "--json")
+    assert code == 0, doc
+    assert "    command: >-\n      ros2 launch /husarion_utils/nmea_navsat.launch.py\n      robot_namespace:=rover\n" \
+        in compose(demo, "panther-02")
+    code, doc, _ = run(capsys, demo, "config", "diff", "--all", "--json")
+    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    inv.write_text(inv.read_text().replace("gps: {enabled: true, router: {enabled: true}}", "gps: {enabled: false}"))
+    code, doc, _ = run(capsys, demo, "config", "diff", "-r", "panther-03", "--json")
+    assert doc["robots"][0]["outcome"] == "changed" and "unset launch_nmea_gps" in doc["robots"][0]["message"]
+    inv.write_text(inv.read_text().replace("gps: {enabled: false}", "gps: {enabled: yes please}"))
+    code, _doc, err = run(capsys, demo, "config", "diff", "-r", "panther-03")
+    assert code == 2 and "desired.gps.enabled" in err

@@ -123,12 +123,31 @@ def _driver_enabled(cfg: RobotConfig) -> bool:
     return cfg.compose.args.get("launch_nmea_gps", "").lower() == "true"
 
 
-def plan_enable(ctx: RobotContext, opts: GpsOptions) -> RobotPlan:
-    cfg = read_config(ctx, keep=True)
+@dataclass
+class Change:
+    """What enabling does to one robot's files (compose.yaml is edited in ``cfg`` itself)."""
+
+    summary: str
+    noop: str
+    recreate: tuple[str, ...]
+    verify: list[Verify]
+    extra: list[FileEdit]
+    warnings: list[str]
+    data: dict[str, Any]
+
+
+def enable_change(ctx: RobotContext, cfg: RobotConfig, opts: GpsOptions) -> Change:
+    """Edit ``cfg.compose`` (and plan the params file) so the NMEA driver runs as asked."""
     namespace = robot_namespace(ctx, cfg, opts.namespace)
     if uses_container(cfg, opts):
-        return _enable_service(ctx, cfg, namespace, opts)
+        return _enable_service(cfg, namespace, opts)
     return _enable_argument(ctx, cfg, opts)
+
+
+def plan_enable(ctx: RobotContext, opts: GpsOptions) -> RobotPlan:
+    cfg = read_config(ctx, keep=True)
+    c = enable_change(ctx, cfg, opts)
+    return _plan(ctx, cfg, c.summary, c.noop, c.recreate, c.verify, c.extra, c.warnings, c.data)
 
 
 def _plan(ctx: RobotContext, cfg: RobotConfig, summary: str, noop: str, recreate: tuple[str, ...],
@@ -144,7 +163,7 @@ def _plan(ctx: RobotContext, cfg: RobotConfig, summary: str, noop: str, recreate
     return plan
 
 
-def _enable_service(ctx: RobotContext, cfg: RobotConfig, namespace: str, opts: GpsOptions) -> RobotPlan:
+def _enable_service(cfg: RobotConfig, namespace: str, opts: GpsOptions) -> Change:
     compose = cfg.compose
     if cfg.stack.version >= (2, 1, 1) and _driver_enabled(cfg):
         raise UsageError("the driver already runs the NMEA driver (launch_nmea_gps:=True)",
@@ -157,12 +176,12 @@ def _enable_service(ctx: RobotContext, cfg: RobotConfig, namespace: str, opts: G
         compose.add_service(SERVICE, want)
     where = f"udp {opts.ip}:{opts.port}"
     data = {"mode": "service", "service": SERVICE, "namespace": namespace, "port": opts.port, "ip": opts.ip}
-    return _plan(ctx, cfg, f"add service {SERVICE} ({IMAGE}, {where}, /{namespace}/gps/fix)",
-                 f"service {SERVICE} already runs the NMEA driver ({where})", (SERVICE,),
-                 [service_check(namespace, opts)], [], [], data)
+    return Change(f"add service {SERVICE} ({IMAGE}, {where}, /{namespace}/gps/fix)",
+                  f"service {SERVICE} already runs the NMEA driver ({where})", (SERVICE,),
+                  [service_check(namespace, opts)], [], [], data)
 
 
-def _enable_argument(ctx: RobotContext, cfg: RobotConfig, opts: GpsOptions) -> RobotPlan:
+def _enable_argument(ctx: RobotContext, cfg: RobotConfig, opts: GpsOptions) -> Change:
     if SERVICE in cfg.compose.services():
         raise UsageError(f"compose.yaml already has the {SERVICE} service",
                          hint="panther-ops gps disable first, or pass --container to keep the service")
@@ -190,8 +209,8 @@ def _enable_argument(ctx: RobotContext, cfg: RobotConfig, opts: GpsOptions) -> R
         data["params_file"] = host_path
     warnings, verify = edit_args(cfg, sets, [], False)
     words = " ".join(f"{k}:={v}" for k, v in sets.items())
-    return _plan(ctx, cfg, f"{words} on {cfg.service}", f"{cfg.service} already runs with {words}", (cfg.service,),
-                 [verify], extra, warnings, data)
+    return Change(f"{words} on {cfg.service}", f"{cfg.service} already runs with {words}", (cfg.service,),
+                  [verify], extra, warnings, data)
 
 
 def plan_disable(ctx: RobotContext) -> RobotPlan:
