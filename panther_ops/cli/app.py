@@ -15,6 +15,7 @@ import typer
 
 from panther_ops import __version__
 from panther_ops.cli.context import Settings
+from panther_ops.cli.output import ColorMode
 
 if TYPE_CHECKING:
     from typer.models import CommandInfo, TyperInfo
@@ -29,6 +30,8 @@ Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots 
 rolled back or were unreachable, 4 every robot unreachable, 130 interrupted.
 
 Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+
+Shell completion (bash, zsh, fish, docs/getting-started.md):  panther-ops --install-completion
 """
 
 app = typer.Typer(
@@ -37,7 +40,7 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
-    add_completion=False,
+    add_completion=True,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 
@@ -57,11 +60,20 @@ def root(
     ] = None,
     verbose: Annotated[int, typer.Option("--verbose", "-v", count=True, help="More detail on stderr.")] = 0,
     debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks of unexpected errors.")] = False,
+    color: Annotated[
+        ColorMode, typer.Option("--color", help="Colour: auto (a terminal, unless NO_COLOR is set), always, never.")
+    ] = ColorMode.AUTO,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No live progress and no recap on stderr.")
+    ] = False,
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
 ) -> None:
     """Global options come before the command: panther-ops -i fleet.yaml status --all."""
+    from panther_ops.cli.output import configure
+
+    configure(color, quiet)
     ctx.obj = Settings(inventory=inventory, verbose=verbose, debug=debug)
     level = logging.DEBUG if debug else (logging.INFO if verbose else logging.WARNING)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
@@ -145,7 +157,7 @@ def _command_words(argv: list[str]) -> tuple[str | None, str | None]:
         a = argv[i]
         if a in ("-h", "--help", "--version"):
             return None, None
-        if a == "--inventory":
+        if a in ("--inventory", "--color"):
             i += 2
         elif a.startswith("--"):
             i += 1

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.templates import template_path
+from panther_ops.core.fleet.templates import template_path
 
 COMPONENTS = template_path("config", "panther-2.1", "panther_description", "config", "components.yaml")
 BATTERY_21 = template_path("config", "panther-2.1", "panther_gazebo", "config", "battery_plugin_config.yaml")

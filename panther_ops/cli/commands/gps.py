@@ -279,8 +279,8 @@ def watch(
     import time
 
     from panther_ops.cli.render import _console, emit_json
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.gps.status import StatusOptions, status_task
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
     from panther_ops.errors import UsageError
 
     if json_out and count is None:

@@ -80,15 +80,9 @@ def deploy(
 
     Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
-    from panther_ops.core.push import PushKind, plan_push, read_bundle
-    from panther_ops.errors import UsageError
-    from panther_ops.manager import validate_animations
+    from panther_ops.core.config.push import PushKind, plan_push, read_bundle
 
-    errors = [f for f in validate_animations(file) if str(getattr(f.severity, "value", f.severity)) == "error"]
-    if errors:
-        raise UsageError(f"{file}: {errors[0].message}", hint=f"{len(errors)} problems: panther-ops lights validate "
-                         f"{file}")
-    bundle = read_bundle(PushKind.USER_ANIMATIONS, file)
+    bundle = read_bundle(PushKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate(f"lights deploy {file.name}", inv, chosen,
                   lambda c: plan_push(c, PushKind.USER_ANIMATIONS, bundle), yes=yes, dry_run=dry_run,
@@ -112,7 +106,7 @@ def test(
     Example: panther-ops lights test 21 --repeating -r panther-01
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.lights_ops import set_animation
+    from panther_ops.core.manager_ops.lights import set_animation
 
     def task(c: Any) -> Any:
         return set_animation(c, anim_id, param, repeating)

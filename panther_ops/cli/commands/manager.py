@@ -50,7 +50,7 @@ def run(
       panther-ops manager run --sim --scenario templates/manager/scenarios/battery_overheat.yaml --speed 10
       panther-ops manager run --sim --xml --duration 30 --json | jq .calls
     """
-    from panther_ops.core.templates import template_path
+    from panther_ops.core.fleet.templates import template_path
     from panther_ops.errors import UsageError
     from panther_ops.manager import ManualClock, TreeSource, run_simulation
     from panther_ops.manager.clock import ScaledClock
@@ -125,8 +125,8 @@ def deploy(
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_bundle import build_bundle
-    from panther_ops.core.manager_deploy import apply_manager, plan_deploy
+    from panther_ops.core.manager_ops.bundle import build_bundle
+    from panther_ops.core.manager_ops.deploy import apply_manager, plan_deploy
 
     bundle = build_bundle()
     inv, chosen = context.targets(ctx, robot, group, all_)
@@ -156,7 +156,7 @@ def remove(
     Example: panther-ops manager remove -r panther-01 --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_deploy import apply_manager, plan_remove
+    from panther_ops.core.manager_ops.deploy import apply_manager, plan_remove
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("manager remove", inv, chosen, plan_remove, applier=apply_manager, yes=yes, dry_run=dry_run,
@@ -167,7 +167,7 @@ def _print_status(fleet: Any) -> None:
     from rich.table import Table
 
     from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.docker_times import human_duration
+    from panther_ops.core.containers.times import human_duration
 
     table = Table(title="panther-ops manager status")
     for col in ("robot", "result", "version", "mode", "state", "uptime", "restarts", "disable_manager", "message"):
@@ -202,7 +202,7 @@ def status(
     Example: panther-ops manager status --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.manager_status import status_task
+    from panther_ops.core.manager_ops.status import status_task
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return finish(context.run("manager status", inv, chosen, status_task, forks=forks, json_out=json_out),
@@ -233,7 +233,7 @@ def logs(
       panther-ops manager logs -r panther-01 -f
     """
     from panther_ops.cli.logs_view import show_logs
-    from panther_ops.core.manager_status import open_logs
+    from panther_ops.core.manager_ops.status import open_logs
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return show_logs("manager logs", inv, chosen, open_logs, lines=lines, since_s=None, timestamps=timestamps,

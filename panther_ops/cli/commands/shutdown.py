@@ -20,7 +20,7 @@ from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
 from panther_ops.cli.options import All, Forks, Groups, Json, Robots
 
 if TYPE_CHECKING:
-    from panther_ops.core.shutdown.hostsfile import HostsFile
+    from panther_ops.core.config.hostsfile import HostsFile
     from panther_ops.results import FleetResult, RobotResult
     from panther_ops.transport.base import Secret
 
@@ -133,7 +133,7 @@ def shutdown(
 
 def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Path | None,
                    known_hosts: Path | None, yes: bool, dry_run: bool, power_budget: float, json_out: bool) -> int:
-    from panther_ops.core.shutdown.hostsfile import load_hosts_file
+    from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
     parsed = load_hosts_file(path, power_budget=power_budget)
@@ -143,6 +143,12 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
         context.info(f"{path}: no hosts, nothing to shut down")
         return 0
     where = f"through {via}" if via else "from here"
+    inv = link_robot = None
+    if via:  # the dry run refuses what the real run would refuse
+        from panther_ops.core.shutdown.remote import lan_robot
+
+        inv = context.load(ctx)
+        link_robot = lan_robot(inv, via)
     if dry_run or not json_out:
         _print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
     if dry_run:
@@ -151,14 +157,12 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     names = ", ".join(h.describe() for h in hosts)
     if not _confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", yes, "shutting hosts down"):
         return 2
-    if via:
-        from panther_ops.core.runner import Connections
+    if inv is not None and link_robot is not None:
+        from panther_ops.core.fleet.runner import Connections
         from panther_ops.core.shutdown.remote import RobotLink, backends_via
 
-        inv = context.load(ctx)
-        (robot,) = inv.select([via], [], False)[:1]
         with Connections(inv) as conns:
-            link = RobotLink(conns.get(robot), robot.name)
+            link = RobotLink(conns.get(link_robot), link_robot.name)
             fleet = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
     else:
         from panther_ops.core.shutdown.remote import backends_here
@@ -253,7 +257,7 @@ def hosts_list(
 
     Example: panther-ops shutdown hosts list -r panther-01
     """
-    from panther_ops.core.shutdown.hostsfile import load_hosts_file
+    from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.results import FleetResult, Outcome, RobotResult
 
     _local_or_robots(file, robot, group, all_)
@@ -333,14 +337,14 @@ def hosts_validate(
 
     Example: panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
     """
-    from panther_ops.core.shutdown.hostsfile import Mode, load_hosts_file
+    from panther_ops.core.config.hostsfile import Mode, load_hosts_file
     from panther_ops.results import FleetResult, Outcome
 
     _local_or_robots(file, robot, group, all_)
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.stack import stack_from_version
+            from panther_ops.core.fleet.stack import stack_from_version
 
             mode = Mode.HTTP if stack_from_version(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
@@ -391,7 +395,7 @@ def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
 
 def _entry(ip: str, user: str | None, port: int | None, command: str | None, timeout: float | None,
            no_ping: bool, http: bool, secret: Any) -> dict[str, Any]:
-    from panther_ops.core.shutdown.hostsfile import check_entry, new_entry
+    from panther_ops.core.config.hostsfile import check_entry, new_entry
 
     if http and user:
         raise _usage("--http hosts have no --user (husarion-shutdown takes a signed request, not a login)")
@@ -405,14 +409,22 @@ def _entry(ip: str, user: str | None, port: int | None, command: str | None, tim
     return entry
 
 
+def _check_local(path: Path, after: str) -> None:
+    """The hosts file as it would be written, through the one hosts file validator (an invalid
+    entry already in the file is refused too, naming it)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    check_file(FileKind.SHUTDOWN_HOSTS, str(path), after.encode(), local=path)
+
+
 def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run: bool, json_out: bool,
                  command: str, message: str) -> int:
     import os
     import tempfile
 
     from panther_ops.cli.render import emit_json, print_diffs
-    from panther_ops.core.diff import unified_diff
-    from panther_ops.core.shutdown.hostsfile import mask_secrets
+    from panther_ops.core.config.hostsfile import mask_secrets
+    from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
     changed = after != (before or "")
@@ -477,7 +489,7 @@ def hosts_add(
       panther-ops shutdown hosts add -r panther-01 --ip 10.15.20.3 --user husarion --yes
       panther-ops shutdown hosts add hosts.yaml --ip 10.15.20.5 --http --secret-env NUC_SECRET
     """
-    from panther_ops.core.shutdown.hostsfile import add_host
+    from panther_ops.core.config.hostsfile import add_host
 
     if not ip:
         raise _usage("--ip is required")
@@ -494,6 +506,7 @@ def hosts_add(
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
         before = file.read_text() if file.exists() else None
         edit = add_host(before or "", entry, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts add", edit.message)
     sec = _secret(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
@@ -528,7 +541,7 @@ def hosts_remove(
 
     Example: panther-ops shutdown hosts remove -r panther-01 --ip 10.15.20.3 --yes
     """
-    from panther_ops.core.shutdown.hostsfile import remove_host
+    from panther_ops.core.config.hostsfile import remove_host
 
     if not ip:
         raise _usage("--ip is required")
@@ -538,6 +551,7 @@ def hosts_remove(
             raise _usage(f"{file} does not exist")
         before = file.read_text()
         edit = remove_host(before, ip, user, port, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts remove", edit.message)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
@@ -586,7 +600,7 @@ def setup(
     """
     import getpass
 
-    from panther_ops.core.shutdown.hostsfile import check_entry, new_entry
+    from panther_ops.core.config.hostsfile import check_entry, new_entry
     from panther_ops.core.shutdown.setup import SetupRequest, run_setup
     from panther_ops.transport.base import Secret
 
@@ -639,8 +653,10 @@ def _finish_steps(fleet: FleetResult, json_out: bool) -> int:
         _stdout().print(table)
     print_diffs(fleet)
     print_warnings(fleet)
-    for r in fleet.results:
-        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/] {_esc(r.message)}")
+    for r in fleet.results:  # the message once: a failure's is the table's failing step
+        shown = r.data.get("steps") and not r.outcome.is_failure
+        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
+                        + (f" {_esc(r.message)}" if shown else ""))
     return int(fleet.exit_code)
 
 
@@ -707,7 +723,7 @@ def robot_(
 
     Example: panther-ops shutdown robot -r panther-01 --yes
     """
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.shutdown.run import RobotShutdownPlan, plan_robot_shutdown, shutdown_robot
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult

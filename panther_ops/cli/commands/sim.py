@@ -37,7 +37,7 @@ def _write(path: Path, before: str, after: str, what: str, command: str, *, yes:
            json_out: bool) -> int:
     """Show the exact diff, confirm, then write atomically with a backup beside the file."""
     from panther_ops.cli.render import emit_json, print_diffs
-    from panther_ops.core.diff import unified_diff
+    from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
     changed = after != before
@@ -155,14 +155,10 @@ def battery_check(file: File, json_out: Json = False) -> int:
     from ruamel.yaml import YAML
 
     from panther_ops.core.sim.battery import validate_battery
-    from panther_ops.errors import InputError
 
     text = _read(file)
-    try:
-        doc = YAML(typ="safe", pure=True).load(text)
-    except Exception as exc:  # ruamel's parse errors
-        raise InputError(f"not valid YAML: {exc}", path=str(file)) from None
-    notes = validate_battery(doc, str(file))
+    notes = validate_battery(text.encode(), str(file))
+    doc = YAML(typ="safe", pure=True).load(text)
     if json_out:
         from panther_ops.cli.render import emit_json
 

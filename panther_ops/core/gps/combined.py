@@ -9,11 +9,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.router import RouterRequest, changes, describe, open_router, read_state, summary_of
 from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
-from panther_ops.core.pipeline import ApplyOptions, RobotPlan
-from panther_ops.core.runner import RobotContext
 from panther_ops.results import Outcome, RobotResult
 
 

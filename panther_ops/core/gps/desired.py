@@ -12,11 +12,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.config_plans import edit_args
+from panther_ops.core.config.plans import edit_args
+from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.fleet.plan import FileEdit, Verify
+from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.service import DEFAULT_IP, DEFAULT_PORT, SERVICE, GpsOptions, enable_change
-from panther_ops.core.pipeline import FileEdit, Verify
-from panther_ops.core.robot_config import RobotConfig
-from panther_ops.core.runner import RobotContext
 from panther_ops.errors import UsageError
 
 KEYS = ("enabled", "port", "ip", "namespace", "container", "router")

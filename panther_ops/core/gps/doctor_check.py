@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from panther_ops.core.doctor import Finding
+from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.status import (
     BUSY,
     FIX,
@@ -16,7 +16,7 @@ from panther_ops.core.gps.status import (
     StatusOptions,
     status_task,
 )
-from panther_ops.core.runner import RobotContext
+from panther_ops.core.health.doctor import Finding
 from panther_ops.errors import OpsError
 
 WINDOW_S = 1.5

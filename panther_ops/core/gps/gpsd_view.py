@@ -8,7 +8,7 @@ import threading
 import time
 from typing import Any
 
-from panther_ops.core.runner import RobotContext
+from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import TransportError
 
 GPSD_PORT = 2947

@@ -18,10 +18,11 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.listen import check_port
-from panther_ops.core.pipeline import ApplyOptions, RobotPlan
-from panther_ops.core.runner import RobotContext
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult
 

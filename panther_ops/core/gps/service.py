@@ -26,14 +26,15 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config_plans import edit_args
+from panther_ops.core.config.launch_args import bool_word
+from panther_ops.core.config.plans import edit_args
+from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import Family
 from panther_ops.core.gps.listen import check_port
-from panther_ops.core.launch_args import bool_word
-from panther_ops.core.pipeline import ApplyOptions, FileEdit, RobotPlan, Verify, apply_plan
-from panther_ops.core.robot_config import RobotConfig, read_config
-from panther_ops.core.runner import RobotContext
-from panther_ops.core.stack import Family
-from panther_ops.core.yamlrender import Folded
+from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult
 

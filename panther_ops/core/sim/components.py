@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from panther_ops.core.yamldoc import YamlDocument
+from panther_ops.core.yaml.document import YamlDocument
 from panther_ops.errors import InputError, UsageError
 
 KEYS = ("type", "parent_link", "xyz", "rpy", "device_namespace", "name")
@@ -33,44 +33,19 @@ def check_triple(value: Any, what: str) -> str:
     return " ".join(parts)
 
 
-def validate_components(doc: Any, path: str) -> None:
-    """Raise InputError (naming the entry and key) unless ``doc`` is a valid components file."""
-    if not isinstance(doc, dict) or "components" not in doc:
-        raise InputError("expected a mapping with a components: list", path=path)
-    items = doc["components"]
-    if items is None:
-        return
-    if not isinstance(items, list):
-        raise InputError("components must be a list", path=path, key="components")
-    for i, item in enumerate(items):
-        where = f"components[{i}]"
-        if not isinstance(item, dict):
-            raise InputError(f"{where} must be a mapping (type, parent_link, xyz, rpy, device_namespace)",
-                             path=path, key=where)
-        unknown = sorted(set(item) - set(KEYS))
-        if unknown:
-            raise InputError(f"{where}: unknown key {unknown[0]!r}", path=path, key=f"{where}.{unknown[0]}",
-                             hint="allowed: " + ", ".join(KEYS))
-        if not isinstance(item.get("type"), str) or not _TYPE.match(item["type"]):
-            raise InputError(f"{where}.type {item.get('type')!r}: a Husarion component code such as ANT02, LDR01",
-                             path=path, key=f"{where}.type")
-        for key in ("xyz", "rpy"):
-            if key in item:
-                try:
-                    check_triple(item[key], f"{where}.{key}")
-                except UsageError as exc:
-                    raise InputError(exc.message, path=path, key=f"{where}.{key}") from None
-        for key in ("parent_link", "device_namespace", "name"):
-            if key in item and (not isinstance(item[key], str) or not _NAME.match(item[key])):
-                raise InputError(f"{where}.{key} {item[key]!r}: letters, digits and _", path=path,
-                                 key=f"{where}.{key}")
+def validate_components(text: str, path: str) -> None:
+    """`FileKindError` (exit 2, naming the entry and key) unless ``text`` is a valid components
+    file: the file kind's one validator (`core/config/kinds`, also `config push --as components`)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    check_file(FileKind.COMPONENTS, path, text.encode())
 
 
 def add_ant02(text: str, path: str, entry: dict[str, str]) -> tuple[str, str]:
     """The file with the ANT02 entry (appended, or the existing ANT02 entry's keys set), and
     what was done. The result is validated."""
     doc = YamlDocument(text, path)
-    validate_components(doc.to_plain(), path)
+    validate_components(text, path)
     items = doc.get("components") or []
     found = [i for i, it in enumerate(items) if isinstance(it, dict) and it.get("type") == "ANT02"]
     if len(found) > 1:
@@ -86,5 +61,5 @@ def add_ant02(text: str, path: str, entry: dict[str, str]) -> tuple[str, str]:
     else:
         doc.set("components", [entry])
         what = "ANT02 entry added"
-    validate_components(YamlDocument(doc.text, path).to_plain(), path)
+    validate_components(doc.text, path)
     return doc.text, what
