@@ -161,7 +161,7 @@ def diff(
 
     Example: panther-ops config diff --all
     """
-    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.apply.desired import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
@@ -352,7 +352,7 @@ def apply(
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.apply.desired import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "apply --force" if force else "apply"
