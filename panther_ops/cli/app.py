@@ -9,7 +9,7 @@ from __future__ import annotations
 import logging
 import os
 import sys
-from typing import TYPE_CHECKING, Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 
@@ -82,13 +82,13 @@ def root(
 
 
 _ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager",
-          "gps", "sim")
+          "gps", "sim", "reimage")
 """Command modules in the order --help lists them."""
 _NEEDS = {
     "status": ("fleet",), "doctor": ("fleet",), "config": ("config", "driver"), "apply": ("config",),
     "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
     "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
-    "gps": ("gps",), "sim": ("sim",),
+    "gps": ("gps",), "sim": ("sim",), "reimage": ("reimage",),
 }
 """Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""
 _registered: dict[str, tuple[list[CommandInfo], list[TyperInfo]]] = {}
@@ -125,6 +125,15 @@ def _register(command: str | None = None, sub: str | None = None) -> None:
         groups = [_only(g, sub) for g in groups if g.name == command]
     app.registered_commands[:] = commands
     app.registered_groups[:] = groups
+
+
+def full_command() -> Any:
+    """The click command of the whole application with every command registered (tests walk
+    it to reach every command and subcommand)."""
+    from typer.main import get_command
+
+    _register()
+    return get_command(app)
 
 
 def _name(info: CommandInfo) -> str:
@@ -178,6 +187,7 @@ def main(argv: list[str] | None = None) -> int:
         from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
     from panther_ops.errors import ExitCode, OpsError
+    from panther_ops.manager.errors import ManagerError
 
     args = list(sys.argv[1:] if argv is None else argv)
     _register(*_command_words(args))
@@ -188,6 +198,11 @@ def main(argv: list[str] | None = None) -> int:
 
         error(str(exc))
         return int(exc.exit_code)
+    except ManagerError as exc:  # a file the manager reads (scenario, animations, BT project...) is bad
+        from panther_ops.cli.render import error
+
+        error(str(exc))
+        return int(ExitCode.USAGE)
     except typer.Exit as exc:
         return int(getattr(exc, "exit_code", 0))
     except typer.Abort:

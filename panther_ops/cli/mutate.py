@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from panther_ops.cli.options import finite
+
 if TYPE_CHECKING:
     from panther_ops.core.fleet.changes import Applier, Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
@@ -15,7 +17,8 @@ Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
 DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
 NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
 Settle = Annotated[
-    float, typer.Option("--settle", min=0, help="Seconds the recreated container must stay up, unrestarted.")
+    float, typer.Option("--settle", min=0, callback=finite,
+                        help="Seconds the recreated container must stay up, unrestarted.")
 ]
 Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
 

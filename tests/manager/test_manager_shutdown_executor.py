@@ -151,7 +151,9 @@ def test_executor_steps_never_block_on_slow_pings() -> None:
             executor.step()
             durations.append(time.perf_counter() - started)
             time.sleep(0.01)
-        assert max(durations) < 0.005
+        # a step that waited for the ping would take its whole second; a loaded machine may
+        # delay a step by a few milliseconds, which says nothing about blocking
+        assert max(durations) < 0.25
         assert executor.results()[0].state is HostState.SKIPPED
     finally:
         backends.close()

@@ -26,6 +26,7 @@ robots:
     groups: [lab, "quoted"]
     vars: {floor: 2, ratio: 0.5, on: true, none: null}
   r02: {host: 10.200.9.12, port: 2222}
+groups: {lab: {}, quoted: {}}
 """
 
 

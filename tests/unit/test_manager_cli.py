@@ -49,7 +49,8 @@ def test_lights_validate_and_preview(tmp_path: Path, capsys: pytest.CaptureFixtu
 def test_manager_run_sim_json(capsys: pytest.CaptureFixture[str]) -> None:
     scen = template_path("manager", "scenarios", "battery_overheat.yaml")
     assert main(["manager", "run", "--sim", "--scenario", str(scen), "--json"]) == 0
-    lines = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
+    doc = json.loads(capsys.readouterr().out)  # one document: the snapshot of every tick
+    lines = doc["snapshots"]
     calls = [c for s in lines for c in s["calls"]]
     assert any("e_stop_trigger" in c for c in calls)
     assert any(s["e_stop"] for s in lines)

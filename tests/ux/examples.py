@@ -97,6 +97,9 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r" -f\b| --follow\b", "follows a live container log (docker on the robot)"),
     (r"config rollback .*--to \d", "needs a backup id from that robot's `config history`"),
     (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
+    (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
+    (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
+    (r"gps (listen|watch) ", "waits for NMEA from a sender on the robot's network (tests/unit/test_gps_listen.py sends it)"),
     (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
@@ -106,6 +109,8 @@ EXPECTED_EXIT = {
     "panther-ops shutdown hosts validate bad.yaml": 2,
     "panther-ops -i demo config push bad_hosts.yaml --as shutdown-hosts -r panther-01 --yes": 2,
     "panther-ops -i demo config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
+    "panther-ops manager run --sim --scenario low_batery": 2,
+    "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
 }
 """Examples that show a refusal: their exit code."""
 

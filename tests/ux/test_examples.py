@@ -43,6 +43,7 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "bad_animations.yaml").write_text(BAD_ANIMATIONS)
     (tmp_path / "bad.yaml").write_text(BAD_HOSTS)
     (tmp_path / "my_hosts.yaml").write_text(GOOD_HOSTS)
+    (tmp_path / "hosts.yaml").write_text(GOOD_HOSTS)
     (tmp_path / "bad_hosts.yaml").write_text(BAD_PUSHED_HOSTS)
     (tmp_path / "proj").mkdir()
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
@@ -101,8 +102,8 @@ def _run(example: Example, workspace: Path, capsys: pytest.CaptureFixture[str]) 
         out, err = capsys.readouterr()
     assert code == EXPECTED_EXIT.get(example.line, 0), f"{example.where}: {example.line}\n{out}\n{err}"
     assert "internal error" not in err and "Traceback" not in err
-    if "| jq" in example.line:  # one JSON document per line
-        assert all(json.loads(line) is not None for line in out.splitlines())
+    if "| jq" in example.line:  # --json: exactly one JSON document on stdout
+        assert json.loads(out) is not None
     if "| grep calls" in example.line:
         assert "calls=" in out
 

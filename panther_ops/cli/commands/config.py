@@ -48,8 +48,11 @@ def get(
     Example: panther-ops config get wheel_type --all
     """
     from panther_ops.cli.render import finish, print_results
+    from panther_ops.core.config.checks import precheck_key
     from panther_ops.core.config.plans import read_arg
     from panther_ops.results import Outcome, RobotResult
+
+    precheck_key(key)
 
     def task(c: Any) -> RobotResult:
         info = read_arg(c, key)
@@ -136,6 +139,9 @@ def unset(
 
     Example: panther-ops config unset wheel_type -r panther-01 --yes
     """
+    from panther_ops.core.config.checks import precheck_key
+
+    precheck_key(key, known=False)  # an argument not in the catalogue can be removed, a malformed name not
     inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
 
     def planner(c: Any) -> Any:
@@ -220,8 +226,14 @@ def rollback(
 
     Example: panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
     """
-    from panther_ops.core.fleet.history import plan_rollback
+    import re
 
+    from panther_ops.core.fleet.history import plan_rollback
+    from panther_ops.errors import UsageError
+
+    if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
+        raise UsageError(f"--to {to!r} is not a backup id",
+                         hint="an id (or a prefix) from `panther-ops config history`, e.g. 20261122T101500Z")
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config rollback", inv, chosen, lambda c: plan_rollback(c, to), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
@@ -305,6 +317,8 @@ def pull(
     except ValueError:
         raise UsageError(f"{kind!r} is not a config kind", hint="allowed: " + ", ".join(x.value for x in PushKind)) \
             from None
+    if output is not None and (output.is_dir() or not output.parent.is_dir()):
+        raise UsageError(f"--output {output}: not a file path in an existing directory")
     inv, chosen = context.targets(ctx, robot, group, all_)
     if len(chosen) > 1 and dest is None:
         raise UsageError(f"{len(chosen)} robots chosen: pass --dest DIR (files go to DIR/<robot>/)")

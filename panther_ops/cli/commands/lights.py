@@ -54,8 +54,21 @@ def preview(
 
     Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
     """
+    import math
+
+    from panther_ops.errors import UsageError
     from panther_ops.manager import render_preview
 
+    if param is not None:
+        try:
+            level = float(param)
+        except ValueError:
+            level = math.nan
+        if not 0.0 <= level <= 1.0:
+            raise UsageError(f"--param {param!r} is not allowed", hint="a battery level from 0 to 1, e.g. 0.3")
+    if out.suffix.lower() != ".gif" or out.is_dir() or not out.parent.is_dir():
+        raise UsageError(f"--out {out}: not a GIF file path in an existing directory",
+                         hint="e.g. --out anim.gif")
     p = render_preview(file, anim_id, out, led_config, param)
     typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
     return 0
@@ -107,6 +120,12 @@ def test(
     """
     from panther_ops.cli.render import finish, print_results
     from panther_ops.core.manager_ops.lights import set_animation
+    from panther_ops.errors import UsageError
+
+    if not 0 <= anim_id <= 65535:
+        raise UsageError(f"animation id {anim_id} is not allowed", hint="0-65535 (the message's uint16)")
+    if any(ord(c) < 32 or ord(c) == 127 for c in param):
+        raise UsageError(f"--param {param!r} holds a control character", hint="one line of printable text")
 
     def task(c: Any) -> Any:
         return set_animation(c, anim_id, param, repeating)

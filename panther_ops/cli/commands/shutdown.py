@@ -17,10 +17,11 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
 
 if TYPE_CHECKING:
     from panther_ops.core.config.hostsfile import HostsFile
+    from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.results import FleetResult, RobotResult
     from panther_ops.transport.base import Secret
 
@@ -38,7 +39,8 @@ FileArg = Annotated[
 ]
 PowerBudget = Annotated[
     float,
-    typer.Option("--power-budget", min=0.1, help="Seconds the robot's hardware gives its computers before it cuts "
+    typer.Option("--power-budget", min=0.1, callback=finite,
+                 help="Seconds the robot's hardware gives its computers before it cuts "
                  "the power (a timeout above it is warned)."),
 ]
 OptStr = Optional[str]  # noqa: UP045
@@ -136,20 +138,33 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
-    parsed = load_hosts_file(path, power_budget=power_budget)
-    _print_findings(parsed)
-    hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
-    if not hosts:
-        context.info(f"{path}: no hosts, nothing to shut down")
-        return 0
-    where = f"through {via}" if via else "from here"
-    inv = link_robot = None
-    if via:  # the dry run refuses what the real run would refuse
+    for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
+        if given is not None and not given.is_file():
+            raise _usage(f"{option} {given}: no such file")
+    inv: Inventory | None = None
+    link_robot: Robot | None = None
+    if via is not None:  # the robot must exist and reach its LAN, dry run or not
         from panther_ops.core.shutdown.remote import lan_robot
 
         inv = context.load(ctx)
-        link_robot = lan_robot(inv, via)
-    if dry_run or not json_out:
+        if via not in inv.robots:
+            inv.select([via], [], False)  # no robot matches: exit 2 naming the robots
+            raise _usage(f"--via {via!r}: name one robot of the inventory (not a glob)")
+        link_robot = lan_robot(inv, via)  # the dry run refuses what the real run would refuse
+    parsed = load_hosts_file(path, power_budget=power_budget)
+    _print_findings(parsed)
+    hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
+    where = f"through {via}" if via else "from here"
+    if json_out and (dry_run or not hosts):
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": f"shutdown --hosts {path}", "via": via, "dry_run": dry_run,
+                   "hosts": [e.row() for e in parsed.entries], "warnings": [str(w) for w in parsed.warnings]})
+        return 0
+    if not hosts:
+        context.info(f"{path}: no hosts, nothing to shut down")
+        return 0
+    if not json_out:
         _print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
     if dry_run:
         context.info("dry run: nothing was contacted")
@@ -317,6 +332,14 @@ def _finish_list(fleet: FleetResult, json_out: bool) -> int:
     return int(fleet.exit_code)
 
 
+def _check_ip(ip: str) -> None:
+    """--ip of `hosts remove` is what a hosts file's ip may be (the hosts file validator's rule)."""
+    from panther_ops.core.config.hostsfile import valid_address
+
+    if not valid_address(ip):
+        raise _usage(f"--ip {ip!r} is not an IP address or host name")
+
+
 @hosts_app.command("validate")
 def hosts_validate(
     ctx: typer.Context,
@@ -341,12 +364,14 @@ def hosts_validate(
     from panther_ops.results import FleetResult, Outcome
 
     _local_or_robots(file, robot, group, all_)
+    if stack and file is None:
+        raise _usage("--stack goes with a local FILE (a robot's hosts file is checked for the robot's own stack)")
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.fleet.stack import stack_from_version
+            from panther_ops.core.fleet.stack import stack_option
 
-            mode = Mode.HTTP if stack_from_version(stack).shutdown_over_http else Mode.SSH
+            mode = Mode.HTTP if stack_option(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
         results = [_validate_result(str(file), parsed, str(file))]
         fleet = FleetResult("shutdown hosts validate", results)
@@ -462,8 +487,8 @@ def hosts_add(
     port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
     command: Annotated[OptStr, typer.Option("--command", help="Command run over SSH (default: sudo shutdown "
                                             "now).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", help="Seconds to wait for the host to go down "
-                                              "(default 5).")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+                                              help="Seconds to wait for the host to go down (default 5).")] = None,
     no_ping: Annotated[bool, typer.Option("--no-ping-for-success", help="Done at the response (no pinging).")] = False,
     http: Annotated[bool, typer.Option("--http", help="A husarion-shutdown (HTTP) host (2.2.1+ robots).")] = False,
     secret_env: SecretEnv = None,
@@ -545,6 +570,7 @@ def hosts_remove(
 
     if not ip:
         raise _usage("--ip is required")
+    _check_ip(ip)
     _local_or_robots(file, robot, group, all_)
     if file is not None:
         if not file.exists():
@@ -572,7 +598,8 @@ def setup(
     user: Annotated[OptStr, typer.Option("--user", "-u", help="User on the computer (SSH era; default "
                                          "husarion).")] = None,
     port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", help="The host's timeout in the hosts file.")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+                                              help="The host's timeout in the hosts file.")] = None,
     ask_password: Annotated[bool, typer.Option("--ask-password", help="Ask the user's password (login once and "
                                                "sudo on the computer); never on the command line, never "
                                                "logged.")] = False,
@@ -753,7 +780,7 @@ def robot_(
             for name, exc in usage.items():
                 error(f"{name}: {exc}")
             return int(ExitCode.USAGE)
-        if not json_out or dry_run:
+        if not json_out:  # with --json, stdout holds one JSON document and nothing else
             print_results(planned, title="shutdown robot: " + ("dry run" if dry_run else "plan"))
         if dry_run or not plans:
             if json_out:

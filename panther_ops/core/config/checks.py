@@ -12,6 +12,26 @@ from panther_ops.errors import UsageError
 REPRESENTATIVE = ("2.0.0", "2.0.4", "2.1.0", "2.1.1", "2.2.0", "2.2.2")
 
 
+def precheck_key(key: str, *, known: bool = True) -> None:
+    """Refuse a key no robot can have before any robot is read: a controller limit key that
+    does not parse, a launch argument name with characters no name has, or (``known``) a
+    launch argument not in the catalogue.
+
+    Raises:
+        UsageError: naming the key, with close names where there are some.
+    """
+    if key.startswith("controller."):
+        from panther_ops.core.config.controller import parse_limit_key
+
+        parse_limit_key(key)
+        return
+    from panther_ops.core.config.launch_args import check_arg_text, spec
+
+    check_arg_text(key, "")
+    if known:
+        spec(key)
+
+
 def precheck(values: Mapping[str, Any], *, force: bool = False) -> None:
     """Raise the first error when a key/value is refused on every supported stack.
 

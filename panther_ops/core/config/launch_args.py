@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import difflib
 import re
+import unicodedata
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
@@ -402,6 +403,28 @@ def _since_text(s: ArgSpec, stack: Stack) -> str:
     return f"{s.key} needs {family} {s.availability()}; this robot runs {stack.label()}"
 
 
+_ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+def check_arg_text(key: str, value: str) -> None:
+    """Refuse what can never be written into the driver's command, ``--force`` or not: a
+    name that is not a launch argument name, a value holding a newline or another control
+    character (it would split or corrupt the ``command:`` line of compose.yaml).
+
+    Raises:
+        InvalidArgValueError: naming the argument and the offending character.
+    """
+    if not _ARG_NAME.match(key.removeprefix("launch_args.")):
+        raise InvalidArgValueError(f"launch argument name {key!r} is not allowed",
+                                   hint="letters, digits and '_', starting with a letter or '_'")
+    bad = next((c for c in value if unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp")), None)
+    if bad is not None:
+        raise InvalidArgValueError(
+            f"{key}: the value {value!r} holds the control character {bad!r} (U+{ord(bad):04X})",
+            hint="a launch argument value is one line of printable text",
+        )
+
+
 def validate_arg(
     stack: Stack,
     key: str,
@@ -430,6 +453,7 @@ def validate_arg(
     """
     warnings: list[str] = []
     value = value.strip()
+    check_arg_text(key, value)
     try:
         s = spec(key)
     except UnknownArgError:

@@ -148,7 +148,14 @@ def shell_quote(value: str, quote: str | None = None) -> str:
 
 
 def arg_word(name: str, value: str, like: Token | None = None) -> str:
-    """The word ``name:=value``, quoted like ``like`` (the word it replaces) when given."""
+    """The word ``name:=value``, quoted like ``like`` (the word it replaces) when given.
+
+    Raises:
+        ValueError: a name or value with a control character (a newline would end the
+            ``command:`` line): validate_arg refuses those first, naming the argument.
+    """
+    if any(ord(c) < 32 or ord(c) == 127 for c in name + value):
+        raise ValueError(f"launch argument {name}: control character in {value!r}")
     if like is not None and like.whole_quoted and like.quote:
         return shell_quote(f"{name}:={value}", like.quote)
     if like is not None and like.quote:

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.core.fleet import inventory_cache
+from panther_ops.core.fleet.hostspec import HOST_FORMS, JUMP_FORMS, HostSpecError, check_host, parse_jump
 from panther_ops.core.yaml.located import LineDict, LineList, load_yaml_file
 from panther_ops.errors import InventoryError
 from panther_ops.transport.base import Endpoint
@@ -116,11 +117,10 @@ class Inventory:
                                          path=robot.source, key=f"robots.{robot.name}.jump")
                 jump = self.endpoint(self.robots[robot.jump], (*_seen, robot.name))
             else:
-                user, _, hostport = robot.jump.rpartition("@")
-                host, _, port = hostport.partition(":")
+                spec = parse_jump(robot.jump)
                 jump = Endpoint(
-                    name=f"{robot.name} (jump {host})", host=host, port=int(port) if port else None,
-                    user=user or None, ssh_config=self.ssh_config, known_hosts=self.known_hosts,
+                    name=f"{robot.name} (jump {spec.host})", host=spec.host, port=spec.port,
+                    user=spec.user, ssh_config=self.ssh_config, known_hosts=self.known_hosts,
                     connect_timeout=robot.connect_timeout,
                 )
         return Endpoint(
@@ -160,18 +160,25 @@ class Inventory:
             hits = [r for n, r in self.robots.items() if fnmatch.fnmatchcase(n, pat)]
             if not hits:
                 raise InventoryError(
-                    f"no robot matches --robot {pat!r}", path=str(self.path),
+                    f"no robot matches --robot {pat!r}" + _did_you_mean(pat, self.robots), path=str(self.path),
                     hint=f"robots: {', '.join(self.robots)}",
                 )
             chosen.update((r.name, r) for r in hits)
         for g in groups:
             if g not in self.groups:
                 raise InventoryError(
-                    f"no group {g!r}", path=str(self.path),
+                    f"no group {g!r}" + _did_you_mean(g, self.groups), path=str(self.path),
                     hint=f"groups: {', '.join(self.groups) or '(none defined)'}",
                 )
             chosen.update((r.name, r) for r in self.robots.values() if g in r.groups)
         return [r for n, r in self.robots.items() if n in chosen]
+
+
+def _did_you_mean(name: str, known: Any) -> str:
+    import difflib
+
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def find_inventory(explicit: str | None) -> tuple[Path, str]:
@@ -229,12 +236,14 @@ class _Loader:
                                  hint="add a `robots:` mapping (docs/inventory.md)")
         robots = {name: self.robot(name, doc, f) for name, (doc, f) in self.raw_robots.items()}
         for r in robots.values():
-            if r.jump and r.jump not in robots and not re.fullmatch(r"([^@\s]+@)?[^@:\s]+(:\d+)?", r.jump):
-                doc, f = self.raw_robots[r.name]
-                raise self.err(f"jump {r.jump!r} is neither a robot of the inventory nor user@host[:port]",
-                               f, doc, f"robots.{r.name}.jump", "jump")
-            for g in r.groups:
-                self.groups.setdefault(g, {})
+            if r.jump and r.jump not in robots:
+                try:
+                    parse_jump(r.jump)
+                except HostSpecError as exc:
+                    doc, f = self.raw_robots[r.name]
+                    raise self.err(f"{exc}: neither a robot of the inventory nor user@host[:port]",
+                                   f, doc, f"robots.{r.name}.jump", "jump", hint=f"allowed: {JUMP_FORMS}") from None
+            self.check_groups(r)
         inv = Inventory(
             path=self.path, origin=self.origin, robots=robots, groups=self.groups,
             ssh_config=self.settings.get("ssh_config"),
@@ -315,8 +324,9 @@ class _Loader:
                     raise self.err("forks must be a whole number from 1 to 500", f, s, "settings.forks", k)
                 self.settings[k] = v
             elif k == "command_timeout":
-                if not isinstance(v, (int, float)) or v <= 0:
-                    raise self.err("command_timeout must be a number of seconds > 0", f, s, f"settings.{k}", k)
+                if not _positive_seconds(v):
+                    raise self.err(f"command_timeout {v!r} is not allowed", f, s, f"settings.{k}", k,
+                                   hint="a finite number of seconds > 0, e.g. 120")
                 self.settings[k] = float(v)
             elif k == "default_group":
                 if not isinstance(v, str) or not v:
@@ -358,6 +368,8 @@ class _Loader:
         if k in ("host", "jump", "identity_file", "compose_file", "description", "root"):
             if not isinstance(v, str) or not v.strip():
                 raise _Bad(f"{k} must be a non-empty string")
+            if k in ("host", "jump"):
+                return _address(k, v)
             return str(_rel(f, v.strip())) if k in ("identity_file", "root") else v.strip()
         if k == "vars":
             return dict(self.mapping(v, f, d, key))
@@ -384,6 +396,23 @@ class _Loader:
             ):
                 raise self.err("shutdown_hosts must be a list of mappings (ip, username, ...)",
                                    f, d, f"{key}.{k}", k)
+
+    def check_groups(self, robot: Robot) -> None:
+        """Every group a robot names is declared under ``groups:`` (a typo would silently
+        drop that group's settings)."""
+        import difflib
+
+        for g in robot.groups:
+            if g in self.groups:
+                continue
+            doc, f = self.raw_robots[robot.name]
+            close = difflib.get_close_matches(g, list(self.groups), n=1)
+            raise self.err(
+                f"group {g!r} is not declared under `groups:`" + (f"; did you mean {close[0]!r}?" if close else ""),
+                f, doc, f"robots.{robot.name}.groups", "groups" if "groups" in doc else None,
+                hint=f"declared groups: {', '.join(self.groups) or '(none)'}; declare it "
+                f"(`groups: {{{g}: {{}}}}`) if it is a new group",
+            )
 
     def robot(self, name: str, doc: LineDict, f: Path) -> Robot:
         own = self.fields(doc, f, f"robots.{name}")
@@ -436,9 +465,31 @@ def _port(v: Any) -> int:
 
 
 def _timeout(v: Any) -> float:
-    if not isinstance(v, (int, float)) or isinstance(v, bool) or v <= 0:
-        raise _Bad("connect_timeout must be a number of seconds > 0")
+    if not _positive_seconds(v):
+        raise _Bad(f"connect_timeout {v!r} is not allowed", "a finite number of seconds > 0, e.g. 10")
     return float(v)
+
+
+def _positive_seconds(v: Any) -> bool:
+    """A finite number > 0 (not a bool, not .nan or .inf)."""
+    import math
+
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0
+
+
+def _address(k: str, v: str) -> str:
+    """A robot's ``host`` (an address or hostname) or ``jump`` (a robot name or a jump spec)."""
+    try:
+        if k == "host":
+            return check_host(v)
+        if NAME.match(v):
+            return v  # a robot of the inventory, or a bare hostname: checked once all robots are read
+        parse_jump(v)
+        return v
+    except HostSpecError as exc:
+        if k == "host":
+            raise _Bad(str(exc), f"allowed: {HOST_FORMS}") from None
+        raise _Bad(f"{exc}: neither a robot of the inventory nor user@host[:port]", f"allowed: {JUMP_FORMS}") from None
 
 
 def _user(v: Any) -> str:

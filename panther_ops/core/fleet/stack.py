@@ -156,6 +156,23 @@ def stack_from_version(text: str) -> Stack:
     return parse_image(f"{repo}:humble-{text.strip()}")
 
 
+def stack_option(text: str, option: str = "--stack") -> Stack:
+    """A Stack for a version typed on the command line; bad input is a UsageError (exit 2).
+
+    Raises:
+        UsageError: not a version X.Y.Z, or a version panther-ops does not support.
+    """
+    from panther_ops.errors import UsageError
+
+    try:
+        return stack_from_version(text)
+    except ValueError:
+        raise UsageError(f"{option} {text!r} is not a version X.Y.Z",
+                         hint="a stack version such as 2.0.4, 2.1.1 or 2.2.2") from None
+    except RemoteStateError as exc:
+        raise UsageError(f"{option} {text}: {exc.message}", hint=exc.hint) from None
+
+
 DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
 
 

@@ -1,4 +1,6 @@
-"""Where the shipped templates live: beside the package when installed, else the repo root."""
+"""Where the shipped templates live: package data ``panther_ops/templates`` when installed
+from a wheel (setup.py maps the repository's ``templates/`` there), else, in a checkout or
+an editable install, the repository's ``templates/`` beside the package."""
 
 from __future__ import annotations
 
@@ -8,11 +10,14 @@ from pathlib import Path
 
 @cache
 def templates_dir() -> Path:
-    here = Path(__file__).resolve().parents[2]  # panther_ops/
-    for candidate in (here / "templates", here.parent / "templates"):
-        if candidate.is_dir():
-            return candidate
-    raise FileNotFoundError("panther-ops templates/ directory not found (broken installation)")
+    from importlib.resources import files
+
+    package = files("panther_ops")
+    if isinstance(package, Path):  # an installed or checked-out package: real files
+        for candidate in (package / "templates", package.parent / "templates"):
+            if candidate.is_dir():
+                return candidate
+    raise FileNotFoundError(f"panther-ops templates not found in {package} (broken installation)")
 
 
 def template_path(*parts: str) -> Path:

@@ -61,6 +61,39 @@ class NodeInfo:
     raw: str = ""
 
 
+MAX_EXPANDED_NODES = 100_000
+"""Most nodes a document may hold once its aliases are expanded (an alias bomb is refused)."""
+
+
+def _check_aliases(root: Node, path: str | None) -> None:
+    """Refuse a recursive alias (a node inside itself) and a document whose aliases expand to
+    more than MAX_EXPANDED_NODES nodes, before anything walks or converts it."""
+    sizes: dict[int, int] = {}
+    open_nodes: builtins.set[int] = builtins.set()
+
+    def size(node: Node) -> int:
+        if id(node) in sizes:
+            return sizes[id(node)]
+        if id(node) in open_nodes:
+            raise DocumentError("recursive YAML alias (a node that contains itself)", path=path,
+                                line=node.start_mark.line + 1 if node.start_mark else None)
+        open_nodes.add(id(node))
+        children: list[Node] = []
+        if isinstance(node, MappingNode):
+            children = [n for pair in node.value for n in pair]
+        elif isinstance(node, SequenceNode):
+            children = list(node.value)
+        total = 1 + sum(size(c) for c in children)
+        open_nodes.discard(id(node))
+        if total > MAX_EXPANDED_NODES:
+            raise DocumentError(f"the document expands to more than {MAX_EXPANDED_NODES} nodes (aliases expanded)",
+                                path=path, line=node.start_mark.line + 1 if node.start_mark else None)
+        sizes[id(node)] = total
+        return total
+
+    size(root)
+
+
 def is_flow(node: Node) -> bool:
     return bool(getattr(node, "flow_style", False))
 
@@ -104,7 +137,12 @@ class YamlNodes:
 
     def _compose(self, text: str) -> Node | None:
         try:
-            return cast("Node | None", thread_parser().compose(text))
+            root = cast("Node | None", thread_parser().compose(text))
+            if root is not None:
+                _check_aliases(root, self.path)
+            return root
+        except RecursionError:
+            raise DocumentError("invalid YAML: nested too deeply", path=self.path) from None
         except MarkedYAMLError as exc:
             mark = exc.problem_mark or exc.context_mark
             line = mark.line + 1 if mark is not None else None
