@@ -72,8 +72,9 @@ def router_show(
     Example: PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.gps.router import show_task
+    from panther_ops.core.gps.router import check_address, show_task
 
+    check_address(address)
     creds = credentials()
     inv, chosen = context.targets(ctx, robot, group, all_)
     return finish(context.run("gps router show", inv, chosen, show_task(address, creds), forks=forks,
@@ -113,12 +114,19 @@ def router_set(
 
     Example: panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
-    from panther_ops.core.gps.router import RouterRequest, apply_router, parse_sentences, plan_router
+    from panther_ops.core.gps.router import (
+        RouterRequest,
+        apply_router,
+        check_address,
+        parse_sentences,
+        plan_router,
+    )
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))
     if req.empty:
         raise UsageError("nothing to set", hint="--enable/--disable, --hostname, --port or --sentences")
+    check_address(address)
     creds = credentials()
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("gps router set", inv, chosen, lambda c: plan_router(c, address, creds, req),

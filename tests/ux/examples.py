@@ -100,6 +100,9 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
     (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
     (r"gps (listen|watch) ", "waits for NMEA from a sender on the robot's network (tests/unit/test_gps_listen.py sends it)"),
+    (r"gps router (show|set) |gps (enable|status|watch) .*--router\b",
+     "talks to the robot's RUTX11 router (credentials, its REST API behind the robot's SSH; "
+     "tests/integration/test_gps_router_lab.py runs it on the lab's stand-in router)"),
     (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
@@ -111,6 +114,8 @@ EXPECTED_EXIT = {
     "panther-ops -i demo config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
     "panther-ops manager run --sim --scenario low_batery": 2,
     "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
+    "panther-ops sim world set w.sdf --latitude 91 --yes": 2,
+    "panther-ops sim battery check bad.yaml": 2,
 }
 """Examples that show a refusal: their exit code."""
 

@@ -140,8 +140,10 @@ def enable(
       panther-ops gps enable -r panther-01 --yes
       panther-ops gps enable -r panther-01 --router --yes
     """
+    from panther_ops.core.gps.router import check_address
     from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
 
+    check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
     if router:
         from panther_ops.core.gps.combined import enable_applier, plan_enable_with_router
@@ -245,8 +247,11 @@ def status(
       panther-ops gps status -r panther-01 --router --json
     """
     from panther_ops.cli.render import finish
+    from panther_ops.core.gps.router import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
 
+    check_address(address)
+    StatusOptions(port=port, window_s=window)  # bad input refused before asking for credentials
     creds = _credentials() if router else None
     opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
     inv, chosen = context.targets(ctx, robot, group, all_)
@@ -280,9 +285,12 @@ def watch(
 
     from panther_ops.cli.render import _console, emit_json
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.gps.router import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
     from panther_ops.errors import UsageError
 
+    check_address(address)  # every input checked before the first refresh
+    StatusOptions(port=port, window_s=window)
     if json_out and count is None:
         raise UsageError("gps watch --json needs --count N (one JSON document at the end)")
     creds = _credentials() if router else None

@@ -14,7 +14,6 @@ Reads are ``GET`` on the same paths. Credentials: `core.gps.credentials`.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,7 +31,17 @@ FORWARDING = "/api/gps/nmea/config/nmea_forwarding"
 RULES = "/api/gps/nmea/rules/config"
 SENTENCES = ("GPGSV", "GPGGA", "GPVTG", "GPRMC", "GPGSA", "GLGSV", "GNGSA", "GNGNS", "GAGSV", "PQGSV", "PQGSA")
 """The sentences Husarion's router setup forwards (panther_rutx11)."""
-_HOST = re.compile(r"^[A-Za-z0-9]([A-Za-z0-9.-]{0,251}[A-Za-z0-9])?$")
+
+
+def check_address(address: str, option: str = "--address") -> str:
+    """``address`` if it is an IPv4/IPv6 address or an RFC 1123 host name, else UsageError."""
+    from panther_ops.core.fleet.hostspec import HostSpecError, check_host
+
+    try:
+        return check_host(address)
+    except HostSpecError as exc:
+        raise UsageError(f"{option} {address!r}: {exc}; an IPv4/IPv6 address or host name, "
+                         f"e.g. {DEFAULT_ROUTER}") from None
 
 
 @dataclass(frozen=True)
@@ -45,8 +54,8 @@ class RouterRequest:
     sentences: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
-        if self.hostname is not None and not _HOST.match(self.hostname):
-            raise UsageError(f"--hostname {self.hostname!r}: an IPv4 address or host name (letters, digits, . and -)")
+        if self.hostname is not None:
+            check_address(self.hostname, "--hostname")
         if self.port is not None:
             check_port(self.port, "--port")
         for s in self.sentences or ():

@@ -25,7 +25,7 @@ from panther_ops.core.fleet.templates import read_template
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.nmea import Fix, NmeaDecoder
 from panther_ops.core.gps.service import SERVICE
-from panther_ops.errors import OpsError, TransportError
+from panther_ops.errors import OpsError, TransportError, UsageError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
 
@@ -80,6 +80,19 @@ class StatusOptions:
     router: str | None = None
     """The router's address when its settings are to be read (``--router``)."""
     credentials: Credentials | None = None
+
+    def __post_init__(self) -> None:
+        """Bad input refused before any robot is contacted (exit 2)."""
+        import math
+
+        from panther_ops.core.gps.listen import check_port
+        from panther_ops.core.gps.router import check_address
+
+        check_port(self.port, "--port")
+        if not (math.isfinite(self.window_s) and self.window_s > 0):
+            raise UsageError(f"--window {self.window_s}: a finite number of seconds > 0, e.g. 3")
+        if self.router is not None:
+            check_address(self.router)
 
 
 def driver_mode(ctx: RobotContext) -> dict[str, Any]:
