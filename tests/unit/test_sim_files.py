@@ -59,11 +59,11 @@ def test_gps_add_the_manuals_entry(tmp_path: Path, capsys: pytest.CaptureFixture
 
 
 @pytest.mark.parametrize(("content", "says"), [
-    ("components:\n  - type: ANT02\n    colour: red\n", "unknown key 'colour'"),
+    ("components:\n  - type: ANT02\n    colour: red\n", "components[0].colour: unknown key"),
     ("components:\n  - type: antenna\n", "components[0].type"),
     ("components:\n  - type: LDR01\n    xyz: 1 2\n", "components[0].xyz"),
-    ("components: 3\n", "components must be a list"),
-    ("other: []\n", "components: list"),
+    ("components: 3\n", "components=3 must be a list"),
+    ("other: []\n", "other: unknown key (allowed: components)"),
 ])
 def test_components_validator(tmp_path: Path, capsys: pytest.CaptureFixture[str], content: str, says: str) -> None:
     f = tmp_path / "c.yaml"
@@ -123,14 +123,14 @@ def test_world_set_refuses(tmp_path: Path, capsys: pytest.CaptureFixture[str], a
 
 def test_battery_check(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     code, _out, err = run(capsys, "sim", "battery", "check", str(BATTERY_20))
-    assert code == 0 and "0-1 form" not in err
+    assert code == 0 and "0-1 fraction" not in err
     code, out, _ = run(capsys, "sim", "battery", "check", str(BATTERY_21), "--json")
     doc = json.loads(out)
-    assert code == 0 and any("0-1 form" in n and "70 %" in n for n in doc["notes"])
+    assert code == 0 and any("0-1 fraction" in n and "70 %" in n for n in doc["notes"])
     for content, says in (("simulate_discharging: 1\n", "simulate_discharging"),
                           ("initial_charge_percentage: 140\n", "0-100"),
                           ("charging_time: 0\n", "charging_time"), ("power_load: -5\n", "power_load"),
-                          ("capacity: many\n", "capacity"), ("voltage: 12\n", "unknown key 'voltage'")):
+                          ("capacity: many\n", "capacity"), ("voltage: 12\n", "voltage: unknown key")):
         f = tmp_path / "b.yaml"
         f.write_text(content)
         code, _out, err = run(capsys, "sim", "battery", "check", str(f))

@@ -115,7 +115,7 @@ EXPECTED_EXIT = {
     "panther-ops manager run --sim --scenario low_batery": 2,
     "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
     "panther-ops sim world set w.sdf --latitude 91 --yes": 2,
-    "panther-ops sim battery check bad.yaml": 2,
+    "panther-ops sim battery check bad_battery.yaml": 2,
 }
 """Examples that show a refusal: their exit code."""
 

@@ -40,6 +40,7 @@ WORLD = """<?xml version="1.0" ?>
   </world>
 </sdf>
 """
+BAD_BATTERY = "simulate_discharging: true\ninitial_charge_percentage: 140\n"
 ESCAPING_BTPROJ = ('<?xml version="1.0"?>\n<root BTCPP_format="4" project_format="1.0">\n'
                    '  <include path="../../../.ssh/authorized_keys"/>\n</root>\n')
 
@@ -66,6 +67,7 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
                 tmp_path / "battery_plugin_config.yaml")
     (tmp_path / "my_world.sdf").write_text(WORLD)
     (tmp_path / "w.sdf").write_text(WORLD)
+    (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
     (tmp_path / "proj").mkdir()
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)
