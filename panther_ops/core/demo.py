@@ -8,10 +8,12 @@ docker steps are reported ``skipped``.
 
 from __future__ import annotations
 
+import json
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
+from panther_ops.core.estop.calls import DEMO_RECORDING
 from panther_ops.core.templates import template_path
 from panther_ops.errors import UsageError
 
@@ -22,12 +24,15 @@ class DemoRobot:
     compose_template: str
     serial: str
     groups: tuple[str, ...]
+    e_stop: bool = True
+    cmd_vel_publishers: tuple[str, ...] = ()
 
 
 DEMO_ROBOTS = (
     DemoRobot("panther-01", "panther-2.1.1.yaml", "PTH0101", ("warehouse",)),
-    DemoRobot("panther-02", "panther-2.0.4.yaml", "PTH0102", ("warehouse",)),
-    DemoRobot("panther-03", "husarion-ugv-2.2.2.yaml", "PTH0203", ("field",)),
+    DemoRobot("panther-02", "panther-2.0.4.yaml", "PTH0102", ("warehouse",),
+              cmd_vel_publishers=("teleop_twist_keyboard",)),
+    DemoRobot("panther-03", "husarion-ugv-2.2.2.yaml", "PTH0203", ("field",), e_stop=False),
 )
 
 INVENTORY = """\
@@ -123,3 +128,19 @@ def _lay_out(root: Path, robot: DemoRobot) -> None:
     else:
         (run / "panther_config.env").write_text(ENV_21.format(serial=robot.serial))
     (home / ".ssh").mkdir(mode=0o700)
+    recording = root / DEMO_RECORDING.lstrip("/")
+    recording.parent.mkdir(parents=True)
+    recording.write_text(json.dumps(_ros_answers(robot), indent=2) + "\n")
+
+
+def _ros_answers(robot: DemoRobot) -> dict[str, str]:
+    """What the robot's driver answered, in the ROS 2 CLI's own words (`estop status` reads it)."""
+    pubs = "".join(f"Node name: {node}\nNode namespace: /\nTopic type: geometry_msgs/msg/Twist\n"
+                   "Endpoint type: PUBLISHER\n\n" for node in robot.cmd_vel_publishers)
+    return {
+        "namespace": "/panther",
+        "status": f"data: {'true' if robot.e_stop else 'false'}\n---\n",
+        "publishers": (f"Type: geometry_msgs/msg/Twist\n\nPublisher count: {len(robot.cmd_vel_publishers)}\n\n{pubs}"
+                       "Subscription count: 1\n\nNode name: drive_controller\nNode namespace: /panther\n"
+                       "Topic type: geometry_msgs/msg/Twist\nEndpoint type: SUBSCRIPTION\n"),
+    }

@@ -6,9 +6,162 @@
 # on SIGINT/SIGTERM. Like the real launch, it fails (exit 1) when an argument `*_path:=` or
 # `*_file:=` names an absolute path that does not exist in the container; values such as
 # `$(find pkg)/...` or empty ones are accepted.
+#
+# The driver's E-stop API (panther_ros ROS_API.md), answered in the driver's namespace (the
+# launch's `namespace:=` argument of PID 1, else $ROBOT_NAMESPACE) with the state in a file
+# of the container (/var/lib/ros2-standin/e_stop; the driver starts with the E-stop
+# triggered, as the real one does):
+#   ros2 topic echo --once <ns>/hardware/e_stop            -> `data: true|false` then `---`
+#   ros2 service call <ns>/hardware/e_stop_trigger std_srvs/srv/Trigger
+#   ros2 service call <ns>/hardware/e_stop_reset std_srvs/srv/Trigger
+#       (refused, like the real driver, while something publishes on <ns>/cmd_vel)
+#   ros2 topic info -v <ns>/cmd_vel                         -> its publishers and subscriber
+#   ros2 topic pub [--rate R] <ns>/cmd_vel geometry_msgs/msg/Twist '{...}'
+#       a publisher (node `_ros2cli_<pid>`) registered while it runs (tests start it with
+#       `docker exec -d` and stop it with a signal); a killed one no longer counts.
+# An E-stop topic or service of another namespace is never answered: like the real CLI, the
+# command waits (`waiting for service to become available...`) until it is killed.
 LOG=/var/log/ros2-standin.log
-echo "[ros2-standin] ros2 $*"
+STATE=/var/lib/ros2-standin
 echo "$(date +%s) ros2 $*" >> "$LOG"
+
+driver_ns() {
+    ns=
+    if [ -r /proc/1/cmdline ]; then
+        ns=$(tr '\000' '\n' < /proc/1/cmdline | sed -n 's/^namespace:=//p' | head -n 1)
+    fi
+    [ -n "$ns" ] || ns=${ROBOT_NAMESPACE:-}
+    ns=${ns#/}
+    ns=${ns%/}
+    if [ -n "$ns" ]; then echo "/$ns"; fi
+}
+
+wait_forever() {
+    trap 'exit 130' INT TERM
+    while :; do sleep 1; done
+}
+
+live_publishers() {
+    [ -d "$STATE/cmd_vel" ] || return 0
+    for f in "$STATE"/cmd_vel/*; do
+        [ -f "$f" ] || continue
+        pid=$(cat "$f")
+        if kill -0 "$pid" 2>/dev/null; then
+            basename "$f"
+        else
+            rm -f "$f"
+        fi
+    done
+}
+
+e_stop_state() {
+    if [ -f "$STATE/e_stop" ]; then cat "$STATE/e_stop"; else echo true; fi
+}
+
+set_e_stop() {
+    mkdir -p "$STATE"
+    echo "$1" > "$STATE/e_stop.tmp.$$"
+    mv "$STATE/e_stop.tmp.$$" "$STATE/e_stop"
+}
+
+respond() {
+    echo "requester: making request: std_srvs.srv.Trigger_Request()"
+    echo
+    echo "response:"
+    echo "std_srvs.srv.Trigger_Response(success=$1, message='$2')"
+    echo
+}
+
+P=$(driver_ns)
+case "${1:-}" in
+    topic)
+        case "${2:-}" in
+            echo)
+                topic=
+                for a in "$@"; do
+                    case "$a" in /*) topic=$a; break ;; esac
+                done
+                if [ "$topic" = "$P/hardware/e_stop" ]; then
+                    echo "data: $(e_stop_state)"
+                    echo "---"
+                    exit 0
+                fi
+                case "$topic" in */hardware/e_stop) wait_forever ;; esac
+                exit 0
+                ;;
+            info)
+                topic=
+                for a in "$@"; do
+                    case "$a" in /*) topic=$a; break ;; esac
+                done
+                if [ "$topic" != "$P/cmd_vel" ]; then
+                    echo "Unknown topic '$topic'" >&2
+                    exit 1
+                fi
+                pubs=$(live_publishers)
+                n=0
+                for p in $pubs; do n=$((n + 1)); done
+                echo "Type: geometry_msgs/msg/Twist"
+                echo
+                echo "Publisher count: $n"
+                echo
+                for p in $pubs; do
+                    printf 'Node name: %s\nNode namespace: /\nTopic type: geometry_msgs/msg/Twist\nEndpoint type: PUBLISHER\n' "$p"
+                    printf 'GID: 01.0f.stand.in\nQoS profile:\n  Reliability: RELIABLE\n  History (Depth): UNKNOWN\n'
+                    printf '  Durability: VOLATILE\n  Lifespan: Infinite\n  Deadline: Infinite\n  Liveliness: AUTOMATIC\n'
+                    printf '  Liveliness lease duration: Infinite\n\n'
+                done
+                echo "Subscription count: 1"
+                echo
+                printf 'Node name: drive_controller\nNode namespace: %s\nTopic type: geometry_msgs/msg/Twist\n' "${P:-/}"
+                printf 'Endpoint type: SUBSCRIPTION\nGID: 01.0f.stand.in\n\n'
+                exit 0
+                ;;
+            pub)
+                topic=
+                for a in "$@"; do
+                    case "$a" in /*) topic=$a; break ;; esac
+                done
+                if [ "$topic" = "$P/cmd_vel" ]; then
+                    mkdir -p "$STATE/cmd_vel"
+                    node="_ros2cli_$$"
+                    echo "$$" > "$STATE/cmd_vel/$node"
+                    trap 'rm -f "$STATE/cmd_vel/$node"; exit 0' INT TERM
+                    echo "publisher: beginning loop"
+                    while :; do sleep 1; done
+                fi
+                exit 0
+                ;;
+        esac
+        exit 0
+        ;;
+    service)
+        if [ "${2:-}" = call ]; then
+            echo "waiting for service to become available..." >&2
+            case "${3:-}" in
+                "$P/hardware/e_stop_trigger")
+                    set_e_stop true
+                    respond True "E-stop triggered successfully"
+                    exit 0
+                    ;;
+                "$P/hardware/e_stop_reset")
+                    if [ "$(e_stop_state)" = false ]; then
+                        respond True "E-stop is not active, reset is not needed"
+                    elif [ -n "$(live_publishers)" ]; then
+                        respond False "E-stop reset failed, some messages are published on the cmd_vel topic"
+                    else
+                        set_e_stop false
+                        respond True "E-stop reset successful"
+                    fi
+                    exit 0
+                    ;;
+                */hardware/e_stop_trigger | */hardware/e_stop_reset) wait_forever ;;
+            esac
+        fi
+        exit 0
+        ;;
+esac
+echo "[ros2-standin] ros2 $*"
 case "${1:-}" in
     launch | run) ;;
     pkg)
