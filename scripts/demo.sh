@@ -22,3 +22,5 @@ $PO -i demo-fleet config set wheel_type WH02 -g warehouse --yes
 $PO -i demo-fleet config set controller.linear.x.max_velocity 0.8 -r panther-01 --yes
 $PO -i demo-fleet config diff --all
 $PO -i demo-fleet config history -r panther-01
+# Remote control: the E-stop of each demo robot as its driver answered (recorded answers)
+$PO -i demo-fleet estop status --all

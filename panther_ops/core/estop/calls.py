@@ -224,8 +224,8 @@ def reset_check_task(ctx: RobotContext) -> RobotResult:
     if state.publishers:
         return RobotResult(
             ctx.robot.name, Outcome.FAILED,
-            f"refused: {', '.join(state.publishers)} publishes on {state.topic(CMD_VEL)} (a reset is impossible "
-            "while messages arrive; do not control the robot from different sources)",
+            f"refused: {', '.join(state.publishers)} publishes on {state.topic(CMD_VEL)} "
+            "(no reset while messages arrive)",
             data={**data, "hint": f"stop {state.publishers[0]}, then reset again"})
     data["ready"] = True
     return RobotResult(ctx.robot.name, Outcome.OK, "E-stop triggered, nobody publishes on "
