@@ -40,6 +40,7 @@ ROBOT_KEYS = {
     "compose_file": "path of the compose file on the robot (default ~/compose.yaml)",
     "description": "free text",
     "connect_timeout": "seconds to wait for SSH to connect (default 10)",
+    "user_computer": "the User Computer behind the robot: host (default 10.15.20.3), user, key, port",
 }
 DEFAULT_KEYS = set(ROBOT_KEYS) - {"host", "root", "description"}
 SETTINGS_KEYS = {
@@ -64,6 +65,24 @@ POSIX_USER = re.compile(r"^[a-z_][a-z0-9_-]{0,31}\$?$")
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,62}$")
 ROS_NAMESPACE = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
 VERSION = re.compile(r"^\d+\.\d+\.\d+$")
+HOST = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.:-]{0,252}$")
+"""A host name or IP address: no whitespace, no leading '-', nothing a shell would read."""
+USER_COMPUTER_KEYS = {
+    "host": "IP address or hostname on the robot's LAN (default 10.15.20.3)",
+    "user": "SSH user (default husarion)",
+    "key": "private key for SSH (path; relative to the inventory file)",
+    "port": "SSH port (default 22)",
+}
+
+
+@dataclass(frozen=True)
+class UserComputer:
+    """The robot's User Computer, reached through the robot (its LAN)."""
+
+    host: str = "10.15.20.3"
+    user: str = "husarion"
+    key: str | None = None
+    port: int = 22
 
 
 @dataclass(frozen=True)
@@ -87,6 +106,7 @@ class Robot:
     connect_timeout: float = 10.0
     source: str = ""
     """``file:line`` where the robot is defined."""
+    user_computer: UserComputer | None = None
 
 
 @dataclass
@@ -348,7 +368,31 @@ class _Loader:
         if k == "desired":
             self.check_desired(v, f, d, key)
             return _plain(v)
+        if k == "user_computer":
+            return self.user_computer(v, f, d, key)
         return _SCALAR_FIELDS[k](v)
+
+    def user_computer(self, v: Any, f: Path, parent: LineDict, key: str) -> UserComputer:
+        d = self.mapping(v, f, parent, key)
+        out: dict[str, Any] = {}
+        for k, value in d.items():
+            if k not in USER_COMPUTER_KEYS:
+                raise self.err(f"unknown key {k!r}", f, d, f"{key}.{k}", k, hint=", ".join(sorted(USER_COMPUTER_KEYS)))
+            try:
+                if k == "host":
+                    if not isinstance(value, str) or not HOST.match(value):
+                        raise _Bad(f"host {value!r} is not a host name or IP address",
+                                   "letters, digits, '.', ':', '_' and '-', not starting with '-' (e.g. 10.15.20.3)")
+                    out[k] = value
+                elif k == "key":
+                    if not isinstance(value, str) or not value.strip():
+                        raise _Bad("key must be a path to a private key")
+                    out[k] = str(_rel(f, value.strip()))
+                else:
+                    out[k] = (_user if k == "user" else _port)(value)
+            except _Bad as bad:
+                raise self.err(bad.message, f, d, f"{key}.{k}", k, hint=bad.hint) from None
+        return UserComputer(**out)
 
     def check_desired(self, value: Any, f: Path, parent: LineDict, key: str) -> None:
         d = self.mapping(value, f, parent, key)
@@ -402,7 +446,7 @@ class _Loader:
             root=Path(merged["root"]) if "root" in merged else None,
             compose_file=merged.get("compose_file", "~/compose.yaml"),
             connect_timeout=merged.get("connect_timeout", 10.0),
-            source=f"{f}:{doc.line}",
+            source=f"{f}:{doc.line}", user_computer=merged.get("user_computer"),
         )
 
 
