@@ -23,17 +23,21 @@
 # command waits (`waiting for service to become available...`) until it is killed.
 LOG=/var/log/ros2-standin.log
 STATE=/var/lib/ros2-standin
-echo "$(date +%s) ros2 $*" >> "$LOG"
+echo "ros2 $*" >> "$LOG"
 
-driver_ns() {
+driver_ns() {  # few processes: the E-stop trigger of a whole fleet is timed in the lab
     ns=
     if [ -r /proc/1/cmdline ]; then
-        ns=$(tr '\000' '\n' < /proc/1/cmdline | sed -n 's/^namespace:=//p' | head -n 1)
+        while read -r w; do
+            case $w in namespace:=*) ns=${w#namespace:=}; break ;; esac
+        done <<EOF
+$(tr '\000' '\n' < /proc/1/cmdline)
+EOF
     fi
     [ -n "$ns" ] || ns=${ROBOT_NAMESPACE:-}
     ns=${ns#/}
     ns=${ns%/}
-    if [ -n "$ns" ]; then echo "/$ns"; fi
+    P=${ns:+/$ns}
 }
 
 wait_forever() {
@@ -55,13 +59,14 @@ live_publishers() {
 }
 
 e_stop_state() {
-    if [ -f "$STATE/e_stop" ]; then cat "$STATE/e_stop"; else echo true; fi
+    state=true
+    [ -f "$STATE/e_stop" ] && read -r state < "$STATE/e_stop"
+    echo "$state"
 }
 
 set_e_stop() {
-    mkdir -p "$STATE"
-    echo "$1" > "$STATE/e_stop.tmp.$$"
-    mv "$STATE/e_stop.tmp.$$" "$STATE/e_stop"
+    [ -d "$STATE" ] || mkdir -p "$STATE"
+    echo "$1" > "$STATE/e_stop"
 }
 
 respond() {
@@ -72,7 +77,7 @@ respond() {
     echo
 }
 
-P=$(driver_ns)
+driver_ns
 case "${1:-}" in
     topic)
         case "${2:-}" in
