@@ -405,6 +405,8 @@ class _Loader:
                 for sk, sv in m.items():
                     if isinstance(sv, (LineDict, LineList)) and k in ("launch_args", "controller"):
                         raise self.err(f"{k}.{sk} must be a single value", f, m, f"{key}.{k}.{sk}", sk)
+                if k == "webui":
+                    self.check_webui(m, f, f"{key}.{k}")
             elif k == "image" and (not isinstance(v, str) or ":" not in v):
                 raise self.err("image must be REPOSITORY:TAG", f, d, f"{key}.image", k)
             elif k == "shutdown_hosts" and (
@@ -412,6 +414,16 @@ class _Loader:
             ):
                 raise self.err("shutdown_hosts must be a list of mappings (ip, username, ...)",
                                    f, d, f"{key}.{k}", k)
+
+    def check_webui(self, m: LineDict, f: Path, key: str) -> None:
+        """desired.webui: the snap's keys (or their short names) with the configure hook's rules."""
+        from panther_ops.core.webui.settings import SettingError, validate
+
+        for sk, sv in m.items():
+            try:
+                validate({sk: sv})
+            except SettingError as bad:
+                raise self.err(str(bad), f, m, f"{key}.{sk}", sk) from None
 
     def robot(self, name: str, doc: LineDict, f: Path) -> Robot:
         own = self.fields(doc, f, f"robots.{name}")
