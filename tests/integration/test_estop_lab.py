@@ -172,3 +172,39 @@ def test_driver_refuses_reset_when_a_publisher_starts_after_the_check(fleet: Any
         assert e_stop_file(fleet, name) == "true"
     finally:
         stop_publishers(fleet, name)
+
+
+def test_trigger_goes_on_where_a_robot_is_unreachable_or_its_driver_stopped(fleet: Any, tmp_path: Any) -> None:
+    """An unreachable robot and a robot whose driver is not running never stop the others:
+    each gets its own result, the rest are e-stopped, exit 3."""
+    import yaml
+
+    names = [r.name for r in fleet.robots[:6]]
+    gone, stopped = names[0], names[1]
+    doc = yaml.safe_load(fleet.inventory_path.read_text())
+    doc["defaults"]["connect_timeout"] = 2
+    inventory = tmp_path / "inventory.yaml"
+    for key in ("ssh_config", "known_hosts"):
+        doc["settings"][key] = str(fleet.dir / doc["settings"][key])
+    doc["defaults"]["identity_file"] = str(fleet.dir / doc["defaults"]["identity_file"])
+    inventory.write_text(yaml.safe_dump(doc))
+    sel = [a for n in names for a in ("-r", n)]
+    assert main(["-i", str(inventory), "estop", "reset", *sel, "--yes"]) == 0
+    fleet.link_down(gone)
+    cp = fleet.compose(stopped, "stop", fleet.robot(stopped).driver_container)
+    assert cp.returncode == 0, cp.stderr
+    try:
+        argv = [sys.executable, "-m", "panther_ops.cli.app", "-i", str(inventory), "estop", "trigger",
+                *sel, "--json"]
+        start = time.monotonic()
+        cp = subprocess.run(argv, check=False, capture_output=True, text=True, timeout=60)
+        assert time.monotonic() - start < 10
+        assert cp.returncode == 3, cp.stderr
+        by = {r["robot"]: r for r in json.loads(cp.stdout)["robots"]}
+        assert by[gone]["outcome"] == "unreachable"
+        assert by[stopped]["outcome"] == "failed" and "not running" in by[stopped]["message"]
+        for n in names[2:]:
+            assert by[n]["outcome"] == "changed" and e_stop_file(fleet, n) == "true"
+    finally:
+        fleet.link_up(gone)
+        assert fleet.compose(stopped, "start", fleet.robot(stopped).driver_container).returncode == 0
