@@ -69,13 +69,14 @@ def root(
         logging.getLogger("paramiko").setLevel(logging.CRITICAL)
 
 
-_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager", "estop")
+_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager", "estop",
+          "webui")
 """Command modules in the order --help lists them."""
 _NEEDS = {
     "status": ("fleet",), "doctor": ("fleet",), "config": ("config", "driver"), "apply": ("config",),
     "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
     "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
-    "estop": ("estop",),
+    "estop": ("estop",), "webui": ("webui",),
 }
 """Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""
 _registered: dict[str, tuple[list[CommandInfo], list[TyperInfo]]] = {}

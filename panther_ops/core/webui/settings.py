@@ -114,3 +114,27 @@ def _check(key: str, value: str, dds_profiles: Collection[str] | None) -> str:
 def _integer(key: str, value: str, low: int, high: int) -> None:
     if not re.fullmatch(r"\d{1,6}", value) or not low <= int(value) <= high:
         raise SettingError(key, value, f"a whole number from {low} to {high}")
+
+
+DDS_ROOTS = ("dds", "profiles", "CycloneDDS")
+"""Root elements of a DDS profile: Fast DDS (<dds>, <profiles>) or Cyclone DDS (<CycloneDDS>)."""
+
+
+def dds_profile(name: str, data: bytes) -> tuple[str, bytes]:
+    """A DDS XML profile to upload as ``<name>.xml``: its name and content, checked (well-formed
+    XML without a DOCTYPE, a Fast DDS or Cyclone DDS root element). Raises SettingError."""
+    import xml.etree.ElementTree as ET
+
+    stem = name[:-4] if name.endswith(".xml") else name
+    if not PROFILE.match(stem):
+        raise SettingError("--dds-file", name, "a file name of letters, digits, '_', '.' and '-' ending in .xml")
+    if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
+        raise SettingError("--dds-file", name, "a DDS profile without DOCTYPE or entities")
+    try:
+        root = ET.fromstring(data)  # noqa: S314 - DOCTYPE and entities refused above: nothing to expand
+    except ET.ParseError as exc:
+        raise SettingError("--dds-file", name, f"well-formed XML ({exc})") from None
+    tag = root.tag.split("}", 1)[-1]
+    if tag not in DDS_ROOTS:
+        raise SettingError("--dds-file", name, f"a DDS profile: root element {' or '.join(DDS_ROOTS)}, not <{tag}>")
+    return stem, data

@@ -19,6 +19,7 @@ State: /var/lib/snapd-standin/husarion-webui.json; common directory
 
 from __future__ import annotations
 
+import contextlib
 import http.server
 import json
 import os
@@ -95,11 +96,17 @@ def hook(config: dict) -> str | None:
 
 def running() -> int | None:
     try:
-        pid = int(open(PIDFILE).read())
-        os.kill(pid, 0)
-        return pid
+        with open(PIDFILE) as f:
+            pid = int(f.read())
     except (OSError, ValueError):
         return None
+    try:
+        os.kill(pid, 0)
+    except PermissionError:  # root's server, asked by a user: it runs
+        return pid
+    except OSError:
+        return None
+    return pid
 
 
 def cmd_install(args: list[str]) -> None:
@@ -209,15 +216,13 @@ def stop() -> None:
             except OSError:
                 break
             time.sleep(0.05)
-    try:
+    with contextlib.suppress(FileNotFoundError):
         os.unlink(PIDFILE)
-    except FileNotFoundError:
-        pass
 
 
 def serve(port: int) -> None:
     class Handler(http.server.BaseHTTPRequestHandler):
-        def do_GET(self) -> None:  # noqa: N802
+        def do_GET(self) -> None:
             if self.path.rstrip("/") == "/ui":
                 body = b"<!doctype html><title>husarion-webui (lab stand-in)</title>\n"
                 self.send_response(200)
