@@ -22,5 +22,6 @@ $PO -i demo-fleet config set wheel_type WH02 -g warehouse --yes
 $PO -i demo-fleet config set controller.linear.x.max_velocity 0.8 -r panther-01 --yes
 $PO -i demo-fleet config diff --all
 $PO -i demo-fleet config history -r panther-01
-# Remote control: the E-stop of each demo robot as its driver answered (recorded answers)
+# Remote control: the E-stop and the WebUI of each demo robot as they answered (recorded answers)
 $PO -i demo-fleet estop status --all
+$PO -i demo-fleet webui status --all
