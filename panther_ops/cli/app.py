@@ -70,13 +70,13 @@ def root(
 
 
 _ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager", "estop",
-          "webui")
+          "webui", "teleop")
 """Command modules in the order --help lists them."""
 _NEEDS = {
     "status": ("fleet",), "doctor": ("fleet",), "config": ("config", "driver"), "apply": ("config",),
     "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
     "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
-    "estop": ("estop",), "webui": ("webui",),
+    "estop": ("estop",), "webui": ("webui",), "teleop": ("teleop",),
 }
 """Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""
 _registered: dict[str, tuple[list[CommandInfo], list[TyperInfo]]] = {}

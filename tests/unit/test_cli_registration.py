@@ -10,7 +10,8 @@ import pytest
 from panther_ops.cli import app as cli_app
 
 TOP = ["status", "doctor", "apply", "trust", "config", "driver", "shutdown", "inventory", "demo", "bt", "lights",
-       "manager", "estop", "webui"]
+       "manager", "estop", "webui",
+       "teleop"]
 
 
 @pytest.mark.parametrize(("argv", "words"), [

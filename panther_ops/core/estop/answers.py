@@ -29,6 +29,8 @@ class Answers:
 
     namespace: str
     sections: dict[str, Section]
+    container: str | None = None
+    """The driver container that answered (when the robot said)."""
 
     def get(self, action: str) -> Section | None:
         return self.sections.get(action)

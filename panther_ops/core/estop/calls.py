@@ -74,6 +74,7 @@ if [ -z "$id" ]; then
     echo "no running driver container (named or a compose service $*)${why:+:$why}" >&2
     exit 3
 fi
+echo "@@container $c" >&2
 exec curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' -d '{"Detach":false,"Tty":false}' \
     "http://docker/exec/$id/start"
 """
@@ -131,11 +132,12 @@ def ask(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
     res = ctx.transport.run(command(ctx.robot.namespace or "", actions), timeout=ROS_TIMEOUT_S * len(actions) + 30)
     out, err = answers.docker_stream(res.raw_stdout)
     got = answers.split(out)
+    stderr = "\n".join(ln for ln in res.stderr.splitlines() if not ln.startswith("@@container "))
     if not got.sections:
-        why = (res.stderr or err or out).strip()[-300:]
+        why = (stderr or err or out).strip()[-300:]
         raise RemoteStateError(f"the driver did not answer (exit {res.exit_status}): {why}",
                                hint="panther-ops driver status")
-    return got
+    return answers.Answers(got.namespace, got.sections, container_of(res.stderr))
 
 
 def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
@@ -149,6 +151,14 @@ def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
         raise TransportError(ctx.robot.name, f"{DEMO_RECORDING}: not JSON ({exc})") from None
     sections = {a: answers.Section(a, str(raw[a]), 0) for a in actions if a in raw}
     return answers.Answers(str(raw.get("namespace", "/")), sections)
+
+
+def container_of(stderr: str) -> str | None:
+    """The driver container the robot script used (its ``@@container`` line on stderr)."""
+    for line in stderr.splitlines():
+        if line.startswith("@@container "):
+            return line.split(" ", 1)[1].strip() or None
+    return None
 
 
 @dataclass
