@@ -54,8 +54,9 @@ class UserComputerSession:
         from panther_ops.transport.paramiko_import import import_paramiko
 
         import_paramiko()
-        import fabric
         import paramiko
+
+        fabric = _fabric()  # after paramiko: fabric imports it too
 
         robot_transport = self._robot_client.get_transport()
         if robot_transport is None or not robot_transport.is_active():
@@ -136,3 +137,9 @@ def _quote(text: str) -> str:
     import shlex
 
     return shlex.quote(text)
+
+
+def _fabric() -> Any:
+    import fabric
+
+    return fabric
