@@ -19,7 +19,7 @@ from panther_ops.core.estop.answers import split
 from panther_ops.core.runner import RobotContext
 from panther_ops.core.user_computer.access import address, open_session
 from panther_ops.core.webui.settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
-from panther_ops.errors import RemoteStateError
+from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command, Secret
 from panther_ops.transport.user_computer import UserComputerSession
@@ -321,3 +321,31 @@ def url_task(password: Secret | None) -> Task:
         return RobotResult(ctx.robot.name, Outcome.OK, f"{lan} (LAN); {husarnet} (Husarnet)",
                            data={"lan": lan, "husarnet": husarnet, "port": port})
     return task
+
+
+def status_column(ctx: RobotContext) -> dict[str, Any] | None:
+    """The WebUI as `panther-ops status` shows it: for a robot with ``user_computer:`` in the
+    inventory (or a demo robot's recording), read without sudo; None when there is none."""
+    if ctx.robot.transport == "local":
+        try:
+            res = _demo_status(ctx)
+        except OpsError:  # a demo fleet from before the recordings
+            return None
+        return None if not res.data.get("installed") else _column(res.data)
+    if ctx.robot.user_computer is None:
+        return None
+    try:
+        session = _session(ctx, None)
+        try:
+            state = read_state(session)
+        finally:
+            session.close()
+    except OpsError as exc:
+        return {"error": exc.message}
+    return _column({"installed": state.installed, "running": state.running,
+                    "settings": state.to_json()["settings"]})
+
+
+def _column(data: dict[str, Any]) -> dict[str, Any]:
+    return {"installed": bool(data.get("installed")), "running": bool(data.get("running")),
+            "port": (data.get("settings") or {}).get("webui.port")}
