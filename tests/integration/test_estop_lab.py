@@ -157,9 +157,9 @@ def test_reset_refused_while_cmd_vel_publisher_then_accepted(fleet: Any,
 def test_driver_refuses_reset_when_a_publisher_starts_after_the_check(fleet: Any,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     """The driver itself refuses (its answer shown), e.g. a node started between check and reset."""
-    from panther_ops.core.estop import calls
-    from panther_ops.core.inventory import load_inventory
-    from panther_ops.core.runner import run_fleet
+    from panther_ops.core.fleet.inventory import load_inventory
+    from panther_ops.core.fleet.runner import run_fleet
+    from panther_ops.core.remote.estop import calls
 
     name = fleet.robots[1].name  # 2.1.1
     assert cli(capsys, fleet, "estop", "trigger", "-r", name, "--json")[0] == 0

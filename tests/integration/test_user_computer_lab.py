@@ -12,9 +12,9 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.inventory import load_inventory
-from panther_ops.core.runner import Connections, RobotContext
-from panther_ops.core.user_computer.access import open_session
+from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.runner import Connections, RobotContext
+from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.errors import TransportError, UnreachableError
 from panther_ops.transport.base import Command, Secret
 from tests.lab import Lab, missing_requirements

@@ -11,7 +11,7 @@ from panther_ops.cli import app as cli_app
 
 TOP = ["status", "doctor", "apply", "trust", "config", "driver", "shutdown", "inventory", "demo", "bt", "lights",
        "manager", "estop", "webui",
-       "teleop"]
+       "teleop", "reimage"]
 
 
 @pytest.mark.parametrize(("argv", "words"), [

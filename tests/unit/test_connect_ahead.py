@@ -14,9 +14,9 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.connect_ahead import connect_ahead
-from panther_ops.core.inventory import load_inventory
-from panther_ops.core.runner import Connections
+from panther_ops.core.fleet.connect_ahead import connect_ahead
+from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.runner import Connections
 from panther_ops.transport import ahead
 from panther_ops.transport.base import Endpoint
 

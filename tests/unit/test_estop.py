@@ -11,8 +11,8 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.estop import answers
-from panther_ops.core.estop.calls import CONTAINER_SCRIPT, command
+from panther_ops.core.remote.estop import answers
+from panther_ops.core.remote.estop.calls import CONTAINER_SCRIPT, command
 
 INFO_TWO = """Type: geometry_msgs/msg/Twist
 

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core import inventory_cache
-from panther_ops.core.inventory import load_inventory
-from panther_ops.core.yamlfile import LineDict, LineList, load_yaml_file
+from panther_ops.core.fleet import inventory_cache
+from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.yaml.located import LineDict, LineList, load_yaml_file
 from panther_ops.errors import InputError, InventoryError
 
 INVENTORY = """\
@@ -26,6 +26,7 @@ robots:
     groups: [lab, "quoted"]
     vars: {floor: 2, ratio: 0.5, on: true, none: null}
   r02: {host: 10.200.9.12, port: 2222}
+groups: {lab: {}, quoted: {}}
 """
 
 
@@ -133,7 +134,7 @@ def test_an_unchanged_inventory_is_read_without_pyyaml(tmp_path: Path) -> None:
     f = tmp_path / "fleet.yaml"
     f.write_text(INVENTORY)
     env = {**os.environ, "PANTHER_OPS_CACHE_DIR": str(tmp_path / "cache")}
-    code = ("import sys; from panther_ops.core.inventory import load_inventory; "
+    code = ("import sys; from panther_ops.core.fleet.inventory import load_inventory; "
             f"inv = load_inventory({str(f)!r}); print(sorted(inv.robots), 'yaml' in sys.modules)")
     runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True).stdout
             for _ in range(2)]

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config_plans import plan_args
-from panther_ops.core.inventory import Inventory
-from panther_ops.core.pipeline import ApplyOptions, apply_plan
-from panther_ops.core.runner import Connections, RobotContext
+from panther_ops.core.config.plans import plan_args
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.results import Outcome
 from panther_ops.transport import scripts_perl
 from panther_ops.transport.base import Command
@@ -73,7 +73,7 @@ def test_a_robot_without_perl_runs_the_shell_script(demo_connections: tuple[Inve
 
 def test_both_leave_the_same_files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     from panther_ops.cli.app import main
-    from panther_ops.core.inventory import load_inventory
+    from panther_ops.core.fleet.inventory import load_inventory
 
     results = {}
     for way in ("1", "0"):

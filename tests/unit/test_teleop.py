@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.teleop.keyboard import teleop_command
+from panther_ops.core.remote.teleop.keyboard import teleop_command
 
 
 def test_teleop_command_is_the_manuals_with_repeat_rate_on_the_robots_cmd_vel() -> None:

@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 app = typer.Typer(help="The E-stop: see it, trigger it (all targeted robots at once), reset it.",
                   no_args_is_help=True)
 
-_PRELOAD = ("panther_ops.core.estop.calls", "panther_ops.core.robot_config")
+_PRELOAD = ("panther_ops.core.remote.estop.calls", "panther_ops.core.config.robot")
 
 
 @app.command("status")
@@ -33,7 +33,7 @@ def status(
     Example: panther-ops estop status --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.estop.calls import status_task
+    from panther_ops.core.remote.estop.calls import status_task
 
     inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
     fleet = context.run("estop status", inv, chosen, status_task, forks=len(chosen) or None, json_out=json_out)
@@ -55,7 +55,7 @@ def trigger(
     Example: panther-ops estop trigger --all
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.estop.calls import trigger_task
+    from panther_ops.core.remote.estop.calls import trigger_task
 
     inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
     # every robot at once; no progress bar (json_out=True only turns it off)
@@ -82,8 +82,8 @@ def reset(
     Example: panther-ops estop reset -r panther-01 --yes
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.estop.calls import reset_check_task, reset_task
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.remote.estop.calls import reset_check_task, reset_task
 
     inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
     opts = RunOptions(forks=max(1, len(chosen)))

@@ -23,8 +23,8 @@ def teleop(
     Example: panther-ops teleop -r panther-01
     """
     from panther_ops.cli.render import error
-    from panther_ops.core.runner import Connections, RobotContext
-    from panther_ops.core.teleop.keyboard import prepare
+    from panther_ops.core.fleet.runner import Connections, RobotContext
+    from panther_ops.core.remote.teleop.keyboard import prepare
     from panther_ops.errors import ExitCode, RemoteStateError, UnreachableError, UsageError
     from panther_ops.transport.interactive import run_interactive
 

@@ -23,7 +23,7 @@ PASSWORD_ENV = "PANTHER_OPS_SUDO_PASSWORD"
 AskPassword = Annotated[bool, typer.Option(
     "--ask-sudo-password", help=f"Ask once for the User Computers' sudo password (else ${PASSWORD_ENV}, else "
     "sudo must not ask).")]
-_PRELOAD = ("panther_ops.core.webui.remote", "fabric")
+_PRELOAD = ("panther_ops.core.remote.webui.remote", "fabric")
 
 
 def _password(ask: bool) -> Secret | None:
@@ -54,7 +54,7 @@ def status(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_:
 
     Example: panther-ops webui status --all
     """
-    from panther_ops.core.webui.remote import status_task
+    from panther_ops.core.remote.webui.remote import status_task
 
     return _run(ctx, "webui status", status_task(_password(ask_sudo_password)), robot, group, all_, json_out)
 
@@ -78,8 +78,8 @@ def install(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_
 
     Example: panther-ops webui install -r panther-01 --ask-sudo-password
     """
-    from panther_ops.core.webui.remote import install_task
-    from panther_ops.core.webui.settings import PROFILE
+    from panther_ops.core.remote.webui.remote import install_task
+    from panther_ops.core.remote.webui.settings import PROFILE
 
     if not PROFILE.match(channel.replace("/", "_")):
         from panther_ops.errors import UsageError
@@ -96,7 +96,7 @@ def start(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_: 
 
     Example: panther-ops webui start -r panther-01
     """
-    from panther_ops.core.webui.remote import start_stop_task
+    from panther_ops.core.remote.webui.remote import start_stop_task
 
     return _run(ctx, "webui start", start_stop_task(True, _password(ask_sudo_password)), robot, group, all_,
                 json_out)
@@ -109,7 +109,7 @@ def stop(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_: A
 
     Example: panther-ops webui stop -r panther-01
     """
-    from panther_ops.core.webui.remote import start_stop_task
+    from panther_ops.core.remote.webui.remote import start_stop_task
 
     return _run(ctx, "webui stop", start_stop_task(False, _password(ask_sudo_password)), robot, group, all_,
                 json_out)
@@ -122,7 +122,7 @@ def url(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_: Al
 
     Example: panther-ops webui url -r panther-01
     """
-    from panther_ops.core.webui.remote import url_task
+    from panther_ops.core.remote.webui.remote import url_task
 
     return _run(ctx, "webui url", url_task(_password(ask_sudo_password)), robot, group, all_, json_out)
 
@@ -148,8 +148,8 @@ def set_(
     webui.layout=panther -r panther-01 --yes
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.webui.remote import set_apply_task, set_plan_task
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.remote.webui.remote import set_apply_task, set_plan_task
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
     password = _password(ask_sudo_password)
@@ -192,7 +192,7 @@ def set_(
 
 def _wanted(settings: list[str], dds_file: Path | None) -> tuple[dict[str, str], tuple[str, bytes] | None]:
     """KEY=VALUE arguments and the DDS profile, validated (UsageError: nothing is sent)."""
-    from panther_ops.core.webui.settings import SettingError, dds_profile, validate
+    from panther_ops.core.remote.webui.settings import SettingError, dds_profile, validate
     from panther_ops.errors import UsageError
 
     pairs: dict[str, str] = {}
