@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.fleet.demo import init_demo
+from panther_ops.core.demo.fleet import init_demo
 from panther_ops.core.fleet.inventory import Inventory, load_inventory
 from panther_ops.core.fleet.runner import RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError
