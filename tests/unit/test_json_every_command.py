@@ -58,6 +58,16 @@ VALID: dict[str, list[str]] = {
     "manager logs": R,
     "reimage plan": R,
     "reimage backup": [*R, "--out", "{tmp}/backups"],
+    "estop status": ["--all"],
+    "estop trigger": ["--all"],
+    "estop reset": [*R, "--dry-run"],
+    "webui status": ["--all"],
+    "webui get": R,
+    "webui url": R,
+    "webui install": R,
+    "webui start": R,
+    "webui stop": R,
+    "webui set": ["webui.port=8081", *R, "--dry-run"],
 }
 """Arguments that make each command valid on the demo fleet (a demo robot has no docker engine
 or SSH: some commands report that per robot, in their JSON document)."""

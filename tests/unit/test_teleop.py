@@ -26,6 +26,10 @@ def test_rate_below_10_hz_one_robot_and_demo_refused(tmp_path: Path, capsys: pyt
     capsys.readouterr()
     assert main(["-i", demo, "teleop", "-r", "panther-01", "--rate", "5"]) == 2
     assert "below 10 Hz" in capsys.readouterr().err
+    for bad in ("nan", "inf", "9.99"):  # refused by the option itself: exit 2 before the inventory is loaded
+        assert main(["-i", demo, "teleop", "-r", "panther-01", "--rate", bad]) == 2
+        err = capsys.readouterr().err
+        assert bad in err and "--rate" in err and "inventory:" not in err
     assert main(["-i", demo, "teleop", "-r", "panther-0*"]) == 2
     assert "exactly one robot, 3 chosen" in capsys.readouterr().err
     assert main(["-i", demo, "teleop", "-r", "panther-01"]) == 3

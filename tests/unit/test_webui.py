@@ -89,3 +89,28 @@ def test_status_has_a_webui_column_from_the_recording(demo: str, capsys: pytest.
     (Path(demo) / "robots/panther-01/var/lib/panther-ops-demo/ros.json").unlink()  # a fleet from before
     assert main(["-i", demo, "status", "-r", "panther-01", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["robots"][0]["data"]["webui"] is None
+
+
+def test_demo_fleet_changes_are_planned_on_the_recording_and_skipped(demo: str,
+                                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """url and set's plan read the recording; a change a demo robot would need is skipped, one it
+    does not need is ok, and a robot without a recorded User Computer fails (exit 3)."""
+    def run(*argv: str) -> tuple[int, dict[str, dict[str, object]]]:
+        capsys.readouterr()
+        code = main(["-i", demo, "webui", *argv, "--json"])
+        return code, {r["robot"]: r for r in json.loads(capsys.readouterr().out)["robots"]}
+
+    code, got = run("url", "-r", "panther-01")
+    assert code == 0 and got["panther-01"]["data"] == {
+        "lan": "http://10.15.20.3:8080/ui", "husarnet": "http://<husarnet-hostname>:8080/ui", "port": "8080"}
+    code, got = run("set", "webui.port=8081", "-r", "panther-01", "--dry-run")
+    assert code == 0 and got["panther-01"]["data"]["plan"] == [{"key": "webui.port", "current": "8080", "new": "8081"}]
+    code, got = run("set", "webui.port=8081", "-r", "panther-01", "--yes")
+    assert code == 0 and got["panther-01"]["outcome"] == "skipped"
+    code, got = run("start", "-r", "panther-01", "-r", "panther-03")
+    assert code == 0 and got["panther-01"]["message"] == "already running"
+    assert got["panther-03"]["outcome"] == "skipped"
+    code, got = run("install", "-r", "panther-01")
+    assert code == 0 and got["panther-01"]["outcome"] == "ok"
+    code, got = run("stop", "-r", "panther-02")
+    assert code == 3 and got["panther-02"]["message"] == "no User Computer recorded (demo robot)"

@@ -144,8 +144,7 @@ def set_(
     the plan (current -> new) per robot, confirm, `sudo snap set`, restart the WebUI where it
     was running, read back.
 
-    Example: panther-ops webui set ros.namespace=panther ros.transport=rmw_cyclonedds_cpp
-    webui.layout=panther -r panther-01 --yes
+    Example: panther-ops webui set ros.transport=rmw_cyclonedds_cpp webui.layout=panther -r panther-01 --yes
     """
     from panther_ops.cli.render import finish, print_results
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet

@@ -17,7 +17,7 @@ from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop.answers import split
-from panther_ops.core.remote.user_computer.access import address, open_session
+from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.core.remote.webui.settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
@@ -151,8 +151,8 @@ def status_task(password: Secret | None) -> Task:
     return task
 
 
-def _demo_status(ctx: RobotContext) -> RobotResult:
-    """A demo robot: its User Computer's recorded answers (in the robot's directory)."""
+def _recording(ctx: RobotContext) -> dict[str, Any] | None:
+    """A demo robot's recorded User Computer (in the robot's directory); None: none recorded."""
     from panther_ops.core.remote.estop.calls import DEMO_RECORDING
 
     try:
@@ -161,7 +161,32 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
         raise RemoteStateError(f"no recorded answers ({DEMO_RECORDING})",
                                hint="recreate the demo fleet: panther-ops demo init --force") from None
     rec = raw.get("webui")
-    if not isinstance(rec, dict):
+    return rec if isinstance(rec, dict) else None
+
+
+def _read(ctx: RobotContext, password: Secret | None) -> tuple[WebuiState, str]:
+    """The snap's state and the User Computer's address: read there, or a demo robot's recording."""
+    if ctx.robot.transport == "local":
+        rec = _recording(ctx)
+        if rec is None:
+            raise RemoteStateError("no User Computer recorded (demo robot)")
+        return parse_state(str(rec.get("state", ""))), str(rec.get("host", "10.15.20.3"))
+    session = _session(ctx, password)
+    try:
+        return read_state(session), session.address.host
+    finally:
+        session.close()
+
+
+def _demo_skip(ctx: RobotContext, what: str) -> RobotResult:
+    """A change a demo robot cannot make: reported, nothing pretended."""
+    return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"demo robot: no User Computer to {what}")
+
+
+def _demo_status(ctx: RobotContext) -> RobotResult:
+    """A demo robot: its User Computer's recorded answers."""
+    rec = _recording(ctx)
+    if rec is None:
         return RobotResult(ctx.robot.name, Outcome.OK, "no User Computer recorded (demo robot)",
                            data={"recorded": True, "installed": False})
     state = parse_state(str(rec.get("state", "")))
@@ -176,11 +201,7 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
 def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
     """Phase 1 of `webui set`: read, check custom profiles, plan current -> new."""
     def task(ctx: RobotContext) -> RobotResult:
-        session = _session(ctx, password)
-        try:
-            state = read_state(session)
-        finally:
-            session.close()
+        state, _ = _read(ctx, password)
         if not state.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
                                data={"hint": "panther-ops webui install"})
@@ -202,6 +223,8 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
 def set_apply_task(wanted: dict[str, str], password: Secret | None, dds: tuple[str, bytes] | None = None) -> Task:
     """Phase 2 of `webui set`: upload the DDS profile, snap set, restart when running, verify."""
     def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            return _demo_skip(ctx, "set")
         session = _session(ctx, password)
         try:
             before = read_state(session)
@@ -243,6 +266,8 @@ def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
 
 def install_task(channel: str, password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            return _demo_install(ctx, channel)
         session = _session(ctx, password)
         try:
             offsets = clock_offsets(ctx, session)
@@ -267,6 +292,15 @@ def install_task(channel: str, password: Secret | None) -> Task:
     return task
 
 
+def _demo_install(ctx: RobotContext, channel: str) -> RobotResult:
+    state, _ = _read(ctx, None)
+    want = channel if "/" in channel else f"{channel}/stable"
+    if state.installed and state.channel == want:
+        return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed (recorded: demo robot)",
+                           data=state.to_json())
+    return _demo_skip(ctx, "install on")
+
+
 def clock_offsets(ctx: RobotContext, session: UserComputerSession) -> dict[str, float]:
     """Seconds each clock is ahead: the User Computer and the robot against this machine,
     and the User Computer against the robot (round trips halved)."""
@@ -287,15 +321,16 @@ def clock_offsets(ctx: RobotContext, session: UserComputerSession) -> dict[str, 
 
 def start_stop_task(start: bool, password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            state, _ = _read(ctx, password)
+            done = _start_stop_needless(ctx, state, start)
+            return done or _demo_skip(ctx, "start" if start else "stop")
         session = _session(ctx, password)
         try:
             state = read_state(session)
-            if not state.installed:
-                return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
-                                   data={"hint": "panther-ops webui install"})
-            if state.running == start:
-                return RobotResult(ctx.robot.name, Outcome.OK, f"already {'running' if start else 'stopped'}",
-                                   data=state.to_json())
+            done = _start_stop_needless(ctx, state, start)
+            if done is not None:
+                return done
             _sudo(session, f"{SNAP}.{'start' if start else 'stop'}")
             after = read_state(session)
         finally:
@@ -307,15 +342,21 @@ def start_stop_task(start: bool, password: Secret | None) -> Task:
     return task
 
 
+def _start_stop_needless(ctx: RobotContext, state: WebuiState, start: bool) -> RobotResult | None:
+    """The result when there is nothing to start or stop (not installed, or already so)."""
+    if not state.installed:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
+                           data={"hint": "panther-ops webui install"})
+    if state.running == start:
+        return RobotResult(ctx.robot.name, Outcome.OK, f"already {'running' if start else 'stopped'}",
+                           data=state.to_json())
+    return None
+
+
 def url_task(password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
-        session = _session(ctx, password)
-        try:
-            state = read_state(session)
-        finally:
-            session.close()
+        state, host = _read(ctx, password)
         port = state.value("webui.port")
-        host = address(ctx).host
         lan = ui_url(host, port)
         husarnet = ui_url("<husarnet-hostname>", port)
         return RobotResult(ctx.robot.name, Outcome.OK, f"{lan} (LAN); {husarnet} (Husarnet)",
