@@ -26,11 +26,6 @@ if str(_ROOT) not in sys.path:  # `pytest` without `python -m`: make `tests.lab`
 
 from tests.lab import Lab, missing_requirements  # noqa: E402
 
-if "PANTHER_OPS_CACHE_DIR" not in os.environ:  # the inventory cache of the tests' own, not the user's
-    import tempfile
-
-    os.environ["PANTHER_OPS_CACHE_DIR"] = tempfile.mkdtemp(prefix="panther-ops-test-cache-")
-
 LAB_FIXTURES = frozenset({"lab", "lab_factory", "lab_ready"})
 DEFAULT_IMAGES = ("2.0", "2.1.1", "2.2")
 

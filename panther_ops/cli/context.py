@@ -33,7 +33,7 @@ def info(message: str) -> None:
 
 
 def _preload(modules: tuple[str, ...]) -> None:
-    """Import paramiko in the background while the inventory loads (it takes ~0.05 s), then
+    """Import paramiko in the background while the inventory loads (it takes ~0.1 s), then
     ``modules`` (what the command's robot tasks need, e.g. the planners and their YAML
     editor: ~0.04 s) and what the output needs (rich: ~0.03 s), all while the fleet's
     handshakes run: a task then finds them loaded instead of importing them itself while
@@ -42,21 +42,17 @@ def _preload(modules: tuple[str, ...]) -> None:
     import threading
 
     def load() -> None:
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()
-        for name in (*modules, "rich.console", "rich.table", "rich.text"):
+        for name in ("paramiko", *modules, "rich.console", "rich.table", "rich.text"):
             importlib.import_module(name)
 
     threading.Thread(target=load, name="preload", daemon=True).start()
 
 
-def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) -> Inventory:
-    """The inventory; ``start``: begin the background imports first (else the caller does)."""
+def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
+    """The inventory, the background imports started first (see :func:`_preload`)."""
     from panther_ops.core.inventory import load_inventory
 
-    if start:
-        _preload(preload)
+    _preload(preload)
     inv = load_inventory(settings(ctx).inventory)
     info(f"inventory: {inv.path} (from {inv.origin})")
     return inv
@@ -64,21 +60,11 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) 
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), connect: bool = True,
+    preload: tuple[str, ...] = (),
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
-
-    Every caller goes on to connect to every robot chosen, its own input already checked, so
-    the robots' TCP connections start now, in the background (``connect=False``: not yet).
-    """
-    inv = load(ctx, preload, start=not connect)
-    chosen = inv.select(robots or [], groups or [], all_)
-    if connect:  # the robots first: their sshd then start while paramiko loads
-        from panther_ops.core.connect_ahead import connect_ahead
-
-        connect_ahead(inv, chosen)
-        _preload(preload)
-    return inv, chosen
+    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import."""
+    inv = load(ctx, preload)
+    return inv, inv.select(robots or [], groups or [], all_)
 
 
 def run(

@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core import inventory_cache
 from panther_ops.core.yamlfile import LineDict, LineList, load_yaml_file
 from panther_ops.errors import InventoryError
 from panther_ops.transport.base import Endpoint
@@ -245,7 +244,7 @@ class _Loader:
         return inv
 
     def read_file(self, f: Path) -> None:
-        doc = inventory_cache.load(f, load_yaml_file)
+        doc = load_yaml_file(f)
         if doc is None:
             return
         if not isinstance(doc, LineDict):

@@ -28,7 +28,7 @@ from panther_ops.core.memo import Memo
 from panther_ops.core.runner import RobotContext
 from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Diff, Outcome, RobotResult
-from panther_ops.transport import scripts_apply, scripts_backup, scripts_perl
+from panther_ops.transport import scripts_apply, scripts_backup
 from panther_ops.transport.base import Command, CommandResult
 
 BACKUP_ROOT = scripts_backup.BACKUP_ROOT
@@ -279,7 +279,7 @@ def _stage(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[s
     res = t.advance(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
                     until=scripts_apply.STAGED_MARK)  # the plan's kept read carries the write
     if res is None:
-        res = t.run_kept(scripts_perl.apply(argv), scripts_apply.STAGED_MARK, scripts_apply.WRITE_KEY,
+        res = t.run_kept(Command.sh(scripts_apply.APPLY, *argv), scripts_apply.STAGED_MARK, scripts_apply.WRITE_KEY,
                          stdin=payload)
     if t.kept(scripts_apply.WRITE_KEY):
         return None

@@ -17,10 +17,6 @@ The check comes after the go-ahead, right before the renames, so a write staged 
 (while the rest of the fleet is still being planned) is still checked against the robot's
 file as it is at the moment it is replaced.
 
-Where the robot has Perl, ``scripts_perl`` runs the same steps as one ``perl`` process (a
-third of the CPU of the programs below); this script is what runs elsewhere, and what that
-program is checked against (the session tests run both).
-
 Nothing user-given is ever part of the script text: paths and values come as positional
 parameters (absolute paths: the caller resolved ``~``), contents as the archive on stdin,
 read with ``head -c SIZE`` (which reads no further than its count, so the go-ahead stays in

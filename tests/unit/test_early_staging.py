@@ -19,8 +19,6 @@ from panther_ops.core.runner import Connections, RobotContext, RunOptions
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome
 
-pytestmark = pytest.mark.usefixtures("robot_scripts")
-
 OPTS = ApplyOptions(restart=False, command="config set wheel_type WH04")
 
 
