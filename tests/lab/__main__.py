@@ -1,7 +1,7 @@
 """CLI of the simulated robot lab (run as root from the repository root).
 
     python -m tests.lab up N [--docker] [--images 2.0,2.1.1,2.2] [--prefix P] [--jump [R:J]]
-                             [--rtt MS [--jitter MS]] [--rate 20mbit]
+                             [--rtt MS [--jitter MS] [--relay-trace]] [--rate 20mbit]
     python -m tests.lab down [--prefix P | --all]
     python -m tests.lab status [--prefix P] [--json]
     python -m tests.lab bench [--sizes 5,30] [--repeat 3] [--docker] [--images ...]
@@ -52,6 +52,7 @@ def cmd_up(a: argparse.Namespace) -> int:
         rtt_ms=a.rtt,
         jitter_ms=a.jitter,
         rate=a.rate,
+        relay_trace=a.relay_trace,
     )
     lab.up()
     net = f", RTT {a.rtt:g} ms" if a.rtt else ""
@@ -166,6 +167,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="round trip to each robot's sshd through a delay relay (default 0: none)")
     up.add_argument("--jitter", type=float, default=0.0, metavar="MS", help="± jitter of each one-way delay")
     up.add_argument("--rate", metavar="RATE", help="tc tbf bandwidth limit per robot, e.g. 20mbit")
+    up.add_argument("--relay-trace", action="store_true",
+                    help="with --rtt: each relay logs every chunk to <robot dir>/relay.trace")
     up.add_argument("-v", "--verbose", action="store_true")
     up.set_defaults(func=cmd_up)
     down = sub.add_parser("down", help="tear a lab down (only what it owns)")

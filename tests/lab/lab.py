@@ -175,6 +175,7 @@ class Lab:
             delaying each direction by rtt_ms / 2 (same address and host key for the client).
         jitter_ms: with rtt_ms, each chunk's one-way delay varies by up to ± this much.
         rate: a `tc tbf` rate limit on each robot's eth0 (e.g. "20mbit"); None: none.
+        relay_trace: each relay writes `<robot dir>/relay.trace` (see tests/lab/relay.py).
     """
 
     def __init__(
@@ -191,6 +192,7 @@ class Lab:
         rtt_ms: float = 0.0,
         jitter_ms: float = 0.0,
         rate: str | None = None,
+        relay_trace: bool = False,
     ) -> None:
         if not 1 <= n <= MAX_ROBOTS:
             raise ValueError(f"n must be within 1..{MAX_ROBOTS}")
@@ -202,6 +204,7 @@ class Lab:
             raise ValueError(f"rate {rate!r}: a tc rate such as 20mbit or 512kbit")
         self.n = n
         self.rtt_ms, self.jitter_ms, self.rate = float(rtt_ms), float(jitter_ms), rate
+        self.relay_trace = relay_trace
         self.docker_enabled = docker
         self.images = [F.stack(i).key for i in images] or ["2.1.1"]
         self.prefix = prefix
@@ -681,6 +684,8 @@ class Lab:
         argv = ["nsenter", "-t", str(self._init_pid(r)), "-n", "--", sys.executable, "-I", str(RELAY),
                 "--listen", f"{r.ip}:22", "--to", f"{INNER_SSHD[0]}:{INNER_SSHD[1]}",
                 "--delay-ms", f"{self.st.rtt_ms / 2:g}", "--jitter-ms", f"{self.st.jitter_ms:g}"]
+        if self.relay_trace:  # one line per chunk: the round trips of each connection
+            argv += ["--trace", str(Path(r.dir) / "relay.trace")]
         p = self._spawn(argv, log)  # nsenter without a PID namespace execs the relay itself
         self._record(r, "relay", p.pid)
 

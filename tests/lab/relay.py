@@ -15,7 +15,10 @@ banner arrives at 1.5 round trips, sshd's at 2, as over a real link).
 
     python -m tests.lab.relay --listen IP:22 --to 127.0.0.1:2222 --delay-ms 75 --jitter-ms 5
 
-Prints ``ready`` on stdout once it listens. Runs until killed.
+Prints ``ready`` on stdout once it listens. Runs until killed. ``--trace FILE`` appends one
+line per chunk: connection number, direction (``>`` client to sshd, ``<`` back), the time
+the relay received it and the time it delivered it (seconds since the client connected),
+and its size: the round trips of each connection, as a timeline.
 """
 
 from __future__ import annotations
@@ -33,12 +36,25 @@ def _split(addr: str) -> tuple[str, int]:
     return host, int(port)
 
 
+class Trace:
+    """Where ``--trace`` lines go (nowhere without it)."""
+
+    def __init__(self, path: str | None) -> None:
+        self.out = open(path, "a", buffering=1) if path else None  # noqa: SIM115  # open while the relay runs
+        self.count = 0
+
+    def write(self, conn: int, arrow: str, start: float, got: float, sent: float, size: int) -> None:
+        if self.out is not None:
+            self.out.write(f"{conn} {arrow} {got - start:.4f} {sent - start:.4f} {size}\n")
+
+
 class Link:
     """One direction of one connection: chunks delivered at their due time, in order."""
 
     def __init__(self, delay: float, jitter: float, rnd: random.Random) -> None:
         self.delay, self.jitter, self.rnd = delay, jitter, rnd
         self.last_due = 0.0
+        self.trace: tuple[Trace, int, str, float] | None = None
 
     def due(self, now: float) -> float:
         d = self.delay + (self.rnd.uniform(-self.jitter, self.jitter) if self.jitter else 0.0)
@@ -51,7 +67,12 @@ async def _pump(reader: asyncio.StreamReader, queue: asyncio.Queue[tuple[float, 
     try:
         while True:
             data = await reader.read(65536)
-            queue.put_nowait((link.due(loop.time()), data))
+            now = loop.time()
+            due = link.due(now)
+            if link.trace is not None:
+                trace, conn, arrow, start = link.trace
+                trace.write(conn, arrow, start, now, due, len(data))
+            queue.put_nowait((due, data))
             if not data:
                 return
     except (ConnectionError, OSError):
@@ -90,7 +111,8 @@ def _nodelay(writer: asyncio.StreamWriter) -> None:
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
 
-async def _serve(listen: tuple[str, int], to: tuple[str, int], delay: float, jitter: float, seed: int | None) -> None:
+async def _serve(listen: tuple[str, int], to: tuple[str, int], delay: float, jitter: float, seed: int | None,
+                 trace: Trace) -> None:
     rnd = random.Random(seed)
     loop = asyncio.get_running_loop()
     rtt = 2 * delay
@@ -100,6 +122,8 @@ async def _serve(listen: tuple[str, int], to: tuple[str, int], delay: float, jit
         _nodelay(cwriter)
         accepted = loop.time()
         up, down = Link(delay, jitter, rnd), Link(delay, jitter, rnd)
+        trace.count += 1
+        up.trace, down.trace = (trace, trace.count, ">", accepted), (trace, trace.count, "<", accepted)
         # what the client sends travels from the start; sshd's side opens when its accept would
         up_q: asyncio.Queue[tuple[float, bytes]] = asyncio.Queue()
         down_q: asyncio.Queue[tuple[float, bytes]] = asyncio.Queue()
@@ -144,8 +168,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--delay-ms", type=float, required=True, help="one-way delay (half the round trip)")
     p.add_argument("--jitter-ms", type=float, default=0.0, help="each chunk: delay ± up to this much")
     p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--trace", default=None, help="append a line per chunk to this file")
     a = p.parse_args(argv)
-    asyncio.run(_serve(_split(a.listen), _split(a.to), a.delay_ms / 1000.0, a.jitter_ms / 1000.0, a.seed))
+    asyncio.run(_serve(_split(a.listen), _split(a.to), a.delay_ms / 1000.0, a.jitter_ms / 1000.0, a.seed,
+                       Trace(a.trace)))
     return 0
 
 
