@@ -610,11 +610,11 @@ def table(doc: dict[str, Any]) -> str:
             parts.append(f"{v:.2f}× {other}{verdict}")
         if parts:
             head = f"N={size['robots']} RTT {size['rtt_ms']:g} ms: panther-ops --no-restart = "
-            lines.append(head + "; ".join(parts))
+            lines.append("- " + head + "; ".join(parts))
     for s in doc["sizes"]:
         o, st = s.get("other_cpu_s"), s["steal_s"]
         if o is not None:
-            lines.append(f"N={s['robots']} RTT {s['rtt_ms']:g} ms: machine CPU used by neither the tool, the robots "
+            lines.append(f"- N={s['robots']} RTT {s['rtt_ms']:g} ms: machine CPU used by neither the tool, the robots "
                          f"nor the relays during a timed run: median {o['median']:.2f} s, max {o['max']:.2f} s; "
                          f"steal: median {st['median']:.2f} s, max {st['max']:.2f} s; "
                          f"{s['discarded_runs']} run(s) discarded and repeated for other work")
