@@ -24,6 +24,7 @@ from tests.lab.lab import RELAY
 
 COMPOSE = "/home/husarion/compose.yaml"
 RTT = 0.1
+JITTER = 0.02  # of each one-way delay, in the relay of the first test
 
 
 def _echo_server() -> tuple[socket.socket, int]:
@@ -81,16 +82,16 @@ def test_the_relay_keeps_order_under_jitter_and_delays_each_round_trip(relay: in
         while len(got) < len(sent):
             got += s.recv(65536)
         assert got == sent, "chunks overtook each other"
-        # the first byte comes back after the TCP handshake's round trip, the inner
-        # connection's and one round trip of data: ~2.5 round trips; then each echo is one
-        assert time.monotonic() - t0 >= 2 * RTT
+        # the first byte comes back once the relay charged the TCP handshake's round trip and
+        # the data's: ~2 round trips (each one-way delay 50 ± 20 ms); then each echo is one
+        assert time.monotonic() - t0 >= 2 * RTT - 2 * JITTER
         rtts = []
-        for _ in range(5):
+        for _ in range(9):
             t = time.monotonic()
             s.sendall(b"x")
             assert s.recv(1) == b"x"
             rtts.append(time.monotonic() - t)
-        assert 0.08 <= statistics.median(rtts) <= 0.15, rtts
+        assert RTT - JITTER <= statistics.median(rtts) <= RTT + 3 * JITTER, rtts
 
 
 def test_a_lab_behind_relays(lab_factory: Any, capsys: pytest.CaptureFixture[str]) -> None:
@@ -105,7 +106,7 @@ def test_a_lab_behind_relays(lab_factory: Any, capsys: pytest.CaptureFixture[str
         times.append(time.monotonic() - t)
         assert out.returncode == 0 and out.stdout == "hello\n", out.stderr
     # TCP, key exchange (2), new keys, authentication (2-3), channel, exec, close: >= 7 round trips
-    assert 7 * RTT <= statistics.median(times) <= 20 * RTT, times
+    assert 7 * RTT <= statistics.median(times) <= 30 * RTT, times  # the rest: CPU of a shared machine
     # the SSH banner: the TCP handshake's round trip, then sshd's first line: 2 round trips
     banners = []
     for _ in range(3):
@@ -113,7 +114,7 @@ def test_a_lab_behind_relays(lab_factory: Any, capsys: pytest.CaptureFixture[str
         with socket.create_connection((r.host, 22), timeout=10) as s:
             assert s.recv(64).startswith(b"SSH-2.0-OpenSSH")
         banners.append(time.monotonic() - t)
-    assert 1.8 * RTT <= statistics.median(banners) <= 3 * RTT, banners
+    assert 1.8 * RTT <= statistics.median(banners) <= 4 * RTT, banners
 
     # the default path (write, recreate, verify) and --no-restart, through the relays
     inv = str(lab.inventory_path)
