@@ -9,12 +9,13 @@ from __future__ import annotations
 import logging
 import os
 import sys
-from typing import TYPE_CHECKING, Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 
 from panther_ops import __version__
 from panther_ops.cli.context import Settings
+from panther_ops.cli.output import ColorMode
 
 if TYPE_CHECKING:
     from typer.models import CommandInfo, TyperInfo
@@ -29,6 +30,8 @@ Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots 
 rolled back or were unreachable, 4 every robot unreachable, 130 interrupted.
 
 Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+
+Shell completion (bash, zsh, fish, docs/getting-started.md):  panther-ops --install-completion
 """
 
 app = typer.Typer(
@@ -37,7 +40,7 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
-    add_completion=False,
+    add_completion=True,
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 
@@ -57,11 +60,20 @@ def root(
     ] = None,
     verbose: Annotated[int, typer.Option("--verbose", "-v", count=True, help="More detail on stderr.")] = 0,
     debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks of unexpected errors.")] = False,
+    color: Annotated[
+        ColorMode, typer.Option("--color", help="Colour: auto (a terminal, unless NO_COLOR is set), always, never.")
+    ] = ColorMode.AUTO,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No live progress and no recap on stderr.")
+    ] = False,
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
 ) -> None:
     """Global options come before the command: panther-ops -i fleet.yaml status --all."""
+    from panther_ops.cli.output import configure
+
+    configure(color, quiet)
     ctx.obj = Settings(inventory=inventory, verbose=verbose, debug=debug)
     level = logging.DEBUG if debug else (logging.INFO if verbose else logging.WARNING)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)
@@ -69,12 +81,13 @@ def root(
         logging.getLogger("paramiko").setLevel(logging.CRITICAL)
 
 
-_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager")
+_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager", "reimage")
 """Command modules in the order --help lists them."""
 _NEEDS = {
     "status": ("fleet",), "doctor": ("fleet",), "config": ("config", "driver"), "apply": ("config",),
     "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
     "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
+    "reimage": ("reimage",),
 }
 """Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""
 _registered: dict[str, tuple[list[CommandInfo], list[TyperInfo]]] = {}
@@ -113,6 +126,15 @@ def _register(command: str | None = None, sub: str | None = None) -> None:
     app.registered_groups[:] = groups
 
 
+def full_command() -> Any:
+    """The click command of the whole application with every command registered (tests walk
+    it to reach every command and subcommand)."""
+    from typer.main import get_command
+
+    _register()
+    return get_command(app)
+
+
 def _name(info: CommandInfo) -> str:
     """The word a registered command answers to (typer's rule when none was given)."""
     from typer.main import get_command_name
@@ -143,7 +165,7 @@ def _command_words(argv: list[str]) -> tuple[str | None, str | None]:
         a = argv[i]
         if a in ("-h", "--help", "--version"):
             return None, None
-        if a == "--inventory":
+        if a in ("--inventory", "--color"):
             i += 2
         elif a.startswith("--"):
             i += 1
@@ -164,6 +186,7 @@ def main(argv: list[str] | None = None) -> int:
         from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
     from panther_ops.errors import ExitCode, OpsError
+    from panther_ops.manager.errors import ManagerError
 
     args = list(sys.argv[1:] if argv is None else argv)
     _register(*_command_words(args))
@@ -174,6 +197,11 @@ def main(argv: list[str] | None = None) -> int:
 
         error(str(exc))
         return int(exc.exit_code)
+    except ManagerError as exc:  # a file the manager reads (scenario, animations, BT project...) is bad
+        from panther_ops.cli.render import error
+
+        error(str(exc))
+        return int(ExitCode.USAGE)
     except typer.Exit as exc:
         return int(getattr(exc, "exit_code", 0))
     except typer.Abort:

@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING
 import typer
 
 if TYPE_CHECKING:
-    from panther_ops.core.inventory import Inventory, Robot
-    from panther_ops.core.runner import Task
+    from panther_ops.core.fleet.inventory import Inventory, Robot
+    from panther_ops.core.fleet.runner import Task
     from panther_ops.results import FleetResult
 
 
@@ -50,7 +50,7 @@ def _preload(modules: tuple[str, ...]) -> None:
 
 def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
     """The inventory, the background imports started first (see :func:`_preload`)."""
-    from panther_ops.core.inventory import load_inventory
+    from panther_ops.core.fleet.inventory import load_inventory
 
     _preload(preload)
     inv = load_inventory(settings(ctx).inventory)
@@ -60,10 +60,21 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (),
+    preload: tuple[str, ...] = (), read_only: bool = False,
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import."""
+    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
+
+    ``read_only``: a command that only reads answers, when no robot is chosen, for the
+    inventory's ``settings.default_group``, else for every robot.
+    """
     inv = load(ctx, preload)
+    if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
+        if inv.default_group is not None:
+            info(f"no robot chosen: group {inv.default_group} (settings.default_group)")
+            groups = [inv.default_group]
+        else:
+            info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
+            all_ = True
     return inv, inv.select(robots or [], groups or [], all_)
 
 
@@ -78,11 +89,12 @@ def run(
     max_fail: float | None = None,
     json_out: bool = False,
 ) -> FleetResult:
-    from panther_ops.cli.render import progress_printer
-    from panther_ops.core.runner import RunOptions, run_fleet
+    from panther_ops.cli.progress import FleetProgress, progress_wanted
+    from panther_ops.core.fleet.runner import RunOptions, run_fleet
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
-    with progress_printer(len(chosen), enabled=not json_out) as progress:
+    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out) and len(chosen) > 1)
+    with progress.live():
         return run_fleet(command, inv, chosen, task, opts, progress)
 
 

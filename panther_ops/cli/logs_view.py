@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING, Any
 from panther_ops.cli import context
 
 if TYPE_CHECKING:
-    from panther_ops.core.container_logs import LogOptions
-    from panther_ops.core.inventory import Inventory, Robot
+    from panther_ops.core.containers.logs import LogOptions
+    from panther_ops.core.fleet.inventory import Inventory, Robot
 
 OpenLogs = Callable[[Any, "LogOptions"], tuple[str, Any]]
 
@@ -19,9 +19,15 @@ OpenLogs = Callable[[Any, "LogOptions"], tuple[str, Any]]
 def show_logs(command: str, inv: Inventory, chosen: list[Robot], open_logs: OpenLogs, *, lines: int | None,
               since_s: float | None, timestamps: bool, follow: bool, json_out: bool,
               skip: tuple[type[Exception], ...] = ()) -> int:
-    """Print each robot's log (prefixed ``robot | `` when several), or follow one robot's."""
+    """Print each robot's log (prefixed ``robot | `` when several), or follow one robot's.
+
+    A robot without a docker engine (a demo robot) is ``skipped``, whichever container is asked for.
+    """
     from panther_ops.cli.render import error, finish, print_warnings
-    from panther_ops.core.container_logs import LogOptions, prefix_lines
+    from panther_ops.core.containers.engine import NoEngineError
+    from panther_ops.core.containers.logs import LogOptions, prefix_lines
+
+    skip = (NoEngineError, *skip)
     from panther_ops.errors import UsageError
     from panther_ops.results import Outcome, RobotResult
 
@@ -64,8 +70,8 @@ def show_logs(command: str, inv: Inventory, chosen: list[Robot], open_logs: Open
 def _follow(command: str, inv: Inventory, robot: Robot, open_logs: OpenLogs, opts: LogOptions) -> int:
     """Stream one robot's log in this thread until it ends or Ctrl-C."""
     from panther_ops.cli.render import error
-    from panther_ops.core.container_logs import iter_chunks
-    from panther_ops.core.runner import Connections, RobotContext, run_one
+    from panther_ops.core.containers.logs import iter_chunks
+    from panther_ops.core.fleet.runner import Connections, RobotContext, run_one
     from panther_ops.results import FleetResult, Outcome, RobotResult
 
     out = sys.stdout.buffer

@@ -7,15 +7,18 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from panther_ops.cli.options import finite
+
 if TYPE_CHECKING:
-    from panther_ops.core.changes import Applier, Planner
-    from panther_ops.core.inventory import Inventory, Robot
+    from panther_ops.core.fleet.changes import Applier, Planner
+    from panther_ops.core.fleet.inventory import Inventory, Robot
 
 Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
 DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
 NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
 Settle = Annotated[
-    float, typer.Option("--settle", min=0, help="Seconds the recreated container must stay up, unrestarted.")
+    float, typer.Option("--settle", min=0, callback=finite,
+                        help="Seconds the recreated container must stay up, unrestarted.")
 ]
 Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
 
@@ -36,24 +39,30 @@ def mutate(
     max_fail: float | None = None,
     applier: Applier | None = None,
     verb: str = "Apply to",
+    read_only: bool = False,
 ) -> int:
     """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
 
     Asked first (no ``--yes``), the plan is a table of every robot with the diffs under it;
     with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
-    applied, and the results table follows.
+    applied, and the results table follows. ``read_only``: a command that only compares
+    (``config diff``): the plan is shown as a dry run's, without speaking of one.
     """
+    from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
-    from panther_ops.core.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
-    from panther_ops.core.pipeline import ApplyOptions
-    from panther_ops.core.runner import Connections, RunOptions
+    from panther_ops.core.fleet.changes import apply_fleet, dry_run_result, plan_fleet, unstage_fleet
+    from panther_ops.core.fleet.pipeline import ApplyOptions
+    from panther_ops.core.fleet.runner import Connections, RunOptions
     from panther_ops.errors import ExitCode
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
     apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
     early = yes and not dry_run and applier is None  # no question to wait for: stage while planning
+    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out))
     with Connections(inv) as conns:
-        fp = plan_fleet(command, inv, chosen, planner, conns, opts, stage=apply if early else None, go_early=early)
+        with progress.live():
+            fp = plan_fleet(command, inv, chosen, planner, conns, opts, progress, stage=apply if early else None,
+                            go_early=early)
         if fp.usage_errors:
             unstage_fleet(fp, inv, chosen, conns, opts)
             for name, exc in fp.usage_errors.items():
@@ -61,7 +70,8 @@ def mutate(
             sys.stderr.write("nothing was changed on any robot\n")
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
-            return finish(dry_run_result(fp) if dry_run else fp.results, json_out, print_results)
+            return finish(dry_run_result(fp, read_only=read_only) if dry_run else fp.results, json_out,
+                          print_results)
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)
@@ -74,7 +84,10 @@ def mutate(
             if not typer.confirm(f"{verb} {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
                 sys.stderr.write("nothing was changed\n")
                 return int(ExitCode.USAGE)
-        result = apply_fleet(fp, inv, chosen, conns, opts, apply, applier=applier) if applier else \
-            apply_fleet(fp, inv, chosen, conns, opts, apply)
-    return finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
+        with progress.live():
+            result = apply_fleet(fp, inv, chosen, conns, opts, apply, progress, applier=applier) if applier else \
+                apply_fleet(fp, inv, chosen, conns, opts, apply, progress)
+    code = finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
+    progress.recap()  # last, as Ansible's
+    return code
 

@@ -6,6 +6,17 @@ from typing import Annotated, Optional
 
 import typer
 
+
+def finite(value: float | None) -> float | None:
+    """Option callback: a number of seconds or a percentage must be finite (click's float
+    ranges let ``nan`` through, and ``inf`` means "forever")."""
+    import math
+
+    if value is not None and not math.isfinite(value):
+        raise typer.BadParameter(f"{value} is not a finite number")
+    return value
+
+
 Robots = Annotated[
     Optional[list[str]],  # noqa: UP045 - typer needs Optional on Python 3.10
     typer.Option("--robot", "-r", help="Robot name or glob (repeatable), e.g. -r 'panther-0*'."),
@@ -26,5 +37,6 @@ Canary = Annotated[
 ]
 MaxFail = Annotated[
     Optional[float],  # noqa: UP045
-    typer.Option("--max-fail", min=0, max=100, help="Stop starting robots once more than PCT % failed."),
+    typer.Option("--max-fail", min=0, max=100, callback=finite,
+                 help="Stop starting robots once more than PCT % failed."),
 ]

@@ -5,15 +5,11 @@ Data goes to stdout, progress and messages to stderr, so ``--json | jq`` works.
 
 from __future__ import annotations
 
-import contextlib
-import json
-import sys
-import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
 from panther_ops.errors import ExitCode
-from panther_ops.results import FleetResult, Outcome, RobotResult
+from panther_ops.results import FleetResult, Outcome
 
 STYLE = {
     Outcome.OK: "green",
@@ -26,30 +22,10 @@ STYLE = {
 
 
 def _console(stderr: bool = False) -> Any:
-    from rich.console import Console
+    """The stream's console as the output module sets it up (terminal or pipe, colour, width)."""
+    from panther_ops.cli.output import console
 
-    stream = sys.stderr if stderr else sys.stdout
-    width = None if stream.isatty() else 160
-    return Console(stderr=stderr, highlight=False, soft_wrap=False, width=width)
-
-
-@contextlib.contextmanager
-def progress_printer(total: int, *, enabled: bool) -> Iterator[Callable[[RobotResult], None]]:
-    """Progress on stderr: a live counter on a terminal, nothing otherwise."""
-    if not enabled or total <= 1 or not sys.stderr.isatty():
-        yield lambda _r: None
-        return
-    from rich.progress import Progress
-
-    lock = threading.Lock()
-    with Progress(console=_console(stderr=True), transient=True) as bar:
-        task = bar.add_task("robots", total=total)
-
-        def step(result: RobotResult) -> None:
-            with lock:
-                bar.update(task, advance=1, description=f"{result.robot}: {result.outcome.value}")
-
-        yield step
+    return console(stderr)
 
 
 def esc(text: object) -> str:
@@ -60,7 +36,9 @@ def esc(text: object) -> str:
 
 
 def emit_json(doc: dict[str, Any]) -> None:
-    sys.stdout.write(json.dumps(doc, indent=2, default=str) + "\n")
+    from panther_ops.cli.output import write_json
+
+    write_json(doc)
 
 
 def human_bytes(n: int | None) -> str:
@@ -106,11 +84,13 @@ def print_diffs(fleet: FleetResult) -> None:
     for r in fleet.results:
         for d in r.diffs:
             groups.setdefault((d.path, d.unified), []).append(r.robot)
+    from panther_ops.cli.output import print_exact
+
     out = _console()
     for (path, unified), robots in groups.items():
         who = robots[0] if len(robots) == 1 else f"{len(robots)} robots ({', '.join(robots)})"
-        out.print(f"[bold]{esc(who)}[/]: {esc(path)}")
-        out.print(styled_diff(unified))
+        out.print(f"[bold]{esc(who)}[/]: {esc(path)}", soft_wrap=True)
+        print_exact(styled_diff(unified))
 
 
 DIFF_STYLE = (("+++", "bold"), ("---", "bold"), ("@@", "cyan"), ("+", "green"), ("-", "red"))
@@ -119,7 +99,8 @@ DIFF_STYLE = (("+++", "bold"), ("---", "bold"), ("@@", "cyan"), ("+", "green"), 
 def styled_diff(unified: str) -> Any:
     """A unified diff as rich Text: headers bold, hunks cyan, additions green, removals red.
 
-    The text is shown as is (no markup, no wrapping: a diff line is never folded into two).
+    The text is shown as is (no markup); print it with ``output.print_exact`` (no wrapping:
+    a diff line is never folded into two).
     """
     from rich.text import Text
 
@@ -131,19 +112,25 @@ def styled_diff(unified: str) -> Any:
 
 
 def print_warnings(fleet: FleetResult) -> None:
-    err = _console(stderr=True)
+    from panther_ops.cli.output import print_message
+
     for r in fleet.results:
         for w in r.warnings:
-            err.print(f"[yellow]warning[/] {r.robot}: {esc(w)}")
+            print_message(f"[yellow]warning[/] {r.robot}: {esc(w)}")
         if "hint" in r.data:
-            err.print(f"[dim]hint[/] {r.robot}: {esc(r.data['hint'])}")
+            print_message(f"[dim]hint[/] {r.robot}: {esc(r.data['hint'])}")
     for n in fleet.notes:
-        err.print(f"[yellow]note[/] {esc(n)}")
+        print_message(f"[yellow]note[/] {esc(n)}")
 
 
 def print_summary(fleet: FleetResult) -> None:
-    counts = {o: len(fleet.by_outcome(o)) for o in Outcome}
-    parts = [f"[{STYLE[o]}]{n} {o.value}[/]" for o, n in counts.items() if n]
+    """``3 robots: 2 changed, 1 ok in 0.4 s``; a plan not applied (a dry run) says ``would change``."""
+    counts: dict[tuple[str, str], int] = {}
+    for o in Outcome:
+        for r in fleet.by_outcome(o):
+            word = "would change" if o is Outcome.CHANGED and r.data.get("dry_run") else o.value
+            counts[(word, STYLE[o])] = counts.get((word, STYLE[o]), 0) + 1
+    parts = [f"[{style}]{n} {word}[/]" for (word, style), n in counts.items()]
     code = fleet.exit_code
     tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
     _console(stderr=True).print(
@@ -162,6 +149,6 @@ def finish(fleet: FleetResult, json_out: bool, human: Callable[[FleetResult], No
 
 
 def error(message: str) -> None:
-    from rich.markup import escape
+    from panther_ops.cli.output import print_message
 
-    _console(stderr=True).print(f"[bold red]error[/] {escape(message)}", highlight=False)
+    print_message(f"[bold red]error[/] {esc(message)}")

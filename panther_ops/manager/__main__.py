@@ -47,6 +47,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="shutdown hosts file; $(find pkg)/... is looked up in AMENT_PREFIX_PATH")
     p.add_argument("--namespace", default=None, help="robot namespace (default: $ROBOT_NAMESPACE)")
     p.add_argument("--known-hosts", default=None, metavar="FILE", help="known_hosts for SSH shutdowns")
+    p.add_argument("--stack", default=None, metavar="X.Y.Z",
+                   help="the robot's stack version: message package, topic and service names "
+                        "(default: husarion_ugv_msgs if importable, else panther_msgs 2.1)")
     p.add_argument("--sim", action="store_true", help="run on the simulated Panther instead of ROS 2")
     p.add_argument("--scenario", metavar="FILE", help="simulation scenario (default: the shipped charging one)")
     p.add_argument("--status-every", type=float, default=10.0, metavar="S",
@@ -124,11 +127,10 @@ def _config(args: argparse.Namespace) -> Any:
     return config
 
 
-def hosts_warnings(path: str) -> list[str]:
+def hosts_warnings(path: str, known_hosts: str | None = None) -> list[str]:
     """What keeps the hosts of a shutdown hosts file from being shut down from here."""
-    import importlib.util
-
     from panther_ops.manager.errors import ManagerError
+    from panther_ops.manager.shutdown_executor.backends import ssh_method
     from panther_ops.manager.shutdown_executor.hosts import load_shutdown_hosts
 
     if not path or not Path(path).is_file():
@@ -139,10 +141,32 @@ def hosts_warnings(path: str) -> list[str]:
         return [f"shutdown hosts file {path}: {exc}"]
     out = [f"shutdown hosts file {path}: {p}" for p in loaded.problems]
     ssh = [h.ip for h in loaded.hosts if h.secret is None]
-    if ssh and importlib.util.find_spec("paramiko") is None:
-        out.append(f"no paramiko in this image: SSH shutdown of {', '.join(ssh)} will fail "
+    if ssh and ssh_method() is None:
+        out.append(f"neither paramiko nor an ssh client in this image: SSH shutdown of {', '.join(ssh)} will fail "
                    "(HTTP hosts of husarion-shutdown need nothing more)")
+    if ssh:
+        from panther_ops.manager.shutdown_executor.knownhosts import is_known
+
+        kh = Path(known_hosts) if known_hosts else Path.home() / ".ssh" / "known_hosts"
+        text = kh.read_text(errors="replace") if kh.is_file() else ""
+        unknown = [h.describe() for h in loaded.hosts if h.secret is None and not is_known(text, h.ip, h.port)]
+        if unknown:
+            out.append(f"no host key in {kh} for {', '.join(unknown)}: their SSH shutdown will fail "
+                       "(unknown host keys are refused)")
     return out
+
+
+def interfaces(args: argparse.Namespace) -> Any:
+    """The robot's ROS 2 interfaces: from ``--stack``, else from the message package importable here."""
+    from panther_ops.manager.adapters.interfaces import detect_interfaces, interfaces_for, parse_stack
+    from panther_ops.manager.errors import ConfigError
+
+    if args.stack is None:
+        return detect_interfaces()
+    try:
+        return interfaces_for(parse_stack(args.stack))
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
 
 
 def check(args: argparse.Namespace) -> int:
@@ -155,8 +179,9 @@ def check(args: argparse.Namespace) -> int:
 
     config = _config(args)
     trees = _trees(args)
+    ros = interfaces(args)
     if not args.sim:
-        for warning in hosts_warnings(config.safety.shutdown_hosts_path):
+        for warning in hosts_warnings(config.safety.shutdown_hosts_path, args.known_hosts):
             _say(f"warning: {warning}")
     scenario = load_scenario(args.scenario) if args.scenario else None
     clock = ManualClock()
@@ -168,7 +193,8 @@ def check(args: argparse.Namespace) -> int:
     finally:
         runtime.close()
     mode = "simulation" if args.sim else "ROS 2"
-    _say(f"{version_line()}: check ok ({mode} mode; hosts file {config.safety.shutdown_hosts_path or 'none'}; "
+    _say(f"{version_line()}: check ok ({mode} mode; {ros.stack} interfaces, {ros.msg_package}; "
+         f"hosts file {config.safety.shutdown_hosts_path or 'none'}; "
          f"first tick {report.mode.value}, {len(io.calls)} service calls)")
     return 0
 
@@ -177,11 +203,12 @@ def run_ros2(args: argparse.Namespace) -> int:  # pragma: no cover - needs ROS 2
     from panther_ops.manager.adapters.ros2 import run_on_ros2
 
     namespace = args.namespace if args.namespace is not None else os.environ.get("ROBOT_NAMESPACE", "")
-    _say(f"{version_line()}: ROS 2 mode, namespace {namespace or '/'}")
+    ros = interfaces(args)
+    _say(f"{version_line()}: ROS 2 mode, namespace {namespace or '/'}, {ros.stack} interfaces ({ros.msg_package})")
     config = _config(args)
-    for warning in hosts_warnings(config.safety.shutdown_hosts_path):
+    for warning in hosts_warnings(config.safety.shutdown_hosts_path, args.known_hosts):
         _say(f"warning: {warning}")
-    run_on_ros2(config, trees=_trees(args), namespace=namespace, known_hosts=args.known_hosts)
+    run_on_ros2(config, trees=_trees(args), namespace=namespace, known_hosts=args.known_hosts, interfaces=ros)
     _say("manager: the Shutdown tree is done")
     return 0
 

@@ -1,10 +1,18 @@
-"""Where the shipped templates live (the repository's ``templates/`` directory)."""
+"""Where the shipped templates live: ``panther_ops/templates`` when installed from a wheel,
+else the repository's ``templates/`` directory (a checkout or an editable install)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
+
+def _templates() -> Path:
+    package = Path(__file__).resolve().parents[1]  # panther_ops/
+    installed = package / "templates"
+    return installed if installed.is_dir() else package.parent / "templates"
+
+
+TEMPLATES = _templates()
 BEHAVIOR_TREES = TEMPLATES / "behavior_trees"
 LIGHTS = TEMPLATES / "lights"
 SCENARIOS = TEMPLATES / "manager" / "scenarios"

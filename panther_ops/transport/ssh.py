@@ -238,6 +238,11 @@ class SshTransport(Conversing):
         assert self._client is not None
         return self._client
 
+    def host_key_fingerprint(self) -> str | None:
+        """The host key the robot offered on this connection (checked against known_hosts)."""
+        transport = self.client.get_transport()
+        return fingerprint(transport.get_remote_server_key()) if transport is not None else None
+
     def close(self) -> None:
         self.drop_all_kept()
         if self._docker is not None:

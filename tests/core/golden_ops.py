@@ -24,11 +24,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core import launch_args
-from panther_ops.core.compose import ComposeFile
-from panther_ops.core.controller import ControllerConfig
-from panther_ops.core.stack import stack_from_version
-from panther_ops.core.yamldoc import Flow, Folded, Literal, Quoted, YamlDocument
+from panther_ops.core.config import launch_args
+from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.config.controller import ControllerConfig
+from panther_ops.core.fleet.stack import stack_from_version
+from panther_ops.core.yaml.document import Flow, Folded, Literal, Quoted, YamlDocument
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "tests" / "golden" / "cases"

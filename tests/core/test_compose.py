@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.compose import ComposeError, ComposeFile, Volume, image_repo, is_driver_image
-from panther_ops.core.diff import changed_lines
-from panther_ops.core.launchcmd import CommandForm
-from panther_ops.core.yamldoc import DocumentError
+from panther_ops.core.config.compose import ComposeError, ComposeFile, Volume, image_repo, is_driver_image
+from panther_ops.core.config.launchcmd import CommandForm
+from panther_ops.core.yaml.diff import changed_lines
+from panther_ops.core.yaml.document import DocumentError
 from panther_ops.errors import InputError, RemoteStateError, UsageError
 
 ROOT = Path(__file__).resolve().parents[2]

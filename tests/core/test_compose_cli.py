@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.compose import ComposeFile
+from panther_ops.core.config.compose import ComposeFile
 from tests.core.golden_ops import CASES, ROOT, apply_case
 
 

@@ -7,10 +7,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.config_files import ConfigKind, config_file, config_files
-from panther_ops.core.stack import stack_from_version
-from panther_ops.core.templates import TemplateNotFound, read_template, template_file
-from panther_ops.core.yamldoc import YamlDocument
+from panther_ops.core.config.files import ConfigKind, config_file, config_files
+from panther_ops.core.fleet.stack import stack_from_version
+from panther_ops.core.fleet.templates import TemplateNotFound, read_template, template_file
+from panther_ops.core.yaml.document import YamlDocument
 from panther_ops.errors import UsageError
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from panther_ops.core import controller as ctl
-from panther_ops.core.config_files import ConfigKind, config_file
-from panther_ops.core.stack import stack_from_version
+from panther_ops.core.config import controller as ctl
+from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.fleet.stack import stack_from_version
 from panther_ops.errors import UsageError
 
 S204, S211, S222 = (stack_from_version(v) for v in ("2.0.4", "2.1.1", "2.2.2"))

@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.diff import unified_diff
-from panther_ops.core.yamldoc import Literal, YamlDocument
+from panther_ops.core.yaml.diff import unified_diff
+from panther_ops.core.yaml.document import Literal, YamlDocument
 from tests.core.golden_ops import CASES, apply_case
 
 CASE_FILES = sorted(CASES.glob("*.yaml"))

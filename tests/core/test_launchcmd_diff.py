@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from panther_ops.core.diff import changed_lines, unified_diff
-from panther_ops.core.launchcmd import (
+from panther_ops.core.config.launchcmd import (
     CommandSyntaxError,
     Token,
     arg_word,
@@ -14,6 +13,7 @@ from panther_ops.core.launchcmd import (
     shell_tokens,
     split_arg,
 )
+from panther_ops.core.yaml.diff import changed_lines, unified_diff
 from panther_ops.errors import InputError
 
 

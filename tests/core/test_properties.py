@@ -17,10 +17,10 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.compose import ComposeFile
-from panther_ops.core.diff import changed_lines, unified_diff
-from panther_ops.core.yamldoc import PathPart, YamlDocument
-from panther_ops.core.yamlrender import Folded
+from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.yaml.diff import changed_lines, unified_diff
+from panther_ops.core.yaml.document import PathPart, YamlDocument
+from panther_ops.core.yaml.render import Folded
 
 ROOT = Path(__file__).resolve().parents[2]
 INPUTS = sorted(

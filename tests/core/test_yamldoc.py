@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from panther_ops.core.yamldoc import (
+from panther_ops.core.yaml.document import (
     Alias,
     DocumentError,
     Flow,
@@ -17,7 +17,7 @@ from panther_ops.core.yamldoc import (
     YamlDocument,
     parse_path,
 )
-from panther_ops.core.yamlrender import format_float, plain_ok
+from panther_ops.core.yaml.render import format_float, plain_ok
 from panther_ops.errors import InputError, UsageError
 
 COMPOSE = """\

@@ -12,11 +12,11 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.changes import apply_fleet, plan_fleet
-from panther_ops.core.config_plans import plan_args
-from panther_ops.core.inventory import load_inventory
-from panther_ops.core.pipeline import ApplyOptions
-from panther_ops.core.runner import Connections, RunOptions
+from panther_ops.core.config.plans import plan_args
+from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
+from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.runner import Connections, RunOptions
 
 pytestmark = pytest.mark.lab
 
@@ -247,8 +247,8 @@ def test_apply_converges_drift(lab: Any, pristine: None, tmp_path: Path, capsys:
 
 def test_compose_refused_by_docker_compose_is_not_written(lab: Any, pristine: None) -> None:
     """Validate before writing: the robot's own `docker compose config` checks the staged file."""
-    from panther_ops.core.pipeline import FileEdit, RobotPlan
-    from panther_ops.core.robot_config import read_config
+    from panther_ops.core.config.robot import read_config
+    from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 
     name = robot_of(lab, "2.1.1").name
     inv = load_inventory(str(lab.inventory_path))

@@ -392,6 +392,8 @@ def inventory_yaml(robots: list[InventoryRobot]) -> str:
         "defaults:",
         f"  user: {USER}",
         "  identity_file: id_ed25519",
+        "groups:",
+        *(f"  {g}: {{}}" for g in dict.fromkeys(g for r in robots for g in r.groups)),
         "robots:",
     ]
     for r in robots:

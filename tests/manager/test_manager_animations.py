@@ -72,8 +72,7 @@ USER_RULES: list[tuple[str, list[dict[str, Any]]]] = [
     ("anim-repeat-invalid", [animation(repeat=0)]),
     ("anim-brightness-range", [animation(brightness=1.5)]),
     ("anim-image-path", [animation(image="animations/relative.png")]),
-    ("anim-image-package", [animation(image="$(find no_such_package)/x.png")]),
-    ("anim-image-not-found", [animation(image="/nonexistent/dir/x.png")]),
+    ("anim-image-not-found", [animation(image="$(find panther_lights)/animations/no_such_image.png")]),
     ("anim-color-invalid", [animation(color="red")]),
     ("anim-type-unknown", [animation(type="panther_lights::FireworksAnimation")]),
     ("anim-segments-unknown", [animation(segments="roof")]),
@@ -86,6 +85,80 @@ def test_each_user_rule_has_its_own_finding(tmp_path: Path, code: str,
     findings = validate_animations(user_file(tmp_path, animations))
     assert [f.code for f in findings] == [code]
     assert findings[0].severity.value == "error"
+
+
+MANUAL_EXAMPLE = """\
+user_animations:
+  # animation with default image and custom color
+  - id: 21
+    name: ANIMATION_1
+    priority: 2
+    animations:
+      - type: panther_lights::ImageAnimation
+        segments: all
+        animation:
+          image: $(find panther_lights)/animations/strip01_red.png
+          duration: 2
+          repeat: 2
+          color: 0xffff00
+  # animation with custom image
+  - id: 22
+    name: ANIMATION_2
+    priority: 3
+    animations:
+      - type: panther_lights::ImageAnimation
+        segments: all
+        animation:
+          image: /animations/custom_image.png
+          duration: 3
+          repeat: 1
+  # animation with a custom image from custom ROS package
+  - id: 23
+    name: ANIMATION_3
+    priority: 3
+    animations:
+      - type: panther_lights::ImageAnimation
+        segments: all
+        animation:
+          image: $(find my_custom_animation_package)/animations/custom_image.png
+          duration: 3
+          repeat: 1
+  # different animations for Front and Rear Bumper Light
+  - id: 24
+    name: ANIMATION_4
+    priority: 3
+    animations:
+      - type: panther_lights::ImageAnimation
+        segments: front
+        animation:
+          image: $(find panther_lights)/animations/triangle01_blue.png
+          duration: 2
+          repeat: 2
+      - type: panther_lights::ImageAnimation
+        segments: rear
+        animation:
+          image: $(find panther_lights)/animations/triangle01_red.png
+          duration: 3
+          repeat: 1
+"""
+
+
+def test_the_manuals_own_example_is_accepted_with_the_robots_images_unchecked(tmp_path: Path) -> None:
+    """Issue 11 finding 12: an absolute robot path and a package of the robot are not errors
+    here; they are reported as not checked, with the reason."""
+    path = tmp_path / "my_awesome_user_animations.yaml"
+    path.write_text(MANUAL_EXAMPLE)
+    findings = validate_animations(path)
+    assert [f.severity.value for f in findings] == ["warning", "warning"]
+    assert [f.code for f in findings] == ["anim-image-unchecked", "anim-image-unchecked"]
+    assert "/animations/custom_image.png" in findings[0].message and "on the robot" in findings[0].message
+    assert "my_custom_animation_package" in findings[1].message and "robot" in findings[1].message
+
+
+def test_a_plugin_animation_type_is_a_warning_not_a_refusal(tmp_path: Path) -> None:
+    findings = validate_animations(user_file(tmp_path, [animation(type="my_lights::FireworksAnimation")]))
+    assert [(f.severity.value, f.code) for f in findings] == [("warning", "anim-type-custom")]
+    assert "my_lights::FireworksAnimation" in findings[0].message
 
 
 def test_an_id_of_the_led_config_is_taken(tmp_path: Path) -> None:

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.inventory import Inventory, load_inventory
-from panther_ops.core.runner import Connections
+from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.runner import Connections
 
 
 @pytest.fixture

@@ -19,10 +19,11 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.config_plans import plan_args
-from panther_ops.core.inventory import Inventory, load_inventory
-from panther_ops.core.pipeline import ApplyOptions, FileEdit, RobotPlan, apply_plan
-from panther_ops.core.runner import Connections, RobotContext
+from panther_ops.core.config.plans import plan_args
+from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.errors import TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_apply

@@ -34,7 +34,8 @@ def test_status_table(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_no_selection_on_a_fleet_is_a_usage_error(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["-i", str(demo), "status"]) == 2
+    # a change insists on a choice; a read-only command answers for every robot (issue 16)
+    assert main(["-i", str(demo), "driver", "restart", "--dry-run"]) == 2
     assert "choose with --robot" in capsys.readouterr().err
 
 

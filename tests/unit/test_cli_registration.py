@@ -10,7 +10,7 @@ import pytest
 from panther_ops.cli import app as cli_app
 
 TOP = ["status", "doctor", "apply", "trust", "config", "driver", "shutdown", "inventory", "demo", "bt", "lights",
-       "manager"]
+       "manager", "reimage"]
 
 
 @pytest.mark.parametrize(("argv", "words"), [

@@ -15,29 +15,26 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.compose import ComposeFile
-from panther_ops.core.container_logs import prefix_lines
-from panther_ops.core.docker_times import human_duration, parse_timestamp
-from panther_ops.core.driver import (
+from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.containers.logs import prefix_lines
+from panther_ops.core.containers.times import human_duration, parse_timestamp
+from panther_ops.core.driver.containers import argv_matches, describe_container, last_line, parse_duration
+from panther_ops.core.driver.images import (
     HUB_TAG,
     HubTag,
     RegistryError,
-    argv_matches,
-    describe_container,
     fetch_hub_tags,
-    last_line,
     local_images,
     newer_tags,
-    parse_duration,
     parse_hub_page,
     parse_target,
-    plan_restore_defaults,
-    plan_update,
     tag_key,
 )
-from panther_ops.core.inventory import load_inventory
-from panther_ops.core.runner import Connections, RobotContext
-from panther_ops.core.templates import template_path
+from panther_ops.core.driver.restore import plan_restore_defaults
+from panther_ops.core.driver.update import plan_update
+from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.runner import Connections, RobotContext
+from panther_ops.core.fleet.templates import template_path
 from panther_ops.errors import RemoteStateError, UsageError
 
 # A Docker Hub answer in the shape of GET /v2/namespaces/husarion/repositories/husarion-ugv/tags

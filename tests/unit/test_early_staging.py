@@ -11,11 +11,12 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.changes import apply_fleet, plan_fleet, unstage_fleet
-from panther_ops.core.config_plans import plan_args
-from panther_ops.core.inventory import Inventory
-from panther_ops.core.pipeline import ApplyOptions, RobotPlan
-from panther_ops.core.runner import Connections, RobotContext, RunOptions
+from panther_ops.core.config.plans import plan_args
+from panther_ops.core.fleet.changes import apply_fleet, plan_fleet, unstage_fleet
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.runner import Connections, RobotContext, RunOptions
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome
 
@@ -111,7 +112,7 @@ def test_a_failed_canary_takes_back_the_rest(demo_connections: tuple[Inventory, 
 def test_the_cli_stages_early_only_when_it_asks_nothing(demo_connections: tuple[Inventory, Connections],
                                                        monkeypatch: pytest.MonkeyPatch) -> None:
     inv, _ = demo_connections
-    import panther_ops.core.changes as changes
+    import panther_ops.core.fleet.changes as changes
 
     seen: list[object] = []
     real = changes.plan_fleet

@@ -7,8 +7,8 @@ import pytest
 from PIL import Image
 
 from panther_ops.cli.app import main
-from panther_ops.core.lights_ops import service_call_argv
-from panther_ops.core.templates import template_path
+from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.manager_ops.lights import service_call_argv
 
 
 def test_bt_validate_shipped_projects(capsys: pytest.CaptureFixture[str]) -> None:
@@ -49,7 +49,8 @@ def test_lights_validate_and_preview(tmp_path: Path, capsys: pytest.CaptureFixtu
 def test_manager_run_sim_json(capsys: pytest.CaptureFixture[str]) -> None:
     scen = template_path("manager", "scenarios", "battery_overheat.yaml")
     assert main(["manager", "run", "--sim", "--scenario", str(scen), "--json"]) == 0
-    lines = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
+    doc = json.loads(capsys.readouterr().out)  # one document: the snapshot of every tick
+    lines = doc["snapshots"]
     calls = [c for s in lines for c in s["calls"]]
     assert any("e_stop_trigger" in c for c in calls)
     assert any(s["e_stop"] for s in lines)
@@ -61,7 +62,12 @@ def test_manager_run_needs_sim(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_set_animation_argv_is_the_manuals_call() -> None:
-    argv = service_call_argv("panther_msgs", "panther", 0, "", True)
+    from panther_ops.manager.adapters.interfaces import interfaces_for
+
+    argv = service_call_argv(interfaces_for((2, 1, 1)), "panther", 0, "", True)
     assert argv == ["ros2", "service", "call", "/panther/lights/set_animation", "panther_msgs/srv/SetLEDAnimation",
                     '{animation: {id: 0, param: ""}, repeating: true}']
-    assert service_call_argv("husarion_ugv_msgs", "", 9, "0.5", False)[3] == "/lights/set_animation"
+    ugv = service_call_argv(interfaces_for((2, 2, 2)), "", 9, "0.5", False)
+    assert ugv[3:5] == ["/lights/set_animation", "husarion_ugv_msgs/srv/SetLEDAnimation"]
+    assert service_call_argv(interfaces_for((2, 0, 4)), "/panther/", 1, "", False)[3:5] == [
+        "/panther/lights/controller/set/animation", "panther_msgs/srv/SetLEDAnimation"]

@@ -18,10 +18,14 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core import manager_bundle
-from panther_ops.core.inventory import Inventory, load_inventory
-from panther_ops.core.manager_bundle import ARCHIVE_NAME, ManagerBundle, build_bundle, bundle_build
-from panther_ops.core.manager_deploy import (
+from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.runner import Connections, RobotContext
+from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.manager_ops import bundle as manager_bundle
+from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle, bundle_build
+from panther_ops.core.manager_ops.deploy import (
     DBUS_POWEROFF,
     SERVICE,
     SSH_POWEROFF,
@@ -30,10 +34,7 @@ from panther_ops.core.manager_deploy import (
     plan_deploy,
     plan_remove,
 )
-from panther_ops.core.manager_status import describe, running_version, status_task
-from panther_ops.core.pipeline import ApplyOptions, RobotPlan
-from panther_ops.core.runner import Connections, RobotContext
-from panther_ops.core.templates import template_path
+from panther_ops.core.manager_ops.status import describe, running_version, status_task
 from panther_ops.errors import UsageError
 from panther_ops.manager.__main__ import main as manager_main
 from panther_ops.manager.__main__ import resolve_find
@@ -155,6 +156,9 @@ def test_archive_runs_alone_on_python_310(tmp_path: Path) -> None:
 # ------------------------------------------------------------------ deploy plans on the templates
 
 
+STACKS = {"panther-2.0.4.yaml": "2.0.4", "panther-2.1.1.yaml": "2.1.1", "husarion-ugv-2.2.2.yaml": "2.2.2"}
+
+
 @pytest.mark.parametrize("template", list(CASES))
 def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: str) -> None:
     tmp, cs = ctxs
@@ -190,6 +194,7 @@ def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: s
         "--config", "/opt/panther-ops/manager/config/manager.yaml",
         "--lights-bt", "/opt/panther-ops/manager/config/behavior_trees/PantherLightsBT.btproj",
         "--safety-bt", "/opt/panther-ops/manager/config/behavior_trees/PantherSafetyBT.btproj",
+        "--stack", STACKS[template],
         *(["--namespace", "panther"] if template == "panther-2.0.4.yaml" else [])]
     params = yaml.safe_load(next(e.after for e in plan.edits if e.path.endswith("manager.yaml")))  # type: ignore[arg-type]
     assert params["/**"]["ros__parameters"] == {"shutdown_hosts_path": hosts, "shutdown_localhost_command": poweroff}
@@ -454,6 +459,14 @@ def test_entry_point_warns_when_ssh_hosts_cannot_be_shut_down(tmp_path: Path,
     hosts.write_text("hosts:\n  - {ip: 192.0.2.3, username: husarion}\n  - {ip: 192.0.2.4, port: 3003, secret: s}\n")
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "paramiko" else real(name, *a))
-    assert hosts_warnings(str(hosts)) == ["no paramiko in this image: SSH shutdown of 192.0.2.3 will fail "
-                                          "(HTTP hosts of husarion-shutdown need nothing more)"]
+    known = tmp_path / "known_hosts"
+    known.write_text("192.0.2.3 ssh-ed25519 AAAAC3NzaC1lZDI1NTE5AAAAIOMqqnkVzrm0SdG6UOoqKLsabgH5C9okWi0dh2l9GKJl\n")
+    assert hosts_warnings(str(hosts), str(known)) == []  # no paramiko, but the ssh client on PATH does it
+    assert hosts_warnings(str(hosts), str(tmp_path / "none")) == [
+        f"no host key in {tmp_path / 'none'} for husarion@192.0.2.3:22: their SSH shutdown will fail "
+        "(unknown host keys are refused)"]
+    monkeypatch.setenv("PATH", str(tmp_path))  # no ssh client either
+    assert hosts_warnings(str(hosts), str(known)) == [
+        "neither paramiko nor an ssh client in this image: SSH shutdown of "
+        "192.0.2.3 will fail (HTTP hosts of husarion-shutdown need nothing more)"]
     assert hosts_warnings(str(tmp_path / "missing.yaml")) == []

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.memo import Memo
+from panther_ops.core.fleet.memo import Memo
 from panther_ops.transport import filecache
 
 THREADS = 8

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.demo import init_demo
-from panther_ops.core.inventory import Inventory, load_inventory
-from panther_ops.core.runner import RobotContext, RunOptions, run_fleet
+from panther_ops.core.demo.fleet import init_demo
+from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.runner import RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError
 from panther_ops.results import Outcome, RobotResult
 
@@ -95,7 +95,7 @@ def test_max_fail_stops_starting_robots(tmp_path: Path) -> None:
 
 
 def test_demo_fleet_status(tmp_path: Path) -> None:
-    from panther_ops.core.status import status_task
+    from panther_ops.core.health.status import status_task
 
     inv = load_inventory(str(init_demo(tmp_path / "demo")))
     fleet = run_fleet("status", inv, list(inv.robots.values()), status_task)

@@ -9,8 +9,7 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.shutdown.check import nopasswd_for, parse_sudo_listing, sudo_probe
-from panther_ops.core.shutdown.hostsfile import (
+from panther_ops.core.config.hostsfile import (
     Mode,
     add_host,
     check_entry,
@@ -22,6 +21,7 @@ from panther_ops.core.shutdown.hostsfile import (
     remove_host,
     valid_address,
 )
+from panther_ops.core.shutdown.check import nopasswd_for, parse_sudo_listing, sudo_probe
 from panther_ops.core.shutdown.run import result_of, shutdown_hosts, summary
 from panther_ops.errors import UsageError
 from panther_ops.manager.clock import ManualClock

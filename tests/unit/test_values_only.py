@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from panther_ops.core.pipeline import _compare_values
+from panther_ops.core.fleet.pipeline import _compare_values
 
 BASE = b"""\
 x-common-config: &common

@@ -16,7 +16,7 @@ app = typer.Typer(
     no_args_is_help=True,
 )
 
-PLANNERS = ("panther_ops.core.config_plans",)
+PLANNERS = ("panther_ops.core.config.plans",)
 """What planning a change imports: loaded in the background while the robots connect."""
 
 KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
@@ -43,20 +43,23 @@ def get(
     forks: Forks = None,
 ) -> int:
     """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
-    stack's default, with where it came from.
+    stack's default, with where it came from. No robot chosen: every robot of the inventory.
 
     Example: panther-ops config get wheel_type --all
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.config_plans import read_arg
+    from panther_ops.core.config.checks import precheck_key
+    from panther_ops.core.config.plans import read_arg
     from panther_ops.results import Outcome, RobotResult
+
+    precheck_key(key)
 
     def task(c: Any) -> RobotResult:
         info = read_arg(c, key)
         return RobotResult(c.robot.name, Outcome.OK, f"{key} = {info['value']} ({info['source']}; {info['stack']})",
                            data=info)
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config get", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_results)
 
@@ -74,23 +77,28 @@ def set_(
     no_restart: NoRestart = False,
     settle: Settle = 5.0,
     force: Force = False,
+    everywhere: Annotated[bool, typer.Option(
+        "--everywhere", help="namespace: also change it where the robot's other parts name it (the gamepad "
+        "service, ROBOT_NAMESPACE), in the same plan.")] = False,
     json_out: Json = False,
     forks: Forks = None,
     canary: Canary = 0,
     max_fail: MaxFail = None,
 ) -> int:
     """Set a launch argument of the driver (e.g. wheel_type WH02) or a controller limit
-    (controller.linear.x.max_velocity 1.5) on each robot, knowing each key per stack version.
+    (controller.linear.x.max_velocity 1.0) on each robot, knowing each key per stack version.
 
     Plans every robot first and shows the exact diff; then (after --yes or your confirmation)
     backs up, writes atomically, recreates the driver as the robot user, and verifies it keeps
-    running with the new command; a failed change is rolled back.
+    running with the new command; a failed change is rolled back. A new namespace warns of the
+    places that keep the old one (gamepad service, ROBOT_NAMESPACE, the WebUI); --everywhere
+    changes the first two in the same plan.
 
     Examples:
       panther-ops config set wheel_type WH02 -r panther-01 --yes
-      panther-ops config set controller.linear.x.max_velocity 1.5 -g warehouse --dry-run
+      panther-ops config set controller.linear.x.max_velocity 1.0 -g warehouse --dry-run
     """
-    from panther_ops.core.config_checks import precheck
+    from panther_ops.core.config.checks import precheck
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
@@ -98,15 +106,17 @@ def set_(
     # the planners (and the YAML editor they bring) load while the robots connect
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
-            from panther_ops.core.config_plans import plan_controller
+            from panther_ops.core.config.plans import plan_controller
 
             return plan_controller(c, {key: parsed}, force=force)
     else:
         def planner(c: Any) -> Any:
-            from panther_ops.core.config_plans import plan_args
+            from panther_ops.core.config.plans import plan_args
 
-            return plan_args(c, {key: value}, [], force=force)
-    return mutate(f"config set {key} {value}", inv, chosen, planner, yes=yes, dry_run=dry_run,
+            return plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
+    label = (f"config set {key} {value}" + (" --everywhere" if everywhere else "")
+             + (" --force" if force else ""))
+    return mutate(label, inv, chosen, planner, yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 
@@ -129,10 +139,13 @@ def unset(
 
     Example: panther-ops config unset wheel_type -r panther-01 --yes
     """
+    from panther_ops.core.config.checks import precheck_key
+
+    precheck_key(key, known=False)  # an argument not in the catalogue can be removed, a malformed name not
     inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
 
     def planner(c: Any) -> Any:
-        from panther_ops.core.config_plans import plan_args
+        from panther_ops.core.config.plans import plan_args
 
         return plan_args(c, {}, [key])
 
@@ -154,11 +167,11 @@ def diff(
 
     Example: panther-ops config diff --all
     """
-    from panther_ops.core.config_plans import plan_desired
+    from panther_ops.core.config.plans import plan_desired
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
-                  forks=forks)
+                  forks=forks, read_only=True)
 
 
 @app.command("history")
@@ -177,7 +190,7 @@ def history(
     """
     from panther_ops.cli.history_view import print_history
     from panther_ops.cli.render import finish
-    from panther_ops.core.history import list_history
+    from panther_ops.core.fleet.history import list_history
     from panther_ops.results import Outcome, RobotResult
 
     def task(c: Any) -> RobotResult:
@@ -186,7 +199,7 @@ def history(
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config history", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_history)
 
@@ -213,8 +226,14 @@ def rollback(
 
     Example: panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
     """
-    from panther_ops.core.history import plan_rollback
+    import re
 
+    from panther_ops.core.fleet.history import plan_rollback
+    from panther_ops.errors import UsageError
+
+    if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
+        raise UsageError(f"--to {to!r} is not a backup id",
+                         hint="an id (or a prefix) from `panther-ops config history`, e.g. 20261122T101500Z")
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config rollback", inv, chosen, lambda c: plan_rollback(c, to), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
@@ -246,7 +265,7 @@ def push(
 
     Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
-    from panther_ops.core.push import PushKind, plan_push, read_bundle
+    from panther_ops.core.config.push import PushKind, plan_push, read_bundle
     from panther_ops.errors import UsageError
 
     try:
@@ -254,9 +273,9 @@ def push(
     except ValueError:
         raise UsageError(f"--as {as_!r} is not a config kind",
                          hint="allowed: " + ", ".join(k.value for k in PushKind)) from None
-    bundle = read_bundle(kind, local)
+    bundle = read_bundle(kind, local, force=force)
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"config push {local.name} --as {kind.value}", inv, chosen,
+    return mutate(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""), inv, chosen,
                   lambda c: plan_push(c, kind, bundle, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
@@ -288,8 +307,8 @@ def pull(
     import sys
 
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.push import PushKind
-    from panther_ops.core.push import pull as pull_file
+    from panther_ops.core.config.push import PushKind
+    from panther_ops.core.config.push import pull as pull_file
     from panther_ops.errors import UsageError
     from panther_ops.results import Outcome, RobotResult
 
@@ -298,6 +317,8 @@ def pull(
     except ValueError:
         raise UsageError(f"{kind!r} is not a config kind", hint="allowed: " + ", ".join(x.value for x in PushKind)) \
             from None
+    if output is not None and (output.is_dir() or not output.parent.is_dir()):
+        raise UsageError(f"--output {output}: not a file path in an existing directory")
     inv, chosen = context.targets(ctx, robot, group, all_)
     if len(chosen) > 1 and dest is None:
         raise UsageError(f"{len(chosen)} robots chosen: pass --dest DIR (files go to DIR/<robot>/)")
@@ -345,10 +366,11 @@ def apply(
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.config_plans import plan_desired
+    from panther_ops.core.config.plans import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("apply", inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
+    label = "apply --force" if force else "apply"
+    return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
                   max_fail=max_fail)
 

@@ -30,7 +30,7 @@ def _print_status(fleet: FleetResult) -> None:
     from rich.table import Table
 
     from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.docker_times import human_duration
+    from panther_ops.core.containers.times import human_duration
 
     table = Table(title="panther-ops driver status")
     for col in ("robot", "result", "service", "image", "state", "uptime", "restarts", "exit", "health", "command"):
@@ -72,9 +72,9 @@ def status(
     Example: panther-ops driver status --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.driver import status_task
+    from panther_ops.core.driver.containers import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("driver status", inv, chosen, status_task, forks=forks, json_out=json_out), json_out,
                   _print_status)
 
@@ -110,7 +110,8 @@ def logs(
       panther-ops driver logs -r panther-01 -f
     """
     from panther_ops.cli.logs_view import show_logs
-    from panther_ops.core.driver import NoEngineError, open_logs, parse_duration
+    from panther_ops.core.containers.engine import NoEngineError
+    from panther_ops.core.driver.containers import open_logs, parse_duration
 
     since_s = parse_duration(since) if since is not None else None
     inv, chosen = context.targets(ctx, robot, group, all_)
@@ -143,7 +144,7 @@ def restart(
 
     Example: panther-ops driver restart -r panther-01 --yes
     """
-    from panther_ops.core.driver import apply_restart, plan_restart
+    from panther_ops.core.driver.restart import apply_restart, plan_restart
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("driver restart", inv, chosen, plan_restart, applier=apply_restart, yes=yes, dry_run=dry_run,
@@ -210,9 +211,10 @@ def versions(
       panther-ops driver versions -r panther-01 --remote
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.driver import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags, versions_task
+    from panther_ops.core.driver.containers import versions_task
+    from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     tags: dict[str, list[HubTag]] | None = None
     remote_data: dict[str, Any] = {}
     notes: list[str] = []
@@ -275,7 +277,8 @@ def update(
       panther-ops driver update humble-2.1.1-20240828 -g warehouse --dry-run
       panther-ops driver update humble-2.1.2-20241125 -r panther-01 --pull --yes
     """
-    from panther_ops.core.driver import apply_update, parse_target, plan_update
+    from panther_ops.core.driver.images import parse_target
+    from panther_ops.core.driver.update import apply_update, plan_update
 
     target = parse_target(tag, force=force) if tag is not None else None
     inv, chosen = context.targets(ctx, robot, group, all_)
@@ -314,7 +317,7 @@ def restore_defaults(
 
     Example: panther-ops config restore-defaults -r panther-01 --dry-run
     """
-    from panther_ops.core.driver import apply_restore, plan_restore_defaults
+    from panther_ops.core.driver.restore import apply_restore, plan_restore_defaults
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config restore-defaults" + (" --hard" if hard else ""), inv, chosen,

@@ -27,9 +27,9 @@ def status(
     """
     from panther_ops.cli.render import finish
     from panther_ops.cli.status_view import print_status
-    from panther_ops.core.status import status_task
+    from panther_ops.core.health.status import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     fleet = context.run("status", inv, chosen, status_task, forks=forks, json_out=json_out)
     return finish(fleet, json_out, print_status)
 
@@ -56,9 +56,9 @@ def doctor(
     """
     from panther_ops.cli.render import finish
     from panther_ops.cli.status_view import print_doctor
-    from panther_ops.core.doctor import fleet_findings, make_doctor_task
+    from panther_ops.core.health.doctor import fleet_findings, make_doctor_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     fleet = context.run("doctor", inv, chosen, make_doctor_task(password_check=password_check),
                         forks=forks, canary=canary, max_fail=max_fail, json_out=json_out)
     fleet.data["fleet_findings"] = fleet_findings(fleet)

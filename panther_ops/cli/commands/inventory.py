@@ -90,6 +90,9 @@ def show(
         return 0
     import yaml
 
+    if robot.transport == "local":  # a directory standing in for the robot: no SSH address to show
+        for key in ("host", "port", "jump", "identity_file"):
+            doc.pop(key, None)
     typer.echo(yaml.safe_dump(doc, sort_keys=False).rstrip())
     return 0
 

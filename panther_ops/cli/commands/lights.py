@@ -54,8 +54,21 @@ def preview(
 
     Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
     """
+    import math
+
+    from panther_ops.errors import UsageError
     from panther_ops.manager import render_preview
 
+    if param is not None:
+        try:
+            level = float(param)
+        except ValueError:
+            level = math.nan
+        if not 0.0 <= level <= 1.0:
+            raise UsageError(f"--param {param!r} is not allowed", hint="a battery level from 0 to 1, e.g. 0.3")
+    if out.suffix.lower() != ".gif" or out.is_dir() or not out.parent.is_dir():
+        raise UsageError(f"--out {out}: not a GIF file path in an existing directory",
+                         hint="e.g. --out anim.gif")
     p = render_preview(file, anim_id, out, led_config, param)
     typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
     return 0
@@ -80,15 +93,9 @@ def deploy(
 
     Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
-    from panther_ops.core.push import PushKind, plan_push, read_bundle
-    from panther_ops.errors import UsageError
-    from panther_ops.manager import validate_animations
+    from panther_ops.core.config.push import PushKind, plan_push, read_bundle
 
-    errors = [f for f in validate_animations(file) if str(getattr(f.severity, "value", f.severity)) == "error"]
-    if errors:
-        raise UsageError(f"{file}: {errors[0].message}", hint=f"{len(errors)} problems: panther-ops lights validate "
-                         f"{file}")
-    bundle = read_bundle(PushKind.USER_ANIMATIONS, file)
+    bundle = read_bundle(PushKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate(f"lights deploy {file.name}", inv, chosen,
                   lambda c: plan_push(c, PushKind.USER_ANIMATIONS, bundle), yes=yes, dry_run=dry_run,
@@ -112,7 +119,13 @@ def test(
     Example: panther-ops lights test 21 --repeating -r panther-01
     """
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.lights_ops import set_animation
+    from panther_ops.core.manager_ops.lights import set_animation
+    from panther_ops.errors import UsageError
+
+    if not 0 <= anim_id <= 65535:
+        raise UsageError(f"animation id {anim_id} is not allowed", hint="0-65535 (the message's uint16)")
+    if any(ord(c) < 32 or ord(c) == 127 for c in param):
+        raise UsageError(f"--param {param!r} holds a control character", hint="one line of printable text")
 
     def task(c: Any) -> Any:
         return set_animation(c, anim_id, param, repeating)

@@ -11,7 +11,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, Settle, Yes
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots, finite
 
 app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behaviour trees).", no_args_is_help=True)
 
@@ -20,14 +20,16 @@ app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behavio
 def run(
     sim: Annotated[bool, typer.Option("--sim", help="Run on the simulated Panther (the only mode off-robot).")] = False,
     scenario: Annotated[
-        Optional[Path],  # noqa: UP045
-        typer.Option("--scenario", help="Scenario YAML (timed events); default: the shipped charging scenario."),
+        Optional[str],  # noqa: UP045
+        typer.Option("--scenario", help="A shipped scenario (charging, low_battery, ...) or a scenario YAML file "
+                     "(timed events); default: charging."),
     ] = None,
     duration: Annotated[
         Optional[float],  # noqa: UP045
-        typer.Option("--duration", min=0.1, help="Simulated seconds (default: the scenario's)."),
+        typer.Option("--duration", min=0.1, callback=finite, help="Simulated seconds (default: the scenario's)."),
     ] = None,
-    speed: Annotated[float, typer.Option("--speed", min=0.1, help="Simulated seconds per real second.")] = 1.0,
+    speed: Annotated[float, typer.Option("--speed", min=0.1, callback=finite,
+                                         help="Simulated seconds per real second.")] = 1.0,
     xml: Annotated[bool, typer.Option("--xml", help="Run the shipped BT.CPP XML trees instead of the Python trees.")]
     = False,
     lights_bt: Annotated[
@@ -43,14 +45,14 @@ def run(
     """Tick the Lights and Safety trees at 10 Hz against a simulated Panther (linear battery,
     temperatures, e-stop, fan, AUX, charger) driven by a scenario, and show both bumpers,
     battery, temperatures, fan/AUX/e-stop and each tree's active branch live in the terminal.
-    With --json, one JSON line per tick (a snapshot) instead; when stdout is not a terminal the
+    With --json, one JSON document with a snapshot per tick instead; when stdout is not a terminal the
     simulation runs as fast as it can and prints one line per simulated second.
 
     Examples:
-      panther-ops manager run --sim --scenario templates/manager/scenarios/battery_overheat.yaml --speed 10
-      panther-ops manager run --sim --xml --duration 30 --json | jq .calls
+      panther-ops manager run --sim --scenario battery_overheat --speed 10
+      panther-ops manager run --sim --xml --duration 30 --json | jq '.snapshots[].calls'
     """
-    from panther_ops.core.templates import template_path
+    from panther_ops.core.fleet.templates import template_path
     from panther_ops.errors import UsageError
     from panther_ops.manager import ManualClock, TreeSource, run_simulation
     from panther_ops.manager.clock import ScaledClock
@@ -58,7 +60,11 @@ def run(
     if not sim:
         raise UsageError("off the robot the manager runs only in simulation: add --sim",
                          hint="on a robot it runs as a compose service: panther-ops manager deploy")
-    path = scenario or template_path("manager", "scenarios", "charging.yaml")
+    from panther_ops.core.manager_ops.deploy import scenario_path
+    from panther_ops.manager import load_scenario
+
+    path = scenario_path(scenario or "charging")
+    loaded = load_scenario(path)  # the one scenario validator: a bad file is refused before anything runs
     if (lights_bt is None) != (safety_bt is None):
         raise UsageError("--lights-bt and --safety-bt go together")
     if lights_bt and safety_bt:
@@ -70,13 +76,14 @@ def run(
         trees = TreeSource.python()
     # Nobody watches a pipe: there the simulation runs as fast as it can.
     clock: Any = ManualClock() if json_out or not sys.stdout.isatty() else ScaledClock(speed)
-    snapshots = run_simulation(path, trees=trees, clock=clock, duration=duration)
+    snapshots = run_simulation(loaded, trees=trees, clock=clock, duration=duration)
     if json_out:
         import dataclasses
-        import json
 
-        for snap in snapshots:
-            sys.stdout.write(json.dumps(dataclasses.asdict(snap), default=str) + "\n")
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "manager run --sim", "scenario": loaded.name, "source": str(path),
+                   "snapshots": [dataclasses.asdict(snap) for snap in snapshots]})
         return 0
     from panther_ops.cli.sim_view import live
 
@@ -125,9 +132,13 @@ def deploy(
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_bundle import build_bundle
-    from panther_ops.core.manager_deploy import apply_manager, plan_deploy
+    from panther_ops.core.manager_ops.bundle import build_bundle
+    from panther_ops.core.manager_ops.deploy import apply_manager, plan_deploy, scenario_path
 
+    if scenario is not None:  # checked once, here, whichever robots it would go to
+        from panther_ops.manager import load_scenario
+
+        load_scenario(scenario_path(scenario))
     bundle = build_bundle()
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))
@@ -156,7 +167,7 @@ def remove(
     Example: panther-ops manager remove -r panther-01 --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_deploy import apply_manager, plan_remove
+    from panther_ops.core.manager_ops.deploy import apply_manager, plan_remove
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("manager remove", inv, chosen, plan_remove, applier=apply_manager, yes=yes, dry_run=dry_run,
@@ -167,7 +178,7 @@ def _print_status(fleet: Any) -> None:
     from rich.table import Table
 
     from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.docker_times import human_duration
+    from panther_ops.core.containers.times import human_duration
 
     table = Table(title="panther-ops manager status")
     for col in ("robot", "result", "version", "mode", "state", "uptime", "restarts", "disable_manager", "message"):
@@ -202,7 +213,7 @@ def status(
     Example: panther-ops manager status --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.manager_status import status_task
+    from panther_ops.core.manager_ops.status import status_task
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return finish(context.run("manager status", inv, chosen, status_task, forks=forks, json_out=json_out),
@@ -233,7 +244,7 @@ def logs(
       panther-ops manager logs -r panther-01 -f
     """
     from panther_ops.cli.logs_view import show_logs
-    from panther_ops.core.manager_status import open_logs
+    from panther_ops.core.manager_ops.status import open_logs
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return show_logs("manager logs", inv, chosen, open_logs, lines=lines, since_s=None, timestamps=timestamps,

@@ -17,10 +17,11 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
 
 if TYPE_CHECKING:
-    from panther_ops.core.shutdown.hostsfile import HostsFile
+    from panther_ops.core.config.hostsfile import HostsFile
+    from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.results import FleetResult, RobotResult
     from panther_ops.transport.base import Secret
 
@@ -38,7 +39,8 @@ FileArg = Annotated[
 ]
 PowerBudget = Annotated[
     float,
-    typer.Option("--power-budget", min=0.1, help="Seconds the robot's hardware gives its computers before it cuts "
+    typer.Option("--power-budget", min=0.1, callback=finite,
+                 help="Seconds the robot's hardware gives its computers before it cuts "
                  "the power (a timeout above it is warned)."),
 ]
 OptStr = Optional[str]  # noqa: UP045
@@ -133,17 +135,36 @@ def shutdown(
 
 def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Path | None,
                    known_hosts: Path | None, yes: bool, dry_run: bool, power_budget: float, json_out: bool) -> int:
-    from panther_ops.core.shutdown.hostsfile import load_hosts_file
+    from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
+    for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
+        if given is not None and not given.is_file():
+            raise _usage(f"{option} {given}: no such file")
+    inv: Inventory | None = None
+    link_robot: Robot | None = None
+    if via is not None:  # the robot must exist and reach its LAN, dry run or not
+        from panther_ops.core.shutdown.remote import lan_robot
+
+        inv = context.load(ctx)
+        if via not in inv.robots:
+            inv.select([via], [], False)  # no robot matches: exit 2 naming the robots
+            raise _usage(f"--via {via!r}: name one robot of the inventory (not a glob)")
+        link_robot = lan_robot(inv, via)  # the dry run refuses what the real run would refuse
     parsed = load_hosts_file(path, power_budget=power_budget)
     _print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
+    where = f"through {via}" if via else "from here"
+    if json_out and (dry_run or not hosts):
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": f"shutdown --hosts {path}", "via": via, "dry_run": dry_run,
+                   "hosts": [e.row() for e in parsed.entries], "warnings": [str(w) for w in parsed.warnings]})
+        return 0
     if not hosts:
         context.info(f"{path}: no hosts, nothing to shut down")
         return 0
-    where = f"through {via}" if via else "from here"
-    if dry_run or not json_out:
+    if not json_out:
         _print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
     if dry_run:
         context.info("dry run: nothing was contacted")
@@ -151,14 +172,12 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     names = ", ".join(h.describe() for h in hosts)
     if not _confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", yes, "shutting hosts down"):
         return 2
-    if via:
-        from panther_ops.core.runner import Connections
+    if inv is not None and link_robot is not None:
+        from panther_ops.core.fleet.runner import Connections
         from panther_ops.core.shutdown.remote import RobotLink, backends_via
 
-        inv = context.load(ctx)
-        (robot,) = inv.select([via], [], False)[:1]
         with Connections(inv) as conns:
-            link = RobotLink(conns.get(robot), robot.name)
+            link = RobotLink(conns.get(link_robot), link_robot.name)
             fleet = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
     else:
         from panther_ops.core.shutdown.remote import backends_here
@@ -253,7 +272,7 @@ def hosts_list(
 
     Example: panther-ops shutdown hosts list -r panther-01
     """
-    from panther_ops.core.shutdown.hostsfile import load_hosts_file
+    from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.results import FleetResult, Outcome, RobotResult
 
     _local_or_robots(file, robot, group, all_)
@@ -313,6 +332,14 @@ def _finish_list(fleet: FleetResult, json_out: bool) -> int:
     return int(fleet.exit_code)
 
 
+def _check_ip(ip: str) -> None:
+    """--ip of `hosts remove` is what a hosts file's ip may be (the hosts file validator's rule)."""
+    from panther_ops.core.config.hostsfile import valid_address
+
+    if not valid_address(ip):
+        raise _usage(f"--ip {ip!r} is not an IP address or host name")
+
+
 @hosts_app.command("validate")
 def hosts_validate(
     ctx: typer.Context,
@@ -333,16 +360,18 @@ def hosts_validate(
 
     Example: panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
     """
-    from panther_ops.core.shutdown.hostsfile import Mode, load_hosts_file
+    from panther_ops.core.config.hostsfile import Mode, load_hosts_file
     from panther_ops.results import FleetResult, Outcome
 
     _local_or_robots(file, robot, group, all_)
+    if stack and file is None:
+        raise _usage("--stack goes with a local FILE (a robot's hosts file is checked for the robot's own stack)")
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.stack import stack_from_version
+            from panther_ops.core.fleet.stack import stack_option
 
-            mode = Mode.HTTP if stack_from_version(stack).shutdown_over_http else Mode.SSH
+            mode = Mode.HTTP if stack_option(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
         results = [_validate_result(str(file), parsed, str(file))]
         fleet = FleetResult("shutdown hosts validate", results)
@@ -391,7 +420,7 @@ def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
 
 def _entry(ip: str, user: str | None, port: int | None, command: str | None, timeout: float | None,
            no_ping: bool, http: bool, secret: Any) -> dict[str, Any]:
-    from panther_ops.core.shutdown.hostsfile import check_entry, new_entry
+    from panther_ops.core.config.hostsfile import check_entry, new_entry
 
     if http and user:
         raise _usage("--http hosts have no --user (husarion-shutdown takes a signed request, not a login)")
@@ -405,14 +434,22 @@ def _entry(ip: str, user: str | None, port: int | None, command: str | None, tim
     return entry
 
 
+def _check_local(path: Path, after: str) -> None:
+    """The hosts file as it would be written, through the one hosts file validator (an invalid
+    entry already in the file is refused too, naming it)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    check_file(FileKind.SHUTDOWN_HOSTS, str(path), after.encode(), local=path)
+
+
 def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run: bool, json_out: bool,
                  command: str, message: str) -> int:
     import os
     import tempfile
 
     from panther_ops.cli.render import emit_json, print_diffs
-    from panther_ops.core.diff import unified_diff
-    from panther_ops.core.shutdown.hostsfile import mask_secrets
+    from panther_ops.core.config.hostsfile import mask_secrets
+    from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
     changed = after != (before or "")
@@ -450,8 +487,8 @@ def hosts_add(
     port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
     command: Annotated[OptStr, typer.Option("--command", help="Command run over SSH (default: sudo shutdown "
                                             "now).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", help="Seconds to wait for the host to go down "
-                                              "(default 5).")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+                                              help="Seconds to wait for the host to go down (default 5).")] = None,
     no_ping: Annotated[bool, typer.Option("--no-ping-for-success", help="Done at the response (no pinging).")] = False,
     http: Annotated[bool, typer.Option("--http", help="A husarion-shutdown (HTTP) host (2.2.1+ robots).")] = False,
     secret_env: SecretEnv = None,
@@ -477,7 +514,7 @@ def hosts_add(
       panther-ops shutdown hosts add -r panther-01 --ip 10.15.20.3 --user husarion --yes
       panther-ops shutdown hosts add hosts.yaml --ip 10.15.20.5 --http --secret-env NUC_SECRET
     """
-    from panther_ops.core.shutdown.hostsfile import add_host
+    from panther_ops.core.config.hostsfile import add_host
 
     if not ip:
         raise _usage("--ip is required")
@@ -494,6 +531,7 @@ def hosts_add(
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
         before = file.read_text() if file.exists() else None
         edit = add_host(before or "", entry, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts add", edit.message)
     sec = _secret(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
@@ -528,16 +566,18 @@ def hosts_remove(
 
     Example: panther-ops shutdown hosts remove -r panther-01 --ip 10.15.20.3 --yes
     """
-    from panther_ops.core.shutdown.hostsfile import remove_host
+    from panther_ops.core.config.hostsfile import remove_host
 
     if not ip:
         raise _usage("--ip is required")
+    _check_ip(ip)
     _local_or_robots(file, robot, group, all_)
     if file is not None:
         if not file.exists():
             raise _usage(f"{file} does not exist")
         before = file.read_text()
         edit = remove_host(before, ip, user, port, str(file))
+        _check_local(file, edit.text)
         return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts remove", edit.message)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
@@ -558,7 +598,8 @@ def setup(
     user: Annotated[OptStr, typer.Option("--user", "-u", help="User on the computer (SSH era; default "
                                          "husarion).")] = None,
     port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", help="The host's timeout in the hosts file.")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+                                              help="The host's timeout in the hosts file.")] = None,
     ask_password: Annotated[bool, typer.Option("--ask-password", help="Ask the user's password (login once and "
                                                "sudo on the computer); never on the command line, never "
                                                "logged.")] = False,
@@ -586,7 +627,7 @@ def setup(
     """
     import getpass
 
-    from panther_ops.core.shutdown.hostsfile import check_entry, new_entry
+    from panther_ops.core.config.hostsfile import check_entry, new_entry
     from panther_ops.core.shutdown.setup import SetupRequest, run_setup
     from panther_ops.transport.base import Secret
 
@@ -639,8 +680,10 @@ def _finish_steps(fleet: FleetResult, json_out: bool) -> int:
         _stdout().print(table)
     print_diffs(fleet)
     print_warnings(fleet)
-    for r in fleet.results:
-        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/] {_esc(r.message)}")
+    for r in fleet.results:  # the message once: a failure's is the table's failing step
+        shown = r.data.get("steps") and not r.outcome.is_failure
+        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
+                        + (f" {_esc(r.message)}" if shown else ""))
     return int(fleet.exit_code)
 
 
@@ -707,7 +750,7 @@ def robot_(
 
     Example: panther-ops shutdown robot -r panther-01 --yes
     """
-    from panther_ops.core.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.shutdown.run import RobotShutdownPlan, plan_robot_shutdown, shutdown_robot
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult
@@ -737,7 +780,7 @@ def robot_(
             for name, exc in usage.items():
                 error(f"{name}: {exc}")
             return int(ExitCode.USAGE)
-        if not json_out or dry_run:
+        if not json_out:  # with --json, stdout holds one JSON document and nothing else
             print_results(planned, title="shutdown robot: " + ("dry run" if dry_run else "plan"))
         if dry_run or not plans:
             if json_out:

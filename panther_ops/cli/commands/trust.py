@@ -26,7 +26,7 @@ def trust(
 
     Example: panther-ops trust panther-07
     """
-    from panther_ops.core.trust import plan_trust
+    from panther_ops.core.fleet.trust import plan_trust
     from panther_ops.errors import ExitCode, HostKeyError
 
     inv = context.load(ctx)

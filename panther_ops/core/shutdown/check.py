@@ -21,8 +21,8 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.runner import RobotContext
-from panther_ops.core.shutdown.hostsfile import POWER_BUDGET_S, HostEntry
+from panther_ops.core.config.hostsfile import POWER_BUDGET_S, HostEntry
+from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.shutdown.remote import RobotLink, exec_on
 from panther_ops.core.shutdown.robotfile import read_robot_hosts
 from panther_ops.errors import OpsError
@@ -284,6 +284,11 @@ def check_robot(ctx: RobotContext, power_budget: float = POWER_BUDGET_S) -> Robo
     name = ctx.robot.name
     rf = read_robot_hosts(ctx)
     parsed = rf.parse(power_budget)
+    if ctx.robot.transport == "local":  # like every command on a demo robot: skipped, the reason said
+        return RobotResult(name, Outcome.SKIPPED,
+                           f"demo robot: no LAN to check its {len(parsed.entries)} host(s) from ({rf.source} read)",
+                           data={"hosts_file": rf.source, "hosts": []},
+                           warnings=[str(f) for f in (*parsed.errors, *parsed.warnings)])
     link = RobotLink(ctx.transport, name)
     with ThreadPoolExecutor(max_workers=max(1, min(8, len(parsed.entries)))) as pool:
         checks = list(pool.map(lambda e: check_entry(link, name, e), parsed.entries))

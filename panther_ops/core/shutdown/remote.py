@@ -39,6 +39,8 @@ from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 if TYPE_CHECKING:
     import paramiko
 
+    from panther_ops.core.fleet.inventory import Inventory, Robot
+
 ROBOT_KEY = "~/.ssh/id_rsa"
 ROBOT_KNOWN_HOSTS = "~/.ssh/known_hosts"
 FIRST_PING_WAIT = 1.0
@@ -106,6 +108,19 @@ def host_keys_from_text(text: str) -> paramiko.HostKeys:
     return keys
 
 
+def _needs_ssh(name: str) -> UsageError:
+    return UsageError(f"{name}: shutting hosts down needs a robot reached over SSH (not a local demo robot)",
+                      hint="a demo robot has no LAN: use a robot of the lab or the fleet")
+
+
+def lan_robot(inventory: Inventory, name: str) -> Robot:
+    """The robot ``name`` whose LAN reaches the hosts (``--via``): one reached over SSH."""
+    (robot,) = inventory.select([name], [], False)[:1]
+    if robot.transport == "local":
+        raise _needs_ssh(robot.name)
+    return robot
+
+
 class RobotLink:
     """A robot's open SSH connection, used to reach the computers on its LAN."""
 
@@ -113,7 +128,7 @@ class RobotLink:
         from panther_ops.transport.ssh import SshTransport
 
         if not isinstance(transport, SshTransport):
-            raise UsageError(f"{name}: shutting hosts down needs a robot reached over SSH (not a local demo robot)")
+            raise _needs_ssh(name)
         self.transport = transport
         self.name = name
         self._lock = threading.Lock()

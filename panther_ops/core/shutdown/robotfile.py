@@ -19,30 +19,17 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from panther_ops.core.config_files import ConfigKind, config_file
-from panther_ops.core.config_plans import compose_plan
-from panther_ops.core.launch_args import spec
-from panther_ops.core.pipeline import FileEdit, RobotPlan, Verify
-from panther_ops.core.push import Bundle, PushKind, plan_push, pull
-from panther_ops.core.robot_config import RobotConfig, read_config
-from panther_ops.core.runner import RobotContext
-from panther_ops.core.shutdown.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, mask_secrets, parse_hosts
-from panther_ops.core.stack import Stack
-from panther_ops.errors import UsageError
-from panther_ops.results import Diff
-
-
-@dataclass(frozen=True)
-class MaskedFileEdit(FileEdit):
-    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value)."""
-
-    def diff(self) -> Diff:
-        plain = super().diff()
-        from panther_ops.core.diff import unified_diff
-
-        old = mask_secrets((self.before or b"").decode(errors="replace"))
-        new = mask_secrets((self.after or b"").decode(errors="replace"))
-        return Diff(plain.path, unified_diff(old, new, self.path))
+from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, MaskedFileEdit, Mode, parse_hosts
+from panther_ops.core.config.kinds import FileKindError
+from panther_ops.core.config.launch_args import spec
+from panther_ops.core.config.plans import compose_plan
+from panther_ops.core.config.push import Bundle, PushKind, plan_push, pull
+from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import Stack
+from panther_ops.errors import InputError, UsageError
 
 
 @dataclass
@@ -98,14 +85,19 @@ Editor = Callable[[str, Mode], Edit]
 def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = POWER_BUDGET_S) -> RobotPlan:
     """A pipeline plan for an edit of the robot's hosts file (refused when it adds errors)."""
     rf = read_robot_hosts(ctx)
-    edit = editor(rf.text, rf.mode)
-    before = rf.parse(power_budget)
-    after = parse_hosts(edit.text, rf.path or rf.source, mode=rf.mode, power_budget=power_budget, allow_refs=False)
-    old = {(f.where, f.message) for f in before.errors}
-    new = [f for f in after.errors if (f.where, f.message) not in old]
-    if new:
-        raise UsageError("the hosts file would not be valid: "
-                         + "; ".join(str(f) for f in new), hint="nothing was changed")
+    where = rf.path or rf.source
+    try:
+        edit = editor(rf.text, rf.mode)
+    except InputError as exc:  # the editors name the text they were given: name the robot's file
+        if exc.path in (None, "<hosts>"):
+            raise InputError(exc.message.removeprefix(f"{exc.path}: ").replace("<hosts>", where), path=where,
+                             hint=exc.hint) from None
+        raise
+    after = parse_hosts(edit.text, where, mode=rf.mode, power_budget=power_budget, allow_refs=False)
+    if after.errors:  # the whole file as it would be written: an invalid entry already there is refused too
+        raise FileKindError(where, "shutdown hosts file", [str(f) for f in after.errors],
+                            hint="fix or remove the entries named (panther-ops shutdown hosts remove -r ROBOT "
+                            "--ip IP); nothing was changed")
     warnings = [str(f) for f in after.warnings]
     summary = f"shutdown hosts: {edit.message}"
     if not edit.changed:

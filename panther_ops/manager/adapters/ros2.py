@@ -1,5 +1,8 @@
 """The ROS 2 adapter: `RobotIO` over rclpy (topics and services of panther-stack.md §1.10-1.12).
 
+Message package, topic and service names follow the robot's stack (`adapters.interfaces`):
+``panther_msgs`` on panther_ros 2.0/2.1, ``husarion_ugv_msgs`` on husarion_ugv 2.2.
+
 Thin on purpose: it only turns messages into `RobotMsg` values and service requests into
 asynchronous rclpy calls. rclpy and the message packages are imported when an adapter is
 created, never at import time, so the rest of the manager runs without ROS. It cannot be
@@ -10,10 +13,10 @@ from __future__ import annotations
 
 import importlib
 from collections import deque
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from panther_ops.manager.adapters.interfaces import RosInterfaces, detect_interfaces
 from panther_ops.manager.robot_io import (
     BatteryMsg,
     DriverStateMsg,
@@ -30,17 +33,6 @@ if TYPE_CHECKING:
     from panther_ops.manager.runtime import TreeSource
 
 MAX_CALLBACKS_PER_DRAIN = 200
-
-
-@dataclass(frozen=True)
-class Ros2Topics:
-    """Topic names (relative: the node's namespace applies)."""
-
-    battery: str = "battery/battery_status"
-    e_stop: str = "hardware/e_stop"
-    io_state: str = "hardware/io_state"
-    system_status: str = "system_status"
-    driver_state: str = "hardware/motor_controllers_state"
 
 
 def _module(name: str) -> Any:
@@ -79,7 +71,7 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
     """Subscriptions fill a queue that `drain()` empties; `call()` never waits."""
 
     def __init__(self, node_name: str = "panther_ops_manager", namespace: str = "",
-                 topics: Ros2Topics | None = None) -> None:
+                 interfaces: RosInterfaces | None = None) -> None:
         rclpy = _module("rclpy")
         qos = _module("rclpy.qos")
         self._rclpy = rclpy
@@ -90,16 +82,17 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
         self.executor.add_node(self.node)
         self.inbox: deque[RobotMsg] = deque()
         self.clients: dict[str, Any] = {}
-        names = topics or Ros2Topics()
+        names = self.interfaces = interfaces or detect_interfaces()
         latched = qos.QoSProfile(depth=1, durability=qos.DurabilityPolicy.TRANSIENT_LOCAL,
                                  reliability=qos.ReliabilityPolicy.RELIABLE)
-        sensor, std, panther = (_module("sensor_msgs.msg"), _module("std_msgs.msg"),
-                                _module("panther_msgs.msg"))
+        sensor, std, msgs = (_module("sensor_msgs.msg"), _module("std_msgs.msg"),
+                             _module(f"{names.msg_package}.msg"))
         self.node.create_subscription(sensor.BatteryState, names.battery, self._battery, 10)
         self.node.create_subscription(std.Bool, names.e_stop, self._e_stop, latched)
-        self.node.create_subscription(panther.IOState, names.io_state, self._io_state, latched)
-        self.node.create_subscription(panther.SystemStatus, names.system_status, self._system, 10)
-        self.node.create_subscription(panther.DriverState, names.driver_state, self._driver, 10)
+        self.node.create_subscription(msgs.IOState, names.io_state, self._io_state, latched)
+        self.node.create_subscription(msgs.SystemStatus, names.system_status, self._system, 10)
+        driver_cb = self._robot_driver if names.driver_state_type == "RobotDriverState" else self._driver
+        self.node.create_subscription(getattr(msgs, names.driver_state_type), names.driver_state, driver_cb, 10)
 
     def _battery(self, msg: Any) -> None:
         self.inbox.append(BatteryMsg(float(msg.percentage), float(msg.temperature),
@@ -119,6 +112,12 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
     def _driver(self, msg: Any) -> None:
         self.inbox.append(DriverStateMsg(float(msg.front.temperature), float(msg.rear.temperature)))
 
+    def _robot_driver(self, msg: Any) -> None:
+        """husarion_ugv 2.2: one entry per motor driver; the first two stand for front and rear."""
+        temps = [float(d.state.temperature) for d in msg.driver_states]
+        if temps:
+            self.inbox.append(DriverStateMsg(temps[0], temps[1] if len(temps) > 1 else temps[0]))
+
     def drain(self) -> list[RobotMsg]:
         for _ in range(MAX_CALLBACKS_PER_DRAIN):
             before = len(self.inbox)
@@ -132,16 +131,17 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
     def _client(self, request: ServiceRequest) -> tuple[Any, Any]:
         std_srvs, panther_srv = _module("std_srvs.srv"), None
         if request.kind == "set_led_animation":
-            panther_srv = _module("panther_msgs.srv")
+            panther_srv = _module(f"{self.interfaces.msg_package}.srv")
             srv_type: Any = panther_srv.SetLEDAnimation
         elif request.kind == "set_bool":
             srv_type = std_srvs.SetBool
         else:
             srv_type = std_srvs.Trigger
-        client = self.clients.get(request.service)
+        name = self.interfaces.service(request.service)
+        client = self.clients.get(name)
         if client is None:
-            client = self.node.create_client(srv_type, request.service)
-            self.clients[request.service] = client
+            client = self.node.create_client(srv_type, name)
+            self.clients[name] = client
         return client, srv_type.Request()
 
     def call(self, request: ServiceRequest) -> _RosCall:
@@ -161,13 +161,14 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
 
 
 def run_on_ros2(config: ManagerConfig, *, trees: TreeSource | None = None, namespace: str = "",
-                known_hosts: str | Path | None = None) -> None:  # pragma: no cover - needs ROS 2
+                known_hosts: str | Path | None = None,
+                interfaces: RosInterfaces | None = None) -> None:  # pragma: no cover - needs ROS 2
     """Run the manager on a robot: ROS 2 I/O, real shutdown backends, real clock, until DONE."""
     from panther_ops.manager.clock import MonotonicClock
     from panther_ops.manager.runtime import ManagerRuntime
     from panther_ops.manager.shutdown_executor.backends import ShutdownBackends
 
-    io = Ros2RobotIO(namespace=namespace)
+    io = Ros2RobotIO(namespace=namespace, interfaces=interfaces)
     backends = ShutdownBackends.real(known_hosts)
     runtime = ManagerRuntime(config, io, MonotonicClock(), trees=trees, backends=backends)
     try:

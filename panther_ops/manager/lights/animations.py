@@ -103,9 +103,12 @@ def hsv_to_rgb(hue: float) -> tuple[int, int, int]:
 def charging_frames(part: AnimationPart, num_led: int, frequency: float, param: str) -> Frames:
     """Frames of a ChargingAnimation for battery percentage `param` (a string, 0..1)."""
     try:
-        percent = min(max(float(param), 0.0), 1.0)
+        value = float(param)
     except ValueError as exc:
         raise LightsConfigError(f"ChargingAnimation needs a battery percentage, got {param!r}") from exc
+    if not math.isfinite(value):
+        raise LightsConfigError(f"ChargingAnimation needs a finite battery percentage, got {param!r}")
+    percent = min(max(value, 0.0), 1.0)
     length = anim_length(part.params, frequency)
     fade = round(length * CHARGING_FADE_FACTOR)
     on = max(round(length * percent), 2 * fade)

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.manager.errors import LightsConfigError
-from panther_ops.manager.findings import Finding, error, has_errors
+from panther_ops.manager.findings import Finding, error, has_errors, warning
 from panther_ops.manager.paths import LIGHTS, default_led_config
 from panther_ops.manager.yaml_io import read_yaml
 
@@ -30,6 +30,7 @@ DEFAULT_TIMEOUT = 120.0
 CONTROLLER_FREQUENCY = 50.0
 _RANGE = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*$")
 _FIND = re.compile(r"^\$\(find\s+([A-Za-z0-9_]+)\)(/.*)$")
+_PLUGIN = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)::[A-Za-z_][A-Za-z0-9_]*$")
 _HEX = re.compile(r"^(0x|#)?[0-9a-fA-F]{1,6}$")
 
 
@@ -108,7 +109,9 @@ def resolve_image(text: str) -> tuple[Path | None, Finding | None]:
 
     ``$(find panther_lights)`` and ``$(find husarion_ugv_lights)`` resolve to the shipped
     templates/lights (2.2's ``animations/panther/x.png`` to ``animations/x.png``); other
-    packages are looked up in AMENT_PREFIX_PATH.
+    packages are looked up in AMENT_PREFIX_PATH. A package that is not installed here is the
+    robot's (its image or workspace): the finding is then a warning that the image was not
+    checked, with the reason.
     """
     match = _FIND.match(text)
     if match:
@@ -122,8 +125,9 @@ def resolve_image(text: str) -> tuple[Path | None, Finding | None]:
             share = Path(prefix) / "share" / package
             if share.is_dir():
                 return share / rest.lstrip("/"), None
-        return None, error("anim-image-package",
-                           f"cannot resolve $(find {package}): no such ROS package here")
+        return None, warning("anim-image-unchecked",
+                             f"image {text} not checked: $(find {package}) is resolved on the robot "
+                             "(the package is not installed here)")
     if not Path(text).is_absolute():
         return None, error("anim-image-path",
                            f"image path '{text}' must be absolute or start with $(find <package>)")
@@ -259,8 +263,12 @@ def _check_image(params: Mapping[str, Any], where: str,
     image, problem = resolve_image(str(params["image"]))
     if problem is not None:
         findings.append(Finding(problem.severity, problem.code, problem.message, where))
-        return False, None
+        return problem.severity.value != "error", None
     if image is not None and not image.is_file():
+        if not _FIND.match(str(params["image"])):  # an absolute path: the robot's (or its image's) file
+            findings.append(warning("anim-image-unchecked", f"image {image} not checked: it is not on this "
+                                    "computer (a path on the robot or in its image)", where))
+            return True, image
         findings.append(error("anim-image-not-found", f"image {image} does not exist", where))
         return False, image
     return True, image
@@ -272,12 +280,19 @@ def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> A
                               "'segments' and an 'animation' mapping", where))
         return None
     kind, group, params = str(raw.get("type", "")), str(raw.get("segments", "")), raw["animation"]
-    ok = True
+    ok, custom = True, False
     if kind not in IMAGE_TYPES | CHARGING_TYPES:
-        findings.append(error("anim-type-unknown", f"unknown animation type '{kind}' (known: "
-                              "panther_lights::ImageAnimation, panther_lights::ChargingAnimation)",
-                              where))
-        ok = False
+        plugin = _PLUGIN.match(kind)
+        if plugin and plugin.group(1) not in OWN_PACKAGES:  # the manual allows animation plugins
+            findings.append(warning("anim-type-custom", f"custom animation type '{kind}': played by its "
+                                    "plugin on the robot, not checked here (and not drawn by a preview)",
+                                    where))
+            custom = True
+        else:
+            findings.append(error("anim-type-unknown", f"unknown animation type '{kind}' (known: "
+                                  "panther_lights::ImageAnimation, panther_lights::ChargingAnimation, "
+                                  "or a plugin's <package>::<Class>)", where))
+            ok = False
     if group not in layout.segments_map:
         findings.append(error("anim-segments-unknown", f"segments '{group}' is not a group of "
                               f"segments_map ({', '.join(layout.segments_map) or 'none'})", where))
@@ -290,7 +305,7 @@ def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> A
     if kind in IMAGE_TYPES:
         image_ok, image = _check_image(params, where, findings)
         ok = ok and image_ok
-    if not ok:
+    if not ok or custom:  # a plugin's animation is played by the robot's lights controller only
         return None
     return AnimationPart(kind, layout.segments_map[group], dict(params), image)
 
@@ -349,7 +364,7 @@ def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool
         count = len(findings)
         parts = [_part(p, layout, f"{where} animations[{j}]", findings)
                  for j, p in enumerate(parts_raw)]
-        if len(findings) == count and all(p is not None for p in parts):
+        if not has_errors(findings[count:]) and all(p is not None for p in parts):
             descs[anim_id] = AnimationDesc(anim_id, name, int(priority), timeout,
                                            tuple(p for p in parts if p is not None))
     return descs, findings

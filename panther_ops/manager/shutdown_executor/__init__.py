@@ -17,6 +17,8 @@ from panther_ops.manager.shutdown_executor.backends import (
     ThreadDispatcher,
     shutdown_path,
     sign_shutdown_request,
+    ssh_backend,
+    ssh_method,
 )
 from panther_ops.manager.shutdown_executor.hosts import (
     Method,
@@ -32,6 +34,7 @@ from panther_ops.manager.shutdown_executor.machine import (
     ShutdownExecutor,
     run_all,
 )
+from panther_ops.manager.shutdown_executor.openssh import OpenSshShutdown
 
 __all__ = [
     "CommandOutcome",
@@ -41,6 +44,7 @@ __all__ = [
     "HttpShutdown",
     "InlineDispatcher",
     "Method",
+    "OpenSshShutdown",
     "ParamikoShutdown",
     "ShutdownBackends",
     "ShutdownExecutor",
@@ -54,4 +58,6 @@ __all__ = [
     "run_all",
     "shutdown_path",
     "sign_shutdown_request",
+    "ssh_backend",
+    "ssh_method",
 ]

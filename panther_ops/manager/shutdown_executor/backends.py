@@ -3,6 +3,8 @@
 * `SubprocessPinger`: ``ping -c 1 -w 1 <ip>`` (as the C++ node does).
 * `ParamikoShutdown`: SSH with public keys and strict host keys from a known_hosts file
   (`paramiko.RejectPolicy`: an unknown host key fails, it is never added).
+* `openssh.OpenSshShutdown`: the same with the OpenSSH client, where paramiko is not
+  importable (the robots' driver images); `ssh_backend` chooses.
 * `HttpShutdown`: ``GET /shutdown?ts=<unix>&sig=<hex HMAC-SHA256(secret, "/shutdown|<ts>")>``
   to the husarion-shutdown service (2.2.1+); success needs HTTP 200.
 * `SubprocessRunner`: a local command (``ExecuteCommand``).
@@ -127,6 +129,30 @@ class ParamikoShutdown:
         return CommandOutcome(True, output)
 
 
+def ssh_method() -> str | None:
+    """How SSH shutdowns run here: ``paramiko`` if importable, else ``openssh`` (an ``ssh``
+    client on PATH), else None (SSH hosts cannot be shut down from here)."""
+    import importlib.util
+    import shutil
+
+    if importlib.util.find_spec("paramiko") is not None:
+        return "paramiko"
+    return "openssh" if shutil.which("ssh") else None
+
+
+def ssh_backend(known_hosts: str | Path | None = None, key_filename: str | Path | None = None) -> RemoteShutdown:
+    """paramiko where it is importable (the operator's machine), else the OpenSSH client (robot images).
+
+    Both refuse unknown host keys and use public keys only; paramiko is kept first because it is
+    what panther-ops' own SSH layer uses and it needs no client program.
+    """
+    if ssh_method() == "paramiko":
+        return ParamikoShutdown(known_hosts, key_filename)
+    from panther_ops.manager.shutdown_executor.openssh import OpenSshShutdown
+
+    return OpenSshShutdown(known_hosts, key_filename)
+
+
 def sign_shutdown_request(secret: str, timestamp: int) -> str:
     """hex HMAC-SHA256(secret, "/shutdown|<timestamp>") as husarion-shutdown expects."""
     message = f"/shutdown|{timestamp}".encode()
@@ -220,8 +246,8 @@ class ShutdownBackends:
     @classmethod
     def real(cls, known_hosts: str | Path | None = None,
              key_filename: str | Path | None = None) -> ShutdownBackends:
-        """System ping, paramiko (strict host keys), HTTP, subprocess, thread pool."""
-        return cls(SubprocessPinger(), ParamikoShutdown(known_hosts, key_filename),
+        """System ping, SSH (`ssh_backend`: strict host keys), HTTP, subprocess, thread pool."""
+        return cls(SubprocessPinger(), ssh_backend(known_hosts, key_filename),
                    HttpShutdown(), SubprocessRunner(), ThreadDispatcher())
 
     def remote_for(self, host: ShutdownHost) -> RemoteShutdown:

@@ -1,0 +1,217 @@
+"""`panther-ops reimage`: flash and verify a robot's card on this machine (the card in a reader)."""
+
+from __future__ import annotations
+
+import sys
+from typing import Annotated, Optional
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+
+app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
+
+ImageArg = Annotated[str, typer.Argument(help="Disk image: .img, .img.xz or .img.gz.")]
+Device = Annotated[str, typer.Option("--device", "-d", help="The card's whole block device, e.g. /dev/sdb.")]
+Sha256 = Annotated[
+    Optional[str],  # noqa: UP045
+    typer.Option("--sha256", help="The image file's expected sha256 (default: IMAGE.sha256 beside it)."),
+]
+
+
+@app.command("flash")
+def flash(
+    image: ImageArg,
+    device: Device,
+    sha256: Sha256 = None,
+    yes: Annotated[bool, typer.Option("--yes", "-y", help="Erase the device without asking.")] = False,
+    json_out: Json = False,
+) -> int:
+    """Write IMAGE to the card in this machine's reader, then read it back and compare.
+
+    The image's sha256 is checked first (--sha256 or IMAGE.sha256); the device must be a
+    whole block device, unmounted, not holding this machine's root, at least the image's
+    size. The first MiB (partition table) is written last. Exit 2: refused, nothing written;
+    exit 3: the card does not read back as the image.
+
+    Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
+    """
+    from panther_ops.cli.reimage_view import progress
+    from panther_ops.cli.render import emit_json, error
+    from panther_ops.core.reimage.device import describe
+    from panther_ops.core.reimage.flash import check_sha256, eligible_device, flash, inspect_image
+    from panther_ops.errors import ExitCode
+
+    with progress() as step:
+        img = inspect_image(image, sha256, require_checksum=True, progress=step)
+        facts = eligible_device(device, img)
+        file_sha = check_sha256(img, step)
+        what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
+        if not yes:
+            if not sys.stdin.isatty():
+                error(f"writing {what} would erase {describe(facts)}: pass --yes; nothing was written")
+                return int(ExitCode.USAGE)
+            if not typer.confirm(f"Erase {describe(facts)} and write {image}?", default=False):
+                context.info("nothing was written")
+                return int(ExitCode.USAGE)
+        context.info(f"writing {what} to {describe(facts)}")
+        done = flash(img, facts, file_sha, step)
+    v = done.verdict
+    if json_out:
+        emit_json({"schema": 1, "command": "reimage flash", "ok": v.ok, **done.to_json()})
+    else:
+        w = done.write
+        io = "direct I/O" if w.direct else "buffered I/O (the device refused O_DIRECT)"
+        typer.echo(f"wrote {w.bytes_written} bytes to {device} in {w.seconds:.1f} s "
+                   f"({w.bytes_written / (1 << 20) / max(w.seconds, 1e-9):.1f} MiB/s, {io})")
+        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
+    return 0 if v.ok else int(ExitCode.PARTIAL)
+
+
+@app.command("verify")
+def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Json = False) -> int:
+    """Read DEVICE back and compare it with IMAGE (sha256, and the first differing byte).
+
+    The image's own sha256 is checked too when --sha256 or IMAGE.sha256 gives one.
+    Exit 3 when the device differs.
+
+    Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
+    """
+    from panther_ops.cli.reimage_view import progress
+    from panther_ops.cli.render import emit_json
+    from panther_ops.core.reimage.flash import check_sha256, inspect_image, verify
+    from panther_ops.errors import ExitCode
+
+    with progress() as step:
+        img = inspect_image(image, sha256, require_checksum=False, progress=step)
+        if img.expected_sha256 is not None:
+            check_sha256(img, step)
+        v = verify(img, device, step)
+    if json_out:
+        emit_json({"schema": 1, "command": "reimage verify", "image": img.to_json(), "ok": v.ok,
+                   "verify": v.to_json()})
+    else:
+        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
+    return 0 if v.ok else int(ExitCode.PARTIAL)
+
+
+@app.command("plan")
+def plan(
+    ctx: typer.Context,
+    robots: Robots = None,
+    groups: Groups = None,
+    all_: All = False,
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """List what `reimage backup` would carry from each robot (read only).
+
+    The compose file, the config tree, every file the driver mounts from the robot, the
+    shutdown hosts file, the robot's SSH key pair, known_hosts and authorized_keys, the
+    deployed manager, and the inventory's desired: block; per file its mode, owner, size and
+    whether it is a secret.
+
+    Example: panther-ops reimage plan -r panther-01
+    """
+    from panther_ops.cli.reimage_view import print_carried
+    from panther_ops.cli.render import finish
+    from panther_ops.core.reimage.tasks import plan_task
+
+    inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
+    fleet = context.run("reimage plan", inv, chosen, plan_task, forks=forks, json_out=json_out)
+    return finish(fleet, json_out, lambda f: print_carried(f, title="reimage plan"))
+
+
+@app.command("backup")
+def backup(
+    ctx: typer.Context,
+    robots: Robots = None,
+    groups: Groups = None,
+    all_: All = False,
+    out: Annotated[str, typer.Option("--out", "-o", help="Directory for the archives (created 0700).")] = "backups",
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Back up each robot into one archive (OUT/ROBOT-TIME.tar.gz, mode 0600) with a manifest.
+
+    Read over the robot's one connection; robots are read in parallel. The manifest names the
+    robot, model, serial, stack and version, OS build, host key fingerprint, and per file its
+    path, mode, owner, sha256 and whether it is a secret (private keys, shutdown secrets).
+
+    Example: panther-ops reimage backup --all --out backups/
+    """
+    from panther_ops.cli.render import finish, print_results
+    from panther_ops.core.reimage.archive import out_dir
+    from panther_ops.core.reimage.tasks import backup_task
+
+    directory = out_dir(out)
+    inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
+    fleet = context.run("reimage backup", inv, chosen, backup_task(directory), forks=forks, json_out=json_out)
+    return finish(fleet, json_out, lambda f: print_results(f, title="reimage backup"))
+
+
+@app.command("restore")
+def restore(
+    ctx: typer.Context,
+    robot: Annotated[str, typer.Option("--robot", "-r", help="The robot the backup was taken from.")],
+    from_: Annotated[str, typer.Option("--from", help="The robot's backup archive (reimage backup).")],
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+) -> int:
+    """Put a backup back onto the robot after its OS was reinstalled.
+
+    The robot's new host key is shown beside the backup's and must be trusted first
+    (`panther-ops trust ROBOT --replace` after checking it on the robot): never silently.
+    Then, as one plan with diffs through the pipeline (confirm, backup on the robot, atomic
+    writes, recreate, verify, roll back): every file of the backup under the robot user's
+    home that differs (key pair, known_hosts, authorized_keys, config tree, mounted files,
+    the deployed manager, compose.yaml byte-identical); then `apply` of the inventory's
+    desired: block, and a doctor summary (which reports a default password still accepted).
+    Onto a newer image of the same release line (2.1.1 -> 2.1.x) the new compose file and its
+    image tags are kept and the backup's launch arguments, mounts and extra services are
+    re-applied onto it; across release lines restore is refused (exit 2).
+
+    Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
+    """
+    from panther_ops.cli.mutate import mutate
+    from panther_ops.cli.status_view import print_doctor
+    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.health.doctor import make_doctor_task
+    from panther_ops.core.reimage.restore import load_backup, restore_planner
+    from panther_ops.errors import UsageError
+
+    backup = load_backup(from_)
+    inv = context.load(ctx)
+    (target,) = inv.select([robot], [], False)[:1]
+    taken_from = backup.robot.get("name")
+    if taken_from != target.name:
+        raise UsageError(f"--from {from_}: the backup is of robot {taken_from!r}, not {target.name!r}")
+    old_key = backup.robot.get("host_key") or "none recorded"
+    if target.transport != "local":
+        from panther_ops.core.fleet.trust import plan_trust
+
+        trust = plan_trust(inv, target)
+        context.info(f"{target.name} offers host key {trust.key_type} {trust.fingerprint}; "
+                     f"the backup recorded {old_key}")
+        if trust.state != "known":
+            again = " --replace" if trust.state == "changed" else ""
+            raise UsageError(
+                f"{target.name}: its host key {trust.fingerprint} is not trusted "
+                f"({'changed' if again else 'new'}; the backup recorded {old_key}): refused, nothing was changed",
+                hint=f"check it on the robot (ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub), "
+                     f"then `panther-ops trust {target.name}{again}`",
+            )
+    code = mutate("reimage restore", inv, [target], restore_planner(backup), yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, verb="Restore onto")
+    if code != 0 or dry_run:
+        return code
+    if target.desired:
+        code = mutate("apply", inv, [target], plan_desired, yes=yes, dry_run=False,
+                      restart=not no_restart, settle=settle)
+    summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
+    print_doctor(summary)
+    return code

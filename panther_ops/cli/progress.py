@@ -1,0 +1,133 @@
+"""Live per-robot progress of fleet work, on stderr, and the recap after it.
+
+Shown only when stderr is a terminal and neither ``--json`` nor ``--quiet`` was given:
+each robot that is being worked on with its phase (connect, plan, write, recreate,
+verify, roll back) and how long it has been in it, and a count of the robots done. When
+the work is over the live view goes away and a recap (one line per robot: its result
+and the time each phase took, like Ansible's) stays on stderr. In a pipe nothing is
+printed: stdout carries only the table (or the JSON), stderr only the messages.
+
+The core reports phases through its ``Progress`` callback (``core/runner.py``): this
+object is that callback.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+import time
+from collections.abc import Iterator
+from typing import Any
+
+from panther_ops.cli.output import console, is_terminal, quiet
+from panther_ops.cli.render import STYLE
+from panther_ops.results import Outcome, RobotResult
+
+PHASE_STYLE = {"connect": "cyan", "plan": "blue", "write": "yellow", "recreate": "magenta", "verify": "green",
+               "roll back": "red"}
+
+
+def progress_wanted(json_out: bool) -> bool:
+    return not json_out and not quiet() and is_terminal(stderr=True)
+
+
+class FleetProgress:
+    """The ``Progress`` of a fleet command: phases as they come, results as they end."""
+
+    def __init__(self, robots: list[str], *, enabled: bool) -> None:
+        self.robots = list(robots)
+        self.enabled = enabled
+        self._lock = threading.Lock()
+        self._current: dict[str, tuple[str, float]] = {}
+        self._times: dict[str, dict[str, float]] = {r: {} for r in self.robots}
+        self._outcome: dict[str, Outcome] = {}
+        self._live: Any = None
+
+    # -- the core's callbacks (worker threads) -----------------------------------------------
+    def phase(self, robot: str, name: str) -> None:
+        now = time.monotonic()
+        with self._lock:
+            self._close_phase(robot, now)
+            self._current[robot] = (name, now)
+            self._outcome.pop(robot, None)  # at work again (the plan's result came first)
+        self._refresh()
+
+    def __call__(self, result: RobotResult) -> None:
+        with self._lock:
+            self._close_phase(result.robot, time.monotonic())
+            self._current.pop(result.robot, None)
+            self._outcome[result.robot] = result.outcome
+        self._refresh()
+
+    def _close_phase(self, robot: str, now: float) -> None:
+        if robot in self._current:
+            name, since = self._current[robot]
+            times = self._times.setdefault(robot, {})
+            times[name] = times.get(name, 0.0) + now - since  # a phase met again (write: staged, then committed)
+
+    # -- the view -------------------------------------------------------------------------------
+    @contextlib.contextmanager
+    def live(self) -> Iterator[None]:
+        """Show the live view while the block runs (nothing when not enabled)."""
+        if not self.enabled:
+            yield
+            return
+        from rich.live import Live
+
+        out = console(stderr=True)
+        with Live(self._render(out.size.height), console=out, transient=True, refresh_per_second=8,
+                  get_renderable=lambda: self._render(out.size.height)) as view:
+            self._live = view
+            try:
+                yield
+            finally:
+                self._live = None
+
+    def _refresh(self) -> None:
+        view = self._live
+        if view is not None:
+            view.refresh()
+
+    def _render(self, height: int) -> Any:
+        from rich.table import Table
+        from rich.text import Text
+
+        now = time.monotonic()
+        with self._lock:
+            current = [(r, *self._current[r]) for r in self.robots if r in self._current]
+            done = dict(self._outcome)
+        grid = Table.grid(padding=(0, 2))
+        grid.add_column(no_wrap=True)
+        grid.add_column(no_wrap=True)
+        grid.add_column(no_wrap=True, justify="right")
+        room = max(1, height - 3)
+        for robot, name, since in current[:room]:
+            grid.add_row(robot, Text(name, style=PHASE_STYLE.get(name, "")), f"{now - since:4.1f} s")
+        if len(current) > room:
+            grid.add_row(f"... {len(current) - room} more", "", "")
+        counts: dict[Outcome, int] = {}
+        for o in done.values():
+            counts[o] = counts.get(o, 0) + 1
+        summary = Text(f"{len(done)}/{len(self.robots)} robots done")
+        for o, n in counts.items():
+            summary.append(f"  {n} {o.value}", style=STYLE[o])
+        from rich.console import Group
+
+        return Group(grid, summary)
+
+    def recap(self) -> None:
+        """One line per robot: its result and the time of each phase (on a terminal only)."""
+        if not self.enabled or not self._outcome:
+            return
+        from rich.markup import escape
+
+        err = console(stderr=True)
+        err.print("[bold]recap[/]")
+        width = max(len(r) for r in self.robots)
+        for robot in self.robots:
+            outcome = self._outcome.get(robot)
+            if outcome is None:
+                continue
+            phases = "  ".join(f"{name} {seconds:.1f} s" for name, seconds in self._times.get(robot, {}).items())
+            err.print(f"{escape(robot):<{width}}  [{STYLE[outcome]}]{outcome.value:<11}[/] {phases}",
+                      soft_wrap=True)

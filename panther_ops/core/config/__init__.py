@@ -1,0 +1,3 @@
+"""Feature: a robot's configuration (compose.yaml, launch arguments, config files, push/pull).
+
+Other features build on it (the driver, the manager, shutdown): importing it is declared."""

@@ -1,0 +1,246 @@
+"""Which configuration file a stack uses for what: package, file name, launch argument, template.
+
+Facts: panther-stack.md sections 1.3-1.9 and 2.2. Templates live in
+``templates/config/<family dir>/<package>/config/<file>``: ``panther-2.0`` (panther_ros
+2.0.x), ``panther-2.1`` (2.1.1-2.1.2), ``husarion-ugv-2.2`` (2.2.1+), with overlay
+directories for the versions that differ (``panther-2.0.0`` for 2.0.0-2.0.1,
+``panther-2.1.0``, ``husarion-ugv-2.2.0``).
+
+Where a customised copy goes: on 2.2 the robot keeps its configuration in
+``/home/husarion/config/<package>/config/<file>``, mounted at ``/config`` in the container
+(``common_dir_path:=/config``). panther-ops uses the same layout on 2.0-2.1, where the
+defaults live inside the image and a customised file has to be mounted and passed by its
+launch argument (manual: "Modification of configuration files").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from enum import Enum
+
+from panther_ops.core.fleet.stack import Family, Generation, Stack
+from panther_ops.core.fleet.templates import read_template, template_path
+from panther_ops.errors import UsageError
+
+ROBOT_CONFIG_DIR = "/home/husarion/config"
+CONTAINER_CONFIG_DIR = "/config"
+WHEEL_TYPES = ("WH01", "WH02", "WH04", "WH05")
+
+
+class ConfigKind(str, Enum):
+    WHEEL = "wheel"
+    CONTROLLER = "controller"
+    COMPONENTS = "components"
+    ANIMATIONS = "animations"
+    USER_ANIMATIONS = "user_animations"
+    LIGHTS_DRIVER = "lights_driver"
+    SHUTDOWN_HOSTS = "shutdown_hosts"
+    BATTERY_PLUGIN = "battery_plugin"
+    MANAGER_BT = "manager_bt"
+    LIGHTS_MANAGER = "lights_manager"
+    SAFETY_MANAGER = "safety_manager"
+
+
+_FAMILY_DIRS: dict[Generation, tuple[str, ...]] = {
+    Generation.G2_0_0: ("panther-2.0.0", "panther-2.0"),
+    Generation.G2_0_2: ("panther-2.0",),
+    Generation.G2_1_0: ("panther-2.1.0", "panther-2.1"),
+    Generation.G2_1_1: ("panther-2.1",),
+    Generation.G2_2_0: ("husarion-ugv-2.2.0", "husarion-ugv-2.2"),
+    Generation.G2_2_1: ("husarion-ugv-2.2",),
+}
+
+
+@dataclass(frozen=True)
+class ConfigFile:
+    """One configuration file of a stack.
+
+    Attributes:
+        kind: what it configures.
+        package: ROS package that ships it (``panther_controller``...).
+        filename: file name (``WH01_controller.yaml``).
+        launch_arg: catalogue key of the launch argument pointing to it (None: a node
+            parameter file without an argument).
+        template: path under ``templates/config`` (None: panther-ops has no template).
+        note: caveats (simulation only, version specifics).
+    """
+
+    kind: ConfigKind
+    package: str
+    filename: str
+    launch_arg: str | None
+    template: str | None
+    note: str = ""
+
+    @property
+    def package_path(self) -> str:
+        """``$(find <package>)/config/<file>`` -- the stack's default location."""
+        return f"$(find {self.package})/config/{self.filename}"
+
+    @property
+    def robot_path(self) -> str:
+        """Host path of a customised copy: ``/home/husarion/config/<package>/config/<file>``."""
+        return f"{ROBOT_CONFIG_DIR}/{self.package}/config/{self.filename}"
+
+    @property
+    def container_path(self) -> str:
+        """The same file inside the driver container: ``/config/<package>/config/<file>``."""
+        return f"{CONTAINER_CONFIG_DIR}/{self.package}/config/{self.filename}"
+
+    def template_text(self) -> str:
+        """Default content (from ``templates/config``).
+
+        Raises:
+            UsageError: panther-ops has no template for this file.
+        """
+        if self.template is None:
+            raise UsageError(
+                f"panther-ops has no default {self.filename} for this stack",
+                hint=self.note or "copy the file from the robot's image and edit it",
+            )
+        return read_template("config", *self.template.split("/"))
+
+
+def _pkg(stack: Stack, name: str) -> str:
+    prefix = "husarion_ugv" if stack.family is Family.HUSARION_UGV else "panther"
+    return f"{prefix}_{name}"
+
+
+def _exists(stack: Stack, package: str, filename: str) -> str | None:
+    for directory in _FAMILY_DIRS[stack.generation]:
+        if template_path("config", directory, package, "config", filename).is_file():
+            return f"{directory}/{package}/config/{filename}"
+    return None
+
+
+_Spec = tuple[str, str, str | None, str]  # package, filename, launch arg, note
+
+
+def _wheel(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    ugv = stack.family is Family.HUSARION_UGV
+    if wheel_type not in WHEEL_TYPES or (wheel_type == "WH05" and not ugv):
+        raise UsageError(f"no wheel config {wheel_type!r} on {stack.label()}")
+    note = "husarion_ugv 2.2: no WH02/WH04 templates (mount_point_offset not in the facts)" if ugv else ""
+    return _pkg(stack, "description"), f"{wheel_type}.yaml", "wheel_config_path", note
+
+
+def _controller(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if wheel_type not in WHEEL_TYPES[:3]:
+        raise UsageError(
+            f"no default controller config for {wheel_type!r} on {stack.label()}",
+            hint="custom wheels: start from WH01_controller.yaml",
+        )
+    return _pkg(stack, "controller"), f"{wheel_type}_controller.yaml", "controller_config_path", ""
+
+
+def _components(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.version < (2, 0, 2):
+        raise UsageError(f"components.yaml needs panther_ros 2.0.2+; this robot runs {stack.label()}")
+    return _pkg(stack, "description"), "components.yaml", "components_config_path", ""
+
+
+def _animations(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    ugv = stack.family is Family.HUSARION_UGV
+    filename = f"{robot_model}_animations.yaml" if ugv else "led_config.yaml"
+    return _pkg(stack, "lights"), filename, "led_config_file", ""
+
+
+def _user_animations(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    ugv = stack.family is Family.HUSARION_UGV
+    note = "" if ugv else "not shipped by panther_ros 2.0-2.1: the template is panther-ops' own"
+    return _pkg(stack, "lights"), "user_animations.yaml", "user_led_animations_file", note
+
+
+def _lights_driver(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.family is not Family.HUSARION_UGV:
+        raise UsageError(f"the lights driver params file exists from husarion_ugv 2.2; this robot runs {stack.label()}")
+    return _pkg(stack, "lights"), f"{robot_model}_driver.yaml", None, ""
+
+
+def _shutdown_hosts(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    arg = "shutdown_hosts_config_path"
+    if stack.family is Family.HUSARION_UGV:
+        note = "HTTP (husarion-shutdown)" if stack.shutdown_over_http else "SSH with timeout"
+        return _pkg(stack, "manager"), "shutdown_hosts.yaml", arg, note
+    if stack.version >= (2, 1, 1):
+        return "panther_manager", "shutdown_hosts_config.yaml", arg, "SSH"
+    return "panther_bringup", "shutdown_hosts.yaml", arg, "SSH"
+
+
+def _battery_plugin(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.family is Family.HUSARION_UGV:
+        raise UsageError(
+            "husarion_ugv 2.2 renames the simulation battery file "
+            "(husarion_ugv_gazebo/config/battery_plugin.yaml); no template"
+        )
+    note = "simulation only; 2.0 uses a percent scale, 2.1.1 a 0-1 fraction (2.1.0 not verified)"
+    return "panther_gazebo", "battery_plugin_config.yaml", "battery_config_path", note
+
+
+def _manager_bt(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.version >= (2, 0, 2):
+        raise UsageError(f"manager_bt_config.yaml is 2.0.0-2.0.1 only; this robot runs {stack.label()}")
+    return "panther_manager", "manager_bt_config.yaml", None, "robot version >= 1.2"
+
+
+def _manager(base: str) -> Callable[[Stack, str, str], _Spec]:
+    def spec(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+        if stack.version < (2, 0, 2):
+            raise UsageError(f"{base} exists from panther_ros 2.0.2; this robot runs {stack.label()}")
+        if stack.family is Family.HUSARION_UGV:
+            raise UsageError(
+                f"husarion_ugv 2.2 defines {base} parameters in code (generate_parameter_library); no template"
+            )
+        filename = f"{base}.yaml" if stack.version >= (2, 1, 1) else f"{base}_config.yaml"
+        return "panther_manager", filename, None, ""
+
+    return spec
+
+
+_SPECS: dict[ConfigKind, Callable[[Stack, str, str], _Spec]] = {
+    ConfigKind.WHEEL: _wheel,
+    ConfigKind.CONTROLLER: _controller,
+    ConfigKind.COMPONENTS: _components,
+    ConfigKind.ANIMATIONS: _animations,
+    ConfigKind.USER_ANIMATIONS: _user_animations,
+    ConfigKind.LIGHTS_DRIVER: _lights_driver,
+    ConfigKind.SHUTDOWN_HOSTS: _shutdown_hosts,
+    ConfigKind.BATTERY_PLUGIN: _battery_plugin,
+    ConfigKind.MANAGER_BT: _manager_bt,
+    ConfigKind.LIGHTS_MANAGER: _manager("lights_manager"),
+    ConfigKind.SAFETY_MANAGER: _manager("safety_manager"),
+}
+
+
+def config_file(
+    stack: Stack,
+    kind: ConfigKind,
+    *,
+    wheel_type: str = "WH01",
+    robot_model: str = "panther",
+) -> ConfigFile:
+    """The file of ``kind`` on ``stack``.
+
+    Raises:
+        UsageError: the stack has no such file (e.g. lights driver params before 2.2).
+    """
+    package, filename, arg, note = _SPECS[kind](stack, wheel_type, robot_model)
+    return ConfigFile(kind, package, filename, arg, _exists(stack, package, filename), note)
+
+
+def config_files(stack: Stack, *, robot_model: str = "panther") -> list[ConfigFile]:
+    """Every configuration file panther-ops knows for ``stack`` (one per wheel type)."""
+    out: list[ConfigFile] = []
+    for kind in ConfigKind:
+        wheel_types: tuple[str, ...] = ("",)
+        if kind is ConfigKind.WHEEL:
+            wheel_types = WHEEL_TYPES
+        elif kind is ConfigKind.CONTROLLER:
+            wheel_types = WHEEL_TYPES[:3]
+        for wheel_type in wheel_types:
+            try:
+                out.append(config_file(stack, kind, wheel_type=wheel_type or "WH01", robot_model=robot_model))
+            except UsageError:
+                continue
+    return out

@@ -1,0 +1,104 @@
+"""BT projects: `validate_bt_project` (as `bt validate`), and every include kept inside the project.
+
+An ``<include path="...">`` is resolved against the including file and must stay inside the
+directory of the ``.btproj``: the included files are copied beside it on the robot, so a
+path that leaves it (``../../.ssh/authorized_keys``, an absolute path, a link out) would
+read or write anywhere. ``ros_pkg`` includes are resolved on the robot (not copied).
+"""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from panther_ops.core.config.kinds.common import text_of
+from panther_ops.core.config.kinds.lights import on_disk, split
+from panther_ops.core.config.kinds.registry import FileKindError, Target
+
+WHAT = "BT project"
+
+
+def project_files(main: Path) -> dict[str, Path]:
+    """Every file a project includes (relative name -> local path), each confined to the
+    project's directory; raises `FileKindError` naming the first path that leaves it."""
+    root = main.parent.resolve()
+    found: dict[str, Path] = {}
+    todo = [main]
+    seen: set[Path] = set()
+    while todo:
+        current = todo.pop()
+        real = current.resolve()
+        if real in seen:
+            continue
+        seen.add(real)
+        try:
+            tree = ET.fromstring(current.read_bytes())  # noqa: S314 - the operator's own file, no DTD/entities used
+        except (OSError, ET.ParseError) as exc:
+            raise FileKindError(str(main), WHAT, [f"{current}: not readable XML: {exc}"]) from None
+        for inc in tree.iter("include"):
+            rel = inc.get("path") or ""
+            if inc.get("ros_pkg"):
+                continue
+            problem = confine(rel, current.parent, root)
+            if problem:
+                inside = real.relative_to(root).as_posix() if root in real.parents else current.name
+                raise FileKindError(str(main), WHAT, [f"<include path=\"{rel}\"> in {inside}: {problem}"],
+                                    hint="keep the included files in the .btproj's directory (or below it)")
+            target = (current.parent / rel).resolve()
+            name = target.relative_to(root).as_posix()
+            if target.is_file():
+                found[name] = target
+                todo.append(target)
+    return found
+
+
+def confine(rel: str, base: Path, root: Path) -> str | None:
+    """Why ``rel`` (relative to ``base``) may not be used inside ``root``; None when it may."""
+    if not rel:
+        return "an include without a path"
+    if any(ord(c) < 32 for c in rel):
+        return "the path holds a control character"
+    if os.path.isabs(rel) or rel.startswith("~"):
+        return f"{rel} is not relative to the project's directory"
+    target = (base / rel).resolve()
+    if target != root and root not in target.parents:
+        return f"{rel} leaves the project's directory (it resolves to {target})"
+    return None
+
+
+def check_bt_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    """Any BT project (`bt validate`)."""
+    return _check(source, data, local, (), "")
+
+
+def check_lights_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    """The Lights manager's project: `bt validate`, and a Lights tree."""
+    return _check(source, data, local, ("Lights",), "bt-lights")
+
+
+def check_safety_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    """The Safety manager's project: `bt validate`, and Safety and Shutdown trees."""
+    return _check(source, data, local, ("Safety", "Shutdown"), "bt-safety")
+
+
+def _check(source: str, data: bytes, local: Path | None, trees: tuple[str, ...], kind: str) -> list[str]:
+    from panther_ops.manager import load_bt_project, validate_bt_project
+
+    text_of(source, data, WHAT)
+    if local is not None:
+        project_files(local)
+
+    def check(path: Path) -> list[str]:
+        errors, warnings = split(validate_bt_project(path))
+        if errors:
+            raise FileKindError(source, WHAT, errors, hint=f"panther-ops bt validate {source}")
+        present = set(load_bt_project(path).trees)
+        missing = [t for t in trees if t not in present]
+        if missing:
+            raise FileKindError(source, WHAT, [
+                f"a project for {kind} needs the tree(s) {' and '.join(repr(t) for t in trees)}; missing: "
+                f"{', '.join(missing)} (this project has: {', '.join(sorted(present)) or 'none'})"])
+        return warnings
+
+    return on_disk(source, data, local, check)

@@ -1,0 +1,134 @@
+"""The controller file (``WH0X_controller.yaml``): structure, ROS types and the wheel limits.
+
+The limits are checked by `core.controller.validate_limit`, the check `config set
+controller.<key>` makes, so a pushed file and a set value get the same message. A file
+value must also have the type ROS declares: a double parameter written as an integer
+(``max_velocity: 2``) makes the controller refuse to load.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from panther_ops.core.config.kinds.common import text_of
+from panther_ops.core.config.kinds.registry import FileKindError, Target
+
+WHAT = "controller file"
+KINEMATICS = ("wheel_radius", "wheel_separation", "wheel_separation_x", "wheel_separation_y",
+              "wheel_separation_multiplier", "wheel_separation_x_multiplier", "wheel_separation_y_multiplier",
+              "left_wheel_radius_multiplier", "right_wheel_radius_multiplier", "wheel_radius_multiplier",
+              "publish_rate", "cmd_vel_timeout")
+AXES = (("linear", ("x", "y")), ("angular", ("z",)))
+
+
+@dataclass
+class _Check:
+    target: Target
+    force: bool
+    errors: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    hint: str | None = None
+
+    def section(self, where: str, section: dict[str, Any]) -> None:
+        params = section.get("ros__parameters")
+        if not isinstance(params, dict):
+            self.errors.append(f"{where}.ros__parameters must be a mapping")
+            return
+        for name in KINEMATICS:
+            if name in params:
+                problem = _positive_double(params[name])
+                if problem:
+                    self.errors.append(f"{where}.ros__parameters.{name}={params[name]!r} {problem}")
+        for group, axes in AXES:
+            block = params.get(group)
+            if block is None:
+                continue
+            if not isinstance(block, dict):
+                self.errors.append(f"controller.{group} must be a mapping of axes ({', '.join(axes)})")
+                continue
+            for axis, values in block.items():
+                if axis not in axes or not isinstance(values, dict):
+                    self.errors.append(f"controller.{group}.{axis}: not an axis with limits "
+                                       f"(allowed: {', '.join(f'{group}.{a}' for a in axes)})")
+                    continue
+                for param, value in values.items():
+                    self.limit(f"controller.{group}.{axis}.{param}", param, value)
+
+    def limit(self, dotted: str, param: str, value: Any) -> None:
+        from panther_ops.core.config.controller import (
+            BOOL_PARAMS,
+            FLOAT_PARAMS,
+            ControllerError,
+            LimitExceededError,
+            validate_limit,
+        )
+        from panther_ops.core.fleet.stack import stack_from_version
+
+        if param in BOOL_PARAMS and not isinstance(value, bool):
+            self.errors.append(f"{dotted}={value!r} is not a boolean; allowed: true, false")
+            return
+        if param in FLOAT_PARAMS and isinstance(value, int) and not isinstance(value, bool):
+            self.errors.append(f"{dotted}={value} is an integer: ROS 2 refuses an integer for a double "
+                               f"parameter; write {value}.0")
+            return
+        stack = self.target.stack
+        wheel = self.target.wheel_type or "custom"
+        try:  # without a robot (stack None): types only, the limits are checked per robot
+            got = validate_limit(stack or stack_from_version("2.1.1"), wheel, dotted, value,
+                                 force=self.force or stack is None)
+        except LimitExceededError as exc:
+            self.errors.append(exc.message)
+            self.hint = exc.hint
+            return
+        except ControllerError as exc:
+            self.errors.append(exc.message)
+            return
+        if stack is not None:
+            self.warnings.extend(w for w in got.warnings if "no reference limits" not in w)
+
+
+def check_controller(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    from panther_ops.core.config.controller import CONTROLLER_KEYS, ControllerConfig
+    from panther_ops.core.yaml.document import YamlDocument
+    from panther_ops.core.yaml.paths import DocumentError
+    from panther_ops.errors import UsageError
+
+    text = text_of(source, data, WHAT)
+    try:
+        doc = YamlDocument(text, source)
+    except DocumentError as exc:
+        raise FileKindError(source, WHAT, [f"not valid YAML: {exc.message}"]) from None
+    plain = doc.to_plain()
+    if not isinstance(plain, dict):
+        raise FileKindError(source, WHAT, ["not a controller file: the top level is not a mapping"])
+    check = _Check(target, force)
+    if target.stack is not None:
+        try:
+            ctrl = ControllerConfig(doc, target.stack, target.wheel_type or "custom", force=force)
+            check.warnings.extend(doc.notes)
+            check.warnings.extend(w for w in ctrl.check() if "exceeds" not in w)  # limits at zero
+        except UsageError as exc:
+            check.errors.append(exc.message)
+            check.hint = exc.hint
+    sections = [(f"{top}.{key}", body[key]) for top, body in plain.items() if isinstance(body, dict)
+                for key in CONTROLLER_KEYS if isinstance(body.get(key), dict)]
+    if not sections and target.stack is None:
+        check.errors.append("no drive_controller (or panther_base_controller) section: not a controller file")
+    for where, section in sections:
+        check.section(where, section)
+    if check.errors:
+        raise FileKindError(source, WHAT, check.errors, hint=check.hint)
+    return list(dict.fromkeys(check.warnings))
+
+
+def _positive_double(value: Any) -> str | None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return "is not a number"
+    if isinstance(value, int):
+        return f"is an integer: ROS 2 refuses an integer for a double parameter; write {value}.0"
+    if not math.isfinite(value) or value <= 0:
+        return "must be a finite number > 0"
+    return None

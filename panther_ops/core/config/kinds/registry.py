@@ -1,0 +1,84 @@
+"""The registry: file kind -> its one validator.
+
+A validator gets the new content (and, for a local file, where it is: a BT project's
+includes and an animation's images are found next to it), the robot it is meant for when
+known (stack and wheel type: the controller limits and the shutdown hosts format depend on
+them) and ``force``. It returns warnings, or raises `FileKindError` (exit 2) naming the
+file and every error, with the message of the kind's dedicated validator.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from enum import Enum
+from pathlib import Path
+
+from panther_ops.core.fleet.stack import Stack
+from panther_ops.errors import UsageError
+
+
+class FileKind(str, Enum):
+    """What a file is; the values are `config push --as` names."""
+
+    CONTROLLER = "controller"
+    WHEEL = "wheel"
+    COMPONENTS = "components"
+    LED = "led"
+    USER_ANIMATIONS = "user-animations"
+    BT_LIGHTS = "bt-lights"
+    BT_SAFETY = "bt-safety"
+    SHUTDOWN_HOSTS = "shutdown-hosts"
+    BATTERY = "battery"
+    COMPOSE = "compose"
+
+
+@dataclass(frozen=True)
+class Target:
+    """The robot a file is meant for (None: not known yet, e.g. before any robot is read)."""
+
+    stack: Stack | None = None
+    wheel_type: str | None = None
+
+
+class FileKindError(UsageError):
+    """A file of a kind that its validator refuses (exit 2)."""
+
+    def __init__(self, source: str, what: str, errors: Sequence[str], *, hint: str | None = None) -> None:
+        lines = "\n".join(f"  {e}" for e in errors)
+        count = f"{len(errors)} error" + ("" if len(errors) == 1 else "s")
+        super().__init__(f"{source}: {what} refused ({count}):\n{lines}", hint=hint)
+        self.source = source
+        self.errors = list(errors)
+
+
+Validator = Callable[[str, bytes, "Path | None", Target, bool], list[str]]
+"""(source, content, local path or None, target, force) -> warnings; raises FileKindError."""
+
+
+def _registry() -> dict[FileKind, Validator]:
+    from panther_ops.core.config.kinds import bt, compose, controller, hosts, lights, simple
+
+    return {
+        FileKind.CONTROLLER: controller.check_controller,
+        FileKind.WHEEL: simple.check_wheel,
+        FileKind.COMPONENTS: simple.check_components,
+        FileKind.BATTERY: simple.check_battery,
+        FileKind.LED: lights.check_led,
+        FileKind.USER_ANIMATIONS: lights.check_user_animations,
+        FileKind.BT_LIGHTS: bt.check_lights_project,
+        FileKind.BT_SAFETY: bt.check_safety_project,
+        FileKind.SHUTDOWN_HOSTS: hosts.check_shutdown_hosts,
+        FileKind.COMPOSE: compose.check_compose,
+    }
+
+
+def check_file(kind: FileKind, source: str, data: bytes, *, local: Path | None = None,
+               target: Target | None = None, force: bool = False) -> list[str]:
+    """Check ``data`` as a file of ``kind``: its warnings, or `FileKindError` (exit 2)."""
+    return _registry()[kind](source, data, local, target or Target(), force)
+
+
+def validator(kind: FileKind) -> Validator:
+    """The one validator of ``kind``."""
+    return _registry()[kind]

@@ -1,0 +1,141 @@
+"""Wheel, components and battery files: their keys, types and ranges (panther-stack.md 1.4-1.7)."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+from panther_ops.core.config.kinds.common import is_number, load_mapping
+from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.fleet.stack import Family
+
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_PATHISH = re.compile(r"^[A-Za-z0-9_./-]+$")
+_COMPONENT_TYPE = re.compile(r"^[A-Z]{3}[0-9]{2}$")
+_TRIPLE = re.compile(r"^\s*\S+\s+\S+\s+\S+\s*$")
+
+
+def _positive(doc: dict[str, Any], key: str, errors: list[str], *, required: bool = False) -> None:
+    if key not in doc:
+        if required:
+            errors.append(f"{key} is required (a number > 0)")
+        return
+    value = doc[key]
+    if not is_number(value) or not math.isfinite(float(value)) or float(value) <= 0:
+        errors.append(f"{key}={value!r} must be a finite number > 0")
+
+
+def _unknown(doc: dict[str, Any], allowed: tuple[str, ...], where: str, errors: list[str]) -> None:
+    for key in doc:
+        if key not in allowed:
+            errors.append(f"{where}{key}: unknown key (allowed: {', '.join(allowed)})")
+
+
+WHEEL_KEYS = ("wheel_radius", "wheel_width", "wheel_separation", "wheel_separation_x", "wheel_separation_y",
+              "mass", "inertia", "inertia_y_offset", "mount_point_offset", "mesh_package", "folder_path", "mecanum")
+
+
+def check_wheel(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    what = "wheel file"
+    doc = load_mapping(source, data, what)
+    errors: list[str] = []
+    _unknown(doc, WHEEL_KEYS, "", errors)
+    _positive(doc, "wheel_radius", errors, required=True)
+    _positive(doc, "wheel_width", errors)
+    _positive(doc, "mass", errors)
+    for key in ("wheel_separation", "wheel_separation_x", "wheel_separation_y"):
+        _positive(doc, key, errors)
+    if not any(k in doc for k in ("wheel_separation", "wheel_separation_y")):
+        errors.append("wheel_separation (or wheel_separation_y for mecanum wheels) is required")
+    for key in ("inertia_y_offset", "mount_point_offset"):
+        if key in doc and (not is_number(doc[key]) or not math.isfinite(float(doc[key]))):
+            errors.append(f"{key}={doc[key]!r} must be a finite number")
+    inertia = doc.get("inertia")
+    if "inertia" in doc:
+        if not isinstance(inertia, dict):
+            errors.append(f"inertia={inertia!r} must be a mapping {{ixx, iyy, izz}}")
+        else:
+            _unknown(inertia, ("ixx", "iyy", "izz"), "inertia.", errors)
+            for key in ("ixx", "iyy", "izz"):
+                _positive(inertia, key, errors, required=True)
+    if "mecanum" in doc and not isinstance(doc["mecanum"], bool):
+        errors.append(f"mecanum={doc['mecanum']!r} is not a boolean; allowed: true, false")
+    for key in ("mesh_package", "folder_path"):
+        if key in doc and not (isinstance(doc[key], str) and _PATHISH.match(doc[key]) and ".." not in doc[key]):
+            errors.append(f"{key}={doc[key]!r} must be a package name or a relative path (letters, digits, _ . / -)")
+    if errors:
+        raise FileKindError(source, what, errors)
+    return []
+
+
+COMPONENT_KEYS = ("type", "parent_link", "xyz", "rpy", "device_namespace", "name")
+
+
+def check_components(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    what = "components file"
+    doc = load_mapping(source, data, what)
+    errors: list[str] = []
+    _unknown(doc, ("components",), "", errors)
+    items = doc.get("components", [])
+    if items is None:
+        items = []
+    if not isinstance(items, list):
+        raise FileKindError(source, what, [f"components={items!r} must be a list"])
+    for i, item in enumerate(items):
+        where = f"components[{i}]"
+        if not isinstance(item, dict):
+            errors.append(f"{where}: must be a mapping ({', '.join(COMPONENT_KEYS)})")
+            continue
+        _unknown(item, COMPONENT_KEYS, f"{where}.", errors)
+        kind = item.get("type")
+        if not (isinstance(kind, str) and _COMPONENT_TYPE.match(kind)):
+            errors.append(f"{where}.type={kind!r} is not a component type such as LDR06, CAM01, ANT02")
+        for key in ("parent_link", "device_namespace", "name"):
+            if key in item and not (isinstance(item[key], str) and _NAME.match(item[key])):
+                errors.append(f"{where}.{key}={item[key]!r} must be a name (letters, digits, _)")
+        if kind != "DEV02" and "parent_link" not in item and isinstance(kind, str):
+            errors.append(f"{where}.parent_link is required (e.g. cover_link)")
+        for key in ("xyz", "rpy"):
+            if key in item:
+                errors.extend(_triple(f"{where}.{key}", item[key]))
+    if errors:
+        raise FileKindError(source, what, errors)
+    return []
+
+
+def _triple(where: str, value: Any) -> list[str]:
+    if isinstance(value, str) and _TRIPLE.match(value):
+        try:
+            numbers = [float(x) for x in value.split()]
+        except ValueError:
+            numbers = []
+        if len(numbers) == 3 and all(math.isfinite(n) for n in numbers):
+            return []
+    return [f"{where}={value!r} must be three numbers separated by spaces, e.g. \"0.0 0.0 0.0\""]
+
+
+BATTERY_KEYS = ("simulate_discharging", "capacity", "initial_charge_percentage", "charging_time", "power_load")
+
+
+def check_battery(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    what = "battery file"
+    doc = load_mapping(source, data, what)
+    errors: list[str] = []
+    _unknown(doc, BATTERY_KEYS, "", errors)
+    if "simulate_discharging" in doc and not isinstance(doc["simulate_discharging"], bool):
+        errors.append(f"simulate_discharging={doc['simulate_discharging']!r} is not a boolean; allowed: true, false")
+    for key in ("capacity", "charging_time", "power_load"):
+        _positive(doc, key, errors)
+    stack = target.stack
+    percent = stack is not None and stack.family is not Family.HUSARION_UGV and stack.version < (2, 1, 0)
+    top = 100.0 if percent or stack is None else 1.0
+    if "initial_charge_percentage" in doc:
+        value = doc["initial_charge_percentage"]
+        if not is_number(value) or not math.isfinite(float(value)) or not 0 <= float(value) <= top:
+            scale = "0-100 (percent, panther_ros 2.0)" if top == 100.0 else "0-1 (a fraction, panther_ros 2.1)"
+            errors.append(f"initial_charge_percentage={value!r} is outside {scale}")
+    if errors:
+        raise FileKindError(source, what, errors)
+    return []

@@ -1,0 +1,1 @@
+"""The shared engine: containers read through docker (logs, times)."""

@@ -1,0 +1,125 @@
+"""The embedded demo fleet: local robots that are directories, seeded from templates/.
+
+``panther-ops demo init`` lays out one directory per robot, standing in for its Built-in
+Computer's file system, and an inventory for them, so every read-only command and every
+configuration change can be tried with no robot. A demo robot has no docker engine; its
+docker steps are reported ``skipped``.
+"""
+
+from __future__ import annotations
+
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from panther_ops.core.fleet.templates import template_path
+from panther_ops.errors import UsageError
+
+
+@dataclass(frozen=True)
+class DemoRobot:
+    name: str
+    compose_template: str
+    serial: str
+    groups: tuple[str, ...]
+
+
+DEMO_ROBOTS = (
+    DemoRobot("panther-01", "panther-2.1.1.yaml", "PTH0101", ("warehouse",)),
+    DemoRobot("panther-02", "panther-2.0.4.yaml", "PTH0102", ("warehouse",)),
+    DemoRobot("panther-03", "husarion-ugv-2.2.2.yaml", "PTH0203", ("field",)),
+)
+
+INVENTORY = """\
+# The demo fleet of panther-ops: each robot is a directory standing in for the
+# Built-in Computer's file system (transport: local). Real robots look like the
+# commented example at the end (docs/inventory.md).
+version: 1
+defaults:
+  user: husarion
+groups:
+  warehouse:
+    description: indoor robots on mecanum wheels
+    desired:
+      launch_args:
+        wheel_type: WH02
+  field:
+    description: outdoor robots
+robots:
+{robots}
+# A real robot (reached by its Husarnet hostname; every Panther is 10.15.20.2 inside):
+#   panther-07:
+#     host: panther-07          # or an IP, or a name from ~/.ssh/config
+#     identity_file: ~/.ssh/id_ed25519
+#     groups: [field]
+#   panther-08:
+#     host: 10.15.20.2
+#     jump: operator@gateway.example.org:22   # reached through the robot's LAN gateway
+"""
+
+ENV_21 = """\
+PANTHER_ROBOT_VERSION=1.2
+PANTHER_SERIAL_NO={serial}
+PANTHER_IMU_LOCALIZATION_X=0.168
+PANTHER_IMU_LOCALIZATION_Y=0.028
+PANTHER_IMU_LOCALIZATION_Z=0.083
+SYSTEM_BUILD_VERSION=v2.1.0
+"""
+
+ENV_22 = """\
+ROBOT_MODEL_NAME=panther
+ROBOT_SERIAL_NO={serial}
+ROBOT_VERSION=1.2
+ROBOT_HW_CONFIG_CORRECT=true
+SYSTEM_BUILD_VERSION=v2.2.0
+"""
+
+COMMON_ENV_22 = """\
+# env configuration including namespace, domain id, DDS, etc.
+ROS_DOMAIN_ID=0
+RMW_IMPLEMENTATION=rmw_cyclonedds_cpp
+ROBOT_NAMESPACE=panther
+"""
+
+
+def init_demo(dest: Path, *, force: bool = False) -> Path:
+    """Create the demo fleet under ``dest``; returns the inventory file written."""
+    if dest.exists() and any(dest.iterdir()):
+        if not force:
+            raise UsageError(f"{dest} already exists and is not empty",
+                             hint="use --force to recreate it, or choose another --dest")
+        shutil.rmtree(dest)
+    dest.mkdir(parents=True, exist_ok=True)
+    lines = []
+    for robot in DEMO_ROBOTS:
+        _lay_out(dest / "robots" / robot.name, robot)
+        lines.append(
+            f"  {robot.name}:\n    transport: local\n    root: robots/{robot.name}\n"
+            f"    groups: [{', '.join(robot.groups)}]"
+        )
+    inventory = dest / "inventory.yaml"
+    inventory.write_text(INVENTORY.format(robots="\n".join(lines)))
+    return inventory
+
+
+def _lay_out(root: Path, robot: DemoRobot) -> None:
+    home = root / "home" / "husarion"
+    home.mkdir(parents=True)
+    shutil.copyfile(template_path("compose", robot.compose_template), home / "compose.yaml")
+    (root / "etc").mkdir()
+    (root / "etc" / "hostname").write_text(robot.name + "\n")
+    (root / "etc" / "os-release").write_text('PRETTY_NAME="Ubuntu 22.04.4 LTS"\nID=ubuntu\n')
+    run = root / "run" / "husarion"
+    run.mkdir(parents=True)
+    if robot.compose_template.startswith("husarion-ugv"):
+        (run / "robot_config.env").write_text(ENV_22.format(serial=robot.serial))
+        tree = template_path("config-tree", "husarion-ugv-2.2")
+        if tree.is_dir():
+            shutil.copytree(tree, home / "config")
+        common = home / "config" / "common"
+        common.mkdir(parents=True, exist_ok=True)
+        if not (common / ".env").exists():
+            (common / ".env").write_text(COMMON_ENV_22)
+    else:
+        (run / "panther_config.env").write_text(ENV_21.format(serial=robot.serial))
+    (home / ".ssh").mkdir(mode=0o700)

@@ -1,0 +1,14 @@
+"""`panther-ops driver ...` and `config restore-defaults`: the driver container and its image.
+
+Modules: ``images`` (image references, tags, Docker Hub's released tags), ``containers``
+(status, logs, versions as the engine shows them), ``restart``, ``update`` and ``restore``
+(config restore-defaults). Every robot step goes through the
+robot's transport: the docker SDK rides its one SSH connection (`Transport.docker`), and
+``docker compose`` runs as the robot user in a login shell, as Husarion's tools do. Changes
+to compose.yaml go through the apply pipeline (`pipeline.apply_plan`); `apply_update` and
+`apply_restore` add the steps the pipeline has no slot for (pull before recreating, removing
+the container of a renamed service, the 2.2 config tree reset) and roll back the same way.
+
+The one operator-side effect is `images.fetch_hub_tags`: an HTTPS GET to Docker Hub from this
+machine (robots usually have no route to the internet, ``transport.http_json``), with a short timeout.
+"""

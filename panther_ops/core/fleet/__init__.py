@@ -1,0 +1,1 @@
+"""The shared engine: inventory, targets, the fleet runner, the change pipeline, history."""

@@ -1,0 +1,196 @@
+"""Two phases for every mutating command, over one connection per robot.
+
+Phase 1 plans every targeted robot (reads only). A planning error that is the operator's
+(a bad key or value for that robot's stack) stops the whole command before anything is
+written anywhere (exit 2). Phase 2, after the CLI showed the diffs and got confirmation,
+applies the plans through the pipeline on the same connections.
+
+When the command needs no confirmation (``--yes``), phase 1 also stages each robot's write
+as soon as its plan is known: the backup and the new files wait beside their targets while
+the rest of the fleet is still being planned, and nothing is renamed until phase 2 gives
+the go-ahead. If phase 2 does not come for a robot (another robot's plan was refused, or a
+canary failed), its staging is taken back: the robot is left as it was.
+
+And when every robot runs at once (as many forks as robots, no canary, no max-fail), the
+go-ahead needs nothing more than every robot's plan (``go_early``): each robot waits for
+the last plan, then sends its staging with the go-ahead behind it in one message; the
+robot stages, syncs and validates everything before it reads the go-ahead, so the write
+is as safe as before and takes one round trip fewer. A refused plan anywhere stops every
+robot before anything is staged.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from panther_ops.core.fleet.inventory import Inventory, Robot
+from panther_ops.core.fleet.memo import Memo
+from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, phase_reporter, run_fleet
+from panther_ops.errors import OpsError, UsageError
+from panther_ops.results import FleetResult, Outcome, RobotResult
+
+Planner = Callable[[RobotContext], RobotPlan]
+Applier = Callable[[RobotContext, RobotPlan, ApplyOptions], RobotResult]
+"""Carries out one robot's plan: `pipeline.apply_plan` unless a command needs its own step."""
+
+
+def does_something(plan: RobotPlan) -> bool:
+    """A plan with file edits, or with an action (e.g. a reset the image's script carries out)."""
+    return bool(plan.edits or plan.data.get("action"))
+
+
+@dataclass
+class FleetPlan:
+    """Every robot's plan (or why it has none)."""
+
+    command: str
+    plans: dict[str, RobotPlan] = field(default_factory=dict)
+    results: FleetResult = field(default_factory=lambda: FleetResult("plan"))
+    usage_errors: dict[str, UsageError] = field(default_factory=dict)
+    staged: dict[str, Staged] = field(default_factory=dict)
+    """Writes staged during planning, waiting for the go-ahead (see the module's text)."""
+    applied: dict[str, RobotResult] = field(default_factory=dict)
+    """Writes that went ahead during phase 1 (``go_early``): phase 2 reports them as they are."""
+
+    @property
+    def to_change(self) -> list[str]:
+        return [name for name, p in self.plans.items() if does_something(p)]
+
+
+_COMPOSE_CHECKED: Memo[list[str]] = Memo()
+
+
+def check_written(plan: RobotPlan) -> None:
+    """The compose file a plan writes, through the compose file kind's validator (once per
+    distinct content: the robots of a fleet mostly share one)."""
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    for e in plan.edits:
+        if e.path == plan.compose_file and e.after is not None:
+            path, after = e.path, e.after
+
+            def check(path: str = path, after: bytes = after) -> list[str]:
+                return check_file(FileKind.COMPOSE, path, after)
+
+            _COMPOSE_CHECKED.get((path, after), check)
+
+
+def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
+               options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None,
+               go_early: bool = False) -> FleetPlan:
+    """Plan every robot; with ``stage`` (the options phase 2 will apply with) also stage each
+    robot's file edits through the pipeline as soon as its plan is known; with ``go_early``
+    too, each staged write goes ahead once every robot's plan is known (see the module's
+    text; only where every robot runs at once, else it is ignored)."""
+    fp = FleetPlan(command)
+    go_early = go_early and stage is not None and options.forks >= len(robots) and not options.canary \
+        and options.max_fail_pct is None
+    decided: set[str] = set()
+    all_decided = threading.Condition()
+
+    def decide(name: str) -> None:
+        with all_decided:
+            decided.add(name)
+            all_decided.notify_all()
+
+    def task(ctx: RobotContext) -> RobotResult:
+        ctx.phase("plan")
+        try:
+            plan = planner(ctx)
+            check_written(plan)
+        except UsageError as exc:
+            fp.usage_errors[ctx.robot.name] = exc
+            raise
+        finally:
+            decide(ctx.robot.name)
+        writes = stage is not None and plan.edits and not plan.data.get("action") and not stage.dry_run
+        if writes and go_early and stage is not None:
+            with all_decided:
+                all_decided.wait_for(lambda: len(decided) >= len(robots))
+            if not fp.usage_errors:  # staged with its go-ahead (the robot went away: no plan either)
+                fp.applied[ctx.robot.name] = apply_staged(ctx, plan, stage, stage_plan(ctx, plan, stage, go=True))
+        elif writes and stage is not None:
+            fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
+        fp.plans[ctx.robot.name] = plan
+        outcome = Outcome.CHANGED if does_something(plan) else Outcome.OK
+        message = plan.summary if does_something(plan) else (plan.noop or "nothing to change")
+        return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
+                           data=dict(plan.data))
+
+    class Noted:  # a robot whose task never ran (unreachable) is decided too
+        def __call__(self, res: RobotResult) -> None:
+            decide(res.robot)
+            if progress is not None:
+                progress(res)
+
+        def phase(self, robot: str, name: str) -> None:
+            if (report := phase_reporter(progress, robot)) is not None:
+                report(name)
+
+    plan_opts = RunOptions(forks=options.forks)
+    fp.results = run_fleet(command, inventory, robots, task, plan_opts, Noted(), connections)
+    return fp
+
+
+def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
+                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None,
+                applier: Applier = apply_plan) -> FleetResult:
+    """Apply every plan that does something; the others keep their plan-phase result."""
+    by_name = {r.robot: r for r in fp.results.results}
+    early = [fp.applied.pop(r.name) for r in robots if r.name in fp.applied]  # went ahead in phase 1
+    for r in early:
+        by_name[r.robot] = r
+        if progress is not None:
+            progress(r)
+    went = {r.robot for r in early}
+    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name]) and r.name not in went]
+
+    def task(ctx: RobotContext) -> RobotResult:
+        plan = fp.plans[ctx.robot.name]
+        staged = fp.staged.pop(ctx.robot.name, None)
+        return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
+
+    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
+        FleetResult(fp.command)
+    unstage_fleet(fp, inventory, robots, connections, options)  # robots never started (canary, max-fail)
+    for r in applied.results:
+        by_name[r.robot] = r
+    out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
+    out.duration_s = fp.results.duration_s + applied.duration_s
+    return out
+
+
+def unstage_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
+                  options: RunOptions) -> None:
+    """Take back every write still staged: those robots are left exactly as they were."""
+    waiting = [r for r in robots if fp.staged.pop(r.name, None) is not None]
+
+    def task(ctx: RobotContext) -> RobotResult:
+        with contextlib.suppress(OpsError):  # the session is gone: the robot dropped the staged files itself
+            unstage(ctx)
+        return RobotResult(ctx.robot.name, Outcome.SKIPPED, "staged write taken back")
+
+    if waiting:
+        run_fleet(fp.command, inventory, waiting, task, RunOptions(forks=options.forks), None, connections)
+
+
+def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
+    """The plan as a dry run's result: each change is what the robot ``would`` get (a plan
+    with an action has a summary that starts with its verb: ``would remove manager ...``).
+
+    ``read_only``: the command never writes (``config diff``): no "dry run" note then.
+    """
+    out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
+    for r in fp.results.results:
+        if r.outcome is Outcome.CHANGED:
+            action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
+            r.message = f"would {r.message}" if action else f"would change: {r.message}"
+            r.data["dry_run"] = True
+        out.add(r)
+    out.duration_s = fp.results.duration_s
+    return out

@@ -1,0 +1,67 @@
+"""Paths from user input, resolved and kept inside the directory they belong to.
+
+A robot's ``compose_file`` (inventory) names a file on the robot: no ``..`` component (it
+would name another directory than the one written), no control character; on a local
+(demo) robot it must also stay inside the robot's directory once links are resolved. A
+backup id (``config rollback --to``) names a directory under ``~/.panther-ops/backups``.
+Anything else is refused with exit 2 naming the path.
+"""
+
+from __future__ import annotations
+
+import posixpath
+import re
+
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.errors import OpsError, UsageError
+
+BACKUP_ID = re.compile(r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{4}$")
+BACKUP_PREFIX = re.compile(r"^[0-9A-Za-z-]{1,40}$")
+BACKUP_FILE = re.compile(r"^files/[0-9]+$")
+
+
+def compose_file(ctx: RobotContext) -> str:
+    """The robot's compose file as the inventory names it, once checked (UsageError otherwise)."""
+    path = ctx.robot.compose_file
+    if not path or any(ord(c) < 32 or c == "\x7f" for c in path):
+        raise UsageError(f"compose_file {path!r} is empty or holds a control character",
+                         hint="compose_file: the path of the compose file on the robot, e.g. ~/compose.yaml")
+    if not (path.startswith("/") or path.startswith("~/")):
+        raise UsageError(f"compose_file {path} must be absolute or start with ~/",
+                         hint="e.g. ~/compose.yaml or /home/husarion/compose.yaml")
+    if ".." in path.split("/"):
+        raise UsageError(f"compose_file {path} holds '..': it would leave its directory",
+                         hint="name the file directly, e.g. ~/compose.yaml")
+    local_path = getattr(ctx.transport, "local_path", None)
+    if local_path is not None:  # a demo robot: the file must be inside the robot's directory, links resolved
+        try:
+            local_path(path)
+        except OpsError as exc:
+            raise UsageError(f"compose_file {path} leaves the robot's directory ({exc.message})") from None
+    return path
+
+
+def backup_ref(to: str | None) -> str | None:
+    """A backup id or unique prefix given by the operator (``--to``)."""
+    if to is not None and not BACKUP_PREFIX.match(to):
+        raise UsageError(f"backup id {to!r} is not a backup id (e.g. 20261122T101500Z-1a2b or a prefix of one)",
+                         hint="panther-ops config history lists them")
+    return to
+
+
+def backup_entry_ok(entry_id: object, files: object) -> bool:
+    """A backup manifest read from the robot names its own directory and files only."""
+    if not isinstance(entry_id, str) or not BACKUP_ID.match(entry_id):
+        return False
+    if not isinstance(files, list):
+        return False
+    for f in files:
+        if not isinstance(f, dict) or not isinstance(f.get("path"), str):
+            return False
+        backup = f.get("backup")
+        if backup is not None and not (isinstance(backup, str) and BACKUP_FILE.match(backup)):
+            return False
+        p = f["path"]
+        if not (p.startswith("/") or p.startswith("~/")) or ".." in p.split("/") or posixpath.normpath(p) in ("/", "~"):
+            return False
+    return True

@@ -1,0 +1,352 @@
+"""The apply pipeline every mutating command goes through, per robot.
+
+read -> plan (pure, with exact diffs) -> [confirm, in the CLI] -> backup on the robot ->
+stage every file (temp file beside it, fsynced) -> rename each into place (atomic) ->
+``docker compose up -d --force-recreate`` of the affected services as the robot user in a
+login shell -> verify (the container runs the planned command, its state and restart count
+hold for a settle window) -> on failure restore the backup, recreate, report
+``rolled-back``. A plan with nothing to change reports ``ok`` with the reason and writes
+nothing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import posixpath
+import secrets
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from typing import Any
+
+from panther_ops.core.fleet.memo import Memo
+from panther_ops.core.fleet.plan import RobotPlan, Verify
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.errors import OpsError, TransportError, UnreachableError
+from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport import scripts_apply, scripts_backup
+from panther_ops.transport.base import Command, CommandResult
+
+BACKUP_ROOT = scripts_backup.BACKUP_ROOT
+
+
+@dataclass(frozen=True)
+class ApplyOptions:
+    dry_run: bool = False
+    restart: bool = True
+    settle_s: float = 5.0
+    command: str = ""
+    on_staged: Callable[[str], None] | None = None
+    """Called with the robot name after every file is staged and before any rename (tests)."""
+
+
+def _sha(data: bytes | None) -> str | None:
+    return None if data is None else hashlib.sha256(data).hexdigest()
+
+
+def new_backup_id(now: datetime | None = None) -> str:
+    stamp = (now or datetime.now(timezone.utc)).strftime("%Y%m%dT%H%M%SZ")
+    return f"{stamp}-{secrets.token_hex(2)}"
+
+
+@dataclass(frozen=True)
+class Staged:
+    """A robot's write, staged and waiting on the robot for the go-ahead (or why it is not)."""
+
+    backup_id: str
+    final: bool
+    """Nothing follows the write (no recreate): the backup's status is recorded with it."""
+    problem: str | None = None
+    """Why nothing was staged (the robot refused or failed): reported instead of applying."""
+    went: bool = False
+    """The go-ahead was sent with the staging (:func:`stage_plan` ``go``): only its end remains."""
+
+
+def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+    """Carry out one robot's plan; every outcome is a RobotResult."""
+    if not plan.edits or opts.dry_run:
+        return _unwritten(ctx.robot.name, plan, opts)
+    return apply_staged(ctx, plan, opts, stage_plan(ctx, plan, opts))
+
+
+def _result(name: str, plan: RobotPlan) -> RobotResult:
+    return RobotResult(name, Outcome.OK, plan.noop or plan.summary, diffs=plan.diffs,
+                       warnings=list(plan.warnings), data=dict(plan.data))
+
+
+def _unwritten(name: str, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+    """The result of a plan with nothing to write, or of a dry run."""
+    result = _result(name, plan)
+    if not plan.edits:
+        result.message = plan.noop or "nothing to change"
+    else:
+        result.outcome = Outcome.CHANGED
+        result.message = f"would change (dry run): {plan.summary}"
+        result.data["dry_run"] = True
+    return result
+
+
+def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, go: bool = False) -> Staged:
+    """Back up and stage the plan's files on the robot; it then waits for :func:`apply_staged`.
+
+    The session stays open (kept under ``scripts_apply.WRITE_KEY``) until the go-ahead, a
+    stop (:func:`unstage`), or the end of the connection: until then no file is replaced.
+    ``go``: the caller already has its go-ahead (every robot's plan is known, see
+    ``changes.plan_fleet``): it is sent with the staging, behind it in the same input, and
+    the robot reads it only once everything is staged, synced and validated: one round trip
+    fewer. Never with an ``on_staged`` hook (it must run between the two).
+    Raises the transport's errors (the robot went away: nothing was renamed).
+    """
+    go = go and opts.on_staged is None
+    ctx.phase("write")
+    backup_id = new_backup_id()
+    manifest = {
+        "id": backup_id,
+        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "robot": ctx.robot.name,
+        "command": opts.command,
+        "summary": plan.summary,
+        "compose_file": plan.compose_file,
+        "recreate": list(plan.recreate),
+        "files": [
+            {"path": e.path, "backup": f"files/{i}" if e.before is not None else None,
+             "sha256_before": _sha(e.before), "sha256_after": _sha(e.after), "diff": d.unified}
+            for i, (e, d) in enumerate(zip(plan.edits, plan.diffs, strict=True))
+        ],
+    }
+    final = not plan.recreate or not opts.restart
+    status = ("applied" + (" (not recreated)" if plan.recreate else "")) if final else ""
+    problem = _stage(ctx, plan, f"{BACKUP_ROOT}/{backup_id}", manifest, status, go)
+    return Staged(backup_id, final, problem, went=go)
+
+
+def unstage(ctx: RobotContext) -> None:
+    """Tell a staged write not to go ahead: the robot removes all it staged, backup included."""
+    ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.STOP)
+
+
+def apply_staged(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, staged: Staged) -> RobotResult:
+    """Give a staged write its go-ahead, then recreate, verify and roll back as needed."""
+    result = _result(ctx.robot.name, plan)
+    ctx.phase("write")
+    problem = staged.problem or _commit(ctx, plan, opts, staged.went)
+    if problem is not None:
+        result.outcome = Outcome.FAILED
+        result.message = problem
+        return result
+    backup_id = staged.backup_id
+    result.data["backup"] = backup_id
+    if staged.final:
+        result.outcome = Outcome.CHANGED
+        result.message = plan.summary + ("; not recreated (--no-restart)" if plan.recreate else "")
+        return result
+    problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
+    if problem is None:
+        result.outcome = Outcome.CHANGED
+        result.message = plan.summary
+        mark_backup(ctx, backup_id, "applied")
+        return result
+    return _roll_back(ctx, plan, opts, result, problem, backup_id)
+
+
+_VALUES_ONLY: Memo[bool] = Memo()
+
+
+def _values_only(before: bytes | None, after: bytes | None) -> bool:
+    """True when the two compose files differ only in services' ``command`` or ``image`` values.
+
+    Those are free-form strings to docker compose (any text passes its schema), and the YAML
+    editor has already re-parsed the result, so asking the robot's compose adds nothing.
+    Robots with the same files share one answer (computed once).
+    """
+    if before is None or after is None:
+        return False
+    return _VALUES_ONLY.get((before, after), lambda: _compare_values(before, after))
+
+
+def _compare_values(before: bytes, after: bytes) -> bool:
+    """Both files' values compared (safe load with ruamel, which the plan already loaded:
+    ~1.5 ms a file, where PyYAML would first cost ~10 ms to import). Anything it cannot
+    load counts as different: the robot's compose then judges."""
+    from ruamel.yaml import YAML
+
+    loader = YAML(typ="safe", pure=True)
+    try:
+        old, new = loader.load(before), loader.load(after)
+    except Exception:  # any failure to load: not provably the same
+        return False
+    if not (isinstance(old, dict) and isinstance(new, dict)):
+        return False
+
+    def strip(doc: dict[str, Any]) -> dict[str, Any]:
+        services = doc.get("services")
+        if not isinstance(services, dict):
+            return doc
+        cleaned = {n: {k: v for k, v in svc.items() if k not in ("command", "image")} if isinstance(svc, dict)
+                   else svc for n, svc in services.items()}
+        return {**doc, "services": cleaned}
+
+    return strip(old) == strip(new)
+
+
+def _remove(ctx: RobotContext, path: str) -> None:
+    ctx.transport.run(Command.sh('r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; '
+                                 'esac; rm -f -- "$r$p"', path))
+
+
+def _stage(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[str, Any], status: str,
+           go: bool) -> str | None:
+    """Unpack the backup and the staged files and (maybe) validate, in one session kept for
+    the go-ahead. Returns why nothing was staged, or None when the robot waits for it."""
+    name = ctx.robot.name
+    home = plan.home or ctx.transport.home()
+
+    def absolute(path: str) -> str:
+        path = posixpath.join(home, path[2:]) if path.startswith("~/") else path
+        if not path.startswith("/") or "\n" in path or "\t" in path:
+            raise TransportError(name, f"refusing a path that is not absolute or holds a newline or tab: {path!r}")
+        return posixpath.normpath(path)
+
+    wdir = absolute(backup_dir)
+    suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
+    members = [scripts_apply.Member(d, None, 0o700) for d in (posixpath.dirname(posixpath.dirname(wdir)),
+                                                               posixpath.dirname(wdir), wdir, f"{wdir}/files")]
+    members.append(scripts_apply.Member(f"{wdir}/manifest.json", json.dumps(manifest, indent=2).encode(), 0o600))
+    args: list[str] = []
+    validate = "-"
+    for i, e in enumerate(plan.edits):
+        path = absolute(e.path)
+        staged = f"{posixpath.dirname(path)}/.{posixpath.basename(path)}.panther-ops.{suffix}"
+        if e.before is not None:
+            members.append(scripts_apply.Member(f"{wdir}/files/{i}", e.before, e.mode or 0o600))
+        keep_mode = e.before is not None and e.mode is None  # mode unknown: chmod --reference on the robot
+        if e.after is not None:
+            mode = e.mode if e.mode is not None else (0o600 if keep_mode else 0o644)
+            members.append(scripts_apply.Member(staged, e.after, mode))
+        args += [path, _sha(e.before) or "-", staged if e.after is not None else "-", "1" if keep_mode else "0"]
+        if e.path == plan.compose_file and e.after is not None and not _values_only(e.before, e.after):
+            validate = str(i)
+    archive = scripts_apply.archive(members)
+    argv = [wdir, status, str(len(archive)), validate, *args]
+    payload = archive + scripts_apply.GO if go else archive
+    t = ctx.transport
+    res = t.advance(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
+                    until=scripts_apply.STAGED_MARK)  # the plan's kept read carries the write
+    if res is None:
+        res = t.run_kept(Command.sh(scripts_apply.APPLY, *argv), scripts_apply.STAGED_MARK, scripts_apply.WRITE_KEY,
+                         stdin=payload)
+    if t.kept(scripts_apply.WRITE_KEY):
+        return None
+    return _write_problem(name, plan, res) or f"the write ended before staging (exit {res.exit_status})"
+
+
+def _commit(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, went: bool = False) -> str | None:
+    """The go-ahead for a staged write (``went``: sent with the staging already, the end of
+    the write remains). Returns why nothing was written, or None when it was."""
+    name = ctx.robot.name
+    if opts.on_staged:
+        opts.on_staged(name)
+    res = ctx.transport.resume(scripts_apply.WRITE_KEY, b"" if went else scripts_apply.GO)
+    if res is None:
+        raise TransportError(name, "no staged write to go ahead with (a bug: see --debug)")
+    return _write_problem(name, plan, res)
+
+
+def _write_problem(name: str, plan: RobotPlan, res: CommandResult) -> str | None:
+    """What a finished write session says went wrong (None: all renamed); raises when the
+    connection died or the robot failed."""
+    if res.exit_status == scripts_apply.CHANGED_EXIT:
+        return "a file changed on the robot since it was read; nothing written, run again"
+    if res.exit_status == scripts_apply.REFUSED_EXIT:
+        return f"nothing written: docker compose refuses the new {plan.compose_file}: {res.stderr.strip()[-300:]}"
+    if res.exit_status == -1:
+        raise UnreachableError(name, "connection lost while writing; the staged files were not renamed")
+    if not res.ok:
+        raise TransportError(name, f"writing failed (exit {res.exit_status}): {res.stderr.strip()}")
+    return None
+
+
+def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
+               backup_id: str) -> RobotResult:
+    ctx.phase("roll back")
+    t = ctx.transport
+    try:
+        for e in plan.edits:
+            if e.before is None:
+                _remove(ctx, e.path)
+            else:
+                t.write_file_atomic(e.path, e.before)
+        restore = RobotPlan(plan.robot, "restore", [], plan.recreate, plan.compose_file, [])
+        again = recreate_and_verify(ctx, restore, min(opts.settle_s, 3.0), RobotResult(plan.robot, Outcome.OK, ""))
+    except OpsError as exc:
+        result.outcome = Outcome.FAILED
+        result.message = f"{problem}; ROLLBACK FAILED: {exc.message} (backup {backup_id} on the robot)"
+        return result
+    result.outcome = Outcome.ROLLED_BACK
+    result.message = f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
+    mark_backup(ctx, backup_id, f"rolled-back: {problem}")
+    return result
+
+
+def mark_backup(ctx: RobotContext, backup_id: str, status: str) -> None:
+    """Record beside the backup how the attempt ended (best effort: one short command)."""
+    try:
+        ctx.transport.run(Command.sh(scripts_backup.MARK, f"{BACKUP_ROOT}/{backup_id}", status))
+    except OpsError:
+        return
+
+
+def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, result: RobotResult) -> str | None:
+    """Recreate the plan's services and watch them; returns a problem, or None when all is well."""
+    client = ctx.transport.docker()
+    if client is None:
+        result.warnings.append("no docker engine on this robot: services not recreated")
+        return None
+    compose = plan.compose_file
+    cdir = posixpath.dirname(compose) or "~"
+    ctx.phase("recreate")
+    res = ctx.transport.run(
+        Command.of("docker", "compose", "-f", posixpath.basename(compose), "up", "-d", "--force-recreate",
+                   *plan.recreate, login=True, cwd=cdir),
+        timeout=300,
+    )
+    if not res.ok:
+        return f"docker compose up failed: {res.stderr.strip()[-400:]}"
+    ctx.phase("verify")
+    return _watch(client, plan, settle_s)
+
+
+def _containers(client: Any, service: str) -> list[Any]:
+    return list(client.containers.list(all=True, filters={"label": f"com.docker.compose.service={service}"}))
+
+
+def _watch(client: Any, plan: RobotPlan, settle_s: float) -> str | None:
+    deadline = time.monotonic() + settle_s
+    checks = plan.verify or [Verify(s) for s in plan.recreate]
+    while True:
+        for v in checks:
+            ctrs = _containers(client, v.service)
+            if not ctrs:
+                return f"service {v.service}: no container after recreate"
+            c = ctrs[0]
+            state = c.attrs.get("State", {})
+            cmd = c.attrs.get("Config", {}).get("Cmd") or []
+            missing = [x for x in v.cmd_contains if x not in cmd]
+            if missing:
+                return f"service {v.service}: container command lacks {', '.join(missing)}"
+            present = [x for x in v.cmd_lacks if x in cmd]
+            if present:
+                return f"service {v.service}: container command still has {', '.join(present)}"
+            status, restarts = state.get("Status", "?"), int(c.attrs.get("RestartCount", 0))
+            if status not in ("running", "created") or state.get("Restarting"):
+                code = state.get("ExitCode")
+                return f"service {v.service}: container {status} (exit code {code}) after recreate"
+            if restarts > 0:  # a recreated container starts at 0; restart: always hides crashes
+                return f"service {v.service}: container restarted {restarts} time(s) after recreate (exit code " \
+                    f"{state.get('ExitCode')})"
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(0.5)

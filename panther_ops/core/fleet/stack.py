@@ -1,0 +1,198 @@
+"""Which Panther ROS 2 stack a robot runs, from the driver image tag in its compose.yaml.
+
+The stack changes launch arguments, config file locations and shutdown behaviour at the
+patch level (reference: panther-stack.md sections 0 and 1), so the version is kept to the
+patch and grouped into the generations that behave alike.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from enum import Enum
+
+from panther_ops.errors import RemoteStateError
+
+PANTHER_REPO = "husarion/panther"
+UGV_REPO = "husarion/husarion-ugv"
+
+_TAG = re.compile(
+    r"^(?P<distro>[a-z]+)-(?P<major>\d+)\.(?P<minor>\d+)\.(?P<patch>\d+)"
+    r"(?:-(?P<date>\d{8}))?(?:-(?P<suffix>[A-Za-z0-9._-]+))?$"
+)
+
+
+class Family(str, Enum):
+    """The repository (and package prefix) a version belongs to."""
+
+    PANTHER_ROS = "panther_ros"
+    HUSARION_UGV = "husarion_ugv"
+
+
+class Generation(str, Enum):
+    """Version ranges that behave alike (arguments, file locations, shutdown)."""
+
+    G2_0_0 = "2.0.0-2.0.1"
+    G2_0_2 = "2.0.2-2.0.4"
+    G2_1_0 = "2.1.0"
+    G2_1_1 = "2.1.1-2.1.2"
+    G2_2_0 = "2.2.0"
+    G2_2_1 = "2.2.1+"
+
+
+@dataclass(frozen=True)
+class Stack:
+    """The stack a robot runs, derived from its driver image."""
+
+    image: str
+    distro: str
+    version: tuple[int, int, int]
+    build_date: str | None
+
+    @property
+    def version_str(self) -> str:
+        return ".".join(str(p) for p in self.version)
+
+    @property
+    def family(self) -> Family:
+        return Family.HUSARION_UGV if self.version >= (2, 2, 0) else Family.PANTHER_ROS
+
+    @property
+    def generation(self) -> Generation:
+        v = self.version
+        if v < (2, 0, 2):
+            return Generation.G2_0_0
+        if v < (2, 1, 0):
+            return Generation.G2_0_2
+        if v < (2, 1, 1):
+            return Generation.G2_1_0
+        if v < (2, 2, 0):
+            return Generation.G2_1_1
+        if v < (2, 2, 1):
+            return Generation.G2_2_0
+        return Generation.G2_2_1
+
+    @property
+    def driver_service(self) -> str:
+        """Compose service (and container name) of the driver."""
+        return "husarion_ugv_ros" if self.family is Family.HUSARION_UGV else "panther_ros"
+
+    @property
+    def package_prefix(self) -> str:
+        return "husarion_ugv" if self.family is Family.HUSARION_UGV else "panther"
+
+    @property
+    def controller_key(self) -> str:
+        """Name of the drive controller in the controller YAML."""
+        return "drive_controller" if self.version >= (2, 1, 0) else "panther_base_controller"
+
+    @property
+    def shutdown_over_http(self) -> bool:
+        """2.2.1+ shut user computers down with husarion-shutdown over HTTP, not SSH."""
+        return self.version >= (2, 2, 1)
+
+    @property
+    def has_config_tree(self) -> bool:
+        """2.2+ keeps configuration in /home/husarion/config (common_dir_path)."""
+        return self.family is Family.HUSARION_UGV
+
+    @property
+    def robot_env_file(self) -> str:
+        if self.family is Family.HUSARION_UGV:
+            return "/run/husarion/robot_config.env"
+        return "/run/husarion/panther_config.env"
+
+    def label(self) -> str:
+        return f"{self.family.value} {self.version_str}"
+
+
+def parse_image(image: str) -> Stack:
+    """Parse a driver image reference such as ``husarion/panther:humble-2.1.1-20240828``.
+
+    Raises:
+        RemoteStateError: not a Panther driver image, a tag without a version, or a
+            stack panther-ops does not support yet (ROS 2 Jazzy, 2.3+).
+    """
+    ref = image.strip()
+    name, _, tag = ref.rpartition(":")
+    if not name or "/" in tag:
+        raise RemoteStateError(f"driver image {ref!r} has no tag; cannot tell the stack version")
+    repo = name.split("/", 1)[-1] if name.count("/") > 1 else name
+    if repo.endswith(("husarion/panther", "husarion/husarion-ugv")) is False:
+        raise RemoteStateError(
+            f"image {ref!r} is not a Panther driver image",
+            hint=f"expected {PANTHER_REPO}:<tag> or {UGV_REPO}:<tag>",
+        )
+    m = _TAG.match(tag)
+    if not m:
+        raise RemoteStateError(
+            f"image tag {tag!r} does not follow <distro>-<X.Y.Z>-<YYYYMMDD>",
+            hint="set `stack:` for this robot in the inventory",
+        )
+    version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
+    distro = m["distro"]
+    if distro != "humble" or version >= (2, 3, 0):
+        raise RemoteStateError(
+            f"stack {distro} {'.'.join(map(str, version))} ({ref}) is not supported yet",
+            hint="panther-ops supports ROS 2 Humble: panther_ros 2.0-2.1 and husarion_ugv 2.2",
+        )
+    if version < (2, 0, 0):
+        raise RemoteStateError(f"{ref}: ROS 1 stacks (1.x) are not supported")
+    return Stack(image=ref, distro=distro, version=version, build_date=m["date"])
+
+
+def parse_version(text: str) -> tuple[int, int, int]:
+    """Parse ``2.1.1`` (as written in an inventory's ``stack:``)."""
+    m = re.fullmatch(r"(\d+)\.(\d+)\.(\d+)", text.strip())
+    if not m:
+        raise ValueError(f"{text!r} is not a version X.Y.Z")
+    return (int(m[1]), int(m[2]), int(m[3]))
+
+
+def stack_from_version(text: str) -> Stack:
+    """A Stack for an inventory's explicit ``stack: X.Y.Z`` (no image known)."""
+    version = parse_version(text)
+    repo = UGV_REPO if version >= (2, 2, 0) else PANTHER_REPO
+    return parse_image(f"{repo}:humble-{text.strip()}")
+
+
+def stack_option(text: str, option: str = "--stack") -> Stack:
+    """A Stack for a version typed on the command line; bad input is a UsageError (exit 2).
+
+    Raises:
+        UsageError: not a version X.Y.Z, or a version panther-ops does not support.
+    """
+    from panther_ops.errors import UsageError
+
+    try:
+        return stack_from_version(text)
+    except ValueError:
+        raise UsageError(f"{option} {text!r} is not a version X.Y.Z",
+                         hint="a stack version such as 2.0.4, 2.1.1 or 2.2.2") from None
+    except RemoteStateError as exc:
+        raise UsageError(f"{option} {text}: {exc.message}", hint=exc.hint) from None
+
+
+DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
+
+
+def find_driver(compose: object) -> tuple[str, str] | None:
+    """(service, image) of the driver in a parsed compose document, or None.
+
+    The driver is the ``panther_ros`` / ``husarion_ugv_ros`` service, else the first
+    service whose image is a Panther driver image.
+    """
+    if not isinstance(compose, dict):
+        return None
+    services = compose.get("services")
+    if not isinstance(services, dict):
+        return None
+    for name in DRIVER_SERVICES:
+        svc = services.get(name)
+        if isinstance(svc, dict) and isinstance(svc.get("image"), str):
+            return name, svc["image"]
+    for name, svc in services.items():
+        image = svc.get("image") if isinstance(svc, dict) else None
+        if isinstance(image, str) and image.split(":")[0].endswith((PANTHER_REPO, UGV_REPO)):
+            return str(name), image
+    return None

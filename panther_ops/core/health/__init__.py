@@ -1,0 +1,1 @@
+"""Feature: what each robot is and how it is doing (status, doctor)."""

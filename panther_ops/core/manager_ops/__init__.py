@@ -1,0 +1,1 @@
+"""Feature: the runtime manager on robots (deploy, bundle, status, lights test)."""

@@ -1,0 +1,180 @@
+"""Before `manager deploy` stands the stock manager down: can ours do what it did on this robot?
+
+The stock C++ safety manager shuts the User Computers of the shutdown hosts file down with the
+robot (SSH through libssh on 2.0 - 2.2.0, HTTP on 2.2.1+) and then the robot itself (SSH to
+``husarion@localhost`` on 2.0/2.1, D-Bus ``PowerOff`` on 2.2). The deployed manager runs on the
+driver's own image and needs, there:
+
+* for SSH hosts: paramiko or an ``ssh`` client (`panther_ops.manager.shutdown_executor.ssh_method`),
+  and each host's key in the robot's ``~/.ssh/known_hosts`` (mounted into the container): the
+  stock node (libssh) never checks host keys, ours refuses unknown ones, so a host missing there
+  would no longer be shut down;
+* for the robot's own power-off: the program its command starts (``ssh`` or ``dbus-send``).
+
+`probe_image` asks the image once, over the robot's existing connection (``docker exec`` in the
+running driver container, which runs that image; else a throw-away container of the image
+without network), what it has, and reads the hosts file where only the image has it
+(``$(find pkg)/...`` resolved in ``AMENT_PREFIX_PATH`` by the image's entrypoint). `losses` lists
+what would silently stop working; deploy refuses (exit 2, nothing written) when it is not empty.
+Simulation mode (labs, benches) drives nothing on the robot and is not checked.
+"""
+
+from __future__ import annotations
+
+import shlex
+from dataclasses import dataclass, field
+from typing import Any
+
+from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.errors import RemoteStateError, UsageError
+from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
+
+_HOSTS_MARK = "--- panther-ops hosts file ---"
+#: $1 = the hosts file as manager.yaml names it (container path or $(find pkg)/rest)
+PROBE = r"""
+for c in ssh dbus-send python3; do command -v "$c" >/dev/null 2>&1 && echo "has $c"; done
+command -v python3 >/dev/null 2>&1 && python3 -c 'import paramiko' >/dev/null 2>&1 && echo "has paramiko"
+f="$1"
+case "$f" in
+  '$(find '*)
+    pkg=${f#'$(find '}; pkg=${pkg%%)*}; rest=${f#*)}; old_ifs=$IFS; IFS=:
+    for p in $AMENT_PREFIX_PATH; do
+      if [ -f "$p/share/$pkg$rest" ]; then f="$p/share/$pkg$rest"; break; fi
+    done
+    IFS=$old_ifs;;
+esac
+if [ -n "$f" ] && [ -f "$f" ]; then echo '--- panther-ops hosts file ---'; cat "$f"; fi
+exit 0
+"""
+
+
+@dataclass
+class ImageFacts:
+    """What the driver image offers the deployed manager."""
+
+    image: str
+    programs: set[str] = field(default_factory=set)
+    """among ssh, dbus-send, python3, paramiko (importable by python3)"""
+    hosts_text: str | None = None
+    """the hosts file as the image sees it (None: not there)"""
+
+    @property
+    def ssh_method(self) -> str | None:
+        if "paramiko" in self.programs:
+            return "paramiko"
+        return "openssh" if "ssh" in self.programs else None
+
+    def describe(self) -> str:
+        have = sorted(self.programs - {"python3"})
+        return f"{self.image} has {', '.join(have) if have else 'neither paramiko, ssh nor dbus-send'}"
+
+
+def parse_probe(image: str, output: str) -> ImageFacts:
+    head, sep, hosts = output.partition(_HOSTS_MARK + "\n")
+    programs = {line[4:].strip() for line in head.splitlines() if line.startswith("has ")}
+    return ImageFacts(image, programs, hosts if sep else None)
+
+
+def _run_probe(client: Any, cfg: RobotConfig, hosts_file: str) -> str:
+    argv = ["sh", "-c", PROBE, "probe", hosts_file]
+    image = cfg.compose.driver_image
+    for ctr in client.containers.list(filters={"label": f"com.docker.compose.service={cfg.service}"}):
+        tags = getattr(ctr.image, "tags", []) or []
+        if image in tags:
+            code, out = ctr.exec_run(["/ros_entrypoint.sh", *argv], demux=False)
+            if code in (126, 127):  # no entrypoint script in this image: run the probe directly
+                code, out = ctr.exec_run(argv, demux=False)
+            if code == 0:
+                return str((out or b"").decode(errors="replace"))
+    out = client.containers.run(image, argv, remove=True, network_mode="none", stdout=True, stderr=False)
+    return str((out or b"").decode(errors="replace"))
+
+
+def probe_image(ctx: RobotContext, cfg: RobotConfig, hosts_file: str) -> ImageFacts | None:
+    """The image's programs and hosts file (None: no docker engine, e.g. a demo robot)."""
+    client = ctx.transport.docker()
+    if client is None:
+        return None
+    try:
+        output = _run_probe(client, cfg, hosts_file)
+    except Exception as exc:  # docker SDK errors: the check could not run, so nothing is deployed
+        raise RemoteStateError(f"cannot check the driver image {cfg.compose.driver_image} on {ctx.robot.name}: "
+                               f"{exc}", hint="is the image on the robot? panther-ops driver status") from None
+    return parse_probe(cfg.compose.driver_image, output)
+
+
+def ssh_hosts(hosts_text: str | None, source: str) -> list[ShutdownHost]:
+    """Every SSH entry of a hosts file's text (HTTP entries need nothing more)."""
+    if not hosts_text:
+        return []
+    import yaml
+
+    from panther_ops.manager.errors import ManagerError
+    from panther_ops.manager.shutdown_executor.hosts import Method, parse_shutdown_hosts
+
+    try:
+        parsed = parse_shutdown_hosts(yaml.safe_load(hosts_text), source)
+    except (yaml.YAMLError, ManagerError):
+        return []  # the stock manager could not read it either: nothing of it is lost
+    return [h for h in parsed.hosts if h.method is Method.SSH]
+
+
+def unknown_host_keys(known_hosts_text: str, hosts: list[ShutdownHost]) -> list[ShutdownHost]:
+    """The SSH hosts whose key is not in the robot's known_hosts (plain or hashed entries)."""
+    from panther_ops.manager.shutdown_executor.knownhosts import is_known
+
+    return [h for h in hosts if not is_known(known_hosts_text, h.ip, h.port)]
+
+
+def losses(facts: ImageFacts, hosts: list[ShutdownHost], hosts_source: str, localhost_command: str,
+           unknown_keys: list[ShutdownHost] | None = None) -> list[str]:
+    """What the deployed manager could not do that the stock one does on this robot."""
+    lost: list[str] = []
+    if hosts and facts.ssh_method is None:
+        lost.append(f"shutting down the User Computers of {hosts_source} over SSH "
+                    f"({', '.join(h.describe() for h in hosts)}): the manager needs paramiko or an ssh client for that")
+    if unknown_keys:
+        lost.append(f"shutting down {', '.join(h.describe() for h in unknown_keys)} over SSH: no host key in the "
+                    "robot's ~/.ssh/known_hosts (the stock manager does not check host keys; this one refuses "
+                    "unknown ones)")
+    words = shlex.split(localhost_command) if localhost_command.strip() else []
+    program = words[0].rsplit("/", 1)[-1] if words else ""
+    if program in ("ssh", "dbus-send") and program not in facts.programs:
+        lost.append(f"powering the robot itself off ({program} ...): no {program} in the image")
+    return lost
+
+
+def check_safety(ctx: RobotContext, cfg: RobotConfig, hosts_file: str, hosts_source: str,
+                 localhost_command: str) -> tuple[list[str], str | None]:
+    """Refuse (UsageError) when the deployed manager would lose a stock safety behaviour.
+
+    Returns (warnings, how SSH hosts will be shut down: ``paramiko``/``openssh``/None).
+    """
+    facts = probe_image(ctx, cfg, hosts_file)
+    if facts is None:
+        return (["not checked whether the image can shut the User Computers and the robot down: "
+                 "no docker engine on this robot"], None)
+    text = facts.hosts_text
+    if hosts_source.startswith("/") and " " not in hosts_source:  # a file on the robot, mounted
+        try:
+            text = ctx.transport.read_file(hosts_source).decode(errors="replace")
+        except FileNotFoundError:
+            text = None
+    hosts = ssh_hosts(text, hosts_source)
+    unknown: list[ShutdownHost] = []
+    if hosts:
+        try:
+            known_text = ctx.transport.read_file(f"{cfg.home}/.ssh/known_hosts").decode(errors="replace")
+        except FileNotFoundError:
+            known_text = ""
+        unknown = unknown_host_keys(known_text, hosts)
+    lost = losses(facts, hosts, hosts_source, localhost_command, unknown)
+    if lost:
+        raise UsageError(
+            "deploying the manager would lose what the stock manager does on "
+            f"{cfg.stack.label()}: " + "; ".join(lost) + f" ({facts.describe()})",
+            hint="use an image with an ssh client (or paramiko); record the hosts' keys on the robot "
+                 "(panther-ops shutdown setup / shutdown check); switch the hosts to husarion-shutdown over "
+                 "HTTP (2.2.1+); or keep the stock manager. Nothing was changed")
+    return [], facts.ssh_method if hosts else None

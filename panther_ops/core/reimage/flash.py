@@ -1,0 +1,145 @@
+"""`reimage flash` and `reimage verify`: the steps, in order, on this machine's card reader.
+
+Inspect the image (format, size, expected checksum) → judge the device → check the image's
+sha256 → confirm → write (``transport.blockdev``) → read back and compare. Refusals raise
+UsageError before anything is written; progress goes to the caller's callback.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from panther_ops.core.reimage.device import describe, refusals, verify_refusals
+from panther_ops.core.reimage.image import detect_format, normalise_sha256, sha256_from_file, xz_uncompressed_size
+from panther_ops.core.reimage.verify import Verdict
+from panther_ops.errors import UsageError
+from panther_ops.transport import blockdev
+from panther_ops.transport.blockdev import DeviceFacts, Progress
+
+
+@dataclass(frozen=True)
+class Image:
+    path: str
+    fmt: str
+    size: int
+    file_bytes: int
+    expected_sha256: str | None
+    checksum_from: str | None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"path": self.path, "format": self.fmt, "bytes": self.size, "file_bytes": self.file_bytes,
+                "sha256": self.expected_sha256, "checksum_from": self.checksum_from}
+
+
+def inspect_image(path: str, sha256: str | None, *, require_checksum: bool, progress: Progress | None = None) -> Image:
+    """The image's format, decompressed size and expected sha256 (from ``sha256`` or IMAGE.sha256)."""
+    if not os.path.exists(path):
+        raise UsageError(f"{path}: no such image file")
+    if not os.path.isfile(path):
+        raise UsageError(f"{path}: not a regular file")
+    fmt = detect_format(path, blockdev.read_at(path, 0, 8))
+    expected, source = None, None
+    sidecar = path + ".sha256"
+    if sha256:
+        expected, source = normalise_sha256(sha256, "--sha256"), "--sha256"
+    elif os.path.isfile(sidecar):
+        with open(sidecar, encoding="utf-8", errors="replace") as fh:
+            expected, source = sha256_from_file(fh.read(), path, sidecar), sidecar
+    elif require_checksum:
+        raise UsageError(f"{path}: no checksum to check it against: give --sha256 HASH or put "
+                         f"{os.path.basename(sidecar)} beside it")
+    file_bytes = os.path.getsize(path)
+    if fmt == "raw":
+        size = file_bytes
+    elif fmt == "xz":
+        size = xz_uncompressed_size(lambda off, n: blockdev.read_at(path, off, n), file_bytes, path)
+    else:
+        size = blockdev.gz_size(path, progress)
+    if size == 0:
+        raise UsageError(f"{path}: the image is empty")
+    return Image(path, fmt, size, file_bytes, expected, source)
+
+
+def check_sha256(image: Image, progress: Progress | None = None) -> str:
+    """The image file's sha256, which must be the expected one (else UsageError: nothing written)."""
+    actual = blockdev.file_sha256(image.path, progress)
+    if image.expected_sha256 is not None and actual != image.expected_sha256:
+        raise UsageError(f"{image.path}: sha256 is {actual} but {image.checksum_from} says "
+                         f"{image.expected_sha256}: refused, nothing was written")
+    return actual
+
+
+def eligible_device(device: str, image: Image) -> DeviceFacts:
+    """The device's facts when it may be overwritten with ``image``; else UsageError naming why."""
+    facts = blockdev.device_facts(device)
+    why = refusals(facts, image.size)
+    if why:
+        raise UsageError("refused, nothing was written: " + "; ".join(why))
+    return facts
+
+
+@dataclass(frozen=True)
+class Flashed:
+    image: Image
+    device: DeviceFacts
+    image_file_sha256: str
+    write: blockdev.WriteResult
+    verdict: Verdict
+
+    def to_json(self) -> dict[str, Any]:
+        w = self.write
+        return {
+            "image": {**self.image.to_json(), "file_sha256": self.image_file_sha256,
+                      "data_sha256": w.sha256},
+            "device": device_json(self.device),
+            "write": {"bytes": w.bytes_written, "seconds": round(w.seconds, 3), "direct": w.direct,
+                      "mib_per_s": round(w.bytes_written / (1 << 20) / w.seconds, 1) if w.seconds > 0 else None},
+            "verify": self.verdict.to_json(),
+        }
+
+
+def device_json(facts: DeviceFacts) -> dict[str, Any]:
+    return {"path": facts.path, "bytes": facts.size_bytes, "model": facts.model, "description": describe(facts)}
+
+
+def flash(
+    image: Image, facts: DeviceFacts, file_sha256: str, progress: Progress | None = None,
+) -> Flashed:
+    """Write the (checked) image to the (judged, confirmed) device, then read it back."""
+    raw = image.fmt == "raw"  # its data's sha256 is the file's, already checked
+    with blockdev.open_image(image.path, image.fmt) as stream:
+        written = blockdev.write_image(facts.real_path, stream, image.size, facts.logical_block, progress,
+                                       digest=not raw)
+    if raw:
+        written.sha256 = file_sha256
+    if written.bytes_written != image.size:
+        raise UsageError(f"{image.path}: the image gave {written.bytes_written} bytes, its index says {image.size}")
+    return Flashed(image, facts, file_sha256, written, read_back(image, facts, written.sha256, progress))
+
+
+def read_back(image: Image, facts: DeviceFacts, data_sha256: str, progress: Progress | None = None) -> Verdict:
+    """Hash the device's first image-size bytes; on a mismatch, find the first differing byte."""
+    start = time.monotonic()
+    got = blockdev.hash_device(facts.real_path, image.size, progress)
+    first = None
+    if got.sha256 != data_sha256:
+        with blockdev.open_image(image.path, image.fmt) as stream:
+            first = blockdev.compare(facts.real_path, stream, image.size, progress).first_difference
+    return Verdict(facts.path, image.size, data_sha256, got.sha256, first, time.monotonic() - start)
+
+
+def verify(image: Image, device: str, progress: Progress | None = None) -> Verdict:
+    """`reimage verify`: the device (mounted or not: it is only read) against the image."""
+    facts = blockdev.device_facts(device)
+    why = verify_refusals(facts, image.size)
+    if why:
+        raise UsageError("cannot verify: " + "; ".join(why))
+    start = time.monotonic()
+    with blockdev.open_image(image.path, image.fmt) as stream:
+        cmp = blockdev.compare(facts.real_path, stream, image.size, progress)
+    return Verdict(facts.path, image.size, cmp.image_sha256, cmp.device_sha256, cmp.first_difference,
+                   time.monotonic() - start)
+

@@ -1,0 +1,158 @@
+"""`reimage restore`: a backup archive back onto the reinstalled robot, through the pipeline.
+
+The archive is read and checked first (manifest, every file's sha256, paths); the plan then
+reads the robot's files as a backup would and writes back every file of the robot user's home
+that differs (content or mode) as one plan with exact diffs: the key pair, known_hosts and
+authorized_keys, the config tree, mounted files, the deployed manager and the compose file,
+then recreates the driver and verifies it. Onto a newer release of the same line the new
+compose file is kept and the backup's customisations are re-applied onto it (``reapply``);
+across release lines restore is refused with exit 2.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import posixpath
+import tarfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from panther_ops.core.fleet.changes import Planner
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import parse_version
+from panther_ops.core.reimage.backup import MANIFEST_VERSION, collect
+from panther_ops.core.reimage.reapply import reapply, same_line
+from panther_ops.core.yaml.diff import unified_diff
+from panther_ops.errors import UsageError
+from panther_ops.results import Diff
+
+
+@dataclass(frozen=True)
+class BackupFile:
+    path: str
+    mode: int
+    data: bytes
+    secret: bool = False
+
+
+@dataclass(frozen=True)
+class SecretFileEdit(FileEdit):
+    """A FileEdit whose diff names the secret's size and hash, never its content."""
+
+    def diff(self) -> Diff:
+        def shown(data: bytes | None) -> str:
+            if data is None:
+                return ""
+            return f"(secret: {len(data)} bytes, sha256 {hashlib.sha256(data).hexdigest()[:16]}...)\n"
+
+        return Diff(self.path, unified_diff(shown(self.before), shown(self.after), self.path))
+
+
+@dataclass
+class Backup:
+    """A backup archive, read and checked."""
+
+    path: str
+    manifest: dict[str, Any]
+    files: list[BackupFile]
+    links: list[str]
+
+    @property
+    def robot(self) -> dict[str, Any]:
+        robot: dict[str, Any] = self.manifest.get("robot") or {}
+        return robot
+
+
+def load_backup(path: str) -> Backup:
+    """The archive's manifest and files; UsageError naming what is wrong (nothing is done)."""
+    if not Path(path).is_file():
+        raise UsageError(f"--from {path}: no such file")
+    try:
+        with tarfile.open(path, "r:gz") as tar:
+            members = {m.name: m for m in tar.getmembers()}
+            fh = tar.extractfile(members["manifest.json"]) if "manifest.json" in members else None
+            if fh is None:
+                raise UsageError(f"--from {path}: not a panther-ops backup (no manifest.json)")
+            manifest = json.load(fh)
+            if manifest.get("version") != MANIFEST_VERSION:
+                raise UsageError(f"--from {path}: manifest version {manifest.get('version')!r}, "
+                                 f"this panther-ops reads version {MANIFEST_VERSION}")
+            files, links = [], []
+            for entry in manifest.get("files", []):
+                p = str(entry["path"])
+                if not p.startswith("/") or posixpath.normpath(p) != p:
+                    raise UsageError(f"--from {path}: file path {p!r} is not a clean absolute path")
+                if entry.get("kind") == "symlink":
+                    links.append(p)
+                    continue
+                member = members.get("files" + p)
+                data_fh = tar.extractfile(member) if member is not None else None
+                if data_fh is None:
+                    raise UsageError(f"--from {path}: {p} is in the manifest but not in the archive")
+                data = data_fh.read()
+                if hashlib.sha256(data).hexdigest() != entry["sha256"]:
+                    raise UsageError(f"--from {path}: {p} does not match its sha256 in the manifest (damaged)")
+                files.append(BackupFile(p, int(str(entry["mode"]), 8), data, bool(entry.get("secret"))))
+    except (tarfile.TarError, OSError, EOFError, ValueError, KeyError) as exc:
+        raise UsageError(f"--from {path}: not a readable backup archive ({exc})") from exc
+    return Backup(path, manifest, files, links)
+
+
+def restore_planner(backup: Backup) -> Planner:
+    """The plan writing the backup's files back where they differ."""
+
+    def plan(ctx: RobotContext) -> RobotPlan:
+        now = collect(ctx, tuple(f.path for f in backup.files))
+        was, cur = backup.robot.get("stack_version"), now.identity.get("stack_version")
+        home = str(now.identity.get("home") or ctx.transport.home())
+        compose = posixpath.join(home, ctx.robot.compose_file[2:]) if ctx.robot.compose_file.startswith("~/") \
+            else ctx.robot.compose_file
+        reapplied: list[str] = []
+        if was != cur and not (was and cur and same_line(parse_version(was), parse_version(cur))):
+            raise UsageError(
+                f"the robot now runs stack {cur or 'unknown'}, the backup {backup.path} was taken on {was}: "
+                "restoring across release lines (e.g. 2.1 -> 2.2, where files move) is not supported; "
+                "nothing was changed",
+                hint="restore onto an image of the backup's release line, then update with `driver update`",
+            )
+        current = {f.path: f for f in now.files}
+        edits, warnings = [], [f"not restored: {p} (a symbolic link)" for p in backup.links]
+        for f in backup.files:
+            if not f.path.startswith(home + "/"):
+                warnings.append(f"not restored: {f.path} (outside {home}; restore it by hand)")
+                continue
+            old = current.get(f.path)
+            data = f.data
+            if f.path == compose and was != cur and old is not None:
+                text, reapplied = reapply(f.data.decode(), old.data.decode(), compose)
+                data = text.encode()
+            if old is not None and old.data == data and int(old.mode, 8) == f.mode:
+                continue
+            edits.append(_edit(BackupFile(f.path, f.mode, data, f.secret), old.data if old is not None else None))
+        if reapplied:
+            warnings.append(f"stack {was} -> {cur}: the new image's compose file kept, re-applied: "
+                            + ", ".join(reapplied))
+        service = str(now.identity.get("driver_service") or backup.robot.get("driver_service") or "")
+        return RobotPlan(
+            ctx.robot.name, f"restore {len(edits)} file(s) from {Path(backup.path).name}", edits,
+            recreate=(service,) if service else (), compose_file=compose,
+            verify=[Verify(service)] if service else [], noop="every file is as in the backup",
+            warnings=warnings, home=home,
+        )
+
+    return plan
+
+
+def _edit(f: BackupFile, before: bytes | None) -> FileEdit:
+    """The write of one file; a secret's diff is masked (a private key: wholly; a shutdown
+    hosts file: its ``secret:`` values)."""
+    if f.secret and posixpath.basename(f.path).startswith("shutdown_hosts"):
+        from panther_ops.core.config.hostsfile import MaskedFileEdit
+
+        return MaskedFileEdit(f.path, before, f.data, f.mode)
+    if f.secret:
+        return SecretFileEdit(f.path, before, f.data, f.mode)
+    return FileEdit(f.path, before, f.data, f.mode)

@@ -1,0 +1,93 @@
+"""The ROS 2 interfaces of each Panther stack: message package, topics and service names.
+
+One table for everything that talks to a robot's ROS graph: the manager's ROS 2 adapter
+(`adapters/ros2.py`), and, on the operator side, `panther-ops lights test` and `manager deploy`
+(which passes the robot's version to the deployed manager with ``--stack``). Pure data, no ROS.
+
+* panther_ros 2.0.x: ``panther_msgs``; battery ``battery``; motor drivers
+  ``driver/motor_controllers_state`` (DriverState: front, rear); lights service
+  ``lights/controller/set/animation``.
+* panther_ros 2.1.x: ``panther_msgs``; ``battery/battery_status``;
+  ``hardware/motor_controllers_state`` (DriverState); ``lights/set_animation``.
+* husarion_ugv 2.2.x: ``husarion_ugv_msgs``; ``battery/battery_status``;
+  ``hardware/robot_driver_state`` (RobotDriverState: driver_states[]); ``lights/set_animation``.
+
+Sources: panther_ros 2.0.x ``panther_manager/src/safety_manager_node.cpp`` and
+``panther_lights`` controller node (2.1.0 renamed the ROS API, "Enhance ROS API names");
+panther_ros@2.1.1 ROS_API.md; husarion_ugv_ros ``husarion_ugv_manager/src/safety_manager_node.cpp``
+and ROS_API.md (humble). The trees name services as 2.1+ does (``lights/set_animation``,
+``hardware/...``); `RosInterfaces.service` maps them to the robot's names.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+Version = tuple[int, int, int]
+
+
+@dataclass(frozen=True)
+class RosInterfaces:
+    """Names of one stack's ROS 2 interfaces (relative: the robot's namespace applies)."""
+
+    stack: str
+    msg_package: str
+    battery: str = "battery/battery_status"
+    e_stop: str = "hardware/e_stop"
+    io_state: str = "hardware/io_state"
+    system_status: str = "system_status"
+    driver_state: str = "hardware/motor_controllers_state"
+    driver_state_type: str = "DriverState"
+    """``DriverState`` (``front``/``rear``) or ``RobotDriverState`` (``driver_states[]``)"""
+    renamed_services: dict[str, str] = field(default_factory=dict)
+    """tree name (2.1+ spelling) -> this stack's name"""
+
+    def service(self, name: str) -> str:
+        """The robot's name of a service the trees call by its 2.1+ name."""
+        return self.renamed_services.get(name.lstrip("/"), name.lstrip("/"))
+
+    @property
+    def set_led_animation_type(self) -> str:
+        """``<msgs>/srv/SetLEDAnimation`` as ``ros2 service call`` takes it."""
+        return f"{self.msg_package}/srv/SetLEDAnimation"
+
+    def service_path(self, name: str, namespace: str) -> str:
+        """Absolute service name under the robot's namespace (``/panther/lights/set_animation``)."""
+        ns = namespace.strip("/")
+        return f"/{ns}/{self.service(name)}" if ns else f"/{self.service(name)}"
+
+
+PANTHER_2_0 = RosInterfaces(
+    "panther_ros 2.0", "panther_msgs", battery="battery", driver_state="driver/motor_controllers_state",
+    renamed_services={"lights/set_animation": "lights/controller/set/animation"})
+PANTHER_2_1 = RosInterfaces("panther_ros 2.1", "panther_msgs")
+HUSARION_UGV_2_2 = RosInterfaces(
+    "husarion_ugv 2.2", "husarion_ugv_msgs", driver_state="hardware/robot_driver_state",
+    driver_state_type="RobotDriverState")
+
+
+def interfaces_for(version: Version) -> RosInterfaces:
+    """The interfaces of a stack version (2.0.0 - 2.2.x)."""
+    if version >= (2, 2, 0):
+        return HUSARION_UGV_2_2
+    if version >= (2, 1, 0):
+        return PANTHER_2_1
+    return PANTHER_2_0
+
+
+def parse_stack(text: str) -> Version:
+    """``2.1.1`` -> (2, 1, 1); ValueError naming the value otherwise."""
+    m = re.fullmatch(r"(\d+)\.(\d+)\.(\d+)", text.strip())
+    if not m:
+        raise ValueError(f"--stack {text!r}: expected the robot's stack version X.Y.Z, e.g. 2.1.1")
+    return (int(m[1]), int(m[2]), int(m[3]))
+
+
+def detect_interfaces() -> RosInterfaces:
+    """Without ``--stack``: the message package importable here decides (husarion_ugv_msgs: 2.2)."""
+    import importlib.util
+
+    if importlib.util.find_spec("husarion_ugv_msgs") is not None:
+        return HUSARION_UGV_2_2
+    return PANTHER_2_1

@@ -1,0 +1,263 @@
+"""The bad-input corpus: inventory values, selectors, launch argument values, injection
+strings in every argument that reaches a robot, lights preview / manager simulation /
+scenario inputs and stack versions. Each case: exit 2, the thing named, no traceback, every
+file (demo robots, backups, history, the operator's files) byte-identical.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.badinput.harness import Case, check_refused
+
+R1 = ["-r", "panther-01", "--yes"]
+
+
+def esc(text: str) -> str:
+    """``text`` as a case's file or inventory content (the harness fills in {demo} and {tmp})."""
+    return text.replace("{", "{{").replace("}", "}}")
+
+
+INJECT = "$(touch /tmp/pwned)"
+
+
+def inventory(robot: str = "host: panther-07", top: str = "", groups: str = "groups: {field: {}}") -> str:
+    """An inventory with one SSH robot (never contacted: the load refuses first)."""
+    return esc(f"version: 1\n{top}\n{groups}\nrobots:\n  r1: {{{robot}}}\n")
+
+
+def inv_case(cid: str, robot: str, names: list[str], *, top: str = "", groups: str = "groups: {field: {}}",
+             command: tuple[str, ...] = ("inventory", "validate")) -> Case:
+    return Case(cid, list(command), names, inventory=inventory(robot, top, groups))
+
+
+INVENTORY = [
+    inv_case("inv-host-option", 'host: "-oProxyCommand=touch x"', ["robots.r1.host", "-oProxyCommand", "'-'"]),
+    inv_case("inv-host-semicolon", 'host: "panther-07;touch x"', ["robots.r1.host", ";"]),
+    inv_case("inv-host-space", 'host: "panther 07"', ["robots.r1.host", "whitespace"]),
+    inv_case("inv-host-slash", "host: panther/07", ["robots.r1.host", "'/'"]),
+    inv_case("inv-host-subst", 'host: "$(id)"', ["robots.r1.host", "$(id)"]),
+    inv_case("inv-host-backtick", 'host: "`id`"', ["robots.r1.host", "`"]),
+    inv_case("inv-host-newline", 'host: "panther-07\\nProxyCommand x"', ["robots.r1.host"]),
+    inv_case("inv-host-pipe", 'host: "a|b"', ["robots.r1.host", "|"]),
+    inv_case("inv-host-bad-ipv4", "host: 10.15.20.256", ["robots.r1.host", "10.15.20.256"]),
+    inv_case("inv-host-label-dash", "host: -panther", ["robots.r1.host", "-panther"]),
+    inv_case("inv-host-label-end-dash", "host: panther-.lan", ["robots.r1.host", "panther-.lan"]),
+    inv_case("inv-host-empty", 'host: ""', ["robots.r1.host", "non-empty"]),
+    inv_case("inv-host-number", "host: 12", ["robots.r1.host"]),
+    inv_case("inv-jump-option", 'host: panther-07, jump: "-J evil"', ["robots.r1.jump", "-J evil"]),
+    inv_case("inv-jump-shell", 'host: panther-07, jump: "op@gw;id"', ["robots.r1.jump", ";"]),
+    inv_case("inv-jump-space", 'host: panther-07, jump: "op@gw 22"', ["robots.r1.jump", "whitespace"]),
+    inv_case("inv-jump-port", 'host: panther-07, jump: "op@gw:70000"', ["robots.r1.jump", "70000"]),
+    inv_case("inv-jump-user", 'host: panther-07, jump: "Op$@gw"', ["robots.r1.jump", "Op$"]),
+    inv_case("inv-jump-slash", 'host: panther-07, jump: "op@gw/x"', ["robots.r1.jump", "'/'"]),
+    inv_case("inv-jump-ipv6-trailing", 'host: panther-07, jump: "op@[fd00::1]x"', ["robots.r1.jump", "']'"]),
+    inv_case("inv-jump-ipv6-bad", 'host: panther-07, jump: "op@[fd00::zz]:22"', ["robots.r1.jump", "IPv6"]),
+    inv_case("inv-timeout-nan", "host: panther-07, connect_timeout: .nan", ["robots.r1.connect_timeout", "finite"]),
+    inv_case("inv-timeout-inf", "host: panther-07, connect_timeout: .inf", ["robots.r1.connect_timeout", "finite"]),
+    inv_case("inv-timeout-zero", "host: panther-07, connect_timeout: 0", ["robots.r1.connect_timeout", "> 0"]),
+    inv_case("inv-timeout-negative", "host: panther-07, connect_timeout: -5", ["robots.r1.connect_timeout"]),
+    inv_case("inv-timeout-text", "host: panther-07, connect_timeout: soon", ["robots.r1.connect_timeout", "soon"]),
+    inv_case("inv-timeout-bool", "host: panther-07, connect_timeout: true", ["robots.r1.connect_timeout"]),
+    inv_case("inv-command-timeout-nan", "host: panther-07", ["settings.command_timeout", "finite"],
+             top="settings: {command_timeout: .nan}"),
+    inv_case("inv-defaults-timeout-inf", "host: panther-07", ["defaults.connect_timeout"],
+             top="defaults: {connect_timeout: .inf}"),
+    inv_case("inv-port", "host: panther-07, port: 70000", ["robots.r1.port", "70000"]),
+    inv_case("inv-user", 'host: panther-07, user: "root;id"', ["robots.r1.user", "root;id"]),
+    inv_case("inv-stack-future", 'host: panther-07, stack: "9.9.9"', ["robots.r1.stack", "9.9.9"]),
+    inv_case("inv-stack-text", "host: panther-07, stack: latest", ["robots.r1.stack", "latest"]),
+    inv_case("inv-group-typo", "host: panther-07, groups: [feild]", ["robots.r1.groups", "feild", "did you", "'field'"]),
+    inv_case("inv-group-undeclared", "host: panther-07, groups: [lab]", ["robots.r1.groups", "'lab'", "declare"]),
+    inv_case("inv-group-typo-status", "host: panther-07, groups: [feild]", ["feild"], command=("status", "--all")),
+    Case("inv-recursive-alias", ["inventory", "validate"], ["inventory.yaml", "recursive"],
+         inventory=esc("version: 1\nrobots:\n  r1: &r {host: panther-07, vars: {self: *r}}\n")),
+    Case("inv-recursive-list", ["status", "--all"], ["inventory.yaml", "recursive"],
+         inventory=esc("version: 1\nx: &a [*a]\nrobots:\n  r1: {host: panther-07}\n")),
+    Case("inv-alias-bomb", ["inventory", "validate"], ["inventory.yaml", "aliases expanded"],
+         inventory=esc("version: 1\n" + "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n"
+                       + "".join(f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]\n" for i in range(1, 9))
+                       + "robots:\n  r1: {host: panther-07}\n")),
+    Case("inv-deep-nesting", ["inventory", "validate"], ["inventory.yaml", "nested too deeply"],
+         inventory=esc("version: 1\nrobots:\n  r1: {host: panther-07, vars: {x: " + "[" * 3000 + "]" * 3000
+                       + "}}\n")),
+    Case("inv-merge-scalar", ["inventory", "validate"], ["inventory.yaml", "merge key"],
+         inventory=esc("version: 1\nrobots:\n  r1: {<<: 5, host: panther-07}\n")),
+]
+
+SELECTORS = [
+    Case("sel-unknown-robot", ["config", "set", "wheel_type", "WH02", "-r", "panther-99", "--yes"], ["panther-99"]),
+    Case("sel-unknown-group", ["config", "set", "wheel_type", "WH02", "-g", "warehous", "--yes"],
+         ["'warehous'", "did you mean 'warehouse'"]),
+    Case("sel-robot-typo", ["status", "-r", "panther-1"], ["'panther-1'", "did you mean 'panther-01'"]),
+    Case("sel-injection-robot", ["status", "-r", INJECT], [INJECT]),
+    Case("sel-injection-group", ["status", "-g", "x;id"], ["x;id"]),
+    Case("sel-empty-glob", ["driver", "restart", "-r", "", "--yes"], ["''"]),
+    Case("sel-none-on-fleet", ["config", "set", "wheel_type", "WH02", "--yes"], ["--robot", "panther-01"]),
+    Case("sel-trust-unknown", ["trust", "panther-99;id", "--yes"], ["panther-99;id"]),
+    Case("sel-show-unknown", ["inventory", "show", "nobody"], ["nobody"]),
+    Case("sel-via-unknown", ["shutdown", "--hosts", "{tmp}/hosts.yaml", "--via", INJECT, "--dry-run"], [INJECT],
+         files={"hosts.yaml": "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"}),
+]
+
+LAUNCH_ARGS = [
+    Case("arg-newline", ["config", "set", "wheel_type", "WH02\nrm -rf ~", *R1], ["wheel_type", "'\\n'"]),
+    Case("arg-newline-forced", ["config", "set", "wheel_type", "WH02\nx", *R1, "--force"], ["wheel_type", "'\\n'"]),
+    Case("arg-carriage-return", ["config", "set", "namespace", "panther\rx", *R1], ["namespace", "'\\r'"]),
+    Case("arg-escape", ["config", "set", "namespace", "a\x1b[31mb", *R1], ["namespace", "U+001B"]),
+    Case("arg-tab", ["config", "set", "launch_args.namespace", "a\tb", *R1, "--force"], ["U+0009"]),
+    Case("arg-nul-like", ["config", "set", "namespace", "a\x7fb", *R1], ["namespace", "U+007F"]),
+    Case("arg-line-separator", ["config", "set", "namespace", "a\u2028b", *R1], ["namespace", "U+2028"]),
+    Case("arg-key-newline-forced", ["config", "set", "no_such\nx", "1", *R1, "--force"], ["no_such\\nx"]),
+    Case("arg-key-shell-forced", ["config", "set", "a;id", "1", *R1, "--force"], ["a;id"]),
+    Case("arg-injection-value", ["config", "set", "wheel_type", INJECT, *R1], ["wheel_type", INJECT]),
+    Case("arg-unknown-key", ["config", "set", "wheel_typ", "WH02", *R1], ["wheel_typ", "wheel_type"]),
+    Case("arg-get-injection-key", ["config", "get", INJECT, "-r", "panther-01"], [INJECT]),
+    Case("arg-unset-injection-key", ["config", "unset", "a;id", *R1], ["a;id"]),
+    Case("arg-controller-key", ["config", "get", "controller.linear.q.max_velocity", "-r", "panther-01"],
+         ["controller.linear.q.max_velocity"]),
+    Case("arg-apply-newline", ["apply", "--all", "--yes"], ["namespace", "'\\n'"],
+         inventory="version: 1\nrobots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n"
+         "    desired: {{launch_args: {{namespace: \"a\\nb\"}}}}\n"),
+]
+
+REACHES_ROBOT = [
+    Case("robot-rollback-id", ["config", "rollback", "--to", "../../etc", *R1], ["--to", "../../etc"]),
+    Case("robot-rollback-injection", ["config", "rollback", "--to", INJECT, *R1], [INJECT]),
+    Case("robot-driver-tag", ["driver", "update", "humble-2.1.1;id", *R1], ["humble-2.1.1;id"]),
+    Case("robot-push-kind", ["config", "push", "{tmp}/c.yaml", "--as", INJECT, *R1], [INJECT],
+         files={"c.yaml": "a: 1\n"}),
+    Case("robot-pull-kind", ["config", "pull", "a;id", "-r", "panther-01"], ["a;id"]),
+    Case("robot-pull-output", ["config", "pull", "controller", "-r", "panther-01", "--output", "{tmp}/no/dir/c.yaml"],
+         ["--output"]),
+    Case("robot-lights-param", ["lights", "test", "21", "--param", "0.5\nx", "-r", "panther-01"], ["--param"]),
+    Case("robot-lights-id", ["lights", "test", "70000", "-r", "panther-01"], ["70000"]),
+    Case("robot-hosts-add-ip", ["shutdown", "hosts", "add", "--ip", "10.15.20.3;id", "--user", "husarion", *R1],
+         ["10.15.20.3;id", "IP address"]),
+    Case("robot-hosts-add-ip-option", ["shutdown", "hosts", "add", "--ip", "-oProxyCommand=x", "--user", "husarion",
+                                       *R1], ["-oProxyCommand=x"]),
+    Case("robot-hosts-remove-ip", ["shutdown", "hosts", "remove", "--ip", INJECT, *R1], [INJECT]),
+    Case("robot-manager-scenario", ["manager", "deploy", "--sim", "--scenario", INJECT, *R1], [INJECT]),
+    Case("robot-manager-scenario-bad", ["manager", "deploy", "--sim", "--scenario", "{tmp}/s.yaml", *R1],
+         ["s.yaml", "duration"], files={"s.yaml": "duration: .nan\n"}),
+    Case("robot-logs-since", ["driver", "logs", "-r", "panther-01", "--since", "10m;id"], ["10m;id", "duration"]),
+    Case("robot-setup-host", ["shutdown", "setup", "--host", INJECT, *R1], [INJECT]),
+    Case("robot-setup-user", ["shutdown", "setup", "--host", "10.15.20.3", "--user", "root;id", *R1], ["root;id"]),
+    Case("robot-hosts-add-user", ["shutdown", "hosts", "add", "--ip", "10.15.20.4", "--user", "a b", *R1], ["'a b'"]),
+    Case("robot-hosts-add-command", ["shutdown", "hosts", "add", "--ip", "10.15.20.4", "--user", "husarion",
+                                     "--command", "sudo shutdown now\nrm -rf ~", *R1], ["command"]),
+    Case("robot-push-missing", ["config", "push", "{tmp}/none.yaml", "--as", "controller", *R1], ["none.yaml"]),
+    Case("robot-lights-deploy-missing", ["lights", "deploy", "{tmp}/none.yaml", *R1], ["none.yaml"]),
+    Case("robot-driver-update-jazzy", ["driver", "update", "humble-3.0.0-20250101", *R1], ["3.0.0"]),
+    Case("robot-settle-nan", ["config", "set", "wheel_type", "WH02", *R1, "--settle", "nan"], ["--settle"]),
+    Case("robot-max-fail-inf", ["config", "set", "wheel_type", "WH02", *R1, "--max-fail", "inf"], ["--max-fail"]),
+    Case("robot-shutdown-identity", ["shutdown", "--hosts", "{tmp}/hosts.yaml", "--identity", "{tmp}/nokey",
+                                     "--dry-run"], ["--identity", "nokey"],
+         files={"hosts.yaml": "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"}),
+]
+
+SCENARIOS = [
+    Case(f"scenario-{i}", ["manager", "run", "--sim", "--scenario", "{tmp}/s.yaml", "--duration", "5", "--json"],
+         ["s.yaml", *names], files={"s.yaml": esc(text)})
+    for i, (text, names) in enumerate([
+        ("garbage: [", ["invalid YAML"]),
+        ("5\n", ["expected a mapping"]),
+        ("duration: abc\n", ["duration"]),
+        ("duration: .nan\n", ["duration"]),
+        ("duration: 0\n", ["duration"]),
+        ("battery: 5\n", ["battery"]),
+        ("battery: {capacity: abc}\n", ["battery"]),
+        ("robot: {bat_temp: hot}\n", ["robot", "hot"]),
+        ("robot: {status: WEIRD}\n", ["WEIRD"]),
+        ("params: {cpu.temp.fan_on: hot}\n", ["cpu.temp.fan_on"]),
+        ("shutdown_hosts: [{ip: 1.2.3.4, shutdown_delay: x}]\n", ["shutdown_delay"]),
+        ("events: 5\n", ["events"]),
+        ("events: [{at: .inf}]\n", ["events[0]", "at"]),
+        ("events: [{at: 1, set: 5}]\n", ["events[0]", "set"]),
+        ("events: [{at: 1, set: {charge: 5}}]\n", ["events[0]", "charge"]),
+        ("events: [{at: 1, set: {health: nope}}]\n", ["events[0]", "nope"]),
+        ("events: [{at: 1, press: [nope]}]\n", ["events[0]", "nope"]),
+        ("events: [{at: 1, set: {bat_temp: [1]}}]\n", ["events[0]"]),
+        ("unknown_key: 1\n", ["unknown_key"]),
+    ])
+] + [
+    Case("scenario-missing", ["manager", "run", "--sim", "--scenario", "{tmp}/none.yaml"], ["none.yaml"]),
+    Case("scenario-short-unknown", ["manager", "run", "--sim", "--scenario", "low_batery"], ["low_batery",
+                                                                                             "low_battery"]),
+    Case("scenario-no-sim", ["manager", "run", "--scenario", "low_battery"], ["--sim"]),
+    Case("scenario-duration-nan", ["manager", "run", "--sim", "--duration", "nan"], ["--duration"]),
+    Case("scenario-bt-alone", ["manager", "run", "--sim", "--lights-bt", "{tmp}/x.btproj"], ["--safety-bt"]),
+]
+
+PREVIEW_FILE = "animations:\n  - id: 21\n    name: MY\n    priority: 2\n    animation:\n      both:\n" \
+    "        type: panther_lights::ImageAnimation\n        image: $(find panther_lights)/animations/strip01_red.png\n" \
+    "        duration: 2\n"
+
+LIGHTS = [
+    Case("preview-invalid-yaml", ["lights", "preview", "{tmp}/a.yaml", "--id", "21", "--out", "{tmp}/a.gif"],
+         ["a.yaml", "invalid YAML"], files={"a.yaml": "animations: [\n"}),
+    Case("preview-missing", ["lights", "preview", "{tmp}/none.yaml", "--id", "21", "--out", "{tmp}/a.gif"],
+         ["none.yaml"]),
+    Case("preview-unknown-id", ["lights", "preview", "{tmp}/led.yaml", "--id", "99", "--out", "{tmp}/a.gif"],
+         ["99"], files={"led.yaml": ""}),
+    Case("preview-param-text", ["lights", "preview", "{tmp}/led.yaml", "--id", "9", "--param", "full",
+                                "--out", "{tmp}/a.gif"], ["--param", "full"], files={"led.yaml": ""}),
+    Case("preview-param-nan", ["lights", "preview", "{tmp}/led.yaml", "--id", "9", "--param", "nan",
+                               "--out", "{tmp}/a.gif"], ["--param", "nan"], files={"led.yaml": ""}),
+    Case("preview-param-range", ["lights", "preview", "{tmp}/led.yaml", "--id", "9", "--param", "5",
+                                 "--out", "{tmp}/a.gif"], ["--param", "0 to 1"], files={"led.yaml": ""}),
+    Case("preview-out-dir", ["lights", "preview", "{tmp}/led.yaml", "--id", "9", "--out", "{tmp}/nodir/a.gif"],
+         ["--out", "nodir"], files={"led.yaml": ""}),
+    Case("preview-out-not-gif", ["lights", "preview", "{tmp}/led.yaml", "--id", "9", "--out", "{tmp}/a.png"],
+         ["--out", "a.png"], files={"led.yaml": ""}),
+    Case("lights-validate-missing", ["lights", "validate", "{tmp}/none.yaml"], ["none.yaml"]),
+    Case("bt-validate-missing", ["bt", "validate", "{tmp}/none.btproj"], ["none.btproj"]),
+]
+
+STACKS = [
+    Case(f"stack-{name}", ["shutdown", "hosts", "validate", "{tmp}/hosts.yaml", "--stack", value], ["--stack", value],
+         files={"hosts.yaml": "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"})
+    for name, value in [("text", "abc"), ("future", "9.9.9"), ("ros1", "1.0.0"), ("short", "2.1"),
+                        ("injection", "2.1.1;id"), ("jazzy", "2.3.0")]
+] + [
+    Case("stack-without-file", ["shutdown", "hosts", "validate", "-r", "panther-01", "--stack", "2.1.1"],
+         ["--stack", "FILE"]),
+]
+
+BOMB = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
+    f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 10)}]\n" for i in range(1, 9))
+
+ALIASES = [
+    Case("alias-hosts-recursive", ["shutdown", "hosts", "validate", "{tmp}/h.yaml"], ["h.yaml", "recursive"],
+         files={"h.yaml": esc("hosts: &h [{ip: *h}]\n")}),
+    Case("alias-hosts-bomb", ["shutdown", "hosts", "validate", "{tmp}/h.yaml"], ["h.yaml", "aliases expanded"],
+         files={"h.yaml": esc(BOMB + "hosts: *a8\n")}),
+    Case("alias-hosts-add-bomb", ["shutdown", "hosts", "add", "{tmp}/h.yaml", "--ip", "10.15.20.4", "--user",
+                                  "husarion", "--yes"], ["h.yaml", "aliases expanded"],
+         files={"h.yaml": esc(BOMB + "hosts: *a8\n")}),
+    Case("alias-scenario-recursive", ["manager", "run", "--sim", "--scenario", "{tmp}/s.yaml"], ["s.yaml"],
+         files={"s.yaml": esc("robot: &r {bat_temp: 1, x: *r}\n")}),
+    Case("alias-animations-recursive", ["lights", "validate", "{tmp}/a.yaml"], ["a.yaml"],
+         files={"a.yaml": esc("animations: &a [{id: 21, name: *a}]\n")}),
+]
+
+CASES = INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
+
+
+def test_the_corpus_is_large_and_unique() -> None:
+    assert len(CASES) >= 60
+    assert len({c.id for c in CASES}) == len(CASES)
+
+
+@pytest.mark.parametrize("case", CASES, ids=str)
+def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                 monkeypatch: pytest.MonkeyPatch) -> None:
+    if case.files.get("led.yaml") == "":  # the stock led_config, copied in
+        from panther_ops.core.fleet.templates import template_path
+
+        case = Case(case.id, case.args, case.names,
+                    files={"led.yaml": esc(template_path("lights", "led_config.yaml").read_text())},
+                    inventory=case.inventory)
+    check_refused(case, tmp_path, capsys, monkeypatch)

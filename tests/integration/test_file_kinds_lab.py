@@ -1,0 +1,66 @@
+"""Issue 11 on the lab: a wheel type change migrates a mounted custom controller file (finding 7),
+and a pushed file that its validator refuses leaves the robot untouched (finding 1)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from tests.integration.test_config_lab import COMPOSE, driver_state, pristine, robot_of, run_cli
+
+pytestmark = pytest.mark.lab
+__all__ = ["pristine"]  # the fixture, used by name
+
+TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
+CONFIG = "/home/husarion/config/panther_controller/config"
+
+
+def test_wheel_type_change_migrates_the_custom_controller(lab: Any, pristine: None, tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    name = robot_of(lab, "2.1.1").name
+    inv = str(lab.inventory_path)
+    mine = tmp_path / "my_controller.yaml"
+    text = (TEMPLATES / "config/panther-2.1/panther_controller/config/WH01_controller.yaml").read_text()
+    mine.write_text(text.replace("max_velocity: 2.0 # m/s", "max_velocity: 0.8 # slow indoors"))
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "config", "push", str(mine), "--as", "controller", "-r", name,
+                              "--yes", "--settle", "2", "--json")
+    assert code == 0, doc
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "config", "set", "wheel_type", "WH02", "-r", name, "--yes",
+                              "--settle", "2", "--json")
+    assert code == 0, doc
+    result = doc["robots"][0]
+    assert result["outcome"] == "changed", result
+    assert any(d["path"] == f"{CONFIG}/WH02_controller.yaml" for d in result["diffs"])  # in the same plan
+    migrated = yaml.safe_load(lab.read(name, f"{CONFIG}/WH02_controller.yaml"))
+    params = migrated["/**"]["drive_controller"]["ros__parameters"]
+    assert params["wheel_radius"] == 0.1016 and params["wheel_separation_x"] == 0.44
+    assert params["linear"]["x"]["max_velocity"] == 0.8  # the user's limit, within WH02's 1.1
+    assert params["angular"]["z"]["max_velocity"] == 2.2  # WH02's default, not WH01's 4.0
+    state = driver_state(lab, name)
+    mounts = {m["Destination"]: m["Source"] for m in state["Mounts"]}
+    assert mounts["/config/panther_controller/config/WH02_controller.yaml"] == f"{CONFIG}/WH02_controller.yaml"
+    cmd = state["Config"]["Cmd"]
+    assert "wheel_type:=WH02" in cmd
+    assert "controller_config_path:=/config/panther_controller/config/WH02_controller.yaml" in cmd
+    assert state["State"]["Status"] == "running" and state["RestartCount"] == 0
+    inside = lab.docker(name, "exec", state["Name"].lstrip("/"), "cat",
+                        "/config/panther_controller/config/WH02_controller.yaml", check=True).stdout
+    assert "wheel_radius: 0.1016" in inside
+
+
+def test_a_refused_push_leaves_the_robot_as_it_was(lab: Any, pristine: None, tmp_path: Path,
+                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    name = robot_of(lab, "2.1.1").name
+    before = lab.read_bytes(name, COMPOSE)
+    listing = lab.sh(name, "find /home/husarion -xdev | sort").stdout
+    bad = tmp_path / "hosts.yaml"
+    bad.write_text('hosts:\n  - ip: "10.15.20.5; touch x"\n    username: husarion\n    port: 70000\n')
+    code, _, _, err = run_cli(capsys, "-i", str(lab.inventory_path), "config", "push", str(bad), "--as",
+                              "shutdown-hosts", "-r", name, "--yes")
+    assert code == 2, err
+    assert "'10.15.20.5; touch x' is not an IP address or host name" in err
+    assert lab.read_bytes(name, COMPOSE) == before
+    assert lab.sh(name, "find /home/husarion -xdev | sort").stdout == listing

@@ -1,0 +1,111 @@
+"""Every command that takes --json prints exactly one JSON document on stdout (docs/json.md).
+
+The commands are discovered from the application: a new command with --json and no entry in
+VALID fails here until it gets one.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from panther_ops.cli.app import main
+from panther_ops.core.fleet.templates import template_path
+from tests.badinput.commands import every_command
+
+R = ["-r", "panther-01"]
+VALID: dict[str, list[str]] = {
+    "status": ["--all"],
+    "doctor": ["--all"],
+    "apply": ["--all", "--dry-run"],
+    "config get": ["wheel_type", "--all"],
+    "config set": ["wheel_type", "WH02", *R, "--dry-run"],
+    "config unset": ["wheel_type", *R, "--dry-run"],
+    "config diff": ["--all"],
+    "config history": ["--all"],
+    "config rollback": [*R, "--dry-run"],
+    "config push": ["{tmp}/controller.yaml", "--as", "controller", *R, "--dry-run"],
+    "config pull": ["controller", *R],
+    "config restore-defaults": [*R, "--dry-run"],
+    "driver status": ["--all"],
+    "driver logs": R,
+    "driver restart": [*R, "--dry-run"],
+    "driver versions": ["--all"],
+    "driver update": ["humble-2.1.1-20240828", *R, "--dry-run"],
+    "shutdown": ["--hosts", "{tmp}/hosts.yaml", "--dry-run"],
+    "shutdown setup": ["--host", "127.0.0.1", *R, "--yes"],
+    "shutdown check": R,
+    "shutdown robot": [*R, "--dry-run"],
+    "shutdown hosts list": R,
+    "shutdown hosts validate": ["{tmp}/hosts.yaml"],
+    "shutdown hosts add": ["--ip", "10.15.20.9", "--user", "husarion", *R, "--dry-run"],
+    "shutdown hosts remove": ["--ip", "10.15.20.3", *R, "--dry-run"],
+    "inventory list": [],
+    "inventory show": ["panther-01"],
+    "inventory validate": [],
+    "bt validate": [str(template_path("behavior_trees", "PantherSafetyBT.btproj"))],
+    "lights validate": [str(template_path("lights", "user_animations.example.yaml"))],
+    "lights deploy": [str(template_path("lights", "user_animations.example.yaml")), *R, "--dry-run"],
+    "lights test": ["21", *R],
+    "manager run": ["--sim", "--scenario", "low_battery", "--duration", "3"],
+    "manager deploy": [*R, "--dry-run"],
+    "manager remove": [*R, "--dry-run"],
+    "manager status": ["--all"],
+    "manager logs": R,
+    "reimage plan": R,
+    "reimage backup": [*R, "--out", "{tmp}/backups"],
+}
+"""Arguments that make each command valid on the demo fleet (a demo robot has no docker engine
+or SSH: some commands report that per robot, in their JSON document)."""
+
+ON_A_DEVICE = {
+    "reimage flash": "tests/integration/test_reimage_flash_lab.py",
+    "reimage verify": "tests/integration/test_reimage_flash_lab.py",
+}
+"""Commands whose valid input is a block device: their --json runs on loop devices in the lab test named."""
+
+JSON_COMMANDS = sorted(str(c) for c in every_command() if c.option("--json") and str(c) not in ON_A_DEVICE)
+
+
+def test_every_json_command_has_valid_arguments() -> None:
+    assert len(JSON_COMMANDS) > 30
+    assert set(JSON_COMMANDS) == set(VALID), "a command with --json needs an entry in VALID (and only those)"
+    every = {str(c) for c in every_command() if c.option("--json")}
+    assert set(ON_A_DEVICE) <= every
+    for command, test in ON_A_DEVICE.items():  # the lab test runs it with --json and parses it
+        text = (Path(__file__).resolve().parents[2] / test).read_text()
+        assert f'"reimage", "{command.split()[1]}"' in text and '"--json"' in text, (command, test)
+
+
+@pytest.fixture(scope="module")
+def fleet(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    tmp = tmp_path_factory.mktemp("json")
+    assert main(["demo", "init", "--dest", str(tmp / "demo")]) == 0
+    assert main(["-i", str(tmp / "demo"), "config", "pull", "controller", *R, "--output",
+                 str(tmp / "controller.yaml")]) == 0
+    (tmp / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
+    return tmp
+
+
+@pytest.mark.parametrize("command", JSON_COMMANDS)
+def test_one_json_document(command: str, fleet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                           monkeypatch: pytest.MonkeyPatch) -> None:
+    demo = tmp_path / "demo"  # each command on its own copy: --dry-run or not, nothing leaks
+    shutil.copytree(fleet / "demo", demo, symlinks=True)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr("sys.stdin", io.StringIO(""))
+    argv = ["-i", str(demo), *command.split(), *(a.format(tmp=fleet) for a in VALID[command]), "--json"]
+    capsys.readouterr()
+    code = main(argv)
+    out, err = capsys.readouterr()
+    assert code != 1 and "internal error" not in err, f"{argv}: exit {code}\n{err}"
+    try:
+        doc = json.loads(out)
+    except json.JSONDecodeError as exc:
+        raise AssertionError(f"panther-ops {' '.join(argv)}: stdout is not one JSON document ({exc})\n"
+                             f"--- stdout\n{out}\n--- stderr\n{err}") from None
+    assert isinstance(doc, dict) and doc.get("schema") == 1, doc

@@ -1,0 +1,121 @@
+"""Every example of the CLI's --help texts and of docs/ (and README.md), collected, and what each
+needs: the demo fleet (then it runs in test_examples.py) or a robot reached over SSH (the lab,
+docs/lab.md, or a real one), with the reason."""
+
+from __future__ import annotations
+
+import re
+import shlex
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+DOC_FILES = (*sorted((ROOT / "docs").glob("*.md")), ROOT / "README.md")
+
+
+@dataclass(frozen=True)
+class Example:
+    where: str
+    """``--help of config set`` or ``docs/commands.md:102``."""
+    line: str
+    """The command line as written (one ``panther-ops`` command, the prompt and comment removed)."""
+
+    @property
+    def argv(self) -> list[str]:
+        words = shlex.split(self.line.split(" | ")[0].split(" < ")[0])
+        assert words[0] == "panther-ops", self.line
+        return words[1:]
+
+
+def help_examples() -> list[Example]:
+    """The examples of every command's --help (after ``Example:``/``Examples:``), and the root's."""
+    import typer.main
+
+    from panther_ops.cli.app import _register, app
+
+    _register()
+    out: list[Example] = []
+
+    def walk(cmd: object, path: list[str]) -> None:
+        text = getattr(cmd, "help", None) or ""
+        name = " ".join(path) or "panther-ops"
+        for line in _example_lines(text, root=not path):
+            out.append(Example(f"--help of {name}", line))
+        for sub_name, sub in sorted(getattr(cmd, "commands", {}).items()):
+            walk(sub, [*path, sub_name])
+
+    walk(typer.main.get_command(app), [])
+    return out
+
+
+def _example_lines(text: str, *, root: bool) -> list[str]:
+    lines: list[str] = []
+    seen = False
+    for raw in text.splitlines():
+        line = raw.strip()
+        if re.match(r"Examples?:", line):
+            seen = True
+            line = re.sub(r"^Examples?:\s*", "", line)
+        if root and ":  panther-ops " in line:  # the root help: "Try ...:  panther-ops ..."
+            seen, line = True, line.split(":  ", 1)[1]
+        if seen and line.startswith("panther-ops "):
+            lines += [part.strip() for part in line.split("&&")]
+    return lines
+
+
+def doc_examples() -> list[Example]:
+    """``$ panther-ops ...`` lines of docs/*.md and README.md, and bare ``panther-ops ...`` lines of
+    their code blocks that are commands (not a synopsis with ``[...]`` or ``A|B``)."""
+    out: list[Example] = []
+    for f in DOC_FILES:
+        in_block = False
+        for n, raw in enumerate(f.read_text().splitlines(), 1):
+            if raw.startswith("```"):
+                in_block = not in_block
+                continue
+            if not in_block:
+                continue
+            line = raw.strip()
+            if line.startswith("$ panther-ops ") or line.startswith("$ .venv/bin/panther-ops "):
+                line = line[2:].replace(".venv/bin/", "")
+            elif not (raw.startswith("panther-ops ") and not re.search(r"[\[\](]|\w\|\w|  \S", line[12:])):
+                continue
+            line = re.sub(r"\s+#.*$", "", line)
+            out += [Example(f"{f.relative_to(ROOT)}:{n}", part.strip()) for part in line.split("&&")]
+    return out
+
+
+NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
+    (r"-i (lab|/root/\.cache/panther-ops-lab)|\br0\d\b|lab-r0\d|'lab-\*'",
+     "runs on the lab's robots (docs/lab.md: sshd + dockerd + Compose v2), as shown"),
+    (r"\btrust panther-07\b|-r panther-11\b", "a robot of a real fleet (not in the demo fleet)"),
+    (r"--ask-password", "asks a password on the terminal (the lab's shutdown tests run it)"),
+    (r"^panther-ops shutdown --hosts (?!.*--dry-run)", "powers real computers off (the lab's shutdown tests)"),
+    (r"shutdown robot .*--yes", "powers the robot off"),
+    (r"shutdown setup ", "sets a computer up over the robot's LAN (the lab's shutdown tests)"),
+    (r"--remote|--pull\b", "asks Docker Hub (network)"),
+    (r" -f\b| --follow\b", "follows a live container log (docker on the robot)"),
+    (r"config rollback .*--to \d", "needs a backup id from that robot's `config history`"),
+    (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
+    (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
+    (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
+    (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
+)
+"""An example matching the pattern needs more than the demo fleet: the reason."""
+
+EXPECTED_EXIT = {
+    "panther-ops lights validate bad_animations.yaml": 2,
+    "panther-ops shutdown hosts validate bad.yaml": 2,
+    "panther-ops -i demo config push bad_hosts.yaml --as shutdown-hosts -r panther-01 --yes": 2,
+    "panther-ops -i demo config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
+    "panther-ops manager run --sim --scenario low_batery": 2,
+    "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
+}
+"""Examples that show a refusal: their exit code."""
+
+
+def needs_a_robot(example: Example) -> str | None:
+    for pattern, reason in NEEDS_A_ROBOT:
+        if re.search(pattern, example.line):
+            return reason
+    return None

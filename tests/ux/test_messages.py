@@ -1,0 +1,156 @@
+"""What the operator reads (issue 16, findings 2, 3, 5, 6, 7, 8, 10), on the demo fleet."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from panther_ops.cli.app import main
+from panther_ops.core.fleet.templates import template_path
+
+from .termrun import piped
+
+Capsys = pytest.CaptureFixture[str]
+
+
+def run(capsys: Capsys, *args: str) -> tuple[int, str, str]:
+    capsys.readouterr()
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# -- finding 2: read-only commands and dry runs ------------------------------------------------
+def test_a_dry_run_summary_says_would_change(demo: Path, capsys: Capsys) -> None:
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all", "--dry-run")
+    assert code == 0
+    assert "3 robots: 3 would change in" in err and "3 changed" not in err
+    assert "dry run: nothing was written" in err
+
+
+def test_config_diff_does_not_speak_of_a_dry_run(demo: Path, capsys: Capsys) -> None:
+    code, out, err = run(capsys, "-i", str(demo), "config", "diff", "--all")
+    assert code == 0 and "+++ b/home/husarion/compose.yaml" in out
+    assert "dry run" not in out + err and "nothing was written" not in out + err
+    assert "2 would change" in err and "1 ok" in err
+
+
+# -- finding 3: the simulation piped shows the shutdown --------------------------------------------
+def test_manager_run_piped_shows_the_mode_the_shutdown_and_the_power_off() -> None:
+    scenario = template_path("manager", "scenarios", "battery_overheat.yaml")
+    result = piped(["manager", "run", "--sim", "--scenario", str(scenario)])
+    assert result.code == 0, result.err
+    lines = result.out.splitlines()
+    assert all(" mode=" in line for line in lines if " bat=" in line)
+    assert any("mode=running" in line for line in lines)
+    shutting = [i for i, line in enumerate(lines) if "shutting down: Fatal battery temperature" in line]
+    off = [i for i, line in enumerate(lines) if line.endswith("powered off")]
+    assert len(shutting) == 1 and len(off) == 1 and shutting[0] < off[0]
+    assert any("mode=shutting_down" in line for line in lines[shutting[0]:off[0]])
+
+
+# -- finding 5: broken and doubled messages -----------------------------------------------------------
+def test_a_manager_deploy_dry_run_says_what_it_would_do(demo: Path, capsys: Capsys) -> None:
+    code, out, _ = run(capsys, "-i", str(demo), "manager", "deploy", "-r", "panther-01", "--dry-run", "--json")
+    message = json.loads(out)["robots"][0]["message"]
+    assert code == 0 and message.startswith("would deploy manager "), message
+
+
+def test_the_battery_push_warns_once(demo: Path, tmp_path: Path, capsys: Capsys) -> None:
+    battery = tmp_path / "battery.yaml"
+    code, _, _ = run(capsys, "-i", str(demo), "config", "pull", "battery", "-r", "panther-01", "-o", str(battery))
+    assert code == 0
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(battery), "--as", "battery", "-r",
+                       "panther-01", "--dry-run")
+    assert code == 0
+    warnings = [line for line in err.splitlines() if line.startswith("warning panther-01")]
+    assert len(warnings) == 1 and "simulation" in warnings[0], err
+
+
+def test_shutdown_setup_says_its_error_once(demo: Path) -> None:
+    result = piped(["-i", str(demo), "shutdown", "setup", "-r", "panther-01", "--host", "10.15.20.3", "--yes"])
+    assert result.code == 3
+    text = result.out + result.err
+    assert text.count("needs a robot reached over SSH") == 1, text
+
+
+# -- finding 6: demo robots, one way ---------------------------------------------------------------------
+def test_manager_logs_on_a_demo_robot_is_skipped_like_driver_logs(demo: Path, capsys: Capsys) -> None:
+    for command in ("driver", "manager"):
+        code, _, err = run(capsys, "-i", str(demo), command, "logs", "--all")
+        assert code == 0, (command, err)
+        assert err.count("skipped: demo robot: no docker engine") == 3, (command, err)
+
+
+def test_config_pull_bt_lights_falls_back_to_the_template(demo: Path, tmp_path: Path, capsys: Capsys) -> None:
+    code, out, err = run(capsys, "-i", str(demo), "config", "pull", "bt-lights", "-r", "panther-01")
+    assert code == 0, err
+    assert out == template_path("behavior_trees", "PantherLightsBT.btproj").read_text()
+    assert "no custom project is mounted, the robot runs its image's default" in err
+
+
+def test_shutdown_check_on_a_demo_robot_is_skipped(demo: Path, capsys: Capsys) -> None:
+    code, out, _ = run(capsys, "-i", str(demo), "shutdown", "check", "--all", "--json")
+    doc = json.loads(out)
+    assert code == 0 and {r["outcome"] for r in doc["robots"]} == {"skipped"}
+    assert all(r["message"].startswith("demo robot: no LAN") for r in doc["robots"])
+
+
+def test_shutdown_via_a_demo_robot_is_refused_in_a_dry_run_too(demo: Path, tmp_path: Path) -> None:
+    hosts = tmp_path / "hosts.yaml"
+    hosts.write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
+    for extra in (["--dry-run"], ["--yes"]):
+        result = piped(["-i", str(demo), "shutdown", "--hosts", str(hosts), "--via", "panther-01", *extra])
+        assert result.code == 2, (extra, result.err)
+        assert "needs a robot reached over SSH" in result.err
+
+
+# -- finding 7: where a file comes from ------------------------------------------------------------------
+def test_pull_says_which_content_a_demo_robot_uses(demo: Path, capsys: Capsys) -> None:
+    code, _, err = run(capsys, "-i", str(demo), "config", "pull", "controller", "-r", "panther-01")
+    assert code == 0
+    assert "not found in the image" not in err
+    assert "the robot uses its image's default, which this template reproduces (a demo robot has no image)" in err
+
+
+# -- finding 8: refusals name the way forward -------------------------------------------------------------
+def test_refusals_name_the_service_that_does_it(demo: Path, capsys: Capsys) -> None:
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "launch_nmea_gps", "true", "-r", "panther-02",
+                       "--dry-run")
+    assert code == 2 and "nmea-gps" in err and "panther-ops gps enable" in err
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "launch_gamepad", "true", "-r", "panther-01",
+                       "--dry-run")
+    assert code == 2 and "gamepad_controller" in err and "service" in err
+
+
+# -- finding 10: read-only commands just answer -------------------------------------------------------------
+def test_config_get_without_targets_answers_for_every_robot(demo: Path, capsys: Capsys) -> None:
+    code, out, err = run(capsys, "-i", str(demo), "config", "get", "wheel_type", "--json")
+    assert code == 0, err
+    assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-01", "panther-02", "panther-03"]
+    # a change still insists on a choice
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--dry-run")
+    assert code == 2 and "choose with --robot" in err
+
+
+def test_inventory_show_of_a_demo_robot_has_no_ssh_address(demo: Path, capsys: Capsys) -> None:
+    code, out, _ = run(capsys, "-i", str(demo), "inventory", "show", "panther-01")
+    assert code == 0
+    assert "host:" not in out and "localhost" not in out and "\nport:" not in out
+    assert "transport: local" in out and "root: " in out
+
+
+def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) -> None:
+    inventory = demo / "inventory.yaml"
+    inventory.write_text(inventory.read_text().replace("defaults:", "settings:\n  default_group: field\ndefaults:", 1))
+    for argv in (["config", "get", "wheel_type"], ["status"], ["driver", "status"], ["config", "diff"],
+                 ["doctor"], ["config", "history"], ["driver", "versions"]):
+        code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
+        assert code == 0, (argv, err)
+        assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-03"], argv
+        assert "no robot chosen: group field (settings.default_group)" in err
+    inventory.write_text(inventory.read_text().replace("default_group: field", "default_group: nope"))
+    code, _, err = run(capsys, "-i", str(demo), "status")
+    assert code == 2 and "default_group 'nope' is not a group of the inventory" in err and "field" in err
