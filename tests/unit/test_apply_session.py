@@ -30,8 +30,6 @@ from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command, CommandResult
 from panther_ops.transport.local import LocalTransport
 
-pytestmark = pytest.mark.usefixtures("robot_scripts")
-
 HOME = "/home/husarion"
 
 

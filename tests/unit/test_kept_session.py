@@ -17,8 +17,6 @@ from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command
 from panther_ops.transport.local import LocalTransport
 
-pytestmark = pytest.mark.usefixtures("robot_scripts")
-
 MARK = b"@@mark@@\n"
 
 

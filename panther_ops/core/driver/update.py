@@ -7,8 +7,9 @@ import re
 from dataclasses import replace
 from typing import Any
 
+from panther_ops.core.config.arg_edits import migrate_args
+from panther_ops.core.config.arg_rules import check_args
 from panther_ops.core.config.compose import ComposeError, ComposeFile
-from panther_ops.core.config.launch_args import check_args, migrate_args
 from panther_ops.core.config.plans import compose_plan
 from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.containers.engine import engine

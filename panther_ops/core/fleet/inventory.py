@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.fleet import inventory_cache
 from panther_ops.core.fleet.hostspec import HOST_FORMS, JUMP_FORMS, HostSpecError, check_host, parse_jump
 from panther_ops.core.yaml.located import LineDict, LineList, load_yaml_file
 from panther_ops.errors import InventoryError
@@ -285,7 +284,7 @@ class _Loader:
         return inv
 
     def read_file(self, f: Path) -> None:
-        doc = inventory_cache.load(f, load_yaml_file)
+        doc = load_yaml_file(f)
         if doc is None:
             return
         if not isinstance(doc, LineDict):
