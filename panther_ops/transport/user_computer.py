@@ -51,9 +51,6 @@ class UserComputerSession:
         self._conn: Any = None
 
     def connect(self) -> None:
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()
         import paramiko
 
         fabric = _fabric()  # after paramiko: fabric imports it too
