@@ -149,7 +149,7 @@ def apply_staged(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, staged:
         result.message = plan.summary
         mark_backup(ctx, backup_id, "applied")
         return result
-    return _roll_back(ctx, plan, opts, result, problem, backup_id)
+    return roll_back(ctx, plan, opts, result, problem, backup_id)
 
 
 _VALUES_ONLY: Memo[bool] = Memo()
@@ -269,24 +269,39 @@ def _write_problem(name: str, plan: RobotPlan, res: CommandResult) -> str | None
     return None
 
 
-def _roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
-               backup_id: str) -> RobotResult:
+def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
+              backup_id: str, *, recreate: tuple[str, ...] | None = None,
+              before_recreate: Callable[[], None] | None = None, note: str = "") -> RobotResult:
+    """Every file of ``plan`` back as it was read (new files removed), the services recreated
+    and verified, the backup marked: the one rollback of every change.
+
+    ``recreate``: the services to bring back (default the plan's; ``()``: none were touched);
+    ``before_recreate``: a step the change needs undone first (e.g. a renamed service's new
+    containers removed); ``note`` ends the message.
+    """
     ctx.phase("roll back")
     t = ctx.transport
+    services = plan.recreate if recreate is None else recreate
+    again: str | None = None
     try:
         for e in plan.edits:
             if e.before is None:
                 _remove(ctx, e.path)
             else:
                 t.write_file_atomic(e.path, e.before)
-        restore = RobotPlan(plan.robot, "restore", [], plan.recreate, plan.compose_file, [])
-        again = recreate_and_verify(ctx, restore, min(opts.settle_s, 3.0), RobotResult(plan.robot, Outcome.OK, ""))
+        if services:
+            if before_recreate is not None:
+                before_recreate()
+            restore = RobotPlan(plan.robot, "restore", [], services, plan.compose_file, [])
+            again = recreate_and_verify(ctx, restore, min(opts.settle_s, 3.0),
+                                        RobotResult(plan.robot, Outcome.OK, ""))
     except OpsError as exc:
         result.outcome = Outcome.FAILED
         result.message = f"{problem}; ROLLBACK FAILED: {exc.message} (backup {backup_id} on the robot)"
         return result
     result.outcome = Outcome.ROLLED_BACK
-    result.message = f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
+    result.message = (f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
+                      + note)
     mark_backup(ctx, backup_id, f"rolled-back: {problem}")
     return result
 
