@@ -50,7 +50,7 @@ def _preload(modules: tuple[str, ...]) -> None:
 
 def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
     """The inventory, the background imports started first (see :func:`_preload`)."""
-    from panther_ops.core.fleet.inventory import load_inventory
+    from panther_ops.core.fleet.inventory_file import load_inventory
 
     _preload(preload)
     inv = load_inventory(settings(ctx).inventory)

@@ -14,7 +14,7 @@ import yaml
 from panther_ops.cli.app import main
 from panther_ops.core.config.plans import plan_args
 from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.runner import Connections, RunOptions
 

@@ -157,7 +157,7 @@ def test_reset_refused_while_cmd_vel_publisher_then_accepted(fleet: Any,
 def test_driver_refuses_reset_when_a_publisher_starts_after_the_check(fleet: Any,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     """The driver itself refuses (its answer shown), e.g. a node started between check and reset."""
-    from panther_ops.core.fleet.inventory import load_inventory
+    from panther_ops.core.fleet.inventory_file import load_inventory
     from panther_ops.core.fleet.runner import run_fleet
     from panther_ops.core.remote.estop import calls
 

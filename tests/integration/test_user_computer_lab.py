@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.errors import TransportError, UnreachableError

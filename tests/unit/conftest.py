@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections
 
 

@@ -20,7 +20,8 @@ from typing import Any
 import pytest
 
 from panther_ops.core.config.plans import plan_args
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext

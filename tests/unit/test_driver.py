@@ -32,7 +32,7 @@ from panther_ops.core.driver.images import (
 )
 from panther_ops.core.driver.restore import plan_restore_defaults
 from panther_ops.core.driver.update import plan_update
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.errors import RemoteStateError, UsageError

@@ -18,7 +18,8 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext

@@ -6,7 +6,8 @@ from pathlib import Path
 import pytest
 
 from panther_ops.core.demo.fleet import init_demo
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError
 from panther_ops.results import Outcome, RobotResult

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.fleet.inventory import UserComputer, load_inventory
+from panther_ops.core.fleet.inventory import UserComputer
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.errors import ExitCode, InputError
 
 GOOD = """\
