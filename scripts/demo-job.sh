@@ -23,3 +23,6 @@ $PO -i demo-fleet gps status --all
 # OS reimage: what a backup carries from a robot, then one 0600 archive per robot with a manifest.
 $PO -i demo-fleet reimage plan -r panther-03
 $PO -i demo-fleet reimage backup --all --out demo-fleet-backups
+# Remote control: the E-stop and the WebUI of each demo robot as they answered (recorded answers)
+$PO -i demo-fleet estop status --all
+$PO -i demo-fleet webui status --all

@@ -149,7 +149,7 @@ def test_expired_token_logs_in_again(router_lab: tuple[Any, Router], env: Path) 
     """One client kept past the token's 3 s: its next call is refused (401), it logs in again."""
     import time
 
-    from panther_ops.core.fleet.inventory import load_inventory
+    from panther_ops.core.fleet.inventory_file import load_inventory
     from panther_ops.core.fleet.runner import Connections
     from panther_ops.transport import pins
     from panther_ops.transport.base import Secret

@@ -68,6 +68,16 @@ VALID: dict[str, list[str]] = {
     "sim world set": ["{tmp}/world.sdf", "--latitude", "52.2297", "--longitude", "21.0122", "--dry-run"],
     "sim battery check": [str(template_path("config", "panther-2.1", "panther_gazebo", "config",
                                             "battery_plugin_config.yaml"))],
+    "estop status": ["--all"],
+    "estop trigger": ["--all"],
+    "estop reset": [*R, "--dry-run"],
+    "webui status": ["--all"],
+    "webui get": R,
+    "webui url": R,
+    "webui install": R,
+    "webui start": R,
+    "webui stop": R,
+    "webui set": ["webui.port=8081", *R, "--dry-run"],
 }
 """Arguments that make each command valid on the demo fleet (a demo robot has no docker engine
 or SSH: some commands report that per robot, in their JSON document)."""

@@ -10,9 +10,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.config.arg_edits import set_launch_args, unset_launch_arg
 from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.launch_args import set_launch_args, spec, unset_launch_arg
+from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.namespace_follow import follow_in_compose, follow_in_env_file
 from panther_ops.core.config.robot import ComposeRead, RobotConfig, parse_config, read_compose, read_config
 from panther_ops.core.fleet.memo import Memo
