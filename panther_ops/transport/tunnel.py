@@ -15,7 +15,6 @@ import threading
 from typing import Any
 
 from panther_ops.errors import TransportError
-from panther_ops.transport.paramiko_import import import_paramiko
 
 CHUNK = 32768
 log = logging.getLogger(__name__)
@@ -37,7 +36,7 @@ def _pump(read: Any, write: Any, done: Any) -> None:
 
 def open_tcp(ssh_client: Any, robot: str, host: str, port: int, *, timeout: float = 10.0) -> socket.socket:
     """A socket connected to ``host:port`` as seen from the robot (``ssh_client``: its paramiko client)."""
-    paramiko = import_paramiko()
+    import paramiko
 
     transport = ssh_client.get_transport()
     if transport is None or not transport.is_active():
