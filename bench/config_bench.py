@@ -1,18 +1,21 @@
-"""Benchmark: one configuration change on N robots, made by panther-ops, pyinfra and Ansible.
+"""Benchmark: `config set wheel_type WH02` on N robots at several round-trip times.
 
-    sudo .venv/bin/python bench/config_bench.py [--sizes 10,30] [--repeat 3] [--json]
+    sudo .venv/bin/python bench/config_bench.py [--sizes 10,30] [--rtts 0,50,150] [--repeat 3] [--json]
 
-The change: append ` wheel_type:=WH02` to the `command:` line of the driver service in
-`/home/husarion/compose.yaml` of every robot, idempotently and with a backup, without
-recreating containers. Made three ways, on the same simulated lab (tests/lab, no docker):
+The change: ` wheel_type:=WH02` appended to the `command:` line of the driver service in
+`/home/husarion/compose.yaml` of every robot. Made, on the same simulated lab (tests/lab,
+docker on; robots behind delay relays for RTT > 0, docs/lab.md), by:
 
-- panther-ops: `panther-ops -i <lab inventory> config set wheel_type WH02 --all --no-restart --yes`
-  (exactly that; a second row adds `--forks N`, as Ansible and pyinfra run N robots at once);
+- panther-ops on its default path: `config set wheel_type WH02 --all --yes` (backup, write,
+  the driver recreated and verified for the default `--settle` of 5 s);
+- panther-ops `--no-restart` (backup and write only: what the other tools do);
+- the floor: one OpenSSH connection per robot, all robots at once, each running
+  `grep -q ... || sed -i -E ... compose.yaml` (no backup, no plan, no check);
 - pyinfra: `files.line` (sed, `backup=True`), the new line computed from a `FindInFile` fact;
 - Ansible: `ansible.builtin.replace` (Python regex, `backup: true`), pipelining on, forks=N,
   no fact gathering, ControlMaster/ControlPersist as Ansible's default `ssh_args`.
 
-All three verify host keys strictly against the lab's known_hosts and use the lab's key.
+All verify host keys strictly against the lab's known_hosts and use the lab's key.
 
 Each timed run is a fresh process; before it every robot's compose.yaml is reset to what
 the lab wrote and everything the tools left in the home directory (backups, panther-ops'
@@ -21,16 +24,17 @@ every file is checked against the expected bytes. The order of the tools rotates
 repeats. Before the timed runs each tool does one untimed run (warm-up and check) and a
 second one that must leave the files untouched (idempotence: same inode and mtime).
 
-Besides wall time it reports the CPU time of the tool's process tree ("CPU tool"; Ansible's
-ControlPersist ssh masters are daemons and not in it) and the CPU the robots spent on the
-run ("CPU robots": each robot's sshd plus what its init reaped, i.e. every session command).
-All robots of the lab share the machine's cores with the tool, so robot-side work adds up
-here, where on a real fleet each robot does its own in parallel. The exec sessions and
-connections each tool opened per robot are counted from the robots' sshd logs (LogLevel
-VERBOSE). Other work on the machine would distort the timings: a timed run during which the
-machine spent more than --max-other-cpu CPU seconds (default 0.5) on neither the tool nor
-the robots is discarded and repeated (up to --retries times). The lab is brought up per
-size and always torn down.
+Besides wall time (and, for RTT > 0, wall / RTT: the run in round trips) it reports the CPU
+time of the tool's process tree ("CPU tool"; Ansible's ControlPersist ssh masters are
+daemons and not in it) and the CPU the robots spent on the run ("CPU robots": each robot's
+sshd plus what its init reaped, i.e. every session command, plus each robot's dockerd and
+containers). The relays that make the round trips are the network, not the robots: their
+CPU is reported apart. All robots of the lab share the machine's cores with the tool, so
+robot-side work adds up here, where on a real fleet each robot does its own in parallel.
+The connections and exec sessions each tool opened per robot are counted from the robots'
+sshd logs. A timed run during which the machine spent more than --max-other-cpu CPU seconds
+(default 0.5) on neither the tool, the robots nor the relays is discarded and repeated (up
+to --retries times). A lab is brought up per size and RTT and always torn down.
 
 Needs root (the lab). Ansible and pyinfra come from bench/requirements.txt, installed into
 their own venv (default /root/.cache/panther-ops-bench-venv, created or reused); panther-ops
@@ -62,8 +66,10 @@ DEFAULT_VENV = Path(os.environ.get("PANTHER_OPS_BENCH_VENV", "/root/.cache/panth
 DEFAULT_PO_VENV = Path(os.environ.get("PANTHER_OPS_BENCH_PO_VENV", "/root/.cache/panther-ops-bench-po-venv"))
 COMPOSE = "/home/husarion/compose.yaml"
 USER = "husarion"
-TARGET_VS_PYINFRA = 0.66
-TARGET_VS_ANSIBLE = 0.2
+# issue #12: --no-restart at 150 ms <= 0.8x the floor and <= 0.6x pyinfra; at 0 ms <= 0.7x
+# pyinfra and <= 0.15x Ansible.
+TARGETS = {150.0: {"floor": 0.8, "pyinfra": 0.6}, 0.0: {"pyinfra": 0.7, "ansible": 0.15}}
+ALL_TOOLS = "panther-ops,panther-ops-no-restart,floor,pyinfra,ansible"
 RUN_TIMEOUT = 180.0
 
 # The driver's launch line: `    command: ros2 launch panther_bringup bringup.launch.py ...` (2.0/2.1)
@@ -75,6 +81,13 @@ ANSIBLE_REGEXP = (
 )
 # pyinfra greps/seds with this (ERE); the replacement line is computed in the deploy file.
 DRIVER_ERE = r"^\s+command:\s+ros2 launch [a-z_]+_bringup bringup\.launch\.py.*$"
+# The floor: GNU sed -E, the same edit (WH02 left alone, another value replaced, else appended),
+# after a grep that leaves an already changed file untouched (idempotent).
+FLOOR_DRIVER = r"^[[:space:]]+command:[[:space:]]+ros2 launch [a-z_]+_bringup bringup\.launch\.py"
+FLOOR_SED = (FLOOR_DRIVER + r"/{/ wheel_type:=WH02( |$)/b;s/ wheel_type:=[^ ]+/ wheel_type:=WH02/;t;"
+             r"s/$/ wheel_type:=WH02/}")
+FLOOR_REMOTE = (f"grep -qE '{FLOOR_DRIVER}.* wheel_type:=WH02( |$)' {COMPOSE} || "
+                f"sed -i -E '/{FLOOR_SED}' {COMPOSE}")
 
 PLAYBOOK = f"""\
 - name: Driver wheel type
@@ -266,12 +279,20 @@ def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wan
     (work / "inventory.py").write_text(f"robots = {pyhosts!r}\n")
     (work / "deploy.py").write_text(DEPLOY)
 
-    po = [panther_ops, "-i", inv, "config", "set", "wheel_type", "WH02", "--all", "--no-restart", "--yes"]
+    po = [panther_ops, "-i", inv, "config", "set", "wheel_type", "WH02", "--all", "--yes"]
+    # the floor: one OpenSSH client per robot, all started at once, waited for together
+    import shlex
+
+    ssh_cfg = str(lab.ssh_config_path)
+    floor = " ".join(f"ssh -F {shlex.quote(ssh_cfg)} {r.name} {shlex.quote(FLOOR_REMOTE)} &" for r in lab.robots
+                     if not r.jump)
+    floor_argv = ["sh", "-c", f"{floor} wait"]  # each file is checked afterwards
     ansible_env = {"ANSIBLE_CONFIG": str(work / "ansible.cfg"), "ANSIBLE_HOME": str(work / "ansible-home"),
                    "ANSIBLE_NOCOLOR": "1"}
     tools = [
-        Tool("panther-ops", "panther-ops", po),
-        Tool("panther-ops-forks", f"panther-ops --forks {n}", [*po, "--forks", str(n)]),
+        Tool("panther-ops", "panther-ops (default: recreate + verify)", po),
+        Tool("panther-ops-no-restart", "panther-ops --no-restart", [*po, "--no-restart"]),
+        Tool("floor", "floor: ssh + sed -i, all at once", floor_argv),
         Tool("pyinfra", "pyinfra", [str(bindir / "pyinfra"), "-y", "--parallel", str(n),
                                     str(work / "inventory.py"), str(work / "deploy.py")]),
         Tool("ansible", "ansible (pipelining)", [str(bindir / "ansible-playbook"), "-i", str(work / "hosts.ini"),
@@ -306,6 +327,13 @@ class Fleet:
         self.home_entries = {k: set(os.listdir(v)) for k, v in self.home.items()}
         self.sshd_log = {r.name: Path(r.dir) / "var" / "log" / "sshd.log" for r in self.robots}
         self.pids = robot_pids(lab)
+        self.extra = {name: (roles.get("dockerd"),) for name, roles in _roles(lab).items()}
+        self.relays = [roles["relay"] for roles in _roles(lab).values() if "relay" in roles]
+        self.cgroup = Path("/sys/fs/cgroup/cpuacct") / lab.st.cgroup_parent.lstrip("/") / "cpuacct.usage"
+
+    def relay_cpu(self) -> float:
+        """CPU seconds the delay relays (the emulated network) used so far."""
+        return sum(_proc_cpu(pid) for pid in self.relays) / os.sysconf("SC_CLK_TCK")
 
     def robot_cpu(self) -> float | None:
         """CPU seconds used so far on the robots by sshd and all it ran (reaped processes)."""
@@ -314,9 +342,13 @@ class Fleet:
         total = 0
         for pids in self.pids.values():
             for pid in pids:
-                fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-                total += sum(int(x) for x in fields[11:15])  # utime stime cutime cstime
-        return total / os.sysconf("SC_CLK_TCK")
+                total += _proc_cpu(pid)
+        for extra in self.extra.values():  # dockerd and what it reaped
+            total += sum(_proc_cpu(pid) for pid in extra if pid is not None)
+        containers = 0.0
+        if self.cgroup.exists():  # the robots' containers (the lab's docker cgroup parent)
+            containers = int(self.cgroup.read_text()) / 1e9
+        return total / os.sysconf("SC_CLK_TCK") + containers
 
     def wait_sessions_closed(self, timeout: float = 5.0) -> None:
         """Wait until every robot's sshd has reaped its connections (their CPU is then counted)."""
@@ -368,6 +400,19 @@ class Fleet:
         return statistics.median(conns), statistics.median(execs)
 
 
+def _proc_cpu(pid: int) -> int:
+    """utime + stime + cutime + cstime of ``pid`` in clock ticks (0 once it is gone)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0
+    return sum(int(x) for x in fields[11:15])
+
+
+def _roles(lab: Any) -> dict[str, dict[str, int]]:
+    return {name: {p.role: int(p.pid) for p in rs.procs} for name, rs in lab.state.robots.items()}
+
+
 def robot_pids(lab: Any) -> dict[str, tuple[int, int]]:
     """Each robot's listening sshd and its init (from the lab's state); empty when unknown.
 
@@ -402,8 +447,9 @@ class Run:
     conns: float
     execs: float
     other_cpu: float | None = None
-    """Machine CPU in the run that neither the tool nor the robots used (other work, the kernel)."""
+    """Machine CPU in the run that neither the tool, the robots nor the relays used (other work, the kernel)."""
     steal: float = 0.0
+    relay_cpu: float = 0.0
 
 
 def run_tool(tool: Tool, fleet: Fleet, work: Path, tag: str) -> Run:
@@ -412,6 +458,7 @@ def run_tool(tool: Tool, fleet: Fleet, work: Path, tag: str) -> Run:
     fleet.wait_sessions_closed()
     since = fleet.log_offsets()
     robot_cpu0 = fleet.robot_cpu()
+    relay0 = fleet.relay_cpu()
     busy0, steal0 = machine_cpu()
     env = {**os.environ, **tool.env}
     out = work / f"{tool.key}-{tag}.log"
@@ -436,23 +483,25 @@ def run_tool(tool: Tool, fleet: Fleet, work: Path, tag: str) -> Run:
     fleet.wait_sessions_closed()
     time.sleep(0.05)  # let sshd finish writing its log lines
     robot_cpu1 = fleet.robot_cpu()
+    relay = fleet.relay_cpu() - relay0
     robot_cpu = None if robot_cpu0 is None or robot_cpu1 is None else robot_cpu1 - robot_cpu0
     conns, execs = fleet.sessions(since)
     cpu = ru.ru_utime + ru.ru_stime
-    other = None if robot_cpu is None else max(0.0, busy1 - busy0 - cpu - robot_cpu)
-    return Run(wall, cpu, robot_cpu, conns, execs, other, steal1 - steal0)
+    other = None if robot_cpu is None else max(0.0, busy1 - busy0 - cpu - robot_cpu - relay)
+    return Run(wall, cpu, robot_cpu, conns, execs, other, steal1 - steal0, relay)
 
 
-def bench_size(n: int, args: argparse.Namespace, bindir: Path, wanted: list[str]) -> dict[str, Any]:
+def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wanted: list[str]) -> dict[str, Any]:
     from tests.lab import Lab
 
-    lab = Lab(n, docker=False, prefix=args.prefix, ephemeral=True)
+    lab = Lab(n, docker="panther-ops" in wanted, images=("2.1.1",), prefix=args.prefix, ephemeral=True,
+              rtt_ms=rtt)
     work = Path(tempfile.mkdtemp(prefix=f"panther-ops-config-bench-{n}-"))
-    result: dict[str, Any] = {"robots": n, "tools": {}}
+    result: dict[str, Any] = {"robots": n, "rtt_ms": rtt, "tools": {}}
     try:
         t = time.perf_counter()
         lab.up()
-        log(f"N={n}: lab {lab.prefix} up in {time.perf_counter() - t:.2f} s")
+        log(f"N={n} RTT {rtt:g} ms: lab {lab.prefix} up in {time.perf_counter() - t:.2f} s")
         fleet = Fleet(lab)
         tools = make_tools(lab, n, work, bindir, args.panther_ops, wanted)
         for tool in tools:  # untimed: warm-up + correctness + idempotence
@@ -497,6 +546,8 @@ def bench_size(n: int, args: argparse.Namespace, bindir: Path, wanted: list[str]
                 "cpu_median_s": statistics.median(r.cpu for r in rs),
                 "robot_cpu_median_s": (None if any(r.robot_cpu is None for r in rs)
                                        else statistics.median(r.robot_cpu for r in rs)),
+                "relay_cpu_median_s": statistics.median(r.relay_cpu for r in rs),
+                "round_trips": statistics.median(walls) / (rtt / 1000.0) if rtt else None,
                 "connections_per_robot": statistics.median(r.conns for r in rs),
                 "exec_sessions_per_robot": statistics.median(r.execs for r in rs),
             }
@@ -522,47 +573,49 @@ def bench_size(n: int, args: argparse.Namespace, bindir: Path, wanted: list[str]
 # report
 # ---------------------------------------------------------------------------------------
 def ratios(size: dict[str, Any]) -> dict[str, float]:
+    """panther-ops --no-restart's median wall time over the others'."""
     tools = size["tools"]
     out = {}
-    if "panther-ops" in tools:
-        po = tools["panther-ops"]["median_s"]
-        for other in ("pyinfra", "ansible"):
+    if "panther-ops-no-restart" in tools:
+        po = tools["panther-ops-no-restart"]["median_s"]
+        for other in ("floor", "pyinfra", "ansible"):
             if other in tools:
-                out[f"panther-ops/{other}"] = po / tools[other]["median_s"]
+                out[other] = po / tools[other]["median_s"]
     return out
 
 
 def table(doc: dict[str, Any]) -> str:
-    rows = ["| robots | tool | median wall | min | max | CPU tool | CPU robots | conn/robot | exec/robot | × pyinfra |",
-            "|---|---|---|---|---|---|---|---|---|---|"]
+    rows = ["| robots | RTT | tool | median wall | min–max | round trips | CPU tool | CPU robots | CPU relays "
+            "| conn + exec per robot | × floor | × pyinfra | × Ansible |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for size in doc["sizes"]:
         tools = size["tools"]
-        base = tools.get("pyinfra", {}).get("median_s")
+        bases = {k: tools.get(k, {}).get("median_s") for k in ("floor", "pyinfra", "ansible")}
         for t in tools.values():
-            rel = f"{t['median_s'] / base:.2f}" if base else "-"
+            rel = [f"{t['median_s'] / b:.2f}" if b else "-" for b in bases.values()]
             rcpu = "?" if t["robot_cpu_median_s"] is None else f"{t['robot_cpu_median_s']:.2f} s"
-            rows.append(f"| {size['robots']} | {t['label']} | {t['median_s']:.2f} s | {t['min_s']:.2f} s | "
-                        f"{t['max_s']:.2f} s | {t['cpu_median_s']:.2f} s | {rcpu} | {t['connections_per_robot']:g} | "
-                        f"{t['exec_sessions_per_robot']:g} | {rel} |")
+            rt = "-" if t["round_trips"] is None else f"{t['round_trips']:.1f}"
+            rows.append(f"| {size['robots']} | {size['rtt_ms']:g} ms | {t['label']} | {t['median_s']:.2f} s | "
+                        f"{t['min_s']:.2f}–{t['max_s']:.2f} s | {rt} | {t['cpu_median_s']:.2f} s | {rcpu} | "
+                        f"{t['relay_cpu_median_s']:.2f} s | {t['connections_per_robot']:g} + "
+                        f"{t['exec_sessions_per_robot']:g} | {' | '.join(rel)} |")
     lines = ["\n".join(rows), ""]
     for size in doc["sizes"]:
         r = ratios(size)
+        targets = TARGETS.get(size["rtt_ms"], {})
         parts = []
-        if "panther-ops/pyinfra" in r:
-            v = r["panther-ops/pyinfra"]
-            parts.append(f"panther-ops/pyinfra = {v:.2f} (target ≤ {TARGET_VS_PYINFRA}: "
-                         f"{'met' if v <= TARGET_VS_PYINFRA else 'MISSED'})")
-        if "panther-ops/ansible" in r:
-            v = r["panther-ops/ansible"]
-            parts.append(f"panther-ops/ansible = {v:.2f} (target ≤ {TARGET_VS_ANSIBLE}: "
-                         f"{'met' if v <= TARGET_VS_ANSIBLE else 'MISSED'})")
+        for other, v in r.items():
+            goal = targets.get(other)
+            verdict = "" if goal is None else f" (target ≤ {goal}: {'met' if v <= goal else 'MISSED'})"
+            parts.append(f"{v:.2f}× {other}{verdict}")
         if parts:
-            lines.append(f"N={size['robots']}: " + "; ".join(parts))
+            head = f"N={size['robots']} RTT {size['rtt_ms']:g} ms: panther-ops --no-restart = "
+            lines.append("- " + head + "; ".join(parts))
     for s in doc["sizes"]:
         o, st = s.get("other_cpu_s"), s["steal_s"]
         if o is not None:
-            lines.append(f"N={s['robots']}: machine CPU used by neither the tool nor the robots during a timed run "
-                         f"(other work, kernel): median {o['median']:.2f} s, max {o['max']:.2f} s; "
+            lines.append(f"- N={s['robots']} RTT {s['rtt_ms']:g} ms: machine CPU used by neither the tool, the robots "
+                         f"nor the relays during a timed run: median {o['median']:.2f} s, max {o['max']:.2f} s; "
                          f"steal: median {st['median']:.2f} s, max {st['max']:.2f} s; "
                          f"{s['discarded_runs']} run(s) discarded and repeated for other work")
     return "\n".join(lines)
@@ -586,8 +639,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", default="10,30", help="robot counts, comma separated (default 10,30)")
     ap.add_argument("--repeat", type=int, default=3, help="timed runs per tool and size (default 3)")
-    ap.add_argument("--tools", default="panther-ops,panther-ops-forks,pyinfra,ansible",
-                    help="subset of panther-ops,panther-ops-forks,pyinfra,ansible")
+    ap.add_argument("--rtts", default="0,50,150", help="round trips in ms, comma separated (default 0,50,150)")
+    ap.add_argument("--tools", default=ALL_TOOLS, help=f"subset of {ALL_TOOLS}")
     ap.add_argument("--json", action="store_true", help="print one JSON document instead of the table")
     ap.add_argument("--venv", type=Path, default=DEFAULT_VENV,
                     help=f"venv for ansible/pyinfra (default {DEFAULT_VENV})")
@@ -601,6 +654,7 @@ def main() -> int:
     ap.add_argument("--retries", type=int, default=3, help="how often to repeat such a run (default 3)")
     args = ap.parse_args()
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    rtts = [float(s) for s in args.rtts.split(",") if s.strip()]
     wanted = [t.strip() for t in args.tools.split(",") if t.strip()]
     if os.geteuid() != 0:
         log("config_bench: the lab needs root")
@@ -612,17 +666,17 @@ def main() -> int:
     sys.path.insert(0, str(REPO))
     from tests.lab import missing_requirements
 
-    missing = missing_requirements(docker=False)
+    missing = missing_requirements(docker="panther-ops" in wanted)
     if missing:
         log("config_bench: the lab cannot run here: " + "; ".join(missing))
         return 2
-    bindir = ensure_tool_venv(args.venv)
+    bindir = ensure_tool_venv(args.venv) if {"pyinfra", "ansible"} & set(wanted) else args.venv / "bin"
     if args.panther_ops is None:
         args.panther_ops = ensure_panther_ops_venv(DEFAULT_PO_VENV)
     else:
         compile_bytecode(args.panther_ops)
     doc: dict[str, Any] = {
-        "benchmark": "config set wheel_type WH02 on N robots (compose.yaml edit, no restart)",
+        "benchmark": "config set wheel_type WH02 on N robots at RTT 0/50/150 ms",
         "date": time.strftime("%Y-%m-%d"),
         "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "kernel": platform.release()},
         "versions": {
@@ -637,7 +691,8 @@ def main() -> int:
     }
     t0 = time.perf_counter()
     for n in sizes:
-        doc["sizes"].append(bench_size(n, args, bindir, wanted))
+        for rtt in rtts:
+            doc["sizes"].append(bench_size(n, rtt, args, bindir, wanted))
     doc["total_s"] = time.perf_counter() - t0
     for size in doc["sizes"]:
         size["ratios"] = ratios(size)

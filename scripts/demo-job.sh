@@ -16,6 +16,13 @@ $PO -i demo-fleet config set wheel_type WH02 -g warehouse --yes
 $PO -i demo-fleet config set controller.linear.x.max_velocity 0.8 -r panther-01 --yes
 $PO -i demo-fleet config diff --all
 $PO -i demo-fleet config history -r panther-01
+# GPS (ANT02 via the RUTX11): the NMEA driver each stack runs (a service on 2.0.4, an argument
+# on 2.1.1/2.2), then the fix status (demo robots answer with recorded NMEA).
+$PO -i demo-fleet gps enable --all --dry-run
+$PO -i demo-fleet gps status --all
 # OS reimage: what a backup carries from a robot, then one 0600 archive per robot with a manifest.
 $PO -i demo-fleet reimage plan -r panther-03
 $PO -i demo-fleet reimage backup --all --out demo-fleet-backups
+# Remote control: the E-stop and the WebUI of each demo robot as they answered (recorded answers)
+$PO -i demo-fleet estop status --all
+$PO -i demo-fleet webui status --all

@@ -26,11 +26,6 @@ if str(_ROOT) not in sys.path:  # `pytest` without `python -m`: make `tests.lab`
 
 from tests.lab import Lab, missing_requirements  # noqa: E402
 
-if "PANTHER_OPS_CACHE_DIR" not in os.environ:  # the inventory cache of the tests' own, not the user's
-    import tempfile
-
-    os.environ["PANTHER_OPS_CACHE_DIR"] = tempfile.mkdtemp(prefix="panther-ops-test-cache-")
-
 LAB_FIXTURES = frozenset({"lab", "lab_factory", "lab_ready"})
 DEFAULT_IMAGES = ("2.0", "2.1.1", "2.2")
 
@@ -73,7 +68,9 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) ->
 
 @pytest.fixture(scope="session")
 def lab_factory() -> Iterator[LabFactory]:
-    """make(n=5, docker=True, images=("2.0", "2.1.1", "2.2"), jumps=None) -> Lab."""
+    """make(n=5, docker=True, images=("2.0", "2.1.1", "2.2"), jumps=None, rtt_ms=0, jitter_ms=0) -> Lab.
+
+    ``rtt_ms`` > 0: each robot's sshd behind a delay relay (a realistic network, docs/lab.md)."""
     labs: dict[tuple[object, ...], Lab] = {}
 
     def make(
@@ -82,15 +79,17 @@ def lab_factory() -> Iterator[LabFactory]:
         docker: bool = True,
         images: Sequence[str] = DEFAULT_IMAGES,
         jumps: Mapping[str, str] | None = None,
+        rtt_ms: float = 0.0,
+        jitter_ms: float = 0.0,
     ) -> Lab:
-        key = (n, docker, tuple(images), tuple(sorted((jumps or {}).items())))
+        key = (n, docker, tuple(images), tuple(sorted((jumps or {}).items())), rtt_ms, jitter_ms)
         cached = labs.get(key)
         if cached is not None and cached.state is not None:
             return cached
         reason = lab_unavailable(docker)
         if reason:
             skip_or_fail(reason)
-        lab = Lab(n, docker=docker, images=images, jumps=jumps, ephemeral=True)
+        lab = Lab(n, docker=docker, images=images, jumps=jumps, ephemeral=True, rtt_ms=rtt_ms, jitter_ms=jitter_ms)
         labs[key] = lab
         lab.up()
         return lab

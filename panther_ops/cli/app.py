@@ -81,12 +81,14 @@ def root(
         logging.getLogger("paramiko").setLevel(logging.CRITICAL)
 
 
-_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager", "reimage")
+_ORDER = ("fleet", "config", "driver", "trust", "shutdown", "inventory", "demo", "bt", "lights", "manager",
+          "gps", "sim", "estop", "webui", "teleop", "reimage")
 """Command modules in the order --help lists them."""
 _NEEDS = {
     "status": ("fleet",), "doctor": ("fleet",), "config": ("config", "driver"), "apply": ("config",),
     "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
     "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
+    "gps": ("gps",), "sim": ("sim",), "estop": ("estop",), "webui": ("webui",), "teleop": ("teleop",),
     "reimage": ("reimage",),
 }
 """Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""

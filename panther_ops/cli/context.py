@@ -33,7 +33,7 @@ def info(message: str) -> None:
 
 
 def _preload(modules: tuple[str, ...]) -> None:
-    """Import paramiko in the background while the inventory loads (it takes ~0.05 s), then
+    """Import paramiko in the background while the inventory loads (it takes ~0.1 s), then
     ``modules`` (what the command's robot tasks need, e.g. the planners and their YAML
     editor: ~0.04 s) and what the output needs (rich: ~0.03 s), all while the fleet's
     handshakes run: a task then finds them loaded instead of importing them itself while
@@ -42,21 +42,17 @@ def _preload(modules: tuple[str, ...]) -> None:
     import threading
 
     def load() -> None:
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()
-        for name in (*modules, "rich.console", "rich.table", "rich.text"):
+        for name in ("paramiko", *modules, "rich.console", "rich.table", "rich.text"):
             importlib.import_module(name)
 
     threading.Thread(target=load, name="preload", daemon=True).start()
 
 
-def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) -> Inventory:
-    """The inventory; ``start``: begin the background imports first (else the caller does)."""
-    from panther_ops.core.fleet.inventory import load_inventory
+def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
+    """The inventory, the background imports started first (see :func:`_preload`)."""
+    from panther_ops.core.fleet.inventory_file import load_inventory
 
-    if start:
-        _preload(preload)
+    _preload(preload)
     inv = load_inventory(settings(ctx).inventory)
     info(f"inventory: {inv.path} (from {inv.origin})")
     return inv
@@ -64,16 +60,14 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = (), start: bool = True) 
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), connect: bool = True, read_only: bool = False,
+    preload: tuple[str, ...] = (), read_only: bool = False,
 ) -> tuple[Inventory, list[Robot]]:
     """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
 
-    Every caller goes on to connect to every robot chosen, its own input already checked, so
-    the robots' TCP connections start now, in the background (``connect=False``: not yet).
     ``read_only``: a command that only reads answers, when no robot is chosen, for the
     inventory's ``settings.default_group``, else for every robot.
     """
-    inv = load(ctx, preload, start=not connect)
+    inv = load(ctx, preload)
     if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
         if inv.default_group is not None:
             info(f"no robot chosen: group {inv.default_group} (settings.default_group)")
@@ -81,13 +75,7 @@ def targets(
         else:
             info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
             all_ = True
-    chosen = inv.select(robots or [], groups or [], all_)
-    if connect:  # the robots first: their sshd then start while paramiko loads
-        from panther_ops.core.fleet.connect_ahead import connect_ahead
-
-        connect_ahead(inv, chosen)
-        _preload(preload)
-    return inv, chosen
+    return inv, inv.select(robots or [], groups or [], all_)
 
 
 def run(

@@ -11,12 +11,12 @@ def print_status(fleet: FleetResult) -> None:
 
     table = Table(title="panther-ops status")
     for col in ("robot", "result", "hostname", "model / serial", "OS build", "stack", "driver",
-                "containers", "disk free", "clock"):
+                "containers", "disk free", "clock", "webui"):
         table.add_column(col, overflow="fold")
     for r in fleet.results:
         d = r.data
         if r.outcome is not Outcome.OK:
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), *[""] * 7)
+            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), *[""] * 8)
             continue
         ctrs = d.get("containers")
         if ctrs is None:
@@ -37,11 +37,22 @@ def print_status(fleet: FleetResult) -> None:
         table.add_row(
             r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", d.get("hostname") or "-", model,
             d.get("system_build_version") or "-", stack, d.get("driver_state") or "-", ctr_text,
-            human_bytes(d.get("disk_free_bytes")), clock,
+            human_bytes(d.get("disk_free_bytes")), clock, _webui(d.get("webui")),
         )
     _console().print(table)
     print_warnings(fleet)
     print_summary(fleet)
+
+
+def _webui(w: dict[str, object] | None) -> str:
+    """The WebUI column: running :PORT, stopped, not installed, an error, or - (no User Computer)."""
+    if not w:
+        return "-"
+    if "error" in w:
+        return "[red]?[/]"
+    if not w.get("installed"):
+        return "not installed"
+    return f"[green]running :{w.get('port')}[/]" if w.get("running") else "stopped"
 
 
 def print_doctor(fleet: FleetResult) -> None:

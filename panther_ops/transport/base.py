@@ -61,25 +61,19 @@ class Command:
     login: bool = False
     cwd: str | None = None
     script: str | None = None
-    perl: str | None = None
-    """A Perl program doing what ``script`` does, run instead where the robot has ``perl``
-    (it gets ``script`` as its first argument, then ``argv``)."""
 
     @classmethod
     def of(cls, *argv: Arg, login: bool = False, cwd: str | None = None) -> Command:
         return cls(tuple(argv), login=login, cwd=cwd)
 
     @classmethod
-    def sh(cls, script: str, *args: Arg, login: bool = False, perl: str | None = None) -> Command:
-        return cls(tuple(args), login=login, script=script, perl=perl)
+    def sh(cls, script: str, *args: Arg, login: bool = False) -> Command:
+        return cls(tuple(args), login=login, script=script)
 
     def render(self, *, reveal: bool) -> str:
         """The exact string a remote shell receives (``reveal=False``: masked for logs)."""
         if self.script is not None:
             inner = quote_command(("sh", "-c", self.script, "sh", *self.argv), reveal=reveal)
-            if self.perl is not None:
-                first = quote_command(("perl", "-e", self.perl, "--", self.script, *self.argv), reveal=reveal)
-                inner = f"command -v perl >/dev/null 2>&1 && exec {first}; exec {inner}"
         else:
             inner = quote_command(self.argv, reveal=reveal)
         if self.cwd:

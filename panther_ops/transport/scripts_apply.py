@@ -13,13 +13,12 @@ compose file, and prints ``STAGED_MARK``. It then waits for one line on stdin:
 - anything else, or the end of the input (the connection died): removes the staged files,
   records the attempt as abandoned beside the backup, and renames nothing.
 
+The line may already wait behind the archive (a caller that has its go-ahead sends both in
+one message): it is read only after everything is staged, synced and validated.
+
 The check comes after the go-ahead, right before the renames, so a write staged early
 (while the rest of the fleet is still being planned) is still checked against the robot's
 file as it is at the moment it is replaced.
-
-Where the robot has Perl, ``scripts_perl`` runs the same steps as one ``perl`` process (a
-third of the CPU of the programs below); this script is what runs elsewhere, and what that
-program is checked against (the session tests run both).
 
 Nothing user-given is ever part of the script text: paths and values come as positional
 parameters (absolute paths: the caller resolved ``~``), contents as the archive on stdin,

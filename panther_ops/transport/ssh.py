@@ -15,12 +15,11 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from panther_ops.errors import HostKeyError, TransportError, UnreachableError
-from panther_ops.transport import ahead, scripts
+from panther_ops.transport import scripts
 from panther_ops.transport.base import Command, Endpoint
 from panther_ops.transport.conversation import Conversation, Conversing
 from panther_ops.transport.filecache import parsed
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
-from panther_ops.transport.paramiko_import import import_paramiko
 from panther_ops.transport.ssh_config import Hop, resolve
 from panther_ops.transport.tcp import connect_tcp
 
@@ -33,7 +32,6 @@ if TYPE_CHECKING:
 
 def _refuse_unknown_policy() -> Any:
     """A missing-host-key policy that refuses, naming the offered fingerprint."""
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     class RefuseUnknown(paramiko.MissingHostKeyPolicy):
@@ -57,7 +55,6 @@ def _client_type() -> Any:
     error of each format that does not fit, is kept per version of the file. Keys that
     need a passphrase are loaded as paramiko does, every time.
     """
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     load_file = paramiko.SSHClient._key_from_filepath  # type: ignore[attr-defined]  # private, not in the stubs
@@ -84,7 +81,6 @@ def _client_type() -> Any:
 
 
 def _load_host_keys(path: str) -> paramiko.HostKeys:
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     return paramiko.HostKeys(path)
@@ -92,7 +88,6 @@ def _load_host_keys(path: str) -> paramiko.HostKeys:
 
 def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> paramiko.SSHClient:
     """Connect one hop (through its jump chain); every client opened is appended to ``clients``."""
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     sock: Any = None
@@ -119,8 +114,7 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
     client.set_missing_host_key_policy(_refuse_unknown_policy())
     try:
         if sock is None:
-            sock = ahead.take(hop.hostname, hop.port, hop.connect_timeout) or \
-                connect_tcp(hop.hostname, hop.port, hop.connect_timeout)
+            sock = connect_tcp(hop.hostname, hop.port, hop.connect_timeout)
         client.connect(
             hop.hostname,
             port=hop.port,
@@ -271,7 +265,6 @@ class SshTransport(Conversing):
 
     def _guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
         """Run one step of a command; SSH failures become panther-ops errors."""
-        import_paramiko()  # the first import of paramiko is serialized there
         import paramiko
 
         try:
@@ -341,7 +334,6 @@ class SshTransport(Conversing):
 
 def default_password_accepted(endpoint: Endpoint, password: str) -> bool:
     """Try one password login on a fresh connection (host key still verified strictly)."""
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     hop = resolve(endpoint)
@@ -377,7 +369,6 @@ def default_password_accepted(endpoint: Endpoint, password: str) -> bool:
 
 def fetch_host_key(endpoint: Endpoint) -> tuple[Hop, Any]:
     """Ask a robot for its host key without authenticating (jump hosts verified strictly)."""
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     hop = resolve(endpoint)
@@ -408,7 +399,6 @@ def fetch_host_key(endpoint: Endpoint) -> tuple[Hop, Any]:
 
 def known_keys(hop: Hop) -> list[Any]:
     """Keys known_hosts holds for a hop (any key type)."""
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     keys = paramiko.HostKeys()

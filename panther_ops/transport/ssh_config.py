@@ -45,9 +45,6 @@ def _config_type() -> Any:
     block per robot made that 60 lookups per robot on 30 robots. A block without ``Match``
     conditions matches nothing by them: answered here without asking.
     """
-    from panther_ops.transport.paramiko_import import import_paramiko
-
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     class Config(paramiko.SSHConfig):

@@ -20,21 +20,8 @@ import socket
 _QUICKACK = getattr(socket, "TCP_QUICKACK", None)
 
 
-READ_SIZE = 65536
-"""What one system call reads at most; the rest waits in the socket's own buffer."""
-
-
 class QuickSocket(socket.socket):
-    """A TCP socket that acknowledges what it receives at once (where the OS can), and
-    reads what has arrived in one call.
-
-    paramiko reads each SSH packet in two ``recv`` calls (its first block, then the rest),
-    each a system call or two (with a timeout) and a release of the interpreter lock that
-    60 threads compete for; a packet arrives whole, so the second call is served from
-    what the first read. Only ``recv`` without flags is buffered (all paramiko uses).
-    """
-
-    _pending = b""
+    """A TCP socket that acknowledges what it receives at once, where the OS can."""
 
     def quickack(self) -> None:
         if _QUICKACK is not None:
@@ -44,16 +31,9 @@ class QuickSocket(socket.socket):
                 return
 
     def recv(self, bufsize: int, flags: int = 0) -> bytes:
-        if flags:
-            return super().recv(bufsize, flags)
-        if not self._pending:
-            data = super().recv(max(bufsize, READ_SIZE))
-            self.quickack()
-            if len(data) <= bufsize:
-                return data
-            self._pending = data
-        out, self._pending = self._pending[:bufsize], self._pending[bufsize:]
-        return out
+        data = super().recv(bufsize, flags)
+        self.quickack()
+        return data
 
 
 def lookup_name(host: str) -> str | bytes:

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config import launch_args
+from panther_ops.core.config import arg_edits
 from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.fleet.stack import stack_from_version
@@ -73,7 +73,7 @@ def apply_case(case: dict[str, Any]) -> Outcome:
         return Outcome(text, compose.text(), list(compose.notes))
     if group == "launch":
         compose = ComposeFile.parse(text, path)
-        change = launch_args.set_launch_args(compose, args["values"], force=bool(args.get("force")))
+        change = arg_edits.set_launch_args(compose, args["values"], force=bool(args.get("force")))
         return Outcome(text, compose.text(), [*compose.notes, *change.warnings])
     if group == "controller":
         stack = stack_from_version(str(args["stack"]))

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from panther_ops.core.config import arg_catalogue, arg_edits, arg_rules
 from panther_ops.core.config import launch_args as la
 from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.fleet.stack import stack_from_version
@@ -18,12 +19,12 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_catalogue_is_consistent() -> None:
-    keys = [s.key for s in la.CATALOGUE]
+    keys = [s.key for s in arg_catalogue.CATALOGUE]
     assert len(keys) == len(set(keys))
-    names = [n for s in la.CATALOGUE for n in s.all_names()]
+    names = [n for s in arg_catalogue.CATALOGUE for n in s.all_names()]
     assert len(names) == len(set(names))
-    for s in la.CATALOGUE:
-        if s.type is la.ArgType.CHOICE:
+    for s in arg_catalogue.CATALOGUE:
+        if s.type is arg_catalogue.ArgType.CHOICE:
             assert s.choices and s.default_for(S222 if s.since >= (2, 2, 0) else S211) in s.choices_for(S222)
 
 
@@ -126,56 +127,56 @@ def test_defaults_per_version() -> None:
     assert len(la.args_for(S222)) > len(la.args_for(S200))
 
 
-def _messages(findings: list[la.Finding], level: str) -> list[str]:
+def _messages(findings: list[arg_rules.Finding], level: str) -> list[str]:
     return [f.rule for f in findings if f.level == level]
 
 
 def test_cross_rules() -> None:
-    assert _messages(la.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
+    assert _messages(arg_rules.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
     ok = {"wheel_type": "custom", "wheel_config_path": "/c/w.yaml", "controller_config_path": "/c/c.yaml"}
-    assert _messages(la.check_args(S211, ok), "error") == []
-    assert _messages(la.check_args(S222, {"wheel_type": "WH05"}), "error") == ["wh05-lynx"]
-    assert _messages(la.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
-    assert "battery-sim-only" in _messages(la.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
-    assert "gps-source" in _messages(la.check_args(S211, {"fuse_gps": "True"}), "warning")
-    assert "gps-source" not in _messages(la.check_args(S211, {"fuse_gps": "True", "launch_nmea_gps": "True"}), "warning")
-    assert "enu-without-gps" in _messages(la.check_args(S211, {"localization_mode": "enu"}), "warning")
+    assert _messages(arg_rules.check_args(S211, ok), "error") == []
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}), "error") == ["wh05-lynx"]
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
+    assert "battery-sim-only" in _messages(arg_rules.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
+    assert "gps-source" in _messages(arg_rules.check_args(S211, {"fuse_gps": "True"}), "warning")
+    assert "gps-source" not in _messages(arg_rules.check_args(S211, {"fuse_gps": "True", "launch_nmea_gps": "True"}), "warning")
+    assert "enu-without-gps" in _messages(arg_rules.check_args(S211, {"localization_mode": "enu"}), "warning")
 
 
 def test_names_of_other_versions_in_a_command_are_errors() -> None:
-    findings = la.check_args(S222, {"led_config_file": "/x", "user_animations_file": "/y", "typo_arg": "1"})
+    findings = arg_rules.check_args(S222, {"led_config_file": "/x", "user_animations_file": "/y", "typo_arg": "1"})
     assert sorted(_messages(findings, "error")) == ["declared-name", "declared-name"]
     assert _messages(findings, "warning") == ["unknown-arg"]
-    assert _messages(la.check_args(S204, {"launch_nmea_gps": "True"}), "error") == ["unavailable-arg"]
+    assert _messages(arg_rules.check_args(S204, {"launch_nmea_gps": "True"}), "error") == ["unavailable-arg"]
     with pytest.raises(la.ArgConflictError):
-        la.raise_for_errors(findings)
-    assert len(la.raise_for_errors(findings, force=True)) == 3
+        arg_rules.raise_for_errors(findings)
+    assert len(arg_rules.raise_for_errors(findings, force=True)) == 3
 
 
 def test_paths_outside_volumes_are_flagged() -> None:
     compose = ComposeFile.parse((ROOT / "templates/compose/husarion-ugv-2.2.2.yaml").read_text())
-    findings = la.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml", "common_dir_path": "/config"},
+    findings = arg_rules.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml", "common_dir_path": "/config"},
                              volumes=compose.list_volumes())
     assert [f.keys for f in findings if f.rule == "path-mounted"] == [("controller_config_path",)]
 
 
 def test_migrate_args() -> None:
-    m = la.migrate_args(S211, S222, {"led_config_file": "/a", "user_animations_file": "/b", "wheel_type": "WH01"})
+    m = arg_edits.migrate_args(S211, S222, {"led_config_file": "/a", "user_animations_file": "/b", "wheel_type": "WH01"})
     assert m.renamed == {"led_config_file": "animations_config_path", "user_animations_file": "user_led_animations_path"}
-    assert la.migrate_args(S201, S204, {"ekf_config_path": "/e"}).dropped == ("ekf_config_path",)
+    assert arg_edits.migrate_args(S201, S204, {"ekf_config_path": "/e"}).dropped == ("ekf_config_path",)
 
 
 def test_set_launch_args_on_a_compose_file() -> None:
     compose = ComposeFile.parse((ROOT / "tests/golden/inputs/compose-2.1-folded-command.yaml").read_text())
     with pytest.raises(la.ArgConflictError):
-        la.set_launch_args(compose, {"wheel_type": "custom"})
+        arg_edits.set_launch_args(compose, {"wheel_type": "custom"})
     assert not compose.changed
-    change = la.set_launch_args(compose, {"user_animations_file": "/config/panther_lights/config/user.yaml"})
+    change = arg_edits.set_launch_args(compose, {"user_animations_file": "/config/panther_lights/config/user.yaml"})
     assert change.changed and compose.args["user_led_animations_file"] == "/config/panther_lights/config/user.yaml"
     assert "user_animations_file" not in compose.args
-    same = la.set_launch_args(compose, {"wheel_type": "WH04"})
+    same = arg_edits.set_launch_args(compose, {"wheel_type": "WH04"})
     assert same.changed is False
-    assert la.unset_launch_arg(compose, "user_led_animations_path").changed
+    assert arg_edits.unset_launch_arg(compose, "user_led_animations_path").changed
     assert "user_led_animations_file" not in compose.args
 
 
@@ -183,6 +184,6 @@ def test_stale_alias_in_command_is_replaced() -> None:
     text = ("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n"
             "    command: ros2 launch panther_bringup bringup.launch.py user_animations_file:=/a.yaml\n")
     compose = ComposeFile.parse(text)
-    change = la.set_launch_args(compose, {"user_led_animations_file": "/b.yaml"})
+    change = arg_edits.set_launch_args(compose, {"user_led_animations_file": "/b.yaml"})
     assert compose.args == {"user_led_animations_file": "/b.yaml"}
     assert any("replaced user_animations_file" in w for w in change.warnings)

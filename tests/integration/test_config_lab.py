@@ -14,7 +14,7 @@ import yaml
 from panther_ops.cli.app import main
 from panther_ops.core.config.plans import plan_args
 from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.runner import Connections, RunOptions
 
@@ -88,30 +88,15 @@ def test_set_wheel_type_recreates_and_second_run_is_ok(lab: Any, pristine: None,
     assert lab.read(name, COMPOSE) == after
 
 
-def test_one_connection_per_robot_opened_ahead(lab: Any, pristine: None, capsys: pytest.CaptureFixture[str],
-                                              monkeypatch: pytest.MonkeyPatch) -> None:
-    """Each robot's sshd sees exactly one TCP connection and one login, and it is the one
-    opened while panther-ops was still loading."""
-    from panther_ops.transport import ahead
-
+def test_one_connection_per_robot(lab: Any, pristine: None, capsys: pytest.CaptureFixture[str]) -> None:
+    """Each robot's sshd sees exactly one TCP connection and one login for a whole change."""
     direct = [r.name for r in lab.robots if not r.jump]
-    taken: list[tuple[str, int]] = []
-    take = ahead.take
-
-    def spy(host: str, port: int, timeout: float | None) -> Any:
-        sock = take(host, port, timeout)
-        if sock is not None:
-            taken.append((host, port))
-        return sock
-
-    monkeypatch.setattr(ahead, "take", spy)
     conns = {n: lab.sshd_connections(n) for n in direct}
     logins = {n: lab.sshd_accepts(n) for n in direct}
     code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "config", "set", "wheel_type", "WH04",
                               *[a for n in direct for a in ("-r", n)], "--yes", "--no-restart", "--json")
     assert code == 0, doc
     assert {r["outcome"] for r in doc["robots"]} == {"changed"}
-    assert len(taken) == len(direct)
     for n in direct:
         assert lab.sshd_connections(n) - conns[n] == 1, n
         assert lab.sshd_accepts(n) - logins[n] == 1, n

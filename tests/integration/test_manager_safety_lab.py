@@ -135,15 +135,23 @@ def python_22(lab: Any) -> Iterator[str]:
 def test_deploy_is_refused_where_the_image_cannot_shut_user_computers_down(
         lab: Any, python_22: str, capsys: pytest.CaptureFixture[str]) -> None:
     name = python_22
-    # an SSH-era entry (a lab address, never contacted: the deploy is refused before anything runs)
+    # an SSH-era entry is not a 2.2.2 hosts file (2.2.1+ shuts computers down over HTTP): the hosts
+    # file's one validator refuses it before the image is even asked (nothing runs, nothing written)
     lab.write(name, HOSTS_22, "hosts:\n  - ip: 10.200.250.3\n    username: husarion\n")
     before = lab.read_bytes(name, COMPOSE)
     code, _doc, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", name,
                                    "--ros2", "--yes", "--settle", "2")
     text = out + err
     assert code == 2, text
+    assert "shuts computers down over HTTP" in text and "Traceback" not in text
+    assert lab.read_bytes(name, COMPOSE) == before
+    # an HTTP entry (a lab address, never contacted): the image still cannot power the robot itself off
+    lab.write(name, HOSTS_22, "hosts:\n  - ip: 10.200.250.3\n    port: 3003\n    secret: a-long-shared-secret-for-the-nuc\n")
+    code, _doc, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", name,
+                                   "--ros2", "--yes", "--settle", "2")
+    text = out + err
+    assert code == 2, text
     assert "would lose what the stock manager does on husarion_ugv 2.2.2" in text
-    assert "shutting down the User Computers of" in text and "husarion@10.200.250.3:22" in text
     assert "powering the robot itself off (ssh ...): no ssh in the image" in text
     assert "Traceback" not in text
     assert lab.read_bytes(name, COMPOSE) == before

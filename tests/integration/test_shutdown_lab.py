@@ -21,6 +21,7 @@ import pytest
 
 from panther_ops.cli.app import main
 from tests.lab import Lab, missing_requirements
+from tests.lab._sys import wait_for
 from tests.lab.computers import ComputerSpec, HttpService, is_silent, service_log, trust_on_robot
 
 pytestmark = pytest.mark.lab
@@ -231,7 +232,7 @@ def test_setup_with_the_password_twice(r01_ready: Lab, c1_setup: list[tuple[int,
 
 
 def test_a_candidate_visudo_refuses_is_not_installed(r01_ready: Lab) -> None:
-    from panther_ops.core.fleet.inventory import load_inventory
+    from panther_ops.core.fleet.inventory_file import load_inventory
     from panther_ops.core.fleet.runner import open_transport
     from panther_ops.core.shutdown.remote import RobotLink, TargetError, host_keys_from_text
     from panther_ops.core.shutdown.setup import SUDOERS_PATH, install_sudoers
@@ -482,8 +483,8 @@ def test_shutdown_robot_hosts_first_then_itself(r01_ready: Lab, c1_setup: Any, r
         assert lab.power_calls("c3") == []
         assert r01_call["time"] > c1_call["time"]  # the robot after its hosts
         assert r01_call["sudo_user"] == "husarion" and r01_call["action"] == "poweroff"
-        time.sleep(0.5)
-        assert is_silent(lab, "c1") and is_silent(lab, "r01")
+        # the power-off stand-ins take their interfaces down after their delay: wait for it
+        wait_for(lambda: is_silent(lab, "c1") and is_silent(lab, "r01"), 5.0, "c1 and r01 to go silent")
     finally:
         for n in ("r01", "c1", "c3"):
             lab.power_on(n)

@@ -1,6 +1,7 @@
 """CLI of the simulated robot lab (run as root from the repository root).
 
     python -m tests.lab up N [--docker] [--images 2.0,2.1.1,2.2] [--prefix P] [--jump [R:J]]
+                             [--rtt MS [--jitter MS] [--relay-trace]] [--rate 20mbit]
     python -m tests.lab down [--prefix P | --all]
     python -m tests.lab status [--prefix P] [--json]
     python -m tests.lab bench [--sizes 5,30] [--repeat 3] [--docker] [--images ...]
@@ -48,11 +49,18 @@ def cmd_up(a: argparse.Namespace) -> int:
         jumps=_jumps(a.jump, a.n),
         base=a.base,
         log=(lambda m: print(m, file=sys.stderr)) if a.verbose else None,
+        rtt_ms=a.rtt,
+        jitter_ms=a.jitter,
+        rate=a.rate,
+        relay_trace=a.relay_trace,
     )
     lab.up()
+    net = f", RTT {a.rtt:g} ms" if a.rtt else ""
+    net += f" ± {a.jitter:g} ms" if a.jitter else ""
+    net += f", {a.rate}" if a.rate else ""
     print(
         f"lab {lab.st.prefix}: {a.n} robots up in {time.monotonic() - t0:.2f} s "
-        f"(10.200.{lab.st.subnet}.0/24, docker {'on' if a.docker else 'off'}); "
+        f"(10.200.{lab.st.subnet}.0/24, docker {'on' if a.docker else 'off'}{net}); "
         f"ssh -F {lab.ssh_config_path} r01",
         file=sys.stderr,
     )
@@ -101,7 +109,8 @@ def cmd_status(a: argparse.Namespace) -> int:
         owner = "" if s["owner"] is None else f", owner pid {s['owner']}"
         if s["owner"] is not None and not s["owner_alive"]:
             owner += " (gone: leftover)"
-        print(f"lab {s['prefix']}: {s['subnet']}, docker {'on' if s['docker'] else 'off'}{owner}")
+        net = f", RTT {s['rtt_ms']:g} ms" if s.get("rtt_ms") else ""
+        print(f"lab {s['prefix']}: {s['subnet']}, docker {'on' if s['docker'] else 'off'}{net}{owner}")
         print(f"  inventory: {s['inventory']}")
         print(f"  ssh_config: {s['ssh_config']}")
         for name, r in s["robots"].items():
@@ -154,6 +163,12 @@ def main(argv: list[str] | None = None) -> int:
         metavar="ROBOT:JUMP",
         help="robot reachable only through JUMP (no value: the last robot behind r01)",
     )
+    up.add_argument("--rtt", type=float, default=0.0, metavar="MS",
+                    help="round trip to each robot's sshd through a delay relay (default 0: none)")
+    up.add_argument("--jitter", type=float, default=0.0, metavar="MS", help="± jitter of each one-way delay")
+    up.add_argument("--rate", metavar="RATE", help="tc tbf bandwidth limit per robot, e.g. 20mbit")
+    up.add_argument("--relay-trace", action="store_true",
+                    help="with --rtt: each relay logs every chunk to <robot dir>/relay.trace")
     up.add_argument("-v", "--verbose", action="store_true")
     up.set_defaults(func=cmd_up)
     down = sub.add_parser("down", help="tear a lab down (only what it owns)")

@@ -23,6 +23,10 @@ the robot's key pair, and:
   port, as root in the computer's namespaces: checks the HMAC, then runs /sbin/poweroff.
 * `poweroff_delay`: seconds the power-off stand-in waits after answering before the
   computer goes silent (all its interfaces down). The robots' stand-in waits 0.3 s.
+* `webui`: the `snap` stand-in for husarion-webui (data/snap-standin.py: `snap install|list|
+  get|set|services`, `husarion-webui.start|stop`, the configure hook's rules, a real HTTP
+  server answering /ui on webui.port while started) in /usr/local/bin, seen through an
+  overlay of /usr/local and /var (robot-init.sh); nothing of the host is written.
 
 Computers are recorded in the lab's state.json like robots (`kind: computer`), so `down`
 tears them down with everything else; they are left out of inventory.yaml, ssh_config and
@@ -80,6 +84,7 @@ class ComputerSpec:
     admin: str | None = None
     http: HttpService | None = None
     poweroff_delay: float = 0.3
+    webui: bool = False
 
 
 @dataclass(frozen=True)
@@ -309,6 +314,13 @@ def _build(lab: Lab, r: RobotState, s: ComputerSpec) -> None:
         _mkdirs_owned(p.parent, home, 0o700 if rel.startswith(".ssh") else 0o755)
         _write(p, data, mode)
         os.chown(p, F.UID, F.GID)
+
+    if s.webui:
+        bindir = d / "overlay/usr/local/upper/bin"
+        bindir.mkdir(parents=True, exist_ok=True)
+        _write(bindir / "snap", (F.DATA / "snap-standin.py").read_bytes(), 0o755)
+        for app in ("husarion-webui.start", "husarion-webui.stop"):
+            (bindir / app).symlink_to("snap")
 
     lab._wire(r)
     lab._start_init(r)

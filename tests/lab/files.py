@@ -166,10 +166,11 @@ def robot_shadow(passwd: str, husarion_hash: str = "*") -> str:
 # ---------------------------------------------------------------------------------------
 # sshd
 # ---------------------------------------------------------------------------------------
-def sshd_config(ip: str, *, password: bool = False, setenv: dict[str, str] | None = None) -> str:
+def sshd_config(ip: str, *, password: bool = False, setenv: dict[str, str] | None = None,
+                port: int = 22) -> str:
     lines = [
         "# sshd of one panther-ops lab robot (tests/lab); robot view of the paths",
-        f"ListenAddress {ip}:22",
+        f"ListenAddress {ip}:{port}",
         "HostKey /etc/ssh/ssh_host_ed25519_key",
         "PidFile /run/sshd.pid",
         "AuthorizedKeysFile .ssh/authorized_keys",

@@ -16,6 +16,7 @@ import shlex
 import shutil
 import signal
 import subprocess
+import sys
 import threading
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -46,6 +47,9 @@ CGROUP_ROOT = "/panther-ops-lab"
 JUMP_BRIDGE = "jbr0"
 MAX_ROBOTS = 99
 SSHD = "/usr/sbin/sshd"
+INNER_SSHD = ("127.0.0.1", 2222)
+"""Where a robot's sshd listens inside its namespace when a delay relay is in front of it."""
+RELAY = Path(__file__).with_name("relay.py")
 _PREFIX_RE = re.compile(r"^[a-z][a-z0-9]{0,7}$")
 
 #: robot path -> path relative to the robot directory (the bind mounts of robot-init.sh)
@@ -166,6 +170,12 @@ class Lab:
         base: directory holding the labs (default /root/.cache/panther-ops-lab).
         ephemeral: the lab belongs to this process (pytest); a later auto-prefixed `up`
             may reclaim it once this process is gone. CLI labs are persistent.
+        rtt_ms: > 0: a realistic network: each robot's sshd moves to an inner address of its
+            namespace and a delay relay (tests/lab/relay.py) takes its public address:22,
+            delaying each direction by rtt_ms / 2 (same address and host key for the client).
+        jitter_ms: with rtt_ms, each chunk's one-way delay varies by up to ± this much.
+        rate: a `tc tbf` rate limit on each robot's eth0 (e.g. "20mbit"); None: none.
+        relay_trace: each relay writes `<robot dir>/relay.trace` (see tests/lab/relay.py).
     """
 
     def __init__(
@@ -179,12 +189,22 @@ class Lab:
         base: Path | str = DEFAULT_BASE,
         ephemeral: bool = False,
         log: Callable[[str], None] | None = None,
+        rtt_ms: float = 0.0,
+        jitter_ms: float = 0.0,
+        rate: str | None = None,
+        relay_trace: bool = False,
     ) -> None:
         if not 1 <= n <= MAX_ROBOTS:
             raise ValueError(f"n must be within 1..{MAX_ROBOTS}")
         if prefix is not None and not _PREFIX_RE.match(prefix):
             raise ValueError("prefix: 1-8 characters, a-z then a-z0-9")
+        if rtt_ms < 0 or jitter_ms < 0 or (jitter_ms and jitter_ms > rtt_ms / 2):
+            raise ValueError("rtt_ms and jitter_ms: >= 0, and the jitter at most half the round trip")
+        if rate is not None and not re.fullmatch(r"[0-9]+(\.[0-9]+)?[kmg]?(bit|bps)", rate):
+            raise ValueError(f"rate {rate!r}: a tc rate such as 20mbit or 512kbit")
         self.n = n
+        self.rtt_ms, self.jitter_ms, self.rate = float(rtt_ms), float(jitter_ms), rate
+        self.relay_trace = relay_trace
         self.docker_enabled = docker
         self.images = [F.stack(i).key for i in images] or ["2.1.1"]
         self.prefix = prefix
@@ -217,7 +237,8 @@ class Lab:
         if not path.is_file():
             raise LabError(f"no lab {prefix!r} under {base}")
         st = LabState.load(path)
-        lab = cls(len(st.robots) or 1, docker=st.docker, prefix=st.prefix, base=base)
+        lab = cls(len(st.robots) or 1, docker=st.docker, prefix=st.prefix, base=base,
+                  rtt_ms=st.rtt_ms, jitter_ms=st.jitter_ms, rate=st.rate)
         lab.images = sorted({r.image for r in st.robots.values()})
         lab.jumps = {r.name: r.jump for r in st.robots.values() if r.jump}
         lab.state = st
@@ -368,6 +389,9 @@ class Lab:
                 cgroup_parent=f"{CGROUP_ROOT}/{prefix}",
                 docker=self.docker_enabled,
                 created=time.time(),
+                rtt_ms=self.rtt_ms,
+                jitter_ms=self.jitter_ms,
+                rate=self.rate,
             )
             if self.ephemeral:
                 st.owner = Proc("owner", os.getpid(), start_time(os.getpid()))
@@ -452,6 +476,11 @@ class Lab:
         self._wire(r)
         self._start_init(r)
         self._start_sshd(r)
+        if self.st.rtt_ms > 0:
+            self._start_relay(r)
+        if self.st.rate:
+            run(["ip", "netns", "exec", r.ns, "tc", "qdisc", "add", "dev", "eth0", "root", "tbf",
+                 "rate", self.st.rate, "burst", "32kbit", "latency", "400ms"])
         if r.docker:
             self._start_dockerd(r)
             self._import_images(r)
@@ -541,6 +570,8 @@ class Lab:
                 "FAKETIME": f"{r.clock_offset:+d}",
                 "FAKETIME_DONT_FAKE_MONOTONIC": "1",
             }
+        if self.st.rtt_ms > 0:  # the delay relay takes the public address (see _start_relay)
+            return F.sshd_config(INNER_SSHD[0], password=r.password, setenv=setenv, port=INNER_SSHD[1])
         return F.sshd_config(r.ip, password=r.password, setenv=setenv)
 
     def _known_key(self, r: RobotState, set_to: str | None = None) -> str:
@@ -646,6 +677,24 @@ class Lab:
             return self._sshd_listening(r) > before
 
         wait_for(listening, 10.0, f"sshd of {r.name}")
+
+    def _start_relay(self, r: RobotState) -> None:
+        """The delay relay on the robot's public address:22, in front of its inner sshd."""
+        log = Path(r.dir) / "relay.log"
+        argv = ["nsenter", "-t", str(self._init_pid(r)), "-n", "--", sys.executable, "-I", str(RELAY),
+                "--listen", f"{r.ip}:22", "--to", f"{INNER_SSHD[0]}:{INNER_SSHD[1]}",
+                "--delay-ms", f"{self.st.rtt_ms / 2:g}", "--jitter-ms", f"{self.st.jitter_ms:g}"]
+        if self.relay_trace:  # one line per chunk: the round trips of each connection
+            argv += ["--trace", str(Path(r.dir) / "relay.trace")]
+        p = self._spawn(argv, log)  # nsenter without a PID namespace execs the relay itself
+        self._record(r, "relay", p.pid)
+
+        def ready() -> bool:
+            if p.poll() is not None:
+                raise LabError(f"{r.name}: the delay relay exited:\n{_tail(log)}")
+            return "ready" in log.read_text(errors="replace")
+
+        wait_for(ready, 10.0, f"the delay relay of {r.name}")
 
     def _reload_sshd(self, r: RobotState) -> None:
         """SIGHUP: sshd re-executes itself (same PID) and reads its configuration again."""
@@ -1217,6 +1266,9 @@ def lab_status(st: LabState) -> dict[str, Any]:
         "dir": st.dir,
         "subnet": f"{SUBNET_BASE}.{st.subnet}.0/24",
         "docker": st.docker,
+        "rtt_ms": st.rtt_ms,
+        "jitter_ms": st.jitter_ms,
+        "rate": st.rate,
         "owner": None if st.owner is None else st.owner.pid,
         "owner_alive": owner_alive,
         "inventory": str(Path(st.dir) / "inventory.yaml"),

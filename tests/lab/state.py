@@ -73,6 +73,9 @@ class LabState:
     owner: Proc | None = None  # process whose exit ends the lab (pytest); None: persistent
     version: int = STATE_VERSION
     created: float = 0.0
+    rtt_ms: float = 0.0  # > 0: each robot's sshd behind a delay relay (tests/lab/relay.py)
+    jitter_ms: float = 0.0
+    rate: str | None = None  # `tc tbf` rate on each robot's eth0 (e.g. "20mbit"); None: none
 
     # -- persistence ---------------------------------------------------------------------
     def to_json(self) -> str:

@@ -241,16 +241,17 @@ def loopback_sshd(tmp_path: Path) -> Iterator[dict[str, Any]]:
         f"AuthorizedKeysFile {tmp_path / 'authorized_keys'}\nPasswordAuthentication no\n"
         "KbdInteractiveAuthentication no\nUsePAM no\nStrictModes no\n"
         f"PidFile {tmp_path / 'sshd.pid'}\n")
-    process = subprocess.Popen([*prefix, sshd, "-D", "-e", "-f", str(config)], stderr=subprocess.PIPE)
-    deadline = time.monotonic() + 5
-    while time.monotonic() < deadline:
-        with socket.socket() as probe:
-            if probe.connect_ex(("127.0.0.1", port)) == 0:
-                break
-        time.sleep(0.05)
+    process = subprocess.Popen([*prefix, sshd, "-D", "-e", "-f", str(config)], stderr=subprocess.PIPE, text=True)
+    assert process.stderr is not None
+    said = []
+    for line in process.stderr:  # wait for sshd to say it listens (or to exit)
+        said.append(line)
+        if line.startswith("Server listening on"):
+            break
     else:
-        process.kill()
-        _sshd_unavailable(f"sshd did not start: {process.communicate()[1].decode(errors='replace')[-300:]}")
+        process.wait(timeout=5)
+        _sshd_unavailable(f"sshd did not start: {''.join(said)[-300:]}")
+    threading.Thread(target=process.stderr.read, daemon=True).start()  # keep its log flowing
     host_key = (tmp_path / "host_key.pub").read_text().split()
     yield {"port": port, "client_key": tmp_path / "client_key",
            "known_line": f"[127.0.0.1]:{port} {host_key[0]} {host_key[1]}\n"}

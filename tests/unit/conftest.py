@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections
 
 
@@ -19,11 +20,3 @@ def demo_connections(tmp_path: Path) -> Iterator[tuple[Inventory, Connections]]:
     inv = load_inventory(str(tmp_path / "demo"))
     with Connections(inv) as conns:
         yield inv, conns
-
-
-@pytest.fixture(params=["perl", "shell"])
-def robot_scripts(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> str:
-    """Run the write's robot side both ways: the Perl program (where the robot has perl, the
-    default) and the shell script it stands in for (``PANTHER_OPS_ROBOT_PERL=0``)."""
-    monkeypatch.setenv("PANTHER_OPS_ROBOT_PERL", "1" if request.param == "perl" else "0")
-    return str(request.param)

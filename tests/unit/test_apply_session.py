@@ -20,7 +20,8 @@ from typing import Any
 import pytest
 
 from panther_ops.core.config.plans import plan_args
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext
@@ -29,8 +30,6 @@ from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command, CommandResult
 from panther_ops.transport.local import LocalTransport
-
-pytestmark = pytest.mark.usefixtures("robot_scripts")
 
 HOME = "/home/husarion"
 

@@ -10,7 +10,8 @@ import pytest
 from panther_ops.cli import app as cli_app
 
 TOP = ["status", "doctor", "apply", "trust", "config", "driver", "shutdown", "inventory", "demo", "bt", "lights",
-       "manager", "reimage"]
+       "manager", "gps", "sim", "estop", "webui",
+       "teleop", "reimage"]
 
 
 @pytest.mark.parametrize(("argv", "words"), [

@@ -20,8 +20,6 @@ from panther_ops.core.fleet.runner import Connections, RobotContext, RunOptions
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome
 
-pytestmark = pytest.mark.usefixtures("robot_scripts")
-
 OPTS = ApplyOptions(restart=False, command="config set wheel_type WH04")
 
 
@@ -173,9 +171,39 @@ def test_a_refused_plan_stops_every_early_go_ahead(demo_connections: tuple[Inven
         return plan(ctx)
 
     fp = plan_fleet("t", inv, robots, planner, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
-    assert fp.applied == {} and len(fp.staged) == len(robots) - 1
+    assert fp.applied == {} and fp.staged == {}, "nothing staged: every robot waited for every plan"
+    assert snapshot(inv) == before
     unstage_fleet(fp, inv, robots, conns, RunOptions())
     assert snapshot(inv) == before
+
+
+def test_the_go_ahead_rides_with_the_staging(demo_connections: tuple[Inventory, Connections],
+                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    """Going ahead early, each robot's go-ahead is sent behind its staging, in the same input:
+    what remains of the write is its end (no second message, one round trip fewer)."""
+    from panther_ops.transport import scripts_apply
+
+    inv, conns = demo_connections
+    robots = list(inv.robots.values())
+    sent: list[tuple[str, bytes]] = []
+    for r in robots:
+        t = conns.get(r)
+        advance, resume = t.advance, t.resume
+
+        def spy_advance(key: str, stdin: bytes, until: bytes, _a=advance, _n=r.name) -> object:  # type: ignore[no-untyped-def]
+            sent.append((_n, stdin[-len(scripts_apply.GO):]))
+            return _a(key, stdin, until)
+
+        def spy_resume(key: str, stdin: bytes, _r=resume, _n=r.name, **kw: object) -> object:  # type: ignore[no-untyped-def]
+            sent.append((_n, stdin))
+            return _r(key, stdin, **kw)
+
+        monkeypatch.setattr(t, "advance", spy_advance)
+        monkeypatch.setattr(t, "resume", spy_resume)
+    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
+    assert sorted(fp.applied) == sorted(r.name for r in robots)
+    assert [x.outcome for x in fp.applied.values()] == [Outcome.CHANGED] * len(robots)
+    assert sorted(sent) == sorted([(r.name, scripts_apply.GO) for r in robots] + [(r.name, b"") for r in robots])
 
 
 def test_an_unreachable_robot_does_not_hold_the_others(demo_connections: tuple[Inventory, Connections],

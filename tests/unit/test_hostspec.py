@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.core.fleet.hostspec import HostSpecError, JumpSpec, check_host, parse_jump
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.yaml.located import load_yaml
 from panther_ops.errors import InputError
 

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.fleet.inventory import find_inventory, load_inventory
+from panther_ops.core.fleet.inventory_file import find_inventory, load_inventory
 from panther_ops.errors import ExitCode, InputError, InventoryError
 
 

@@ -10,14 +10,12 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.config.plans import plan_args
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command
 from panther_ops.transport.local import LocalTransport
-
-pytestmark = pytest.mark.usefixtures("robot_scripts")
 
 MARK = b"@@mark@@\n"
 

@@ -18,22 +18,17 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.manager_ops import bundle as manager_bundle
+from panther_ops.core.manager_ops.apply_step import apply_manager
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle, bundle_build
-from panther_ops.core.manager_ops.deploy import (
-    DBUS_POWEROFF,
-    SERVICE,
-    SSH_POWEROFF,
-    apply_manager,
-    manager_settings,
-    plan_deploy,
-    plan_remove,
-)
+from panther_ops.core.manager_ops.deploy import plan_deploy, plan_remove
+from panther_ops.core.manager_ops.settings import DBUS_POWEROFF, SERVICE, SSH_POWEROFF, manager_settings
 from panther_ops.core.manager_ops.status import describe, running_version, status_task
 from panther_ops.errors import UsageError
 from panther_ops.manager.__main__ import main as manager_main

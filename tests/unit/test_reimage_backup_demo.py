@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.fleet.inventory import load_inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 
 
 @pytest.fixture

@@ -1,13 +1,13 @@
 from __future__ import annotations
 
 import threading
-import time
 from pathlib import Path
 
 import pytest
 
-from panther_ops.core.fleet.demo import init_demo
-from panther_ops.core.fleet.inventory import Inventory, load_inventory
+from panther_ops.core.demo.fleet import init_demo
+from panther_ops.core.fleet.inventory import Inventory
+from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError
 from panther_ops.results import Outcome, RobotResult
@@ -49,23 +49,24 @@ def test_missing_local_robot_is_unreachable(tmp_path: Path) -> None:
 
 def test_parallelism_is_bounded(tmp_path: Path) -> None:
     inv = fleet_of(tmp_path, 8)
-    active, peak = 0, 0
-    lock = threading.Lock()
+    active, peak, started = 0, 0, 0
+    changed = threading.Condition()
 
     def task(ctx: RobotContext) -> RobotResult:
-        nonlocal active, peak
-        with lock:
+        nonlocal active, peak, started
+        with changed:
             active += 1
+            started += 1
             peak = max(peak, active)
-        time.sleep(0.05)
-        with lock:
+            changed.notify_all()
+            # hold the slot until 3 ran at once (or every task started): parallel, and no more
+            assert changed.wait_for(lambda: peak >= 3 or started == 8, timeout=10)
             active -= 1
         return RobotResult(ctx.robot.name, Outcome.OK, "x")
 
-    start = time.monotonic()
-    run_fleet("t", inv, list(inv.robots.values()), task, RunOptions(forks=3))
+    fleet = run_fleet("t", inv, list(inv.robots.values()), task, RunOptions(forks=3))
+    assert [r.outcome for r in fleet.results] == [Outcome.OK] * 8
     assert peak == 3
-    assert time.monotonic() - start < 8 * 0.05  # parallel, not one by one
 
 
 def test_canary_failure_skips_the_rest(tmp_path: Path) -> None:

@@ -13,7 +13,8 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.push import PushKind, plan_push, read_bundle
+from panther_ops.core.config.kinds import FileKind
+from panther_ops.core.config.push import plan_push, read_bundle
 from panther_ops.core.fleet.templates import template_path
 from tests.unit.test_manager_deploy import ctxs, make_fleet  # noqa: F401 - fixture
 
@@ -49,9 +50,9 @@ def test_pushed_animations_use_the_robots_animation_types(ctxs: Any, tmp_path: P
     ugv.write_text(UGV_STYLE)
     # user animations files (the manual's example, a 2.2-style one) and a led config, each as its own kind
     led = Path(__file__).resolve().parents[2] / "templates" / "lights" / "led_config.yaml"
-    for source, kind, key in ((EXAMPLE, PushKind.USER_ANIMATIONS, "user_animations"),
-                              (ugv, PushKind.USER_ANIMATIONS, "user_animations"),
-                              (led, PushKind.LED, "led_animations")):
+    for source, kind, key in ((EXAMPLE, FileKind.USER_ANIMATIONS, "user_animations"),
+                              (ugv, FileKind.USER_ANIMATIONS, "user_animations"),
+                              (led, FileKind.LED, "led_animations")):
         plan = plan_push(cs[robot], kind, read_bundle(kind, source))
         text = _main_file(plan)
         types = {a["type"] for anim in yaml.safe_load(text)[key] for a in anim["animations"]}

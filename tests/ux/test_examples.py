@@ -25,6 +25,22 @@ BAD_HOSTS = "hosts:\n  - ip: not an address\n    username: Husarion\n"
 GOOD_HOSTS = "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
 BAD_ANIMATIONS = "user_animations:\n  - id: 5\n    animation: {}\n"
 BAD_PUSHED_HOSTS = "hosts:\n  - ip: '10.15.20.5; touch x'\n    username: husarion\n    port: 70000\n"
+WORLD = """<?xml version="1.0" ?>
+<sdf version="1.6">
+  <world name="husarion_world">
+    <spherical_coordinates>
+      <surface_model>EARTH_WGS84</surface_model>
+      <world_frame_orientation>ENU</world_frame_orientation>
+      <latitude_deg>53.1978</latitude_deg>
+      <longitude_deg>18.3732</longitude_deg>
+      <elevation>0</elevation>
+      <heading_deg>0</heading_deg>
+    </spherical_coordinates>
+    <gravity>0 0 -9.8</gravity>
+  </world>
+</sdf>
+"""
+BAD_BATTERY = "simulate_discharging: true\ninitial_charge_percentage: 140\n"
 ESCAPING_BTPROJ = ('<?xml version="1.0"?>\n<root BTCPP_format="4" project_format="1.0">\n'
                    '  <include path="../../../.ssh/authorized_keys"/>\n</root>\n')
 
@@ -45,6 +61,13 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "my_hosts.yaml").write_text(GOOD_HOSTS)
     (tmp_path / "hosts.yaml").write_text(GOOD_HOSTS)
     (tmp_path / "bad_hosts.yaml").write_text(BAD_PUSHED_HOSTS)
+    config = ROOT / "templates" / "config" / "panther-2.1"  # a simulation workspace's files (docs/gps.md)
+    shutil.copy(config / "panther_description" / "config" / "components.yaml", tmp_path / "components.yaml")
+    shutil.copy(config / "panther_gazebo" / "config" / "battery_plugin_config.yaml",
+                tmp_path / "battery_plugin_config.yaml")
+    (tmp_path / "my_world.sdf").write_text(WORLD)
+    (tmp_path / "w.sdf").write_text(WORLD)
+    (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
     (tmp_path / "proj").mkdir()
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)

@@ -167,7 +167,7 @@ def diff(
 
     Example: panther-ops config diff --all
     """
-    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.apply.desired import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
@@ -265,14 +265,9 @@ def push(
 
     Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
-    from panther_ops.core.config.push import PushKind, plan_push, read_bundle
-    from panther_ops.errors import UsageError
+    from panther_ops.core.config.push import plan_push, push_kind, read_bundle
 
-    try:
-        kind = PushKind(as_)
-    except ValueError:
-        raise UsageError(f"--as {as_!r} is not a config kind",
-                         hint="allowed: " + ", ".join(k.value for k in PushKind)) from None
+    kind = push_kind(as_)
     bundle = read_bundle(kind, local, force=force)
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""), inv, chosen,
@@ -307,16 +302,12 @@ def pull(
     import sys
 
     from panther_ops.cli.render import finish, print_results
-    from panther_ops.core.config.push import PushKind
     from panther_ops.core.config.push import pull as pull_file
+    from panther_ops.core.config.push import push_kind
     from panther_ops.errors import UsageError
     from panther_ops.results import Outcome, RobotResult
 
-    try:
-        k = PushKind(kind)
-    except ValueError:
-        raise UsageError(f"{kind!r} is not a config kind", hint="allowed: " + ", ".join(x.value for x in PushKind)) \
-            from None
+    k = push_kind(kind, "KIND")
     if output is not None and (output.is_dir() or not output.parent.is_dir()):
         raise UsageError(f"--output {output}: not a file path in an existing directory")
     inv, chosen = context.targets(ctx, robot, group, all_)
@@ -366,7 +357,7 @@ def apply(
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.apply.desired import plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "apply --force" if force else "apply"

@@ -20,7 +20,7 @@ def init(
 
     Example: panther-ops demo init && panther-ops -i demo-fleet status --all
     """
-    from panther_ops.core.fleet.demo import init_demo
+    from panther_ops.core.demo.fleet import init_demo
 
     inventory = init_demo(dest, force=force)
     typer.echo(f"demo fleet created: {inventory}")

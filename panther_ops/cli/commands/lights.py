@@ -93,12 +93,13 @@ def deploy(
 
     Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
-    from panther_ops.core.config.push import PushKind, plan_push, read_bundle
+    from panther_ops.core.config.kinds import FileKind
+    from panther_ops.core.config.push import plan_push, read_bundle
 
-    bundle = read_bundle(PushKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
+    bundle = read_bundle(FileKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate(f"lights deploy {file.name}", inv, chosen,
-                  lambda c: plan_push(c, PushKind.USER_ANIMATIONS, bundle), yes=yes, dry_run=dry_run,
+                  lambda c: plan_push(c, FileKind.USER_ANIMATIONS, bundle), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
 
 

@@ -60,7 +60,7 @@ def run(
     if not sim:
         raise UsageError("off the robot the manager runs only in simulation: add --sim",
                          hint="on a robot it runs as a compose service: panther-ops manager deploy")
-    from panther_ops.core.manager_ops.deploy import scenario_path
+    from panther_ops.core.manager_ops.settings import scenario_path
     from panther_ops.manager import load_scenario
 
     path = scenario_path(scenario or "charging")
@@ -132,8 +132,10 @@ def deploy(
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
     from panther_ops.cli.mutate import mutate
+    from panther_ops.core.manager_ops.apply_step import apply_manager
     from panther_ops.core.manager_ops.bundle import build_bundle
-    from panther_ops.core.manager_ops.deploy import apply_manager, plan_deploy, scenario_path
+    from panther_ops.core.manager_ops.deploy import plan_deploy
+    from panther_ops.core.manager_ops.settings import scenario_path
 
     if scenario is not None:  # checked once, here, whichever robots it would go to
         from panther_ops.manager import load_scenario
@@ -167,7 +169,8 @@ def remove(
     Example: panther-ops manager remove -r panther-01 --yes
     """
     from panther_ops.cli.mutate import mutate
-    from panther_ops.core.manager_ops.deploy import apply_manager, plan_remove
+    from panther_ops.core.manager_ops.apply_step import apply_manager
+    from panther_ops.core.manager_ops.deploy import plan_remove
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("manager remove", inv, chosen, plan_remove, applier=apply_manager, yes=yes, dry_run=dry_run,

@@ -179,7 +179,7 @@ def restore(
     """
     from panther_ops.cli.mutate import mutate
     from panther_ops.cli.status_view import print_doctor
-    from panther_ops.core.config.plans import plan_desired
+    from panther_ops.core.apply.desired import plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError

@@ -18,40 +18,71 @@ import typer
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
 from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
+from panther_ops.cli.shutdown_view import (
+    esc,
+    finish_hosts,
+    finish_list,
+    finish_steps,
+    print_findings,
+    print_plan,
+    stderr,
+    stdout,
+)
 
 if TYPE_CHECKING:
     from panther_ops.core.config.hostsfile import HostsFile
     from panther_ops.core.fleet.inventory import Inventory, Robot
-    from panther_ops.results import FleetResult, RobotResult
+    from panther_ops.results import RobotResult
     from panther_ops.transport.base import Secret
+
 
 app = typer.Typer(
     help="User computers that shut down with the robot: the hosts file, setup, check, shutdown.",
     invoke_without_command=True,
     no_args_is_help=False,
 )
+
+
 hosts_app = typer.Typer(help="The shutdown hosts file: the robot's (-r ROBOT) or a local FILE.", no_args_is_help=True)
+
+
 app.add_typer(hosts_app, name="hosts")
+
 
 FileArg = Annotated[
     Optional[Path],  # noqa: UP045 - typer needs Optional on Python 3.10
     typer.Argument(help="A local hosts file (instead of -r ROBOT).", show_default=False),
 ]
+
+
 PowerBudget = Annotated[
     float,
     typer.Option("--power-budget", min=0.1, callback=finite,
                  help="Seconds the robot's hardware gives its computers before it cuts "
                  "the power (a timeout above it is warned)."),
 ]
+
+
 OptStr = Optional[str]  # noqa: UP045
+
+
 OptInt = Optional[int]  # noqa: UP045
+
+
 OptFloat = Optional[float]  # noqa: UP045
+
+
 OptPath = Optional[Path]  # noqa: UP045
+
 
 SecretEnv = Annotated[OptStr, typer.Option("--secret-env", metavar="VAR",
                                            help="HTTP hosts: the shared secret from this environment variable.")]
+
+
 SecretFile = Annotated[OptPath, typer.Option("--secret-file", metavar="PATH",
                                              help="HTTP hosts: the shared secret from this file.")]
+
+
 AskSecret = Annotated[bool, typer.Option("--ask-secret", help="HTTP hosts: ask for the shared secret.")]
 
 
@@ -152,7 +183,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
             raise _usage(f"--via {via!r}: name one robot of the inventory (not a glob)")
         link_robot = lan_robot(inv, via)  # the dry run refuses what the real run would refuse
     parsed = load_hosts_file(path, power_budget=power_budget)
-    _print_findings(parsed)
+    print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
     where = f"through {via}" if via else "from here"
     if json_out and (dry_run or not hosts):
@@ -165,7 +196,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
         context.info(f"{path}: no hosts, nothing to shut down")
         return 0
     if not json_out:
-        _print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
+        print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
     if dry_run:
         context.info("dry run: nothing was contacted")
         return 0
@@ -185,68 +216,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
         fleet = shutdown_hosts(hosts, backends_here(str(known_hosts) if known_hosts else None,
                                                     str(identity) if identity else None),
                                command=f"shutdown --hosts {path.name}")
-    return _finish_hosts(fleet, json_out)
-
-
-def _print_findings(parsed: HostsFile) -> None:
-    err = _stderr()
-    for f in parsed.warnings:
-        err.print(f"[yellow]warning[/] {_esc(parsed.source)}: {_esc(f)}")
-
-
-def _print_plan(parsed: HostsFile, title: str) -> None:
-    from rich.table import Table
-
-    table = Table(title=title)
-    for col in ("host", "method", "request", "timeout", "then"):
-        table.add_column(col, overflow="fold")
-    for e in parsed.entries:
-        if e.http:
-            request, then = f"GET /shutdown?ts=…&sig=… (secret: {e.row()['secret']})", "ping until gone"
-        else:
-            request = f"ssh: {e.command}"
-            then = "ping until gone" if e.ping_for_success else "done at the response"
-        table.add_row(_esc(e.describe()), "http" if e.http else "ssh", _esc(request), f"{e.timeout:g} s", then)
-    _stdout().print(table)
-
-
-def _finish_hosts(fleet: FleetResult, json_out: bool) -> int:
-    from panther_ops.cli.render import STYLE, emit_json
-    from panther_ops.core.shutdown.run import summary
-
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
-    from rich.table import Table
-
-    table = Table(title=fleet.command)
-    for col in ("host", "result", "message", "time"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        table.add_row(_esc(r.robot), f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", _esc(r.message),
-                      f"{r.duration_s:.1f} s")
-    _stdout().print(table)
-    _stderr().print(f"{len(fleet.results)} hosts: {summary(fleet)} in {fleet.duration_s:.1f} s"
-                    + ("" if fleet.exit_code == 0 else f" (exit {int(fleet.exit_code)})"))
-    return int(fleet.exit_code)
-
-
-def _stdout() -> Any:
-    from panther_ops.cli.render import _console
-
-    return _console()
-
-
-def _stderr() -> Any:
-    from panther_ops.cli.render import _console
-
-    return _console(stderr=True)
-
-
-def _esc(text: object) -> str:
-    from panther_ops.cli.render import esc
-
-    return esc(text)
+    return finish_hosts(fleet, json_out)
 
 
 # =================================================================================================
@@ -281,7 +251,7 @@ def hosts_list(
         res = RobotResult(str(file), Outcome.FAILED if parsed.errors else Outcome.OK, f"{len(parsed.entries)} hosts",
                           data=_file_data(parsed, str(file)), warnings=[str(f) for f in parsed.warnings])
         fleet = FleetResult("shutdown hosts list", [res])
-        return _finish_list(fleet, json_out)
+        return finish_list(fleet, json_out)
     from panther_ops.core.shutdown.robotfile import read_robot_hosts
 
     def task(c: Any) -> RobotResult:
@@ -292,7 +262,7 @@ def hosts_list(
                            warnings=[str(f) for f in parsed.warnings])
 
     inv, chosen = context.targets(ctx, robot, group, all_)
-    return _finish_list(context.run("shutdown hosts list", inv, chosen, task, forks=forks, json_out=json_out),
+    return finish_list(context.run("shutdown hosts list", inv, chosen, task, forks=forks, json_out=json_out),
                         json_out)
 
 
@@ -303,33 +273,6 @@ def _file_data(parsed: HostsFile, source: str, rf: Any = None) -> dict[str, Any]
         data["stack"] = rf.stack.label()
         data["mode"] = rf.mode.value
     return data
-
-
-def _finish_list(fleet: FleetResult, json_out: bool) -> int:
-    from panther_ops.cli.render import STYLE, emit_json, print_warnings
-
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
-    from rich.table import Table
-
-    for r in fleet.results:
-        title = f"{r.robot}: {r.data.get('hosts_file', '')}"
-        table = Table(title=_esc(title))
-        for col in ("ip", "method", "user", "port", "command / secret", "timeout", "ping"):
-            table.add_column(col, overflow="fold")
-        for h in r.data.get("hosts", []):
-            http = h["method"] == "http"
-            table.add_row(_esc(h["ip"]), h["method"], "" if http else _esc(h["username"]), str(h["port"]),
-                          _esc(h["secret"] if http else h["command"]), f"{h['timeout']:g} s",
-                          "" if http else ("yes" if h["ping_for_success"] else "no"))
-        if r.outcome.is_failure and not r.data.get("hosts"):
-            table.add_row(f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", "", "", _esc(r.message), "", "")
-        _stdout().print(table)
-        for e in r.data.get("errors", []):
-            _stderr().print(f"[red]error[/] {_esc(r.robot)}: {_esc(e)}")
-    print_warnings(fleet)
-    return int(fleet.exit_code)
 
 
 def _check_ip(ip: str) -> None:
@@ -390,14 +333,14 @@ def hosts_validate(
 
         emit_json(fleet.to_json())
     else:
-        out, err = _stdout(), _stderr()
+        out, err = stdout(), stderr()
         for r in fleet.results:
             for e in r.data.get("errors", []):
-                err.print(f"[red]error[/] {_esc(r.robot)}: {_esc(e)}")
+                err.print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
             for w in r.warnings:
-                err.print(f"[yellow]warning[/] {_esc(r.robot)}: {_esc(w)}")
+                err.print(f"[yellow]warning[/] {esc(r.robot)}: {esc(w)}")
             colour = "red" if r.outcome is not Outcome.OK else "green"
-            out.print(f"{_esc(r.robot)}: [{colour}]{r.outcome.value}[/] {_esc(r.message)}")
+            out.print(f"{esc(r.robot)}: [{colour}]{r.outcome.value}[/] {esc(r.message)}")
     if bad:
         return 2
     return int(fleet.exit_code)
@@ -474,7 +417,7 @@ def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run:
     else:
         if dry_run and changed:
             print_diffs(fleet)
-        _stdout().print(f"{_esc(path)}: {res.outcome.value}: {_esc(res.message)}")
+        stdout().print(f"{esc(path)}: {res.outcome.value}: {esc(res.message)}")
     return 0
 
 
@@ -655,36 +598,8 @@ def setup(
                        settle=settle, restart=not no_restart, power_budget=power_budget,
                        command=f"shutdown setup --host {host}")
     fleet = context.run("shutdown setup", inv, chosen, lambda c: run_setup(c, req), json_out=json_out)
-    code = _finish_steps(fleet, json_out)
+    code = finish_steps(fleet, json_out)
     return 2 if refused else code
-
-
-def _finish_steps(fleet: FleetResult, json_out: bool) -> int:
-    from panther_ops.cli.render import STYLE, emit_json, print_diffs, print_warnings
-    from panther_ops.results import Outcome
-
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
-    from rich.table import Table
-
-    for r in fleet.results:
-        table = Table(title=f"{fleet.command}: {r.robot}")
-        for col in ("step", "result", "message"):
-            table.add_column(col, overflow="fold")
-        for s in r.data.get("steps", []):
-            outcome = Outcome(s["outcome"])
-            table.add_row(s["step"], f"[{STYLE[outcome]}]{outcome.value}[/]", _esc(s["message"]))
-        if not r.data.get("steps"):
-            table.add_row("-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", _esc(r.message))
-        _stdout().print(table)
-    print_diffs(fleet)
-    print_warnings(fleet)
-    for r in fleet.results:  # the message once: a failure's is the table's failing step
-        shown = r.data.get("steps") and not r.outcome.is_failure
-        _stderr().print(f"{_esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
-                        + (f" {_esc(r.message)}" if shown else ""))
-    return int(fleet.exit_code)
 
 
 @app.command("check")
@@ -721,12 +636,12 @@ def check(
     for r in fleet.results:
         rows = r.data.get("hosts", [])
         if not rows:
-            table.add_row(r.robot, "-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", _esc(r.message), "")
+            table.add_row(r.robot, "-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", esc(r.message), "")
         for i, h in enumerate(rows):
             result = "[green]ok[/]" if h["ok"] else "[red]failed[/]"
-            table.add_row(r.robot if i == 0 else "", _esc(h["host"]), result, h["step"], _esc(h["message"]),
-                          _esc(h["fix"]))
-    _stdout().print(table)
+            table.add_row(r.robot if i == 0 else "", esc(h["host"]), result, h["step"], esc(h["message"]),
+                          esc(h["fix"]))
+    stdout().print(table)
     print_warnings(fleet)
     return int(fleet.exit_code)
 
@@ -806,10 +721,10 @@ def robot_(
             table.add_column(col, overflow="fold")
         for h in r.data.get("hosts", []):
             o = Outcome(h["outcome"])
-            table.add_row(_esc(h["robot"]), f"[{STYLE[o]}]{o.value}[/]", _esc(h["message"]), f"{h['duration_s']:.1f} s")
-        table.add_row(f"{_esc(r.robot)} (Built-in Computer)", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]",
-                      _esc(r.message), f"{r.duration_s:.1f} s")
-        _stdout().print(table)
+            table.add_row(esc(h["robot"]), f"[{STYLE[o]}]{o.value}[/]", esc(h["message"]), f"{h['duration_s']:.1f} s")
+        table.add_row(f"{esc(r.robot)} (Built-in Computer)", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]",
+                      esc(r.message), f"{r.duration_s:.1f} s")
+        stdout().print(table)
     print_warnings(fleet)
     print_summary(fleet)
     return int(fleet.exit_code)

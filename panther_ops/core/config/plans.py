@@ -10,9 +10,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.config.arg_edits import set_launch_args, unset_launch_arg
 from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.launch_args import set_launch_args, spec, unset_launch_arg
+from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.namespace_follow import follow_in_compose, follow_in_env_file
 from panther_ops.core.config.robot import ComposeRead, RobotConfig, parse_config, read_compose, read_config
 from panther_ops.core.fleet.memo import Memo
@@ -226,57 +227,6 @@ def controller_edits(ctx: RobotContext, cfg: RobotConfig, limits: Mapping[str, A
     return edits, warnings, Verify(cfg.service, contains), summary
 
 
-def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
-    """Converge the robot to the inventory's ``desired:`` launch_args, controller and image."""
-    desired = ctx.robot.desired
-    if not desired:
-        cfg = read_config(ctx)
-        return compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
-    cfg = read_config(ctx, keep=True)
-    old_args = dict(cfg.compose.args)
-    warnings: list[str] = []
-    verify: list[Verify] = []
-    edits: list[FileEdit] = []
-    parts: list[str] = []
-    image = desired.get("image")
-    if image and image != cfg.compose.driver_image:
-        cfg.compose.set_image(image)
-        parts.append(f"image -> {image}")
-    migrated = None
-    if desired.get("launch_args"):
-        largs = dict(desired["launch_args"])
-        if "wheel_type" in largs:
-            from panther_ops.core.config.wheel_change import migrate, point_at
-
-            migrated = migrate(ctx, cfg, str(largs["wheel_type"]))
-            if migrated is not None:
-                largs.update(point_at(cfg, migrated))
-                warnings += migrated.warnings
-                parts.append(migrated.summary)
-        w, v = edit_args(cfg, largs, [], force)
-        warnings += w
-        verify.append(v)
-    if desired.get("controller"):
-        e, w, v, s = controller_edits(ctx, cfg, desired["controller"], force, migrated)
-        if migrated is not None:
-            migrated.edits = []  # the controller edit below carries the migrated file
-        if e:
-            edits += e
-            parts.append(s)
-        warnings += w
-        verify.append(v)
-    if migrated is not None:
-        edits += migrated.edits
-    arg_summary = _args_summary(cfg, old_args)
-    if arg_summary != "no change":
-        parts.insert(0, arg_summary)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller"})
-    if unsupported:
-        warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
-    return compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
-                         "matches the inventory's desired state", extra=edits)
-
-
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     """``config get KEY``: the value in the command, or the stack's default."""
     cfg = read_config(ctx)
@@ -303,4 +253,3 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
             return {"key": key, "name": n, "value": args[n], "source": "compose.yaml", "stack": cfg.stack.label()}
     return {"key": key, "name": name, "value": s.default_for(cfg.stack), "source": "default",
             "stack": cfg.stack.label()}
-

@@ -17,43 +17,29 @@ from __future__ import annotations
 import posixpath
 import re
 from dataclasses import dataclass, field
-from enum import Enum
 from pathlib import Path
 
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
-from panther_ops.core.config.kinds import FileKind, Target, check_file
+from panther_ops.core.config.kinds import PUSHABLE, FileKind, Target, check_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan, edit_args
 from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import InputError
-
-
-class PushKind(str, Enum):
-    CONTROLLER = "controller"
-    WHEEL = "wheel"
-    COMPONENTS = "components"
-    LED = "led"
-    USER_ANIMATIONS = "user-animations"
-    BT_LIGHTS = "bt-lights"
-    BT_SAFETY = "bt-safety"
-    SHUTDOWN_HOSTS = "shutdown-hosts"
-    BATTERY = "battery"
-
+from panther_ops.errors import InputError, UsageError
 
 _KINDS = {
-    PushKind.CONTROLLER: ConfigKind.CONTROLLER,
-    PushKind.WHEEL: ConfigKind.WHEEL,
-    PushKind.COMPONENTS: ConfigKind.COMPONENTS,
-    PushKind.LED: ConfigKind.ANIMATIONS,
-    PushKind.USER_ANIMATIONS: ConfigKind.USER_ANIMATIONS,
-    PushKind.SHUTDOWN_HOSTS: ConfigKind.SHUTDOWN_HOSTS,
-    PushKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
+    FileKind.CONTROLLER: ConfigKind.CONTROLLER,
+    FileKind.WHEEL: ConfigKind.WHEEL,
+    FileKind.COMPONENTS: ConfigKind.COMPONENTS,
+    FileKind.LED: ConfigKind.ANIMATIONS,
+    FileKind.USER_ANIMATIONS: ConfigKind.USER_ANIMATIONS,
+    FileKind.SHUTDOWN_HOSTS: ConfigKind.SHUTDOWN_HOSTS,
+    FileKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
 }
-_BT_ARGS = {PushKind.BT_LIGHTS: "lights_bt_project_path", PushKind.BT_SAFETY: "safety_bt_project_path"}
-_BT_TEMPLATES = {PushKind.BT_LIGHTS: "PantherLightsBT.btproj", PushKind.BT_SAFETY: "PantherSafetyBT.btproj"}
+_BT_ARGS = {FileKind.BT_LIGHTS: "lights_bt_project_path", FileKind.BT_SAFETY: "safety_bt_project_path"}
+_BT_TEMPLATES = {FileKind.BT_LIGHTS: "PantherLightsBT.btproj", FileKind.BT_SAFETY: "PantherSafetyBT.btproj"}
 
 
 @dataclass
@@ -69,12 +55,19 @@ class Bundle:
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
 
 
-def file_kind(kind: PushKind) -> FileKind:
-    """The validator registry's kind of a push kind (the same names)."""
-    return FileKind(kind.value)
+def push_kind(text: str, option: str = "--as") -> FileKind:
+    """The file kind a push or pull names (exit 2 naming what is allowed)."""
+    try:
+        kind = FileKind(text)
+    except ValueError:
+        kind = None
+    if kind not in PUSHABLE:
+        raise UsageError(f"{option} {text!r} is not a config kind",
+                         hint="allowed: " + ", ".join(k.value for k in PUSHABLE))
+    return kind
 
 
-def read_bundle(kind: PushKind, path: Path, *, force: bool = False) -> Bundle:
+def read_bundle(kind: FileKind, path: Path, *, force: bool = False) -> Bundle:
     """Read and check the local files before any robot is contacted (bad input: exit 2).
 
     The content goes through the kind's one validator (`core.filekinds`) with what needs no
@@ -93,11 +86,11 @@ def read_bundle(kind: PushKind, path: Path, *, force: bool = False) -> Bundle:
             raise InputError("a BT project is pushed by its .btproj file", path=str(path))
         from panther_ops.core.config.kinds.bt import project_files
 
-        check_file(file_kind(kind), str(path), data, local=path, force=force)
+        check_file(kind, str(path), data, local=path, force=force)
         bundle.extra = {rel: src.read_bytes() for rel, src in project_files(path).items()}
         return bundle
-    check_file(file_kind(kind), str(path), data, local=path, force=force)
-    if kind is PushKind.USER_ANIMATIONS:
+    check_file(kind, str(path), data, local=path, force=force)
+    if kind is FileKind.USER_ANIMATIONS:
         _animation_images(bundle)
     return bundle
 
@@ -151,11 +144,11 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
 _CHECKED: Memo[list[str]] = Memo()
 
 
-def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
+def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
     cfg = read_config(ctx)
     target = Target(cfg.stack, _wheel(cfg))
     warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
-                                 lambda: check_file(file_kind(kind), str(bundle.main), bundle.data,
+                                 lambda: check_file(kind, str(bundle.main), bundle.data,
                                                     local=bundle.main, target=target, force=force)))
     forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in _BT_ARGS:
@@ -176,18 +169,18 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
             arg = ""
         main_data = bundle.data
         extra = {}
-        if kind in (PushKind.USER_ANIMATIONS, PushKind.LED):  # animation types of this stack
+        if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack
             from panther_ops.core.config.animation_types import for_stack
 
             text, translated = for_stack(main_data.decode(), cfg.stack)
             main_data = text.encode()
             warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
-        if kind is PushKind.USER_ANIMATIONS and bundle.extra:
+        if kind is FileKind.USER_ANIMATIONS and bundle.extra:
             main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
             extra = {f"../{k}": v for k, v in bundle.extra.items()}
     edits: list[FileEdit] = []
     files = {name: main_data, **extra}
-    inside = posixpath.dirname(robot_dir) if kind is PushKind.USER_ANIMATIONS else robot_dir
+    inside = posixpath.dirname(robot_dir) if kind is FileKind.USER_ANIMATIONS else robot_dir
     for rel, content in files.items():
         path = posixpath.normpath(posixpath.join(robot_dir, rel))
         if not path.startswith(inside + "/"):
@@ -201,7 +194,7 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
     if not cfg.tree_mounted:
         mount_src = robot_dir if (extra or kind in _BT_ARGS) else f"{robot_dir}/{name}"
         mount_dst = container_dir if (extra or kind in _BT_ARGS) else main_container
-        if kind is PushKind.USER_ANIMATIONS and extra:
+        if kind is FileKind.USER_ANIMATIONS and extra:
             mount_src, mount_dst = posixpath.dirname(robot_dir), posixpath.dirname(container_dir)
         if cfg.host_path_of(mount_dst) != mount_src:
             cfg.compose.add_volume(mount_src, mount_dst, ro=True)
@@ -220,7 +213,7 @@ def plan_push(ctx: RobotContext, kind: PushKind, bundle: Bundle, *, force: bool 
     return plan
 
 
-def pull(ctx: RobotContext, kind: PushKind) -> tuple[bytes, str]:
+def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     """The file of ``kind`` in use on the robot, and where it came from."""
     cfg = read_config(ctx)
     if kind in _BT_ARGS:

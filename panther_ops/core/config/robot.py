@@ -15,7 +15,7 @@ from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Stack, stack_from_version
 from panther_ops.errors import RemoteStateError, TransportError
-from panther_ops.transport import scripts, scripts_apply, scripts_perl
+from panther_ops.transport import scripts, scripts_apply
 from panther_ops.transport.base import Command
 
 
@@ -85,7 +85,7 @@ def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
     path = compose_file(ctx)
     if keep:
         mark = f"@@panther-ops-{secrets.token_hex(8)}@@"
-        res = ctx.transport.run_kept(scripts_perl.read_kept(path, mark),
+        res = ctx.transport.run_kept(Command.sh(scripts_apply.READ_KEPT, ctx.robot.compose_file, mark),
                                      f"{mark}\n".encode(), scripts_apply.WRITE_KEY)
     else:
         res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, path))

@@ -7,19 +7,20 @@ import re
 from dataclasses import replace
 from typing import Any
 
+from panther_ops.core.config.arg_edits import migrate_args
+from panther_ops.core.config.arg_rules import check_args
 from panther_ops.core.config.compose import ComposeError, ComposeFile
-from panther_ops.core.config.launch_args import check_args, migrate_args
 from panther_ops.core.config.plans import compose_plan
 from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver.containers import last_line, service_containers
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.driver.restart import DEFAULT_SERVICE
-from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, mark_backup, recreate_and_verify
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, mark_backup, recreate_and_verify, roll_back
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Family, parse_image
-from panther_ops.errors import OpsError, UsageError
+from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
 
@@ -220,31 +221,20 @@ def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Robo
 
 def _roll_back_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
                       backup_id: str, client: Any, *, recreated: bool) -> RobotResult:
-    """Write compose.yaml back; when containers were touched, put the old driver back up."""
-    renamed_from = plan.data.get("service_from")
-    cdir = posixpath.dirname(plan.compose_file) or "~"
-    again: str | None = None
-    try:
-        for e in plan.edits:
-            if e.before is not None:
-                ctx.transport.write_file_atomic(e.path, e.before)
-        if recreated:
-            services = plan.recreate
-            if renamed_from:
-                for svc in plan.recreate:
-                    for c in service_containers(client, svc, cdir):
-                        c.remove(force=True)
-                services = (str(renamed_from),)
-            restore = RobotPlan(plan.robot, "restore", [], services, plan.compose_file, [])
-            again = recreate_and_verify(ctx, restore, min(opts.settle_s, 3.0),
-                                        RobotResult(plan.robot, Outcome.OK, ""))
-    except OpsError as exc:
-        result.outcome = Outcome.FAILED
-        result.message = f"{problem}; ROLLBACK FAILED: {exc.message} (backup {backup_id} on the robot)"
-        return result
-    result.outcome = Outcome.ROLLED_BACK
-    result.message = f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
+    """The pipeline's rollback; when containers were touched the old driver comes back up (a
+    renamed service: the new service's containers removed first, the old one recreated)."""
     if not recreated:
-        result.message += "; the driver was not touched"
-    mark_backup(ctx, backup_id, f"rolled-back: {problem}")
-    return result
+        return roll_back(ctx, plan, opts, result, problem, backup_id, recreate=(),
+                         note="; the driver was not touched")
+    renamed_from = plan.data.get("service_from")
+    if not renamed_from:
+        return roll_back(ctx, plan, opts, result, problem, backup_id)
+    cdir = posixpath.dirname(plan.compose_file) or "~"
+
+    def remove_new_containers() -> None:
+        for svc in plan.recreate:
+            for c in service_containers(client, svc, cdir):
+                c.remove(force=True)
+
+    return roll_back(ctx, plan, opts, result, problem, backup_id, recreate=(str(renamed_from),),
+                     before_recreate=remove_new_containers)

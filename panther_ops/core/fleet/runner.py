@@ -108,9 +108,6 @@ class Connections:
         return transport
 
     def close(self) -> None:
-        from panther_ops.transport import ahead
-
-        ahead.discard()
         with self._lock:
             opened = list(self._open.values())
             self._open.clear()

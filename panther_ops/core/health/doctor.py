@@ -72,6 +72,10 @@ def make_doctor_task(*, password_check: bool = True) -> Any:
         findings.append(_disk(facts.disk_free_bytes, facts.disk_total_bytes))
         if password_check and not local:
             findings.append(_password(ctx))
+        from panther_ops.core.health.gps_check import gps_finding, wants_gps
+
+        if wants_gps(ctx.robot.desired):  # an ANT02: NMEA should arrive with a fix
+            findings.append(gps_finding(ctx))
         data: dict[str, Any] = {"findings": [f.to_json() for f in findings], "clock_offset_s": offset}
         worst = "fail" if any(f.state == "fail" for f in findings) else (
             "warn" if any(f.state == "warn" for f in findings) else "ok")

@@ -16,7 +16,9 @@ from panther_ops.core.config.robot import read_config
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.manager_ops.deploy import DISABLE_ARG, SERVICE, read_state, service_containers
+from panther_ops.core.manager_ops.apply_step import service_containers
+from panther_ops.core.manager_ops.layout import read_state
+from panther_ops.core.manager_ops.settings import DISABLE_ARG, SERVICE
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 

@@ -74,9 +74,6 @@ class TargetError(OpsError):
 
 def load_private_key(text: str, where: str) -> paramiko.PKey:
     """An unencrypted private key (RSA, Ed25519 or ECDSA) from its text."""
-    from panther_ops.transport.paramiko_import import import_paramiko
-
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
 
     errors = []
@@ -93,9 +90,6 @@ def load_private_key(text: str, where: str) -> paramiko.PKey:
 
 def host_keys_from_text(text: str) -> paramiko.HostKeys:
     """A known_hosts file's entries (plain and hashed names) as paramiko HostKeys."""
-    from panther_ops.transport.paramiko_import import import_paramiko
-
-    import_paramiko()  # the first import of paramiko is serialized there
     import paramiko
     from paramiko.hostkeys import HostKeyEntry
 
@@ -221,9 +215,6 @@ class RobotLink:
     # -- connections to the computers --------------------------------------------------------------
     def channel(self, ip: str, port: int, timeout: float) -> Any:
         """A direct-tcpip channel of the robot's connection to ip:port."""
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()  # the first import of paramiko is serialized there
         import paramiko
 
         t = self.transport.client.get_transport()
@@ -238,9 +229,6 @@ class RobotLink:
 
     def fetch_host_key(self, ip: str, port: int, timeout: float = 10.0) -> paramiko.PKey:
         """The host key `ip` offers (handshake only, no login)."""
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()  # the first import of paramiko is serialized there
         import paramiko
 
         sock = self.channel(ip, port, timeout)
@@ -259,9 +247,6 @@ class RobotLink:
                  host_keys: paramiko.HostKeys | None = None, timeout: float = 10.0) -> paramiko.SSHClient:
         """An SSH session to ip:port through the robot; the host key must be in `host_keys`
         (default: the robot's known_hosts)."""
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()  # the first import of paramiko is serialized there
         import paramiko
 
         sock = self.channel(ip, port, timeout)
@@ -359,9 +344,6 @@ class RobotSshShutdown:
         self.link = link
 
     def request(self, host: ShutdownHost) -> CommandOutcome:
-        from panther_ops.transport.paramiko_import import import_paramiko
-
-        import_paramiko()  # the first import of paramiko is serialized there
         import paramiko
 
         try:

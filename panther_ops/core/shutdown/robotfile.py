@@ -21,10 +21,10 @@ from pathlib import Path
 
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, MaskedFileEdit, Mode, parse_hosts
-from panther_ops.core.config.kinds import FileKindError
+from panther_ops.core.config.kinds import FileKind, FileKindError
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan
-from panther_ops.core.config.push import Bundle, PushKind, plan_push, pull
+from panther_ops.core.config.push import Bundle, plan_push, pull
 from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
@@ -75,7 +75,7 @@ def read_robot_hosts(ctx: RobotContext) -> RobotHostsFile:
                                   cfg.stack, cfg)
         except FileNotFoundError:
             pass
-    data, source = pull(ctx, PushKind.SHUTDOWN_HOSTS)
+    data, source = pull(ctx, FileKind.SHUTDOWN_HOSTS)
     return RobotHostsFile(data.decode(errors="replace"), None, source, cfg.stack, cfg)
 
 
@@ -110,7 +110,7 @@ def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = 
         plan.data["robot_path"] = rf.path
         return plan
     cf = config_file(rf.stack, ConfigKind.SHUTDOWN_HOSTS)
-    plan = plan_push(ctx, PushKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
+    plan = plan_push(ctx, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
     plan.edits = [MaskedFileEdit(e.path, e.before, e.after, e.mode) for e in plan.edits]
     plan.summary = f"{summary} ({plan.summary})"
     plan.warnings[:0] = warnings

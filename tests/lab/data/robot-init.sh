@@ -27,6 +27,16 @@ if [ -s "$DIR/cgroups" ]; then
     done < "$DIR/cgroups"
 fi
 
+# User computers with the snap stand-in (computers.py, `webui=True`): /usr/local and /var seen
+# through overlays whose upper layers are in DIR/overlay (snap commands in /usr/local/bin,
+# /var/snap and /var/lib/snapd-standin); the host's own directories are never written.
+if [ -d "$DIR/overlay" ]; then
+    for d in usr/local var; do
+        mkdir -p "$DIR/overlay/$d/upper" "$DIR/overlay/$d/work"
+        mount -t overlay overlay -o "lowerdir=/$d,upperdir=$DIR/overlay/$d/upper,workdir=$DIR/overlay/$d/work" "/$d"
+    done
+fi
+
 # Per-robot files and directories. The host's own files are never written.
 for f in passwd group shadow hostname hosts; do
     mount --bind "$DIR/etc/$f" "/etc/$f"

@@ -10,6 +10,6 @@ same message whatever command carries it: the message of the kind's dedicated va
 
 from __future__ import annotations
 
-from panther_ops.core.config.kinds.registry import FileKind, FileKindError, Target, check_file
+from panther_ops.core.config.kinds.registry import PUSHABLE, FileKind, FileKindError, Target, check_file
 
-__all__ = ["FileKind", "FileKindError", "Target", "check_file"]
+__all__ = ["PUSHABLE", "FileKind", "FileKindError", "Target", "check_file"]

@@ -33,6 +33,11 @@ class FileKind(str, Enum):
     COMPOSE = "compose"
 
 
+PUSHABLE: tuple[FileKind, ...] = tuple(k for k in FileKind if k is not FileKind.COMPOSE)
+"""The kinds `config push --as` and `config pull` take (compose.yaml itself is edited by the
+commands that change it: config set/unset, gps enable, driver update...)."""
+
+
 @dataclass(frozen=True)
 class Target:
     """The robot a file is meant for (None: not known yet, e.g. before any robot is read)."""

@@ -138,4 +138,11 @@ def check_battery(source: str, data: bytes, local: Path | None, target: Target, 
             errors.append(f"initial_charge_percentage={value!r} is outside {scale}")
     if errors:
         raise FileKindError(source, what, errors)
-    return []
+    notes: list[str] = []
+    value = doc.get("initial_charge_percentage")
+    if stack is None and isinstance(value, int | float) and not isinstance(value, bool) and 0 < value <= 1:
+        notes.append(f"initial_charge_percentage {float(value):g} reads as the 0-1 fraction of panther_ros 2.1.1+ "
+                     f"({float(value) * 100:g} %); panther_ros 2.0 takes percent (0-100)")
+    if stack is None and doc.get("simulate_discharging") is False and doc.get("power_load"):  # sim battery check
+        notes.append("simulate_discharging is false: the plugin uses power_load 0 W (the battery does not drain)")
+    return notes

@@ -8,11 +8,13 @@ docker steps are reported ``skipped``.
 
 from __future__ import annotations
 
+import json
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
 from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.remote.estop.calls import DEMO_RECORDING
 from panther_ops.errors import UsageError
 
 
@@ -22,12 +24,17 @@ class DemoRobot:
     compose_template: str
     serial: str
     groups: tuple[str, ...]
+    e_stop: bool = True
+    cmd_vel_publishers: tuple[str, ...] = ()
+    webui_running: bool | None = True
+    """The recorded WebUI of its User Computer: running, stopped (False), none recorded (None)."""
 
 
 DEMO_ROBOTS = (
     DemoRobot("panther-01", "panther-2.1.1.yaml", "PTH0101", ("warehouse",)),
-    DemoRobot("panther-02", "panther-2.0.4.yaml", "PTH0102", ("warehouse",)),
-    DemoRobot("panther-03", "husarion-ugv-2.2.2.yaml", "PTH0203", ("field",)),
+    DemoRobot("panther-02", "panther-2.0.4.yaml", "PTH0102", ("warehouse",),
+              cmd_vel_publishers=("teleop_twist_keyboard",), webui_running=None),
+    DemoRobot("panther-03", "husarion-ugv-2.2.2.yaml", "PTH0203", ("field",), e_stop=False, webui_running=False),
 )
 
 INVENTORY = """\
@@ -123,3 +130,34 @@ def _lay_out(root: Path, robot: DemoRobot) -> None:
     else:
         (run / "panther_config.env").write_text(ENV_21.format(serial=robot.serial))
     (home / ".ssh").mkdir(mode=0o700)
+    recording = root / DEMO_RECORDING.lstrip("/")
+    recording.parent.mkdir(parents=True)
+    recording.write_text(json.dumps(_ros_answers(robot), indent=2) + "\n")
+
+
+def _ros_answers(robot: DemoRobot) -> dict[str, object]:
+    """What the robot's driver and its User Computer answered, in their own words (`estop
+    status` and `webui status` read it)."""
+    pubs = "".join(f"Node name: {node}\nNode namespace: /\nTopic type: geometry_msgs/msg/Twist\n"
+                   "Endpoint type: PUBLISHER\n\n" for node in robot.cmd_vel_publishers)
+    return {
+        "namespace": "/panther",
+        "status": f"data: {'true' if robot.e_stop else 'false'}\n---\n",
+        "publishers": (f"Type: geometry_msgs/msg/Twist\n\nPublisher count: {len(robot.cmd_vel_publishers)}\n\n{pubs}"
+                       "Subscription count: 1\n\nNode name: drive_controller\nNode namespace: /panther\n"
+                       "Topic type: geometry_msgs/msg/Twist\nEndpoint type: SUBSCRIPTION\n"),
+        **({} if robot.webui_running is None else {"webui": _webui_answers(robot.webui_running)}),
+    }
+
+
+def _webui_answers(running: bool) -> dict[str, object]:
+    """`snap list|get -d|services husarion-webui` on the User Computer, and the /ui fetch."""
+    config = {"ros": {"domain-id": "0", "localhost-only": "0", "namespace": "panther",
+                      "transport": "rmw_cyclonedds_cpp"}, "webui": {"layout": "panther", "port": "8080"}}
+    state = ("@@list\nName            Version  Rev  Tracking       Publisher  Notes\n"
+             "husarion-webui  1.4.2    42   humble/stable  husarion   -\n@@exit 0\n"
+             f"@@get\n{json.dumps(config, indent=1)}\n@@exit 0\n"
+             "@@services\nService                 Startup  Current   Notes\n"
+             f"husarion-webui.daemon   disabled {'active' if running else 'inactive'}  -\n@@exit 0\n"
+             "@@profiles\n@@exit 0\n")
+    return {"host": "10.15.20.3", "state": state, "ui_http": 200 if running else None}

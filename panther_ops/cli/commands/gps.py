@@ -1,0 +1,330 @@
+"""`panther-ops gps ...`: NMEA from the RUTX11's GNSS (listen), the nmea-gps service (enable/disable)."""
+
+from __future__ import annotations
+
+import sys
+from typing import TYPE_CHECKING, Annotated, Any, Optional
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.gps_router import Address, router_app
+from panther_ops.cli.gps_router import credentials as _credentials
+from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
+from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+
+if TYPE_CHECKING:
+    from panther_ops.core.gps.nmea import Fix
+    from panther_ops.results import FleetResult
+
+app = typer.Typer(
+    help="GPS (ANT02 on the RUTX11): the NMEA driver on robots, the router's forwarding, fix status, NMEA decoding.",
+    no_args_is_help=True,
+)
+app.add_typer(router_app, name="router")
+
+
+def _fix_line(fix: Fix) -> str:
+    where = "no position" if fix.lat is None else f"{fix.lat:.8f} {fix.lon:.8f}"
+    extra = [f"sats {fix.satellites}" if fix.satellites is not None else "sats -",
+             f"hdop {fix.hdop}" if fix.hdop is not None else "hdop -"]
+    if fix.altitude_m is not None:
+        extra.append(f"alt {fix.altitude_m} m")
+    return f"{fix.time or '-'}  {fix.talker}  {where}  quality {fix.fix_quality}  " + "  ".join(extra)
+
+
+@app.command("listen")
+def listen(
+    udp: Annotated[str, typer.Option("--udp", help="HOST:PORT of this machine to receive NMEA on, e.g. 0.0.0.0:5000.")],
+    count: Annotated[
+        Optional[int],  # noqa: UP045
+        typer.Option("--count", "-n", min=1, help="Stop after N fixes (GGA sentences)."),
+    ] = None,
+    timeout: Annotated[
+        Optional[float],  # noqa: UP045
+        typer.Option("--timeout", min=0.1, help="Stop after SECONDS (default: none; Ctrl-C stops)."),
+    ] = None,
+    json_out: Json = False,
+) -> int:
+    """Decode NMEA arriving at a UDP address of this machine (an operator on the robot's
+    network, the router forwarding to this machine): one line per fix (GGA) as it arrives.
+
+    With --json, one document at the end holding the list of fixes (lat, lon, fix_quality,
+    satellites, hdop, ...) and the counts of sentences by type, malformed ones and bad
+    checksums. Exit 0 when --count fixes arrived (or Ctrl-C/--timeout without --count),
+    3 when --timeout passed before --count fixes.
+
+    Example: panther-ops gps listen --udp 0.0.0.0:5000 --count 3 --json
+    """
+    from panther_ops.core.gps.listen import listen as run_listen
+
+    def show(fix: Fix) -> None:
+        sys.stdout.write(_fix_line(fix) + "\n")
+        sys.stdout.flush()
+
+    result = run_listen(udp, count=count, timeout_s=timeout, on_fix=None if json_out else show)
+    short = count is not None and len(result.fixes) < count
+    code = 3 if short and result.timed_out else 0
+    stats = result.decoder.stats
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "gps listen", "address": result.address, "exit_code": code,
+                   "fixes": [f.to_json() for f in result.fixes], "counts": stats.to_json()})
+    else:
+        from panther_ops.cli.render import _console
+
+        types = ", ".join(f"{k} {v}" for k, v in sorted(stats.by_type.items())) or "none"
+        _console(stderr=True).print(
+            f"{len(result.fixes)} fixes; {stats.sentences} sentences ({types}); malformed {stats.malformed}, "
+            f"bad checksum {stats.bad_checksum}, unknown type {stats.unknown_type}"
+            + (f"; --timeout passed before {count} fixes" if code else ""), highlight=False, markup=False)
+    return code
+
+
+Port = Annotated[int, typer.Option("--port", help="UDP port the router forwards NMEA to (default 5000).")]
+Ip = Annotated[str, typer.Option("--ip", help="Built-in Computer address the driver listens on (default 10.15.20.2).")]
+Namespace = Annotated[
+    Optional[str],  # noqa: UP045
+    typer.Option("--namespace", help="ROS namespace of the fix topic (default: the robot's, else panther)."),
+]
+Container = Annotated[
+    bool, typer.Option("--container", help="Run the nmea-gps service also on 2.1.1+ (instead of launch_nmea_gps).")
+]
+
+
+@app.command("enable")
+def enable(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    port: Port = 5000,
+    ip: Ip = "10.15.20.2",
+    namespace: Namespace = None,
+    container: Container = False,
+    router: Annotated[
+        bool, typer.Option("--router", help="Also set the router's NMEA forwarding to --ip:--port (same plan).")
+    ] = False,
+    address: Annotated[
+        str, typer.Option("--address", help="The router's address on the robot's LAN (with --router).")
+    ] = "10.15.20.1",
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Run the NMEA GPS driver (ANT02 via the router's NMEA forwarding) on each robot, the way
+    its stack does it:
+
+    \b
+      panther_ros 2.0.x-2.1.0: the manual's nmea-gps service added to ~/compose.yaml
+        (husarion/nmea-gps:humble-2.0.1-20240617, network_mode host, restart always,
+        ros2 launch /husarion_utils/nmea_navsat.launch.py robot_namespace:=<ns>);
+        only that service is recreated and checked;
+      panther_ros 2.1.1+ / husarion_ugv 2.2: launch_nmea_gps:=True on the driver; on 2.2 a
+        port or ip other than 5000 / 10.15.20.2 also writes the NMEA parameters file
+        (~/config/husarion_ugv_localization/config/nmea_navsat.yaml, nmea_params_path).
+
+    Plan, diff, confirm, backup, atomic write, recreate, verify, roll back: like config set.
+    A robot already set up reports ok. The fix topic: /<ns>/gps/fix. With --router the
+    router's forwarding (GNSS and forwarding on, --ip:--port, udp) is part of the same plan,
+    applied after the driver (credentials as for `gps router`).
+
+    Examples:
+      panther-ops gps enable --all --dry-run
+      panther-ops gps enable -r panther-01 --yes
+      panther-ops gps enable -r panther-01 --router --yes
+    """
+    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+
+    check_address(address)  # refused even without --router: a bad value is never silently ignored
+    opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
+    if router:
+        from panther_ops.core.gps.combined import enable_applier, plan_enable_with_router
+
+        creds = _credentials()
+        inv, chosen = context.targets(ctx, robot, group, all_)
+        return mutate("gps enable", inv, chosen, lambda c: plan_enable_with_router(c, opts, address, creds),
+                      applier=enable_applier(address, creds, opts), yes=yes, dry_run=dry_run,
+                      restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                      max_fail=max_fail)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("gps enable", inv, chosen, lambda c: plan_enable(c, opts), applier=apply_gps, yes=yes,
+                  dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks,
+                  canary=canary, max_fail=max_fail)
+
+
+@app.command("disable")
+def disable(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    no_restart: NoRestart = False,
+    settle: Settle = 5.0,
+    json_out: Json = False,
+    forks: Forks = None,
+    canary: Canary = 0,
+    max_fail: MaxFail = None,
+) -> int:
+    """Take back what `gps enable` adds: the nmea-gps service (its container stopped and
+    removed), or launch_nmea_gps, nmea_params_path and the parameters file panther-ops wrote.
+    After an enable, compose.yaml is restored byte for byte.
+
+    Example: panther-ops gps disable -r panther-01 --yes
+    """
+    from panther_ops.core.gps.service import apply_gps, plan_disable
+
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return mutate("gps disable", inv, chosen, plan_disable, applier=apply_gps, yes=yes, dry_run=dry_run,
+                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
+                  max_fail=max_fail)
+
+
+def _print_status(fleet: FleetResult) -> None:
+    from panther_ops.cli.render import _console, print_summary, print_warnings
+
+    _console().print(_status_table(fleet, "panther-ops gps status"))
+    print_warnings(fleet)
+    print_summary(fleet)
+
+
+def _status_table(fleet: FleetResult, title: str) -> Any:
+    from rich.table import Table
+
+    from panther_ops.cli.render import STYLE, esc
+
+    table = Table(title=title)
+    for col in ("robot", "result", "verdict", "sentences/s", "position", "sats", "hdop", "age", "driver", "detail"):
+        table.add_column(col, overflow="fold")
+    for r in fleet.results:
+        d = r.data
+        fix = d.get("fix") or {}
+        pos = f"{fix['lat']:.7f} {fix['lon']:.7f}" if fix.get("lat") is not None else "-"
+        rate = d.get("sentences_per_s")
+        age = d.get("age_s")
+        table.add_row(
+            r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d.get("verdict", "")),
+            "-" if rate is None else f"{rate:g}" + (" (recorded)" if d.get("recorded") else ""), pos,
+            str(fix.get("satellites", "-")), str(fix.get("hdop", "-")), "-" if age is None else f"{age:.1f} s",
+            esc((d.get("driver") or {}).get("mode", "")), esc(d.get("detail", r.message)),
+        )
+    return table
+
+
+@app.command("status")
+def status(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
+    window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds to listen (3).")] = 3.0,
+    router: Annotated[
+        bool, typer.Option("--router", help="Also read the router's forwarding (credentials as for gps router).")
+    ] = False,
+    address: Address = "10.15.20.1",
+    json_out: Json = False,
+    forks: Forks = None,
+) -> int:
+    """Per robot: is NMEA arriving at its UDP port (listened to on the robot for --window
+    seconds, decoded here with pynmea2: sentences per second, fix quality, satellites, HDOP,
+    position, age), and a verdict: fix, data but no fix, router not forwarding, forwarding to
+    wrong host/port (with --router), no data, or port busy (the NMEA driver or gpsd holds the
+    port). `ok` only with a fix; `failed` (exit 3) otherwise. Demo robots answer with a
+    recorded NMEA file.
+
+    Examples:
+      panther-ops gps status --all
+      panther-ops gps status -r panther-01 --router --json
+    """
+    from panther_ops.cli.render import finish
+    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.status import StatusOptions, status_task
+
+    check_address(address)
+    StatusOptions(port=port, window_s=window)  # bad input refused before asking for credentials
+    creds = _credentials() if router else None
+    opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    return finish(context.run("gps status", inv, chosen, status_task(opts), forks=forks, json_out=json_out),
+                  json_out, _print_status)
+
+
+@app.command("watch")
+def watch(
+    ctx: typer.Context,
+    robot: Robots = None,
+    group: Groups = None,
+    all_: All = False,
+    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
+    window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds per refresh (2).")] = 2.0,
+    count: Annotated[
+        Optional[int],  # noqa: UP045
+        typer.Option("--count", "-n", min=1, help="Stop after N refreshes (needed with --json)."),
+    ] = None,
+    router: Annotated[bool, typer.Option("--router", help="Also read the router's forwarding each time.")] = False,
+    address: Address = "10.15.20.1",
+    json_out: Json = False,
+) -> int:
+    """`gps status` again and again over the same connections: a live table on a terminal
+    (one table per refresh when piped), until Ctrl-C or --count refreshes. With --json (and
+    --count) one document: every refresh's robots.
+
+    Example: panther-ops gps watch -r panther-01 --router
+    """
+    import time
+
+    from panther_ops.cli.render import _console, emit_json
+    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
+    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.status import StatusOptions, status_task
+    from panther_ops.errors import UsageError
+
+    check_address(address)  # every input checked before the first refresh
+    StatusOptions(port=port, window_s=window)
+    if json_out and count is None:
+        raise UsageError("gps watch --json needs --count N (one JSON document at the end)")
+    creds = _credentials() if router else None
+    opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+    inv, chosen = context.targets(ctx, robot, group, all_)
+    rounds: list[dict[str, Any]] = []
+    code = 0
+    live = None
+    if not json_out and sys.stdout.isatty():
+        from rich.live import Live
+
+        live = Live(console=_console(), auto_refresh=False)
+        live.start()
+    try:
+        with Connections(inv) as conns:
+            started = time.monotonic()
+            while count is None or len(rounds) < count:
+                if rounds:  # a refresh every --window seconds at most (demo robots answer at once)
+                    time.sleep(max(0.0, window - (time.monotonic() - started)))
+                started = time.monotonic()
+                fleet = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), None,
+                                  conns)
+                code = int(fleet.exit_code)
+                rounds.append({"time": round(time.time(), 3), **fleet.to_json()})
+                title = f"panther-ops gps watch ({time.strftime('%H:%M:%S')}, refresh {len(rounds)})"
+                if live is not None:
+                    live.update(_status_table(fleet, title), refresh=True)
+                elif not json_out:
+                    _console().print(_status_table(fleet, title))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if live is not None:
+            live.stop()
+    if json_out:
+        emit_json({"schema": 1, "command": "gps watch", "exit_code": code, "rounds": rounds})
+    return code

@@ -1,0 +1,171 @@
+"""`panther-ops sim ...`: the manual's simulation steps on local files (GPS in simulation, the
+battery plugin)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+
+from panther_ops.cli.mutate import DryRun, Yes
+from panther_ops.cli.options import Json
+
+app = typer.Typer(help="Simulation files: the ANT02 (GPS) component, a world's spherical coordinates, the battery "
+                       "plugin.", no_args_is_help=True)
+gps_app = typer.Typer(help="GPS in simulation (manual: Use of GPS in Simulation).", no_args_is_help=True)
+world_app = typer.Typer(help="A world SDF's <spherical_coordinates> (the NavSat origin).", no_args_is_help=True)
+battery_app = typer.Typer(help="The LinearBatteryPlugin file (battery_plugin_config.yaml).", no_args_is_help=True)
+app.add_typer(gps_app, name="gps")
+app.add_typer(world_app, name="world")
+app.add_typer(battery_app, name="battery")
+
+File = Annotated[Path, typer.Argument(help="The file (on this machine).")]
+
+
+def _read(path: Path) -> str:
+    from panther_ops.errors import InputError
+
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror}", path=str(path)) from None
+
+
+def _write(path: Path, before: str, after: str, what: str, command: str, *, yes: bool, dry_run: bool,
+           json_out: bool) -> int:
+    """Show the exact diff, confirm, then write atomically with a backup beside the file."""
+    from panther_ops.cli.render import emit_json, print_diffs
+    from panther_ops.core.yaml.diff import unified_diff
+    from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
+
+    changed = after != before
+    res = RobotResult("local", Outcome.CHANGED if changed else Outcome.OK,
+                      ("would change (dry run): " if dry_run and changed else "") + what,
+                      diffs=[Diff(str(path), unified_diff(before, after, str(path)))] if changed else [])
+    fleet = FleetResult(command, [res])
+    if changed and not json_out:
+        print_diffs(fleet)
+    if changed and not dry_run:
+        if not yes:
+            if not sys.stdin.isatty():
+                from panther_ops.cli.render import error
+
+                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
+                return 2
+            if not typer.confirm(f"Write {path}?", default=False):
+                sys.stderr.write("nothing was changed\n")
+                return 2
+        from panther_ops.transport.localfile import write_with_backup
+
+        res.data["backup"] = str(write_with_backup(path, after.encode()))
+    if json_out:
+        emit_json(fleet.to_json())
+    else:
+        sys.stdout.write(f"{path}: {res.outcome.value}: {res.message}\n")
+    return 0
+
+
+@gps_app.command("add")
+def gps_add(
+    file: File,
+    xyz: Annotated[str, typer.Option("--xyz", help="Position on the parent link, \"x y z\" [m].")] = "0.185 -0.12 0.0",
+    rpy: Annotated[str, typer.Option("--rpy", help="Orientation, \"r p y\" [rad].")] = "0.0 0.0 3.14",
+    parent_link: Annotated[str, typer.Option("--parent-link", help="Link it is mounted on.")] = "cover_link",
+    device_namespace: Annotated[str, typer.Option("--device-namespace", help="Its namespace (gps).")] = "gps",
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    json_out: Json = False,
+) -> int:
+    """Add the ANT02 (Wi-Fi/LTE/GPS antenna) to a components.yaml: the manual's entry (type
+    ANT02, parent_link cover_link, xyz 0.185 -0.12 0.0, rpy 0.0 0.0 3.14, device_namespace
+    gps), the rest of the file kept. An ANT02 entry already there gets these values.
+
+    Example: panther-ops sim gps add components.yaml --dry-run
+    """
+    from panther_ops.core.sim.components import add_ant02, check_triple
+
+    entry = {"type": "ANT02", "parent_link": parent_link, "xyz": check_triple(xyz, "--xyz"),
+             "rpy": check_triple(rpy, "--rpy"), "device_namespace": device_namespace}
+    before = _read(file)
+    after, what = add_ant02(before, str(file), entry)
+    return _write(file, before, after, what, "sim gps add", yes=yes, dry_run=dry_run, json_out=json_out)
+
+
+@world_app.command("show")
+def world_show(file: File, json_out: Json = False) -> int:
+    """The world's <spherical_coordinates> (surface_model must be EARTH_WGS84)."""
+    from panther_ops.core.sim.world import read_coordinates
+
+    found = read_coordinates(_read(file), str(file))
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "sim world show", "file": str(file), "spherical_coordinates": found})
+    elif not found["present"]:
+        sys.stdout.write(f"{file}: no <spherical_coordinates> (NavSat needs one: panther-ops sim world set)\n")
+    else:
+        for k, v in found.items():
+            if k not in ("present", "surface_model_ok"):
+                sys.stdout.write(f"{k}: {v}\n")
+        if not found["surface_model_ok"]:
+            sys.stderr.write("warning: surface_model is not EARTH_WGS84\n")
+    return 0 if found.get("surface_model_ok", True) else 3
+
+
+def _opt(name: str, help_: str) -> Any:
+    return typer.Option(f"--{name}", help=help_)
+
+
+@world_app.command("set")
+def world_set(
+    file: File,
+    lat: Annotated[Optional[float], _opt("latitude", "Latitude [deg], -90..90.")] = None,  # noqa: UP045
+    lon: Annotated[Optional[float], _opt("longitude", "Longitude [deg], -180..180.")] = None,  # noqa: UP045
+    elevation: Annotated[Optional[float], _opt("elevation", "Elevation [m].")] = None,  # noqa: UP045
+    heading: Annotated[Optional[float], _opt("heading", "Heading [deg].")] = None,  # noqa: UP045
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    json_out: Json = False,
+) -> int:
+    """Set the world origin's latitude, longitude, elevation, heading; only those texts change.
+    A world without <spherical_coordinates> gets the manual's block first.
+
+    Example: panther-ops sim world set my_world.sdf --latitude 52.2297 --longitude 21.0122 --yes
+    """
+    from panther_ops.core.sim.world import set_coordinates
+    from panther_ops.errors import UsageError
+
+    values = {k: v for k, v in (("latitude", lat), ("longitude", lon), ("elevation", elevation),
+                                ("heading", heading)) if v is not None}
+    if not values:
+        raise UsageError("nothing to set", hint="--latitude, --longitude, --elevation, --heading")
+    before = _read(file)
+    after = set_coordinates(before, str(file), values)
+    what = ", ".join(f"{k} {v:g}" for k, v in values.items())
+    return _write(file, before, after, what, "sim world set", yes=yes, dry_run=dry_run, json_out=json_out)
+
+
+@battery_app.command("check")
+def battery_check(file: File, json_out: Json = False) -> int:
+    """Check the battery plugin file: simulate_discharging a boolean, initial_charge_percentage
+    0-100 (the 0-1 form of panther_ros 2.1.1 reported), charging_time, power_load and capacity
+    positive. Bad file: exit 2 naming the key."""
+    from ruamel.yaml import YAML
+
+    from panther_ops.core.sim.battery import validate_battery
+
+    text = _read(file)
+    notes = validate_battery(text.encode(), str(file))
+    doc = YAML(typ="safe", pure=True).load(text)
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "sim battery check", "file": str(file), "valid": True, "notes": notes,
+                   "values": doc})
+    else:
+        sys.stdout.write(f"{file}: valid\n")
+        for n in notes:
+            sys.stderr.write(f"note: {n}\n")
+    return 0

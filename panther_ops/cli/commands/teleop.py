@@ -1,0 +1,67 @@
+"""`panther-ops teleop -r ROBOT`: drive one robot from this terminal's keyboard."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import typer
+
+from panther_ops.cli import context
+from panther_ops.cli.options import Robots, finite
+
+MIN_RATE_HZ = 10.0
+"""The manual's minimum frequency (the robot stops when no command arrived for 1 s)."""
+
+
+def _rate(value: float) -> float:
+    """--rate: a finite number of Hz, at least the manual's 10 (checked before anything is contacted)."""
+    finite(value)
+    if value < MIN_RATE_HZ:
+        raise typer.BadParameter(f"{value:g} Hz is below {MIN_RATE_HZ:g} Hz (the manual's minimum repeat_rate)")
+    return value
+
+
+def teleop(
+    ctx: typer.Context,
+    robot: Robots = None,
+    rate: Annotated[float, typer.Option("--rate", callback=_rate,
+                                        help="repeat_rate in Hz (at least 10).")] = 10.0,
+) -> int:
+    """The manual's keyboard teleoperation: teleop_twist_keyboard in the robot's driver
+    container with repeat_rate 10.0, on this terminal, over the robot's connection. Refused
+    while the E-stop is triggered; warns when another node publishes on cmd_vel. Exactly one
+    robot. Keys: i , j l u o m . move, k stops, Ctrl-C ends.
+
+    Example: panther-ops teleop -r panther-01
+    """
+    from panther_ops.cli.render import error
+    from panther_ops.core.fleet.runner import Connections, RobotContext
+    from panther_ops.core.remote.teleop.keyboard import prepare
+    from panther_ops.errors import ExitCode, RemoteStateError, UnreachableError, UsageError
+    from panther_ops.transport.interactive import run_interactive
+
+    inv, chosen = context.targets(ctx, robot, None, False)
+    if len(chosen) != 1:
+        raise UsageError(f"teleop drives exactly one robot, {len(chosen)} chosen", hint="-r NAME")
+    with Connections(inv) as conns:
+        try:
+            rctx = RobotContext(chosen[0], conns.get(chosen[0]), inv)
+            plan = prepare(rctx, rate)
+        except UnreachableError as exc:
+            error(str(exc))
+            return int(ExitCode.UNREACHABLE)
+        except RemoteStateError as exc:  # the robot's state refuses it: that robot failed
+            error(f"{chosen[0].name}: {exc}")
+            return int(ExitCode.PARTIAL)
+        for w in plan.warnings:
+            context.info(f"warning {chosen[0].name}: {w}")
+        client = getattr(rctx.transport, "client", None)
+        if client is None:
+            raise UsageError("teleop needs an SSH robot")
+        context.info(f"{chosen[0].name}: teleop_twist_keyboard in {plan.container} on {plan.namespace.rstrip('/')}"
+                     f"/cmd_vel at {rate:g} Hz; Ctrl-C ends")
+        return run_interactive(client, chosen[0].name, plan.command)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("teleop")(teleop)

@@ -1,0 +1,127 @@
+"""How the shutdown commands show their results: the hosts file's plan and findings, the
+hosts shut down, the robots' hosts files, the setup steps (tables on a terminal, one JSON
+document with --json)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from panther_ops.core.config.hostsfile import HostsFile
+    from panther_ops.results import FleetResult
+
+
+def print_findings(parsed: HostsFile) -> None:
+    err = stderr()
+    for f in parsed.warnings:
+        err.print(f"[yellow]warning[/] {esc(parsed.source)}: {esc(f)}")
+
+
+def print_plan(parsed: HostsFile, title: str) -> None:
+    from rich.table import Table
+
+    table = Table(title=title)
+    for col in ("host", "method", "request", "timeout", "then"):
+        table.add_column(col, overflow="fold")
+    for e in parsed.entries:
+        if e.http:
+            request, then = f"GET /shutdown?ts=…&sig=… (secret: {e.row()['secret']})", "ping until gone"
+        else:
+            request = f"ssh: {e.command}"
+            then = "ping until gone" if e.ping_for_success else "done at the response"
+        table.add_row(esc(e.describe()), "http" if e.http else "ssh", esc(request), f"{e.timeout:g} s", then)
+    stdout().print(table)
+
+
+def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
+    from panther_ops.cli.render import STYLE, emit_json
+    from panther_ops.core.shutdown.run import summary
+
+    if json_out:
+        emit_json(fleet.to_json())
+        return int(fleet.exit_code)
+    from rich.table import Table
+
+    table = Table(title=fleet.command)
+    for col in ("host", "result", "message", "time"):
+        table.add_column(col, overflow="fold")
+    for r in fleet.results:
+        table.add_row(esc(r.robot), f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message),
+                      f"{r.duration_s:.1f} s")
+    stdout().print(table)
+    stderr().print(f"{len(fleet.results)} hosts: {summary(fleet)} in {fleet.duration_s:.1f} s"
+                    + ("" if fleet.exit_code == 0 else f" (exit {int(fleet.exit_code)})"))
+    return int(fleet.exit_code)
+
+
+def stdout() -> Any:
+    from panther_ops.cli.render import _console
+
+    return _console()
+
+
+def stderr() -> Any:
+    from panther_ops.cli.render import _console
+
+    return _console(stderr=True)
+
+
+def esc(text: object) -> str:
+    from panther_ops.cli.render import esc
+
+    return esc(text)
+
+
+def finish_list(fleet: FleetResult, json_out: bool) -> int:
+    from panther_ops.cli.render import STYLE, emit_json, print_warnings
+
+    if json_out:
+        emit_json(fleet.to_json())
+        return int(fleet.exit_code)
+    from rich.table import Table
+
+    for r in fleet.results:
+        title = f"{r.robot}: {r.data.get('hosts_file', '')}"
+        table = Table(title=esc(title))
+        for col in ("ip", "method", "user", "port", "command / secret", "timeout", "ping"):
+            table.add_column(col, overflow="fold")
+        for h in r.data.get("hosts", []):
+            http = h["method"] == "http"
+            table.add_row(esc(h["ip"]), h["method"], "" if http else esc(h["username"]), str(h["port"]),
+                          esc(h["secret"] if http else h["command"]), f"{h['timeout']:g} s",
+                          "" if http else ("yes" if h["ping_for_success"] else "no"))
+        if r.outcome.is_failure and not r.data.get("hosts"):
+            table.add_row(f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", "", "", esc(r.message), "", "")
+        stdout().print(table)
+        for e in r.data.get("errors", []):
+            stderr().print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
+    print_warnings(fleet)
+    return int(fleet.exit_code)
+
+
+def finish_steps(fleet: FleetResult, json_out: bool) -> int:
+    from panther_ops.cli.render import STYLE, emit_json, print_diffs, print_warnings
+    from panther_ops.results import Outcome
+
+    if json_out:
+        emit_json(fleet.to_json())
+        return int(fleet.exit_code)
+    from rich.table import Table
+
+    for r in fleet.results:
+        table = Table(title=f"{fleet.command}: {r.robot}")
+        for col in ("step", "result", "message"):
+            table.add_column(col, overflow="fold")
+        for s in r.data.get("steps", []):
+            outcome = Outcome(s["outcome"])
+            table.add_row(s["step"], f"[{STYLE[outcome]}]{outcome.value}[/]", esc(s["message"]))
+        if not r.data.get("steps"):
+            table.add_row("-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message))
+        stdout().print(table)
+    print_diffs(fleet)
+    print_warnings(fleet)
+    for r in fleet.results:  # the message once: a failure's is the table's failing step
+        shown = r.data.get("steps") and not r.outcome.is_failure
+        stderr().print(f"{esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
+                        + (f" {esc(r.message)}" if shown else ""))
+    return int(fleet.exit_code)

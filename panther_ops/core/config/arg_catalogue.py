@@ -1,0 +1,314 @@
+"""The catalogue of the driver's launch arguments per stack version (panther-stack.md 1.1)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from enum import Enum
+
+from panther_ops.core.fleet.stack import Family, Stack
+
+Version = tuple[int, int, int]
+
+
+class ArgType(str, Enum):
+    BOOL = "bool"
+    CHOICE = "choice"
+    PATH = "path"
+    DIR = "dir"
+    NAMESPACE = "namespace"
+    STRING = "string"
+
+
+Default = str | Callable[[Stack], str]
+
+
+@dataclass(frozen=True)
+class ArgSpec:
+    """One launch argument.
+
+    Attributes:
+        key: catalogue key (the panther_ros 2.0/2.1 name, or the 2.2 name if 2.2-only).
+        type: value type.
+        description: one line for docs and ``--help``.
+        since / until: first / last version (inclusive) that declares it.
+        names: ``(from_version, name)`` renames, oldest first (``key`` before the first).
+        choices: allowed values for CHOICE (``extra_choices`` adds per-version ones).
+        default: the stack's default (callable for version-dependent defaults).
+        aliases: other accepted input names, each with a note shown to the operator.
+        sim_only_until: on versions up to this one the argument only matters in simulation.
+        allow_none: the literal ``None`` disables the feature (components_config_path).
+    """
+
+    key: str
+    type: ArgType
+    description: str
+    since: Version = (2, 0, 0)
+    until: Version | None = None
+    names: tuple[tuple[Version, str], ...] = ()
+    choices: tuple[str, ...] = ()
+    extra_choices: tuple[tuple[Version, tuple[str, ...]], ...] = ()
+    default: Default = ""
+    aliases: tuple[tuple[str, str], ...] = ()
+    sim_only_until: Version | None = None
+    allow_none: bool = False
+
+    def available(self, stack: Stack) -> bool:
+        v = stack.version
+        return v >= self.since and (self.until is None or v <= self.until)
+
+    def name_for(self, stack: Stack) -> str:
+        name = self.key
+        for version, renamed in self.names:
+            if stack.version >= version:
+                name = renamed
+        return name
+
+    def all_names(self) -> tuple[str, ...]:
+        return (self.key, *(n for _, n in self.names))
+
+    def choices_for(self, stack: Stack) -> tuple[str, ...]:
+        out = list(self.choices)
+        for version, extra in self.extra_choices:
+            if stack.version >= version:
+                out.extend(extra)
+        return tuple(out)
+
+    def default_for(self, stack: Stack) -> str:
+        return self.default(stack) if callable(self.default) else self.default
+
+    def availability(self) -> str:
+        since = ".".join(map(str, self.since))
+        if self.until is None:
+            return f"{since}+"
+        return f"{since}-{'.'.join(map(str, self.until))}"
+
+
+def _v(text: str) -> Version:
+    a, b, c = (int(p) for p in text.split("."))
+    return (a, b, c)
+
+
+def _ugv(stack: Stack) -> bool:
+    return stack.family is Family.HUSARION_UGV
+
+
+def _common(pkg: str, rel: str) -> Callable[[Stack], str]:
+    """2.0-2.1: ``$(find panther_<pkg>)/rel``; 2.2: under common_dir_path or the package share."""
+
+    def default(stack: Stack) -> str:
+        if _ugv(stack):
+            return f"<common_dir_path or $(find husarion_ugv_{pkg})>/husarion_ugv_{pkg}/{rel}"
+        return f"$(find panther_{pkg})/{rel}"
+
+    return default
+
+
+def _shutdown_default(stack: Stack) -> str:
+    if _ugv(stack):
+        return "<common_dir_path or $(find husarion_ugv_manager)>/husarion_ugv_manager/config/shutdown_hosts.yaml"
+    if stack.version >= (2, 1, 1):
+        return "$(find panther_manager)/config/shutdown_hosts_config.yaml"
+    return "$(find panther_bringup)/config/shutdown_hosts.yaml"
+
+
+def _bt_default(kind: str) -> Callable[[Stack], str]:
+    def default(stack: Stack) -> str:
+        if _ugv(stack):
+            return f"$(find husarion_ugv_manager)/behavior_trees/{kind}BT.btproj"
+        return f"$(find panther_manager)/behavior_trees/Panther{kind}BT.btproj"
+
+    return default
+
+
+def _battery_default(stack: Stack) -> str:
+    return "$(find husarion_ugv_battery)/config/battery.yaml" if _ugv(stack) else ""
+
+
+_V2_2 = _v("2.2.0")
+
+
+_BOOL = ArgType.BOOL
+
+
+CATALOGUE: tuple[ArgSpec, ...] = (
+    ArgSpec("namespace", ArgType.NAMESPACE, "ROS namespace of every node (default: env ROBOT_NAMESPACE or '')"),
+    ArgSpec("use_sim", _BOOL, "run against the simulator instead of the hardware", default="False"),
+    ArgSpec(
+        "wheel_type",
+        ArgType.CHOICE,
+        "wheel set: WH01 off-road, WH02 mecanum, WH04 small pneumatic, WH05 Lynx (2.2), custom",
+        choices=("WH01", "WH02", "WH04", "custom"),
+        extra_choices=((_V2_2, ("WH05",)),),
+        default="WH01",
+    ),
+    ArgSpec(
+        "wheel_config_path",
+        ArgType.PATH,
+        "wheel description YAML (needed with wheel_type custom)",
+        default=_common("description", "config/{wheel_type}.yaml"),
+    ),
+    ArgSpec(
+        "controller_config_path",
+        ArgType.PATH,
+        "ros2_control controller YAML: velocity/acceleration limits (needed with wheel_type custom)",
+        default=_common("controller", "config/{wheel_type}_controller.yaml"),
+    ),
+    ArgSpec(
+        "components_config_path",
+        ArgType.PATH,
+        "components (sensors, ANT02...) added to the URDF; None disables",
+        since=_v("2.0.2"),
+        default=_common("description", "config/components.yaml"),
+        allow_none=True,
+    ),
+    ArgSpec(
+        "battery_config_path",
+        ArgType.PATH,
+        "2.0-2.1: Gazebo LinearBatteryPlugin config (simulation only); 2.2: ADC battery driver params",
+        default=_battery_default,
+        sim_only_until=_v("2.1.2"),
+    ),
+    ArgSpec(
+        "led_config_file",
+        ArgType.PATH,
+        "LED panels, segments and default animations (2.2: animations_config_path)",
+        names=((_V2_2, "animations_config_path"),),
+        default=lambda s: (
+            "<common_dir_path or $(find husarion_ugv_lights)>/husarion_ugv_lights/config/{robot_model}_animations.yaml"
+            if _ugv(s)
+            else "$(find panther_lights)/config/led_config.yaml"
+        ),
+    ),
+    ArgSpec(
+        "user_led_animations_file",
+        ArgType.PATH,
+        "user LED animations YAML (top key user_animations; 2.2: user_led_animations_path)",
+        names=((_V2_2, "user_led_animations_path"),),
+        default=lambda s: (
+            "<common_dir_path or $(find husarion_ugv_lights)>/husarion_ugv_lights/config/user_animations.yaml"
+            if _ugv(s)
+            else ""
+        ),
+        aliases=(
+            (
+                "user_animations_file",
+                "the manual's `user_animations_file` is not a declared launch argument "
+                "(ros2 launch would ignore it); using the real one",
+            ),
+        ),
+    ),
+    ArgSpec(
+        "simulation_engine",
+        ArgType.STRING,
+        "simulator (2.0.0-2.0.1 bringup only)",
+        until=_v("2.0.1"),
+        default="ignition-gazebo",
+        sim_only_until=_v("2.0.1"),
+    ),
+    ArgSpec("publish_robot_state", _BOOL, "publish the robot description and TF", default="True"),
+    ArgSpec("use_ekf", _BOOL, "fuse wheel odometry and IMU with the EKF", default="True"),
+    ArgSpec(
+        "ekf_config_path",
+        ArgType.PATH,
+        "robot_localization EKF params (2.0.0-2.0.1; later: localization_config_path)",
+        until=_v("2.0.1"),
+        default="$(find panther_bringup)/config/ekf.yaml",
+    ),
+    ArgSpec(
+        "shutdown_hosts_config_path",
+        ArgType.PATH,
+        "hosts (User Computer...) shut down with the robot",
+        default=_shutdown_default,
+    ),
+    ArgSpec("disable_manager", _BOOL, "do not start the lights/safety managers", since=_v("2.0.1"), default="False"),
+    ArgSpec(
+        "lights_bt_project_path",
+        ArgType.PATH,
+        "Groot2 project of the lights behavior tree",
+        since=_v("2.0.2"),
+        default=_bt_default("Lights"),
+    ),
+    ArgSpec(
+        "safety_bt_project_path",
+        ArgType.PATH,
+        "Groot2 project of the safety/shutdown behavior trees (robot version >= 1.2)",
+        since=_v("2.0.2"),
+        default=_bt_default("Safety"),
+    ),
+    ArgSpec("fuse_gps", _BOOL, "fuse GPS (gps/fix) in the localization", since=_v("2.0.2"), default="False"),
+    ArgSpec(
+        "localization_mode",
+        ArgType.CHOICE,
+        "relative (odom frame) or enu (East-North-Up, needs GPS)",
+        since=_v("2.0.2"),
+        choices=("relative", "enu"),
+        default="relative",
+    ),
+    ArgSpec(
+        "localization_config_path",
+        ArgType.PATH,
+        "robot_localization params",
+        since=_v("2.0.2"),
+        default=_common("localization", "config/{localization_mode}_localization[_with_gps].yaml"),
+    ),
+    ArgSpec(
+        "launch_nmea_gps",
+        _BOOL,
+        "run the built-in NMEA GPS driver (ANT02 via the router, 10.15.20.2:5000) -> <ns>/gps/fix",
+        since=_v("2.1.1"),
+        default="False",
+    ),
+    ArgSpec(
+        "common_dir_path",
+        ArgType.DIR,
+        "directory holding <package>/config/... for every package (compose: /config)",
+        since=_V2_2,
+    ),
+    ArgSpec("exit_on_wrong_hw", _BOOL, "stop when the hardware does not match", since=_V2_2, default="false"),
+    ArgSpec(
+        "log_level",
+        ArgType.CHOICE,
+        "ROS log level",
+        since=_V2_2,
+        choices=("DEBUG", "INFO", "WARNING", "ERROR", "FATAL"),
+        default="INFO",
+    ),
+    ArgSpec("launch_gamepad", _BOOL, "start the gamepad (joy2twist) nodes", since=_V2_2, default="false"),
+    ArgSpec(
+        "robot_model",
+        ArgType.CHOICE,
+        "robot model (default: env ROBOT_MODEL_NAME or panther)",
+        since=_V2_2,
+        choices=("panther", "lynx"),
+        default="panther",
+    ),
+    ArgSpec(
+        "nmea_params_path",
+        ArgType.PATH,
+        "NMEA GPS driver params (nmea_navsat.yaml)",
+        since=_V2_2,
+        default="$(find husarion_ugv_localization)/config/nmea_navsat.yaml",
+    ),
+    ArgSpec(
+        "system_monitor_config_path",
+        ArgType.PATH,
+        "system monitor params",
+        since=_V2_2,
+        default=_common("diagnostics", "config/system_monitor.yaml"),
+    ),
+)
+
+
+_BY_KEY: dict[str, ArgSpec] = {spec.key: spec for spec in CATALOGUE}
+
+
+_BY_NAME: dict[str, ArgSpec] = {}
+
+
+_ALIAS_NOTES: dict[str, tuple[ArgSpec, str]] = {}
+for _spec in CATALOGUE:
+    for _name in _spec.all_names():
+        _BY_NAME[_name] = _spec
+    for _alias, _note in _spec.aliases:
+        _ALIAS_NOTES[_alias] = (_spec, _note)

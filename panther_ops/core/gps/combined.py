@@ -1,0 +1,64 @@
+"""`gps enable --router`: the NMEA driver on the robot and the router's forwarding to it, in
+one plan per robot (the driver first, then the router: data flows once the driver listens).
+
+The router is asked to forward to ``--ip``:``--port`` (the Built-in Computer's address and
+the driver's port), with the GNSS and forwarding on and proto udp.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.gps.credentials import Credentials
+from panther_ops.core.gps.router import RouterRequest, changes, describe, open_router, read_state, summary_of
+from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+from panther_ops.results import Outcome, RobotResult
+
+
+def router_request(opts: GpsOptions) -> RouterRequest:
+    return RouterRequest(enabled=True, hostname=opts.ip, port=opts.port)
+
+
+def plan_enable_with_router(ctx: RobotContext, opts: GpsOptions, address: str, creds: Credentials) -> RobotPlan:
+    plan = plan_enable(ctx, opts)
+    api = open_router(ctx, address, creds)
+    state = read_state(api)
+    puts = changes(state, router_request(opts))
+    plan.data.update({"router": address, "router_before": summary_of(state)})
+    if api.pinned_now:
+        plan.warnings.append(f"router certificate pinned on first use: {api.fingerprint}")
+    if puts:
+        text = f"router {address}: {describe(state, puts)}"
+        plan.data["router_puts"] = puts
+        plan.data["action"] = "router"
+        plan.summary = f"{plan.summary}; {text}" if plan.edits else text
+        plan.noop = None
+    elif plan.noop:
+        plan.noop += f"; router {address} already forwards to {opts.ip}:{opts.port}"
+    return plan
+
+
+def enable_applier(address: str, creds: Credentials, opts: GpsOptions) -> Any:
+    def apply(ctx: RobotContext, plan: RobotPlan, apply_opts: ApplyOptions) -> RobotResult:
+        result = apply_gps(ctx, plan, apply_opts)
+        puts = plan.data.get("router_puts")
+        if not puts or result.outcome not in (Outcome.CHANGED, Outcome.OK) or apply_opts.dry_run:
+            return result
+        api = open_router(ctx, address, creds)
+        for path, body in puts.items():
+            api.call("PUT", path, {"data": body})
+        state = read_state(api)
+        result.data["router_after"] = summary_of(state)
+        left = changes(state, router_request(opts))
+        if left:
+            result.outcome = Outcome.FAILED
+            result.message = f"{plan.summary}; the router did not keep: {describe(state, left)}"
+        else:
+            result.outcome = Outcome.CHANGED
+            result.message = plan.summary
+        return result
+
+    return apply

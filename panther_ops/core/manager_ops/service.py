@@ -1,0 +1,182 @@
+"""The manager's compose service beside the driver: its mounts, its hosts file, its configuration file."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from panther_ops.core.config.compose import Volume
+from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import Family
+from panther_ops.core.manager_ops.layout import Layout
+from panther_ops.core.manager_ops.settings import (
+    _SHARED_TARGETS,
+    CONTAINER_DIR,
+    DBUS_POWEROFF,
+    DBUS_SOCKET,
+    HOSTS_TARGET,
+    SERVICE,
+    SSH_POWEROFF,
+    ManagerSettings,
+)
+from panther_ops.core.yaml.render import Folded
+from panther_ops.errors import UsageError
+
+_ANCHOR = re.compile(r"<<:\s*\*([^\s,\]]+)")
+
+
+# ---------------------------------------------------------------------------------------
+# compose service
+# ---------------------------------------------------------------------------------------
+def _anchor(cfg: RobotConfig) -> str | None:
+    """The anchor the driver merges (``common-config``), if any."""
+    raw = cfg.compose.doc.info(("services", cfg.service)).raw
+    m = _ANCHOR.search(raw)
+    return m.group(1) if m else None
+
+
+def _ro(vol: Volume) -> str:
+    if vol.read_only or not vol.source:
+        return vol.spec()
+    return f"{vol.source}:{vol.target}:{'ro,' + vol.options if vol.options else 'ro'}"
+
+
+def _covering(cfg: RobotConfig, container_path: str) -> Volume | None:
+    best: Volume | None = None
+    for vol in cfg.compose.list_volumes(cfg.service):
+        target = vol.target.rstrip("/")
+        if vol.source and (container_path == target or container_path.startswith(target + "/")) and (
+                best is None or len(target) > len(best.target.rstrip("/"))):
+            best = vol
+    return best
+
+
+@dataclass
+class ServiceSpec:
+    """The manager service as it will be written, and what went into it."""
+
+    mapping: dict[str, Any]
+    merge: str | None
+    hosts_file: str
+    """What manager.yaml names as shutdown_hosts_path (container path or $(find ...))."""
+    hosts_source: str
+    localhost_command: str
+
+
+def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: ManagerSettings) -> ServiceSpec:
+    """The ``panther_ops_manager`` service for this robot's compose.yaml."""
+    driver = cfg.compose.service(cfg.service)
+    volumes: dict[str, str] = {CONTAINER_DIR: f"{lay.root}:{CONTAINER_DIR}:ro"}
+    for vol in cfg.compose.list_volumes(cfg.service):
+        if vol.source and vol.target.startswith(_SHARED_TARGETS):
+            volumes[vol.target] = _ro(vol)
+        elif vol.source and vol.target == DBUS_SOCKET:
+            volumes[vol.target] = vol.spec()  # a socket: clients need to write to it
+    known_hosts = f"{cfg.home}/.ssh/known_hosts"
+    if ctx.transport.exists(known_hosts):
+        volumes["/root/.ssh/known_hosts"] = f"{known_hosts}:/root/.ssh/known_hosts:ro"
+    hosts_file, hosts_source = _hosts_file(ctx, cfg, settings, volumes)
+    ugv_dbus = cfg.stack.family is Family.HUSARION_UGV and DBUS_SOCKET in volumes
+    command = DBUS_POWEROFF if ugv_dbus else SSH_POWEROFF
+    argv = [f"python3 {lay.container_archive}",
+            f"--config {lay.container_config('manager.yaml')}",
+            f"--lights-bt {lay.container_config('behavior_trees', 'PantherLightsBT.btproj')}",
+            f"--safety-bt {lay.container_config('behavior_trees', 'PantherSafetyBT.btproj')}",
+            f"--stack {cfg.stack.version_str}"]  # message package, topics and services of this stack
+    namespace = ctx.robot.namespace or cfg.compose.args.get("namespace")
+    if namespace:
+        argv.append(f"--namespace {namespace}")
+    if settings.mode == "sim":
+        argv.append(f"--sim --scenario {lay.container_config('scenario.yaml')}")
+    mapping: dict[str, Any] = {"image": cfg.compose.driver_image, "container_name": SERVICE}
+    merge = _anchor(cfg)
+    if merge is None:  # no anchor to merge: the driver's runtime settings, copied
+        for key in ("network_mode", "ipc", "restart", "env_file", "environment"):
+            if key in driver:
+                mapping[key] = driver[key]
+    if "security_opt" in driver and DBUS_SOCKET in volumes:
+        mapping["security_opt"] = list(driver["security_opt"])
+    mapping["volumes"] = list(volumes.values())
+    mapping["command"] = Folded("\n".join(argv) + "\n")
+    return ServiceSpec(mapping, merge, hosts_file, hosts_source, command)
+
+
+def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
+                volumes: dict[str, str]) -> tuple[str, str]:
+    """The shutdown hosts file the stock manager reads, made visible to ours: (path, where from)."""
+    if settings.shutdown_hosts:
+        if ".." in settings.shutdown_hosts.split("/"):
+            raise UsageError(f"desired.manager.shutdown_hosts: {settings.shutdown_hosts} holds '..': name the file "
+                             "directly")
+        if not ctx.transport.exists(settings.shutdown_hosts):
+            raise UsageError(f"desired.manager.shutdown_hosts: {settings.shutdown_hosts} does not exist on "
+                             f"{ctx.robot.name}",
+                             hint="push it first: panther-ops config push FILE --as shutdown-hosts")
+        _check_hosts(ctx, cfg, settings.shutdown_hosts)
+        volumes[HOSTS_TARGET] = f"{settings.shutdown_hosts}:{HOSTS_TARGET}:ro"
+        return HOSTS_TARGET, settings.shutdown_hosts
+    cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
+    current = cfg.compose.args.get("shutdown_hosts_config_path")
+    if not current and cfg.tree_mounted:
+        current = cf.container_path
+    if current:
+        vol = _covering(cfg, current)
+        if vol is not None:
+            volumes[vol.target] = _ro(vol)
+            host = cfg.host_path_of(current)
+            if host is not None:
+                _check_hosts(ctx, cfg, host)
+            return current, host or current
+        return current, f"{current} (inside the image)"
+    return cf.package_path, f"{cf.package_path} (the image's default)"
+
+
+def _check_hosts(ctx: RobotContext, cfg: RobotConfig, path: str) -> None:
+    """The hosts file the deployed manager will read, through the one hosts file validator."""
+    from panther_ops.core.config.kinds import FileKind, Target, check_file
+
+    try:
+        data = ctx.transport.read_file(path)
+    except FileNotFoundError:
+        return
+    check_file(FileKind.SHUTDOWN_HOSTS, path, data, target=Target(cfg.stack))
+
+
+def manager_yaml(settings: ManagerSettings, spec: ServiceSpec, version: str) -> bytes:
+    """``config/manager.yaml``: node-file shape, read by `load_manager_config`."""
+    import yaml
+
+    params: dict[str, Any] = {"shutdown_hosts_path": spec.hosts_file,
+                              "shutdown_localhost_command": spec.localhost_command}
+    params.update(settings.params)
+    head = (f"# Runtime manager parameters (docs/manager.md), written by `panther-ops manager deploy` ({version}).\n"
+            "# Defaults for everything not listed; set them in the inventory (desired.manager.params) and\n"
+            "# deploy again: changes made here are overwritten.\n")
+    return (head + yaml.safe_dump({"/**": {"ros__parameters": params}}, sort_keys=False,
+                                  default_flow_style=False, width=1000)).encode()
+
+
+def _check_params(params: Mapping[str, Any]) -> list[str]:
+    from panther_ops.manager.config import config_with_params
+    from panther_ops.manager.errors import ManagerError
+
+    try:
+        cfg = config_with_params(params, source="desired.manager.params")
+    except ManagerError as exc:
+        raise UsageError(f"desired.manager.params: {exc}") from None
+    return list(cfg.notes)
+
+
+def _check_scenario(path: Path) -> None:
+    from panther_ops.manager.errors import ManagerError
+    from panther_ops.manager.sim.scenario import load_scenario
+
+    try:
+        load_scenario(path)
+    except ManagerError as exc:
+        raise UsageError(f"scenario {path}: {exc}") from None

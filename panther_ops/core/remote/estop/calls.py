@@ -1,0 +1,274 @@
+"""Asking the driver about its E-stop: one command per robot, run inside the driver container.
+
+The driver's ROS API (panther_ros ROS_API.md; the same names from 2.0 to husarion_ugv 2.2):
+the topic ``<ns>/hardware/e_stop`` (std_msgs/Bool, true = triggered), the services
+``<ns>/hardware/e_stop_trigger`` and ``<ns>/hardware/e_stop_reset`` (std_srvs/Trigger), and
+``<ns>/cmd_vel`` (whoever publishes on it blocks a reset: the manual's "Remote Control").
+
+Per stack version only the way in differs: the driver's container (``panther_ros`` up to
+2.1, ``husarion_ugv_ros`` from 2.2; found among the running containers by compose service,
+name or image, as compose.yaml's driver service is) and where its namespace comes from (the
+inventory's ``namespace``, else the launch argument ``namespace:=`` of the container's main
+process (2.0), else its ``ROBOT_NAMESPACE``: compose.yaml's environment (2.1), the env_file
+(2.2)). Nothing is read before: one command per robot, so a trigger costs one round trip.
+Every ROS 2 command the robot runs is bounded by ``timeout``.
+
+A demo robot (a directory) has no driver: it answers from a recording in its directory
+(:data:`DEMO_RECORDING`), the same ROS 2 CLI texts a robot prints; trigger and reset are
+not called there.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.remote.estop import answers
+from panther_ops.errors import RemoteStateError, TransportError
+from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport.base import Command
+
+E_STOP_TOPIC = "hardware/e_stop"
+TRIGGER_SERVICE = "hardware/e_stop_trigger"
+RESET_SERVICE = "hardware/e_stop_reset"
+CMD_VEL = "cmd_vel"
+ROS_TIMEOUT_S = 10
+"""Longest wait of one ROS 2 command on the robot (discovery included)."""
+DEMO_RECORDING = "/var/lib/panther-ops-demo/ros.json"
+"""Where a demo robot keeps the recorded answers of its driver (inside its directory)."""
+
+DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
+"""The driver's container and compose service names (2.2+, up to 2.1), as compose.yaml's."""
+
+#: On the robot: an exec in the running driver container (named husarion_ugv_ros or
+#: panther_ros, else the container of that compose service), made with the docker engine's
+#: API on its socket (what `docker exec` sends, without starting the docker CLI twice per
+#: robot). $1 the exec's JSON (the container script and its arguments), then the names.
+#: The output is the engine's multiplexed stream (8-byte frame headers), or its error.
+ROBOT_SCRIPT = r"""body=$1; shift
+sock=/var/run/docker.sock
+case "${DOCKER_HOST:-}" in unix://*) sock=${DOCKER_HOST#unix://} ;; esac
+api() { curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' "$@"; }
+id= why=
+for c in "$@"; do
+    out=$(api -d "$body" "http://docker/containers/$c/exec") || exit 4
+    id=$(printf '%s' "$out" | sed -n 's/.*"Id":"\([0-9a-f]*\)".*/\1/p')
+    [ -n "$id" ] && break
+    case "$out" in *"No such container"*) ;; *) why="$why $out" ;; esac
+done
+if [ -z "$id" ]; then
+    for svc in "$@"; do
+        out=$(api -G --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
+            http://docker/containers/json) || exit 4
+        c=$(printf '%s' "$out" | sed -n 's/^\[{"Id":"\([0-9a-f]*\)".*/\1/p')
+        [ -n "$c" ] || continue
+        out=$(api -d "$body" "http://docker/containers/$c/exec") || exit 4
+        id=$(printf '%s' "$out" | sed -n 's/.*"Id":"\([0-9a-f]*\)".*/\1/p')
+        [ -n "$id" ] && break
+        why="$why $out"
+    done
+fi
+if [ -z "$id" ]; then
+    echo "no running driver container (named or a compose service $*)${why:+:$why}" >&2
+    exit 3
+fi
+echo "@@container $c" >&2
+exec curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' -d '{"Detach":false,"Tty":false}' \
+    "http://docker/exec/$id/start"
+"""
+
+#: In the driver container (after the image's entrypoint sourced ROS): $1 timeout, $2 the
+#: namespace ('' = the launch's `namespace:=` argument of the container's main process, else
+#: ROBOT_NAMESPACE), then the actions in order.
+CONTAINER_SCRIPT = r"""t=$1 ns=$2; shift 2
+if [ -z "$ns" ] && [ -r /proc/1/cmdline ]; then
+    set -f
+    for w in $(tr '\000' ' ' < /proc/1/cmdline); do
+        case $w in namespace:=*) ns=${w#namespace:=} ;; esac
+    done
+    set +f
+fi
+[ -n "$ns" ] || ns=${ROBOT_NAMESPACE:-}
+ns=${ns#/}; ns=${ns%/}; p=${ns:+/$ns}
+echo "@@ns ${p:-/}"
+for a in "$@"; do
+    echo "@@$a"
+    case $a in
+        status) timeout "$t" ros2 topic echo --once "$p/hardware/e_stop" std_msgs/msg/Bool 2>&1 ;;
+        publishers) timeout "$t" ros2 topic info -v "$p/cmd_vel" 2>&1 ;;
+        trigger) timeout "$t" ros2 service call "$p/hardware/e_stop_trigger" std_srvs/srv/Trigger 2>&1 ;;
+        reset) timeout "$t" ros2 service call "$p/hardware/e_stop_reset" std_srvs/srv/Trigger 2>&1 ;;
+        *) echo "unknown action $a"; false ;;
+    esac
+    echo "@@exit $?"
+done
+"""
+
+ACTIONS = ("status", "publishers", "trigger", "reset")
+
+
+def command(namespace: str, actions: tuple[str, ...], timeout: int = ROS_TIMEOUT_S) -> Command:
+    """The one command the robot runs for ``actions`` (each a name of :data:`ACTIONS`);
+    ``namespace`` '' lets the driver container tell its own."""
+    unknown = [a for a in actions if a not in ACTIONS]
+    if unknown:
+        raise ValueError(f"unknown E-stop actions {unknown}")
+    argv = ["/ros_entrypoint.sh", "sh", "-c", CONTAINER_SCRIPT, "sh", str(timeout), namespace, *actions]
+    body = json.dumps({"AttachStdout": True, "AttachStderr": True, "Cmd": argv}, separators=(",", ":"))
+    return Command.sh(ROBOT_SCRIPT, body, *DRIVER_SERVICES)
+
+
+def is_demo(ctx: RobotContext) -> bool:
+    return ctx.robot.transport == "local"
+
+
+def ask(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
+    """Run ``actions`` in the robot's driver container (one command, nothing read before it);
+    a demo robot answers from its recording (only ``status`` and ``publishers`` are recorded)."""
+    if is_demo(ctx):
+        return recorded(ctx, actions)
+    res = ctx.transport.run(command(ctx.robot.namespace or "", actions), timeout=ROS_TIMEOUT_S * len(actions) + 30)
+    out, err = answers.docker_stream(res.raw_stdout)
+    got = answers.split(out)
+    stderr = "\n".join(ln for ln in res.stderr.splitlines() if not ln.startswith("@@container "))
+    if not got.sections:
+        why = (stderr or err or out).strip()[-300:]
+        raise RemoteStateError(f"the driver did not answer (exit {res.exit_status}): {why}",
+                               hint="panther-ops driver status")
+    return answers.Answers(got.namespace, got.sections, container_of(res.stderr))
+
+
+def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
+    """A demo robot's recorded answers, in the format a robot's answers come in."""
+    try:
+        raw = json.loads(ctx.transport.read_file(DEMO_RECORDING).decode())
+    except FileNotFoundError:
+        raise RemoteStateError(f"no recorded driver answers ({DEMO_RECORDING})",
+                               hint="recreate the demo fleet: panther-ops demo init --force") from None
+    except ValueError as exc:
+        raise TransportError(ctx.robot.name, f"{DEMO_RECORDING}: not JSON ({exc})") from None
+    sections = {a: answers.Section(a, str(raw[a]), 0) for a in actions if a in raw}
+    return answers.Answers(str(raw.get("namespace", "/")), sections)
+
+
+def container_of(stderr: str) -> str | None:
+    """The driver container the robot script used (its ``@@container`` line on stderr)."""
+    for line in stderr.splitlines():
+        if line.startswith("@@container "):
+            return line.split(" ", 1)[1].strip() or None
+    return None
+
+
+@dataclass
+class State:
+    """What the driver said about its E-stop and cmd_vel."""
+
+    namespace: str
+    triggered: bool | None
+    publishers: list[str] | None
+    problems: list[str] = field(default_factory=list)
+
+    def topic(self, name: str) -> str:
+        return f"{self.namespace.rstrip('/')}/{name}"
+
+    def to_json(self) -> dict[str, Any]:
+        return {"namespace": self.namespace, "e_stop": self.triggered, "cmd_vel_publishers": self.publishers}
+
+
+def read_state(got: answers.Answers) -> State:
+    state = State(got.namespace, None, None)
+    status, pubs = got.get("status"), got.get("publishers")
+    if status is not None:
+        state.triggered = answers.e_stop_state(status.text)
+        if state.triggered is None:
+            state.problems.append(f"no message on {state.topic(E_STOP_TOPIC)} within {ROS_TIMEOUT_S} s"
+                                  + _tail(status.text))
+    if pubs is not None:
+        state.publishers = answers.publishers(pubs.text)
+        if state.publishers is None:
+            state.problems.append(f"no answer about {state.topic(CMD_VEL)}" + _tail(pubs.text))
+    return state
+
+
+def _tail(text: str) -> str:
+    lines = [ln for ln in text.strip().splitlines() if ln.strip() and "waiting for service" not in ln]
+    return f": {lines[-1][-200:]}" if lines else ""
+
+
+def describe(state: State) -> str:
+    what = {True: "E-stop triggered", False: "E-stop released", None: "E-stop state unknown"}[state.triggered]
+    if state.publishers:
+        what += f"; publishing on {state.topic(CMD_VEL)}: {', '.join(state.publishers)}"
+    return what
+
+
+def status_task(ctx: RobotContext) -> RobotResult:
+    """`estop status`: the E-stop and who publishes on cmd_vel."""
+    state = read_state(ask(ctx, ("status", "publishers")))
+    data = {**state.to_json(), "recorded": is_demo(ctx)}
+    if state.problems:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, "; ".join(state.problems), data=data)
+    note = " (recorded answer: demo robot)" if is_demo(ctx) else ""
+    return RobotResult(ctx.robot.name, Outcome.OK, describe(state) + note, data=data)
+
+
+def trigger_task(ctx: RobotContext) -> RobotResult:
+    """`estop trigger`: the trigger service, answered by the driver."""
+    if is_demo(ctx):
+        return RobotResult(ctx.robot.name, Outcome.SKIPPED, "demo robot: no driver to call")
+    got = ask(ctx, ("trigger",))
+    return _service_result(ctx, got, "trigger", TRIGGER_SERVICE, "E-stop triggered")
+
+
+def reset_check_task(ctx: RobotContext) -> RobotResult:
+    """`estop reset`, first phase: is a reset needed, and is it possible (nobody on cmd_vel)?"""
+    state = read_state(ask(ctx, ("status", "publishers")))
+    data: dict[str, Any] = {**state.to_json(), "ready": False}
+    if state.problems:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, "; ".join(state.problems), data=data)
+    if state.triggered is False:
+        return RobotResult(ctx.robot.name, Outcome.OK, "E-stop not triggered: nothing to reset"
+                           + (f" ({describe(state)})" if state.publishers else ""), data=data)
+    if state.publishers:
+        return RobotResult(
+            ctx.robot.name, Outcome.FAILED,
+            f"refused: {', '.join(state.publishers)} publishes on {state.topic(CMD_VEL)} "
+            "(no reset while messages arrive)",
+            data={**data, "hint": f"stop {state.publishers[0]}, then reset again"})
+    data["ready"] = True
+    return RobotResult(ctx.robot.name, Outcome.OK, "E-stop triggered, nobody publishes on "
+                       f"{state.topic(CMD_VEL)}: ready to reset", data=data)
+
+
+def reset_task(ctx: RobotContext) -> RobotResult:
+    """`estop reset`, second phase: the reset service, then the E-stop read back."""
+    if is_demo(ctx):
+        return RobotResult(ctx.robot.name, Outcome.SKIPPED, "demo robot: no driver to call")
+    got = ask(ctx, ("reset", "status"))
+    result = _service_result(ctx, got, "reset", RESET_SERVICE, "E-stop reset")
+    if result.outcome is Outcome.CHANGED:
+        state = read_state(got)
+        result.data.update(state.to_json())
+        if state.triggered is not False:
+            result.outcome = Outcome.FAILED
+            result.message += f"; but {state.topic(E_STOP_TOPIC)} still says " + (
+                "triggered" if state.triggered else "nothing")
+    return result
+
+
+def _service_result(ctx: RobotContext, got: answers.Answers, action: str, service: str, done: str) -> RobotResult:
+    name = f"{got.namespace.rstrip('/')}/{service}"
+    section = got.get(action)
+    response = answers.trigger_response(section.text) if section is not None else None
+    data: dict[str, Any] = {"namespace": got.namespace, "service": name}
+    if response is None:
+        text = section.text if section is not None else ""
+        return RobotResult(ctx.robot.name, Outcome.FAILED,
+                           f"no answer from {name} within {ROS_TIMEOUT_S} s{_tail(text)}", data=data)
+    success, message = response
+    data.update(success=success, response=message)
+    if not success:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, f"{name} refused: {message}", data=data)
+    return RobotResult(ctx.robot.name, Outcome.CHANGED, f"{done} ({message})", data=data)

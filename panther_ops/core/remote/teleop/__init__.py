@@ -1,0 +1,3 @@
+"""Keyboard teleoperation of one robot from this terminal (`panther-ops teleop`)."""
+
+from __future__ import annotations

@@ -1,0 +1,392 @@
+"""husarion-webui on the robot's User Computer: read its state, plan and apply, the tasks.
+
+Everything runs on the User Computer through a fabric session over the robot's connection
+(:mod:`panther_ops.core.remote.user_computer.access`): one read of the snap's state (``snap list``,
+``snap get -d``, ``snap services``, the custom DDS profiles), then ``sudo snap ...`` /
+``sudo husarion-webui.start|stop`` as the manual does. Whether ``http://<host>:<port>/ui``
+answers is asked from the robot (curl there), i.e. through the robot's connection.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.remote.estop.answers import split
+from panther_ops.core.remote.user_computer.access import open_session
+from panther_ops.core.remote.webui.settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
+from panther_ops.errors import OpsError, RemoteStateError
+from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport.base import Command, Secret
+from panther_ops.transport.user_computer import UserComputerSession
+
+DEFAULT_CHANNEL = "humble"
+CLOCK_LIMIT_S = 1.0
+CLOCK_FIX = ("synchronize the clocks first (the manual: time synchronization before installing anything on the "
+             "User Computer): e.g. on the User Computer `sudo chronyc makestep` with the robot as its time "
+             "server, or `sudo timedatectl set-ntp true`")
+
+READ = r"""for part in list get services profiles; do
+    echo "@@$part"
+    case $part in
+        list) snap list "$1" 2>&1 ;;
+        get) snap get -d "$1" 2>&1 ;;
+        services) snap services "$1" 2>&1 ;;
+        profiles) ls -1 "$2" 2>/dev/null ;;
+    esac
+    echo "@@exit $?"
+done
+"""
+UI_CHECK = 'curl -s -o /dev/null -m "$2" -w "%{http_code}" "$1"; echo " $?"'
+
+
+@dataclass
+class WebuiState:
+    """What the User Computer said about the snap."""
+
+    installed: bool
+    channel: str | None = None
+    revision: str | None = None
+    settings: dict[str, str] = field(default_factory=dict)
+    running: bool = False
+    profiles: set[str] = field(default_factory=set)
+
+    def value(self, key: str) -> str:
+        return self.settings.get(key, DEFAULTS[key])
+
+    def to_json(self) -> dict[str, Any]:
+        return {"installed": self.installed, "channel": self.channel, "revision": self.revision,
+                "settings": {k: self.value(k) for k in DEFAULTS} if self.installed else {},
+                "running": self.running, "dds_profiles": sorted(self.profiles)}
+
+
+def parse_state(output: str) -> WebuiState:
+    got = split(output)
+    listed = got.get("list")
+    if listed is None or listed.status != 0:
+        return WebuiState(False)
+    state = WebuiState(True)
+    for line in listed.text.splitlines()[1:]:
+        cols = line.split()
+        if cols and cols[0] == SNAP and len(cols) >= 4:
+            state.revision, state.channel = cols[2], cols[3]
+    getd = got.get("get")
+    if getd is not None and getd.status == 0:
+        try:
+            doc = json.loads(getd.text or "{}")
+        except ValueError:
+            doc = {}
+        for section, values in doc.items() if isinstance(doc, dict) else ():
+            for name, value in values.items() if isinstance(values, dict) else ():
+                state.settings[f"{section}.{name}"] = str(value)
+    services = got.get("services")
+    state.running = services is not None and any(
+        SNAP in line and " active" in f" {line}" and "inactive" not in line for line in services.text.splitlines())
+    profiles = got.get("profiles")
+    if profiles is not None:
+        state.profiles = {n[:-4] for n in profiles.text.split() if n.endswith(".xml")}
+    return state
+
+
+def read_state(session: UserComputerSession) -> WebuiState:
+    res = session.run(Command.sh(READ, SNAP, COMMON_DIR))
+    return parse_state(res.stdout)
+
+
+def plan_changes(state: WebuiState, wanted: dict[str, str]) -> list[tuple[str, str, str]]:
+    """(key, current, new) for every key whose value changes (pure)."""
+    return [(k, state.value(k), v) for k, v in wanted.items() if state.value(k) != v]
+
+
+def ui_url(host: str, port: str) -> str:
+    return f"http://{host}:{port}/ui"
+
+
+def ui_answers(ctx: RobotContext, url: str, timeout: float = 3.0) -> int | None:
+    """The HTTP status of ``url`` fetched on the robot (None: no answer)."""
+    res = ctx.transport.run(Command.sh(UI_CHECK, url, f"{timeout:g}"))
+    code, _, _ = res.stdout.strip().partition(" ")
+    return int(code) if code.isdigit() and code != "000" else None
+
+
+def _session(ctx: RobotContext, password: Secret | None) -> UserComputerSession:
+    return open_session(ctx, password)
+
+
+def _sudo(session: UserComputerSession, *argv: str) -> None:
+    res = session.sudo(Command.of(*argv), timeout=120)
+    if not res.ok:
+        why = (res.stderr.strip() or res.stdout.strip())[-400:]
+        if "password is required" in why:
+            raise RemoteStateError(f"sudo on {session.address.name} needs a password",
+                                   hint="pass --ask-sudo-password or set PANTHER_OPS_SUDO_PASSWORD")
+        raise RemoteStateError(f"`sudo {' '.join(argv)}` failed on {session.address.name}: {why}")
+
+
+Task = Callable[[RobotContext], RobotResult]
+
+
+def status_task(password: Secret | None) -> Task:
+    def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            return _demo_status(ctx)
+        session = _session(ctx, password)
+        try:
+            state = read_state(session)
+        finally:
+            session.close()
+        data: dict[str, Any] = {"user_computer": session.address.host, **state.to_json()}
+        if not state.installed:
+            return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} not installed", data=data)
+        url = ui_url(session.address.host, state.value("webui.port"))
+        code = ui_answers(ctx, url)
+        data.update(url=url, ui_http=code)
+        answered = f"{url} answers {code}" if code else f"{url} does not answer"
+        return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {state.channel} rev {state.revision}, "
+                           f"{'running' if state.running else 'stopped'}; {answered}", data=data)
+    return task
+
+
+def _recording(ctx: RobotContext) -> dict[str, Any] | None:
+    """A demo robot's recorded User Computer (in the robot's directory); None: none recorded."""
+    from panther_ops.core.remote.estop.calls import DEMO_RECORDING
+
+    try:
+        raw = json.loads(ctx.transport.read_file(DEMO_RECORDING).decode())
+    except FileNotFoundError:
+        raise RemoteStateError(f"no recorded answers ({DEMO_RECORDING})",
+                               hint="recreate the demo fleet: panther-ops demo init --force") from None
+    rec = raw.get("webui")
+    return rec if isinstance(rec, dict) else None
+
+
+def _read(ctx: RobotContext, password: Secret | None) -> tuple[WebuiState, str]:
+    """The snap's state and the User Computer's address: read there, or a demo robot's recording."""
+    if ctx.robot.transport == "local":
+        rec = _recording(ctx)
+        if rec is None:
+            raise RemoteStateError("no User Computer recorded (demo robot)")
+        return parse_state(str(rec.get("state", ""))), str(rec.get("host", "10.15.20.3"))
+    session = _session(ctx, password)
+    try:
+        return read_state(session), session.address.host
+    finally:
+        session.close()
+
+
+def _demo_skip(ctx: RobotContext, what: str) -> RobotResult:
+    """A change a demo robot cannot make: reported, nothing pretended."""
+    return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"demo robot: no User Computer to {what}")
+
+
+def _demo_status(ctx: RobotContext) -> RobotResult:
+    """A demo robot: its User Computer's recorded answers."""
+    rec = _recording(ctx)
+    if rec is None:
+        return RobotResult(ctx.robot.name, Outcome.OK, "no User Computer recorded (demo robot)",
+                           data={"recorded": True, "installed": False})
+    state = parse_state(str(rec.get("state", "")))
+    code = rec.get("ui_http")
+    url = ui_url(str(rec.get("host", "10.15.20.3")), state.value("webui.port"))
+    data = {"user_computer": rec.get("host"), **state.to_json(), "url": url, "ui_http": code, "recorded": True}
+    answered = f"{url} answers {code}" if code else f"{url} does not answer"
+    return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {state.channel} rev {state.revision}, "
+                       f"{'running' if state.running else 'stopped'}; {answered} (recorded: demo robot)", data=data)
+
+
+def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
+    """Phase 1 of `webui set`: read, check custom profiles, plan current -> new."""
+    def task(ctx: RobotContext) -> RobotResult:
+        state, _ = _read(ctx, password)
+        if not state.installed:
+            return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
+                               data={"hint": "panther-ops webui install"})
+        try:
+            validate(wanted, state.profiles)
+        except SettingError as exc:
+            return RobotResult(ctx.robot.name, Outcome.FAILED, f"refused before sending: {exc}",
+                               data={"refused": str(exc)})
+        plan = plan_changes(state, wanted)
+        data: dict[str, Any] = {"plan": [{"key": k, "current": c, "new": n} for k, c, n in plan],
+                                "running": state.running, "ready": bool(plan)}
+        if not plan:
+            return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data)
+        text = ", ".join(f"{k}: {c or '(unset)'} -> {n}" for k, c, n in plan)
+        return RobotResult(ctx.robot.name, Outcome.OK, f"plan: {text}", data=data)
+    return task
+
+
+def set_apply_task(wanted: dict[str, str], password: Secret | None, dds: tuple[str, bytes] | None = None) -> Task:
+    """Phase 2 of `webui set`: upload the DDS profile, snap set, restart when running, verify."""
+    def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            return _demo_skip(ctx, "set")
+        session = _session(ctx, password)
+        try:
+            before = read_state(session)
+            if dds is not None:
+                name, data = dds
+                _upload(session, f"{COMMON_DIR}/{name}.xml", data)
+            plan = plan_changes(before, wanted)
+            if plan:
+                _sudo(session, "snap", "set", SNAP, *(f"{k}={v}" for k, _, v in plan))
+            restarted = False
+            if plan and before.running:
+                _sudo(session, f"{SNAP}.stop")
+                _sudo(session, f"{SNAP}.start")
+                restarted = True
+            after = read_state(session)
+        finally:
+            session.close()
+        wrong = [k for k in wanted if after.value(k) != wanted[k]]
+        data_out: dict[str, Any] = {**after.to_json(), "restarted": restarted}
+        if wrong:
+            return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(wrong)} not as set",
+                               data=data_out)
+        if not plan and dds is None:
+            return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
+        done = ", ".join(f"{k}={v}" for k, _, v in plan) or "DDS profile uploaded"
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {done}" + ("; restarted" if restarted else ""),
+                           data=data_out)
+    return task
+
+
+def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
+    """Write ``data`` to ``target`` as root (a here-document of the validated XML)."""
+    import base64
+
+    encoded = base64.b64encode(data).decode()
+    _sudo(session, "sh", "-c", 'printf %s "$1" | base64 -d > "$2.tmp" && chmod 644 "$2.tmp" && mv "$2.tmp" "$2"',
+          "sh", encoded, target)
+
+
+def install_task(channel: str, password: Secret | None) -> Task:
+    def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            return _demo_install(ctx, channel)
+        session = _session(ctx, password)
+        try:
+            offsets = clock_offsets(ctx, session)
+            worst = max(offsets.values(), key=abs)
+            if abs(worst) > CLOCK_LIMIT_S:
+                shown = ", ".join(f"{k} {v:+.1f} s" for k, v in offsets.items())
+                return RobotResult(ctx.robot.name, Outcome.FAILED, f"refused: clocks differ ({shown}; limit "
+                                   f"{CLOCK_LIMIT_S:g} s)", data={"clock_offsets": offsets, "hint": CLOCK_FIX})
+            state = read_state(session)
+            want = channel if "/" in channel else f"{channel}/stable"
+            if state.installed and state.channel == want:
+                return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed",
+                                   data={"clock_offsets": offsets, **state.to_json()})
+            _sudo(session, "snap", "install", SNAP, f"--channel={channel}")
+            after = read_state(session)
+        finally:
+            session.close()
+        if not after.installed:
+            return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} not installed after snap install")
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"installed {SNAP} {after.channel} rev {after.revision}",
+                           data={"clock_offsets": offsets, **after.to_json()})
+    return task
+
+
+def _demo_install(ctx: RobotContext, channel: str) -> RobotResult:
+    state, _ = _read(ctx, None)
+    want = channel if "/" in channel else f"{channel}/stable"
+    if state.installed and state.channel == want:
+        return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed (recorded: demo robot)",
+                           data=state.to_json())
+    return _demo_skip(ctx, "install on")
+
+
+def clock_offsets(ctx: RobotContext, session: UserComputerSession) -> dict[str, float]:
+    """Seconds each clock is ahead: the User Computer and the robot against this machine,
+    and the User Computer against the robot (round trips halved)."""
+    def remote(run: Callable[[], str]) -> float:
+        before = time.time()
+        text = run()
+        after = time.time()
+        try:
+            return float(text.strip().splitlines()[-1]) - (before + after) / 2
+        except (ValueError, IndexError):
+            raise RemoteStateError(f"cannot read the clock: {text.strip()[-200:]!r}") from None
+
+    uc = remote(lambda: session.run(Command.of("date", "+%s.%N")).stdout)
+    robot = remote(lambda: ctx.transport.run(Command.of("date", "+%s.%N")).stdout)
+    return {"user computer vs this machine": round(uc, 3), "robot vs this machine": round(robot, 3),
+            "user computer vs robot": round(uc - robot, 3)}
+
+
+def start_stop_task(start: bool, password: Secret | None) -> Task:
+    def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.transport == "local":
+            state, _ = _read(ctx, password)
+            done = _start_stop_needless(ctx, state, start)
+            return done or _demo_skip(ctx, "start" if start else "stop")
+        session = _session(ctx, password)
+        try:
+            state = read_state(session)
+            done = _start_stop_needless(ctx, state, start)
+            if done is not None:
+                return done
+            _sudo(session, f"{SNAP}.{'start' if start else 'stop'}")
+            after = read_state(session)
+        finally:
+            session.close()
+        if after.running != start:
+            return RobotResult(ctx.robot.name, Outcome.FAILED, f"still {'stopped' if start else 'running'}",
+                               data=after.to_json())
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, "started" if start else "stopped", data=after.to_json())
+    return task
+
+
+def _start_stop_needless(ctx: RobotContext, state: WebuiState, start: bool) -> RobotResult | None:
+    """The result when there is nothing to start or stop (not installed, or already so)."""
+    if not state.installed:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
+                           data={"hint": "panther-ops webui install"})
+    if state.running == start:
+        return RobotResult(ctx.robot.name, Outcome.OK, f"already {'running' if start else 'stopped'}",
+                           data=state.to_json())
+    return None
+
+
+def url_task(password: Secret | None) -> Task:
+    def task(ctx: RobotContext) -> RobotResult:
+        state, host = _read(ctx, password)
+        port = state.value("webui.port")
+        lan = ui_url(host, port)
+        husarnet = ui_url("<husarnet-hostname>", port)
+        return RobotResult(ctx.robot.name, Outcome.OK, f"{lan} (LAN); {husarnet} (Husarnet)",
+                           data={"lan": lan, "husarnet": husarnet, "port": port})
+    return task
+
+
+def status_column(ctx: RobotContext) -> dict[str, Any] | None:
+    """The WebUI as `panther-ops status` shows it: for a robot with ``user_computer:`` in the
+    inventory (or a demo robot's recording), read without sudo; None when there is none."""
+    if ctx.robot.transport == "local":
+        try:
+            res = _demo_status(ctx)
+        except OpsError:  # a demo fleet from before the recordings
+            return None
+        return None if not res.data.get("installed") else _column(res.data)
+    if ctx.robot.user_computer is None:
+        return None
+    try:
+        session = _session(ctx, None)
+        try:
+            state = read_state(session)
+        finally:
+            session.close()
+    except OpsError as exc:
+        return {"error": exc.message}
+    return _column({"installed": state.installed, "running": state.running,
+                    "settings": state.to_json()["settings"]})
+
+
+def _column(data: dict[str, Any]) -> dict[str, Any]:
+    return {"installed": bool(data.get("installed")), "running": bool(data.get("running")),
+            "port": (data.get("settings") or {}).get("webui.port")}

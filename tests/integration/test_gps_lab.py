@@ -1,0 +1,174 @@
+"""Issue-13 acceptance on the lab: `gps enable|disable` on 2.0.4, 2.1.1 and 2.2.2 robots with
+real sshd + dockerd + compose v2. The driver is the lab's ros2 stand-in; the nmea-gps service
+runs the lab's stand-in of husarion/nmea-gps (tests/lab/nmea_image.py), which listens on the
+configured UDP port: a datagram sent to the robot shows up in its log."""
+
+from __future__ import annotations
+
+import json
+import socket
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+from tests.lab.nmea import burst
+from tests.lab.nmea_image import use_nmea_image
+
+pytestmark = pytest.mark.lab
+
+COMPOSE = "/home/husarion/compose.yaml"
+PARAMS = "/home/husarion/config/husarion_ugv_localization/config/nmea_navsat.yaml"
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, (json.loads(out) if out.strip().startswith("{") else {}), err
+
+
+def robot_of(lab: Any, version: str) -> str:
+    return next(r.name for r in lab.robots if version in r.image and not r.jump)
+
+
+def containers(lab: Any, name: str) -> dict[str, dict[str, Any]]:
+    ids = lab.docker(name, "ps", "-aq", check=True).stdout.split()
+    if not ids:
+        return {}
+    docs = json.loads(lab.docker(name, "inspect", *ids, check=True).stdout)
+    return {d["Name"].lstrip("/"): {"id": d["Id"], "state": d["State"]["Status"], "cmd": d["Config"]["Cmd"],
+                                    "image": d["Config"]["Image"]} for d in docs}
+
+
+@pytest.fixture
+def restored(lab: Any) -> Iterator[None]:
+    """compose.yaml, ~/config, backups and the running stack of every robot put back."""
+    saved = {r.name: lab.read(r.name, COMPOSE) for r in lab.robots}
+    for r in lab.robots:
+        lab.sh(r.name, "rm -rf /tmp/gps-cfg && cp -a /home/husarion/config /tmp/gps-cfg 2>/dev/null; true")
+    yield
+    for r in lab.robots:
+        changed = lab.read(r.name, COMPOSE) != saved[r.name]
+        lab.write(r.name, COMPOSE, saved[r.name])
+        lab.sh(r.name, "rm -rf /home/husarion/config /home/husarion/.panther-ops; "
+                       "[ -d /tmp/gps-cfg ] && cp -a /tmp/gps-cfg /home/husarion/config; true")
+        if changed or "nmea-gps" in " ".join(containers(lab, r.name)):
+            lab.compose(r.name, "up", "-d", "--force-recreate", "--remove-orphans")
+
+
+def udp_ports(lab: Any, name: str) -> set[int]:
+    """UDP ports bound in the robot's network namespace (/proc/net/udp)."""
+    rows = lab.sh(name, "cat /proc/net/udp").stdout.splitlines()[1:]
+    return {int(row.split()[1].rsplit(":", 1)[1], 16) for row in rows if row.strip()}
+
+
+def test_enable_twice_disable_on_three_stacks(lab: Any, restored: None, capsys: pytest.CaptureFixture[str]) -> None:
+    inv = str(lab.inventory_path)
+    names = {v: robot_of(lab, v) for v in ("2.0.4", "2.1.1", "2.2.2")}
+    use_nmea_image(lab, names["2.0.4"])
+    before = {n: lab.read(n, COMPOSE) for n in names.values()}
+    running = {n: containers(lab, n) for n in names.values()}
+    target = [a for n in names.values() for a in ("-r", n)]
+
+    code, doc, err = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
+    assert code == 0, (doc, err)
+    by = {r["robot"]: r for r in doc["robots"]}
+    assert {r["outcome"] for r in by.values()} == {"changed"}, by
+
+    # 2.0.4: the nmea-gps service runs, only it was created; the driver was not recreated
+    old = names["2.0.4"]
+    after = containers(lab, old)
+    gps = [c for k, c in after.items() if "nmea-gps" in k]
+    assert len(gps) == 1 and gps[0]["state"] == "running" and gps[0]["image"] == "husarion/nmea-gps:humble-2.0.1-20240617"
+    assert gps[0]["cmd"] == ["ros2", "launch", "/husarion_utils/nmea_navsat.launch.py", "robot_namespace:=panther"]
+    assert {k: v["id"] for k, v in after.items() if "nmea-gps" not in k} == {k: v["id"] for k, v in running[old].items()}
+    assert "\n  nmea-gps:\n    image: husarion/nmea-gps:humble-2.0.1-20240617\n" in lab.read(old, COMPOSE)
+    assert 5000 in udp_ports(lab, old)
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.sendto(burst(53.1978, 18.3732), (lab.robot(old).ip, 5000))
+    deadline = time.monotonic() + 10
+    while "1 datagrams" not in lab.docker(old, "logs", next(k for k in after if "nmea-gps" in k)).stdout:
+        assert time.monotonic() < deadline, "the nmea-gps stand-in did not receive the datagram"
+        time.sleep(0.2)
+
+    # 2.1.1 and 2.2.2: the argument on the driver, which was recreated with it
+    for version, word in (("2.1.1", "launch_nmea_gps:=True"), ("2.2.2", "launch_nmea_gps:=true")):
+        n = names[version]
+        driver = lab.robot(n).driver_container
+        ctr = containers(lab, n)[driver]
+        assert word in ctr["cmd"] and ctr["state"] == "running" and ctr["id"] != running[n][driver]["id"]
+        assert word in lab.read(n, COMPOSE)
+
+    code, doc, _ = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["ok"] * 3, doc
+
+    code, doc, err = run_cli(capsys, "-i", inv, "gps", "disable", *target, "--yes", "--settle", "1", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 3, (doc, err)
+    for n in names.values():
+        assert lab.read(n, COMPOSE) == before[n]
+        now = containers(lab, n)
+        assert set(now) == set(running[n])
+        assert all(now[k]["cmd"] == running[n][k]["cmd"] and now[k]["state"] == "running" for k in now)
+    assert 5000 not in udp_ports(lab, old)
+
+
+def test_other_port_on_22_and_204(lab: Any, restored: None, capsys: pytest.CaptureFixture[str]) -> None:
+    inv = str(lab.inventory_path)
+    ugv, old = robot_of(lab, "2.2.2"), robot_of(lab, "2.0.4")
+    use_nmea_image(lab, old)
+    before = {n: lab.read(n, COMPOSE) for n in (ugv, old)}
+    code, doc, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", ugv, "-r", old, "--port", "5003",
+                             "--namespace", "rover", "--yes", "--settle", "1", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 2, (doc, err)
+    assert "    port: 5003\n" in lab.read(ugv, PARAMS)
+    driver = containers(lab, ugv)[lab.robot(ugv).driver_container]
+    assert "nmea_params_path:=/config/husarion_ugv_localization/config/nmea_navsat.yaml" in driver["cmd"]
+    assert driver["state"] == "running"  # the stand-in driver fails on a missing *_path file: it is there
+    gps = next(c for k, c in containers(lab, old).items() if "nmea-gps" in k)
+    assert gps["state"] == "running" and "port:=5003" in gps["cmd"] and "__ns:=/rover" in gps["cmd"]
+    assert 5003 in udp_ports(lab, old)
+    code, doc, _ = run_cli(capsys, "-i", inv, "gps", "disable", "-r", ugv, "-r", old, "--yes", "--settle", "1",
+                           "--json")
+    assert code == 0 and {n: lab.read(n, COMPOSE) for n in (ugv, old)} == before
+    assert lab.sh(ugv, f"test -e {PARAMS}").returncode == 1
+
+
+def test_bad_input_changes_nothing(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    inv = str(lab.inventory_path)
+    n = robot_of(lab, "2.1.1")
+    before = lab.read(n, COMPOSE)
+    for argv in (["--port", "70000"], ["--namespace", "a b"], ["--port", "5001"]):
+        code, _doc, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", n, "--yes", *argv)
+        assert code == 2 and err, argv
+    assert lab.read(n, COMPOSE) == before
+
+
+def test_apply_desired_gps_recreates_only_the_service(lab: Any, restored: None,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """`apply` with desired.gps on a 2.0.4 robot adds and starts nmea-gps; the driver is untouched."""
+    name = robot_of(lab, "2.0.4")
+    use_nmea_image(lab, name)
+    text = lab.inventory_path.read_text()
+    assert f"  {name}:\n" in text
+    inv = lab.inventory_path.parent / "inventory-gps-desired.yaml"
+    inv.write_text(text.replace(f"  {name}:\n", f"  {name}:\n    desired:\n      gps: {{enabled: true}}\n", 1))
+    before = lab.read(name, COMPOSE)
+    running = containers(lab, name)
+    try:
+        code, doc, err = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed" and lab.read(name, COMPOSE) == before
+        code, doc, err = run_cli(capsys, "-i", str(inv), "apply", "-r", name, "--yes", "--settle", "1", "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed", (doc, err)
+        after = containers(lab, name)
+        gps = [c for k, c in after.items() if "nmea-gps" in k]
+        assert len(gps) == 1 and gps[0]["state"] == "running"
+        assert {k: v["id"] for k, v in after.items() if "nmea-gps" not in k} == {k: v["id"] for k, v in running.items()}
+        code, doc, _ = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
+        assert doc["robots"][0]["outcome"] == "ok"
+        assert run_cli(capsys, "-i", str(inv), "gps", "disable", "-r", name, "--yes", "--settle", "1")[0] == 0
+        assert lab.read(name, COMPOSE) == before
+    finally:
+        inv.unlink()

@@ -1,0 +1,113 @@
+"""Issue-14 teleop acceptance on the lab: `panther-ops teleop -r R` through a pseudo-terminal,
+teleop_twist_keyboard (the lab's ros2 stand-in) in the driver container over the robot's SSH
+connection; key presses reach it and it publishes on <ns>/cmd_vel at >= 10 Hz; refused while
+the E-stop is triggered; a warning when another node publishes on cmd_vel."""
+
+from __future__ import annotations
+
+import itertools
+import os
+import pty
+import select
+import sys
+import time
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+
+pytestmark = pytest.mark.lab
+
+LOG = "/var/lib/ros2-standin/cmd_vel.log"
+
+
+@pytest.fixture(scope="module")
+def tlab(lab_factory: Any) -> Any:
+    return lab_factory(2, docker=True, images=("2.1.1", "2.2"))
+
+
+def in_driver(lab: Any, name: str, script: str) -> str:
+    robot = lab.robot(name)
+    return str(lab.docker(name, "exec", robot.driver_container, "sh", "-c", script, check=True).stdout)
+
+
+def drive(lab: Any, name: str, keys: list[tuple[bytes, float]]) -> tuple[int, str]:
+    """Run `panther-ops teleop -r NAME` on a pseudo-terminal, type ``keys`` (each then a pause)."""
+    argv = [sys.executable, "-m", "panther_ops.cli.app", "-i", str(lab.inventory_path), "teleop", "-r", name]
+    pid, fd = pty.fork()
+    if pid == 0:  # pragma: no cover - the child
+        os.execv(argv[0], argv)
+    out = b""
+
+    def pump(seconds: float) -> None:
+        nonlocal out
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            ready, _, _ = select.select([fd], [], [], 0.05)
+            if ready:
+                try:
+                    out += os.read(fd, 4096)
+                except OSError:
+                    return
+
+    deadline = time.monotonic() + 30
+    while b"Reading from the keyboard" not in out and time.monotonic() < deadline:
+        pump(0.1)
+    assert b"Reading from the keyboard" in out, out.decode(errors="replace")
+    for key, pause in keys:
+        os.write(fd, key)
+        pump(pause)
+    pump(0.5)
+    _, status = os.waitpid(pid, 0)
+    os.close(fd)
+    return os.waitstatus_to_exitcode(status), out.decode(errors="replace")
+
+
+def test_refused_while_the_e_stop_is_triggered(tlab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["-i", str(tlab.inventory_path), "estop", "trigger", "-r", "r01"]) == 0
+    capsys.readouterr()
+    assert main(["-i", str(tlab.inventory_path), "teleop", "-r", "r01"]) == 3
+    err = capsys.readouterr().err
+    assert "the E-stop is triggered" in err and "panther-ops estop reset -r r01 --yes" in err
+    assert in_driver(tlab, "r01", f"cat {LOG} 2>/dev/null | wc -l").strip() == "0"
+
+
+@pytest.mark.parametrize("name", ["r01", "r02"])  # 2.1.1 (panther_ros), 2.2.2 (husarion_ugv_ros)
+def test_keys_reach_the_robot_at_10_hz(tlab: Any, name: str) -> None:
+    assert main(["-i", str(tlab.inventory_path), "estop", "reset", "-r", name, "--yes"]) == 0
+    in_driver(tlab, name, f"rm -f {LOG}")
+    code, out = drive(tlab, name, [(b"i", 2.0), (b"j", 1.0), (b"k", 0.5), (b"\x03", 1.0)])
+    assert code == 0, out
+    rows = [line.split() for line in in_driver(tlab, name, f"cat {LOG}").splitlines()]
+    times = [float(r[0]) for r in rows]
+    moves = [(r[1], r[2]) for r in rows]
+    span = times[-1] - times[0]
+    assert span > 3
+    assert len(rows) >= 10 * span, f"{len(rows)} messages in {span:.2f} s"  # >= 10 Hz
+    assert max(b - a for a, b in itertools.pairwise(times)) < 0.5  # never a gap the watchdog would stop on
+    # the keys in the order typed: forward, turn left, stop
+    seen = [m for i, m in enumerate(moves) if i == 0 or m != moves[i - 1]]
+    assert ("0.5", "0") in seen and ("0", "1.0") in seen and seen[-1] == ("0", "0")
+    assert seen.index(("0.5", "0")) < seen.index(("0", "1.0"))
+    # the publisher is gone once teleop ended
+    assert in_driver(tlab, name, "ls /var/lib/ros2-standin/cmd_vel/ 2>/dev/null").strip() == ""
+
+
+def test_warns_when_another_node_publishes(tlab: Any) -> None:
+    name = "r01"
+    robot = tlab.robot(name)
+    assert main(["-i", str(tlab.inventory_path), "estop", "reset", "-r", name, "--yes"]) == 0
+    tlab.docker(name, "exec", "-d", robot.driver_container, "ros2", "topic", "pub", "/panther/cmd_vel",
+                "geometry_msgs/msg/Twist", "{}", check=True)
+    try:
+        deadline = time.monotonic() + 5
+        while not in_driver(tlab, name, "ls /var/lib/ros2-standin/cmd_vel/ 2>/dev/null").strip():
+            assert time.monotonic() < deadline
+            time.sleep(0.1)
+        code, out = drive(tlab, name, [(b"k", 0.3), (b"\x03", 1.0)])
+        assert code == 0
+        assert "publishes on /panther/cmd_vel: do not control the robot from different sources" in out
+    finally:
+        in_driver(tlab, name, "for f in /var/lib/ros2-standin/cmd_vel/_ros2cli_*; do [ -f \"$f\" ] && "
+                              "kill $(cat \"$f\"); done; true")

@@ -1,0 +1,165 @@
+"""Issue-14 WebUI acceptance on the lab: `webui install|set|get|start|stop|status|url` on User
+Computers behind the robots (namespaces with a real sshd and sudo, reached with fabric through
+the robot's connection), the lab's `snap` stand-in for husarion-webui (its configuration, the
+configure hook's rules, a real HTTP server answering /ui on webui.port while started)."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from panther_ops.cli.app import main
+from tests.lab import Lab, missing_requirements
+from tests.lab.computers import ComputerSpec
+
+pytestmark = pytest.mark.lab
+
+W1_PASSWORD = "w1-lab-sudo-password"
+STATE = "/var/lib/snapd-standin/husarion-webui.json"
+
+
+@pytest.fixture(scope="module")
+def wlab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Lab, Path]]:
+    why = missing_requirements(docker=False)
+    if why:  # a lab test: a failure under CI=true
+        pytest.skip("simulated robot lab unavailable: " + "; ".join(why))
+    lab = Lab(2, docker=False, ephemeral=True).up()
+    try:
+        lab.add_computers([
+            ComputerSpec("w1", behind="r01", password=W1_PASSWORD, admin="group", webui=True),  # sudo asks
+            ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
+        ])
+        doc = yaml.safe_load(lab.inventory_path.read_text())
+        doc["settings"]["known_hosts"] = [str(lab.known_hosts_path), str(lab.computers_known_hosts_path)]
+        doc["settings"]["ssh_config"] = str(lab.ssh_config_path)
+        doc["defaults"]["identity_file"] = str(lab.identity_file)
+        for robot, computer in (("r01", "w1"), ("r02", "w2")):
+            doc["robots"][robot]["user_computer"] = {"host": lab.computer(computer).ip, "key": str(lab.identity_file)}
+        path = tmp_path_factory.mktemp("webui") / "inventory.yaml"
+        path.write_text(yaml.safe_dump(doc))
+        yield lab, path
+    finally:
+        lab.down()
+
+
+def cli(capsys: pytest.CaptureFixture[str], inventory: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
+    capsys.readouterr()
+    code = main(["-i", str(inventory), *argv])
+    out, err = capsys.readouterr()
+    return code, json.loads(out) if out.strip().startswith("{") else {}, err
+
+
+def ui_status(lab: Lab, robot: str, computer: str, port: int) -> str:
+    """The HTTP status of http://<computer>:<port>/ui fetched on the robot (000: no answer)."""
+    url = f"http://{lab.computer(computer).ip}:{port}/ui"
+    return str(lab.exec(robot, ["curl", "-s", "-o", "/dev/null", "-m", "3", "-w", "%{http_code}", url]).stdout)
+
+
+def snap_state(lab: Lab, computer: str) -> str:
+    return str(lab.exec(computer, ["sh", "-c", f"cat {STATE} 2>/dev/null || echo none"]).stdout)
+
+
+def test_install_set_start_with_password_sudo_then_idempotent_then_port(
+        wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    lab, inv = wlab
+    monkeypatch.setenv("PANTHER_OPS_SUDO_PASSWORD", W1_PASSWORD)
+    steps = [("webui", "install", "-r", "r01", "--json"),
+             ("webui", "set", "ros.namespace=panther", "ros.transport=rmw_cyclonedds_cpp", "webui.layout=panther",
+              "-r", "r01", "--yes", "--json"),
+             ("webui", "start", "-r", "r01", "--json")]
+    for argv in steps:
+        code, doc, err = cli(capsys, inv, *argv)
+        assert code == 0, err
+        assert doc["robots"][0]["outcome"] == "changed", doc
+    code, doc, _ = cli(capsys, inv, "webui", "status", "-r", "r01", "--json")
+    data = doc["robots"][0]["data"]
+    assert data["installed"] and data["channel"] == "humble/stable" and data["running"] is True
+    assert data["settings"] == {"ros.namespace": "panther", "ros.transport": "rmw_cyclonedds_cpp",
+                                "ros.domain-id": "0", "ros.localhost-only": "0", "webui.layout": "panther",
+                                "webui.port": "8080"}
+    assert data["ui_http"] == 200 and data["url"] == f"http://{lab.computer('w1').ip}:8080/ui"
+    assert W1_PASSWORD not in json.dumps(doc)
+
+    before = snap_state(lab, "w1")
+    for argv in steps:  # a second run changes nothing
+        code, doc, err = cli(capsys, inv, *argv)
+        assert code == 0 and doc["robots"][0]["outcome"] == "ok", doc
+    assert snap_state(lab, "w1") == before
+
+    code, doc, err = cli(capsys, inv, "webui", "set", "webui.port=8081", "-r", "r01", "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["data"]["restarted"] is True, err
+    assert ui_status(lab, "r01", "w1", 8081) == "200"
+    assert ui_status(lab, "r01", "w1", 8080) == "000"
+    code, doc, _ = cli(capsys, inv, "webui", "url", "-r", "r01", "--json")
+    assert doc["robots"][0]["data"]["lan"] == f"http://{lab.computer('w1').ip}:8081/ui"
+
+    # `panther-ops status`: the WebUI column (read without sudo), r02's not installed yet or installed
+    code, doc, _ = cli(capsys, inv, "status", "-r", "r01", "--json")
+    assert doc["robots"][0]["data"]["webui"] == {"installed": True, "running": True, "port": "8081"}
+
+    code, doc, _ = cli(capsys, inv, "webui", "stop", "-r", "r01", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed"
+    assert ui_status(lab, "r01", "w1", 8081) == "000"
+    code, doc, _ = cli(capsys, inv, "status", "-r", "r01", "--json")
+    assert doc["robots"][0]["data"]["webui"] == {"installed": True, "running": False, "port": "8081"}
+
+
+def test_without_the_password_sudo_fails_with_the_way_out(wlab: tuple[Lab, Path],
+                                                         capsys: pytest.CaptureFixture[str],
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    _lab, inv = wlab
+    monkeypatch.delenv("PANTHER_OPS_SUDO_PASSWORD", raising=False)
+    code, doc, _ = cli(capsys, inv, "webui", "install", "-r", "r01", "--channel", "humble/edge", "--json")
+    assert code == 3
+    assert "needs a password" in doc["robots"][0]["message"]
+    assert "--ask-sudo-password" in doc["robots"][0]["data"]["hint"]
+
+
+@pytest.mark.parametrize("arg", ["ros.namespace=bad ns", "webui.port=70000", "ros.domain-id=300",
+                                 "ros.transport=no-such-profile"])
+def test_bad_values_exit_2_nothing_sent(wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], arg: str) -> None:
+    lab, inv = wlab
+    assert cli(capsys, inv, "webui", "install", "-r", "r02")[0] == 0
+    before = snap_state(lab, "w2")
+    code, _doc, err = cli(capsys, inv, "webui", "set", arg, "-r", "r02", "--yes", "--json")
+    assert code == 2, err
+    assert "not allowed" in err and "nothing was sent" in err
+    assert snap_state(lab, "w2") == before
+
+
+def test_dds_file_not_xml_refused_and_a_good_one_uploaded_and_selected(
+        wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    lab, inv = wlab
+    assert cli(capsys, inv, "webui", "install", "-r", "r02")[0] == 0
+    bad = tmp_path / "lab-profile.xml"
+    bad.write_text("transport: udp\n")
+    before = snap_state(lab, "w2")
+    code, _, err = cli(capsys, inv, "webui", "set", "--dds-file", str(bad), "-r", "r02", "--yes")
+    assert code == 2 and "well-formed XML" in err
+    assert snap_state(lab, "w2") == before
+    good = tmp_path / "lab-profile.xml"
+    good.write_text('<?xml version="1.0"?>\n<dds><profiles><transport_descriptors/></profiles></dds>\n')
+    code, doc, err = cli(capsys, inv, "webui", "set", "--dds-file", str(good), "-r", "r02", "--yes", "--json")
+    assert code == 0, err
+    assert doc["robots"][0]["data"]["settings"]["ros.transport"] == "lab-profile"
+    assert lab.exec("w2", ["cat", "/var/snap/husarion-webui/common/lab-profile.xml"]).stdout == good.read_text()
+
+
+def test_install_refused_when_a_clock_is_5_s_off(wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str]) -> None:
+    lab, inv = wlab
+    lab.clock_offset("w2", 5)
+    try:
+        code, doc, _ = cli(capsys, inv, "webui", "install", "-r", "r02", "--channel", "humble/edge", "--json")
+        assert code == 3
+        r = doc["robots"][0]
+        assert r["outcome"] == "failed" and "refused: clocks differ" in r["message"]
+        assert abs(r["data"]["clock_offsets"]["user computer vs robot"] - 5) < 1
+        assert "chronyc makestep" in r["data"]["hint"]
+        assert json.loads(lab.exec("w2", ["cat", STATE]).stdout)["channel"] != "humble/edge"
+    finally:
+        lab.clock_offset("w2", 0)

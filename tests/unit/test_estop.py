@@ -1,0 +1,138 @@
+"""`panther-ops estop` without a lab: the ROS 2 CLI texts parsed, the robot's command, and the
+demo fleet answering from its recording (no driver is called on a demo robot)."""
+
+from __future__ import annotations
+
+import json
+import shlex
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+from panther_ops.core.remote.estop import answers
+from panther_ops.core.remote.estop.calls import CONTAINER_SCRIPT, command
+
+INFO_TWO = """Type: geometry_msgs/msg/Twist
+
+Publisher count: 2
+
+Node name: teleop_twist_keyboard
+Node namespace: /
+Topic type: geometry_msgs/msg/Twist
+Endpoint type: PUBLISHER
+GID: 01.0f.a1
+QoS profile:
+  Reliability: RELIABLE
+
+Node name: joy2twist_node
+Node namespace: /panther
+Topic type: geometry_msgs/msg/Twist
+Endpoint type: PUBLISHER
+
+Subscription count: 1
+
+Node name: drive_controller
+Node namespace: /panther
+Topic type: geometry_msgs/msg/Twist
+Endpoint type: SUBSCRIPTION
+"""
+
+
+def test_publishers_are_the_publishing_nodes_only() -> None:
+    assert answers.publishers(INFO_TWO) == ["/teleop_twist_keyboard", "/panther/joy2twist_node"]
+    assert answers.publishers("Type: x\n\nPublisher count: 0\n\nSubscription count: 0\n") == []
+    assert answers.publishers("Unknown topic '/panther/cmd_vel'") is None
+
+
+def test_e_stop_state_and_trigger_response() -> None:
+    assert answers.e_stop_state("data: true\n---\n") is True
+    assert answers.e_stop_state("data: false\n---\n") is False
+    assert answers.e_stop_state("waiting for service to become available...") is None
+    text = ("requester: making request: std_srvs.srv.Trigger_Request()\n\nresponse:\n"
+            "std_srvs.srv.Trigger_Response(success=False, message='E-stop reset failed, some messages are published')\n")
+    assert answers.trigger_response(text) == (False, "E-stop reset failed, some messages are published")
+    assert answers.trigger_response("std_srvs.srv.Trigger_Response(success=True, message=\"it's done\")") == \
+        (True, "it's done")
+    assert answers.trigger_response("waiting for service to become available...") is None
+
+
+def test_docker_stream_frames_and_errors() -> None:
+    def frame(stream: int, data: bytes) -> bytes:
+        return bytes([stream, 0, 0, 0]) + len(data).to_bytes(4, "big") + data
+
+    raw = frame(1, b"@@ns /panther\n") + frame(2, b"waiting...\n") + frame(1, b"@@status\n")
+    assert answers.docker_stream(raw) == ("@@ns /panther\n@@status\n", "waiting...\n")
+    assert answers.docker_stream(b'{"message":"Container abc is not running"}') == \
+        ("", '{"message":"Container abc is not running"}')
+    assert answers.docker_stream(frame(1, b"data: true\n")[:-3]) == ("data: tr", "")
+
+
+def test_split_sections_with_exit_status_and_a_cut_short_one() -> None:
+    got = answers.split("@@ns /panther\n@@status\ndata: true\n---\n@@exit 0\n@@publishers\nType: x\n")
+    assert got.namespace == "/panther"
+    assert got.sections["status"] == answers.Section("status", "data: true\n---", 0)
+    assert got.sections["publishers"].status is None and got.sections["publishers"].text == "Type: x"
+
+
+def test_robot_command_quotes_everything_and_refuses_unknown_actions() -> None:
+    cmd = command("panther; rm -rf /", ("status", "publishers"))
+    words = shlex.split(cmd.render(reveal=True))
+    assert words[:2] == ["sh", "-c"]
+    assert words[5:] == ["husarion_ugv_ros", "panther_ros"]
+    # the exec's JSON: the container script and its arguments as one argv (no shell in between)
+    assert json.loads(words[4]) == {"AttachStdout": True, "AttachStderr": True, "Cmd": [
+        "/ros_entrypoint.sh", "sh", "-c", CONTAINER_SCRIPT, "sh", "10", "panther; rm -rf /", "status", "publishers"]}
+    with pytest.raises(ValueError):
+        command("", ("status", "rm"))
+
+
+def _cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any]]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out = capsys.readouterr().out
+    return code, json.loads(out) if out.strip().startswith("{") else {}
+
+
+def test_demo_fleet_answers_as_recorded(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    demo = str(tmp_path / "demo")
+    assert main(["demo", "init", "--dest", demo]) == 0
+    code, doc = _cli(capsys, "-i", demo, "estop", "status", "--all", "--json")
+    assert code == 0
+    data = {r["robot"]: r["data"] for r in doc["robots"]}
+    assert data["panther-01"] == {"namespace": "/panther", "e_stop": True, "cmd_vel_publishers": [], "recorded": True}
+    assert data["panther-02"]["cmd_vel_publishers"] == ["/teleop_twist_keyboard"]
+    assert data["panther-03"]["e_stop"] is False
+
+    code, doc = _cli(capsys, "-i", demo, "estop", "trigger", "--all", "--json")
+    assert code == 0 and {r["outcome"] for r in doc["robots"]} == {"skipped"}
+
+    # reset: panther-02 refused (its publisher named), panther-03 has nothing to reset
+    code, doc = _cli(capsys, "-i", demo, "estop", "reset", "--all", "--yes", "--json")
+    assert code == 3
+    by = {r["robot"]: r for r in doc["robots"]}
+    assert by["panther-02"]["outcome"] == "failed" and "/teleop_twist_keyboard publishes on /panther/cmd_vel" in \
+        by["panther-02"]["message"]
+    assert by["panther-03"]["outcome"] == "ok" and "nothing to reset" in by["panther-03"]["message"]
+    assert by["panther-01"]["outcome"] == "skipped"
+
+
+def test_reset_without_yes_is_refused_when_not_interactive(tmp_path: Path,
+                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    demo = str(tmp_path / "demo")
+    assert main(["demo", "init", "--dest", demo]) == 0
+    capsys.readouterr()
+    assert main(["-i", demo, "estop", "reset", "-r", "panther-01"]) == 2
+    assert "needs confirmation: pass --yes" in capsys.readouterr().err
+    code, doc = _cli(capsys, "-i", demo, "estop", "reset", "-r", "panther-01", "--dry-run", "--json")
+    assert code == 0 and doc["notes"] == ["dry run: would reset panther-01"]
+
+
+def test_demo_recording_missing_is_a_failure_with_the_fix(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    demo = tmp_path / "demo"
+    assert main(["demo", "init", "--dest", str(demo)]) == 0
+    (demo / "robots" / "panther-01" / "var/lib/panther-ops-demo/ros.json").unlink()
+    code, doc = _cli(capsys, "-i", str(demo), "estop", "status", "-r", "panther-01", "--json")
+    assert code == 3 and doc["robots"][0]["outcome"] == "failed"
+    assert "demo init --force" in doc["robots"][0]["data"]["hint"]

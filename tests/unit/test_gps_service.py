@@ -1,0 +1,149 @@
+"""`gps enable|disable` on the demo fleet (local robot roots, no docker): the change per stack,
+exact diffs, idempotence, byte-identical disable, bad input refused with nothing changed."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from panther_ops.cli.app import main
+
+ROBOT_ROOT = "robots/{}/home/husarion"
+
+
+@pytest.fixture
+def demo(tmp_path: Path) -> Path:
+    dest = tmp_path / "demo"
+    assert main(["demo", "init", "--dest", str(dest)]) == 0
+    return dest
+
+
+def run(capsys: pytest.CaptureFixture[str], demo: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
+    capsys.readouterr()
+    code = main(["-i", str(demo), *argv])
+    out, err = capsys.readouterr()
+    return code, (json.loads(out) if out.strip().startswith("{") else {}), err
+
+
+def snapshot(demo: Path) -> dict[str, bytes]:
+    """Every file under the robots' homes except panther-ops' own backups."""
+    return {str(p.relative_to(demo)): p.read_bytes() for p in sorted((demo / "robots").rglob("*"))
+            if p.is_file() and ".panther-ops" not in p.parts}
+
+
+def compose(demo: Path, robot: str) -> str:
+    return (demo / ROBOT_ROOT.format(robot) / "compose.yaml").read_text()
+
+
+def test_dry_run_plans_per_stack(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    before = snapshot(demo)
+    code, doc, _ = run(capsys, demo, "gps", "enable", "--all", "--dry-run", "--json")
+    assert code == 0 and snapshot(demo) == before
+    by = {r["robot"]: r for r in doc["robots"]}
+    assert {r["outcome"] for r in doc["robots"]} == {"changed"}
+    # 2.1.1: the argument on the driver
+    (d1,) = by["panther-01"]["diffs"]
+    assert "+    command: ros2 launch panther_bringup bringup.launch.py launch_nmea_gps:=True\n" in d1["unified"]
+    assert by["panther-01"]["data"]["mode"] == "argument"
+    # 2.0.4: the manual's service, appended; nothing else touched
+    (d2,) = by["panther-02"]["diffs"]
+    added = [ln[1:] for ln in d2["unified"].splitlines() if ln.startswith("+") and not ln.startswith("+++")]
+    assert [ln for ln in d2["unified"].splitlines() if ln.startswith("-") and not ln.startswith("---")] == []
+    assert added == ["", "  nmea-gps:", "    image: husarion/nmea-gps:humble-2.0.1-20240617", "    network_mode: host",
+                     "    restart: always", "    command: >-", "      ros2 launch /husarion_utils/nmea_navsat.launch.py",
+                     "      robot_namespace:=panther"]
+    # 2.2: the argument, the stack's boolean spelling
+    (d3,) = by["panther-03"]["diffs"]
+    assert "launch_gamepad:=true launch_nmea_gps:=true\n" in d3["unified"]
+
+
+def test_enable_twice_then_disable_restores_bytes(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    before = snapshot(demo)
+    code, doc, _ = run(capsys, demo, "gps", "enable", "--all", "--yes", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 3
+    assert "robot_namespace:=panther" in compose(demo, "panther-02")
+    code, doc, _ = run(capsys, demo, "gps", "enable", "--all", "--yes", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    assert "already" in doc["robots"][0]["message"]
+    code, doc, _ = run(capsys, demo, "gps", "disable", "--all", "--yes", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 3
+    assert snapshot(demo) == before
+    code, doc, _ = run(capsys, demo, "gps", "disable", "--all", "--yes", "--json")
+    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+
+
+def test_port_on_22_writes_params_file_and_disable_removes_it(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    before = snapshot(demo)
+    code, doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-03", "--port", "5001", "--yes", "--json")
+    assert code == 0, doc
+    params = demo / ROBOT_ROOT.format("panther-03") / "config/husarion_ugv_localization/config/nmea_navsat.yaml"
+    text = params.read_text()
+    assert "    port: 5001\n" in text and "    ip: 10.15.20.2\n" in text
+    assert "nmea_params_path:=/config/husarion_ugv_localization/config/nmea_navsat.yaml" in compose(demo, "panther-03")
+    code, doc, _ = run(capsys, demo, "gps", "disable", "-r", "panther-03", "--yes", "--json")
+    assert code == 0 and not params.exists() and snapshot(demo) == before
+
+
+def test_container_port_and_namespace_on_204(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    code, _doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-02", "--port", "5002", "--namespace", "rover",
+                        "--yes", "--json")
+    assert code == 0
+    text = compose(demo, "panther-02")
+    assert "-p ip:=10.15.20.2 -p port:=5002" in text and "-r __ns:=/rover" in text
+    # another port replaces the service (one service, not two)
+    code, doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-02", "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed"
+    assert compose(demo, "panther-02").count("  nmea-gps:\n") == 1 and "robot_namespace:=panther" in compose(demo, "panther-02")
+
+
+@pytest.mark.parametrize(("argv", "says"), [
+    (["--port", "70000"], "--port 70000"),
+    (["--port", "0"], "--port 0"),
+    (["--namespace", "my robot"], "--namespace"),
+    (["--ip", "10.15.20"], "--ip"),
+    (["--port", "5001"], "panther_ros 2.1.1 has no launch argument"),  # 2.1.1 without --container
+])
+def test_bad_input_exit_2_nothing_changed(capsys: pytest.CaptureFixture[str], demo: Path, argv: list[str],
+                                          says: str) -> None:
+    before = snapshot(demo)
+    code, _doc, err = run(capsys, demo, "gps", "enable", "--all", "--yes", *argv)
+    assert code == 2 and says in err and snapshot(demo) == before
+
+
+def test_mixed_modes_refused(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    assert run(capsys, demo, "gps", "enable", "-r", "panther-01", "--yes")[0] == 0
+    before = snapshot(demo)
+    code, _doc, err = run(capsys, demo, "gps", "enable", "-r", "panther-01", "--container", "--yes")
+    assert code == 2 and "launch_nmea_gps:=True" in err and snapshot(demo) == before
+
+
+def test_desired_gps_in_config_diff_and_apply(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    inv = demo / "inventory.yaml"
+    text = inv.read_text()
+    for name, block in (("panther-02", "gps: {enabled: true, namespace: rover}"),
+                        ("panther-03", "gps: {enabled: true, router: {enabled: true}}")):
+        assert f"  {name}:\n" in text
+        text = text.replace(f"  {name}:\n", f"  {name}:\n    desired:\n      {block}\n", 1)
+    inv.write_text(text)
+    code, doc, _ = run(capsys, demo, "config", "diff", "--all", "--json")
+    assert code == 0
+    by = {r["robot"]: r for r in doc["robots"]}
+    assert by["panther-02"]["outcome"] == "changed" and "add service nmea-gps" in by["panther-02"]["message"]
+    assert "robot_namespace:=rover" in by["panther-02"]["diffs"][0]["unified"]
+    assert "launch_nmea_gps:=true" in by["panther-03"]["message"]
+    assert any("desired.gps.router" in w for w in by["panther-03"]["warnings"])
+    code, doc, _ = run(capsys, demo, "apply", "--all", "--yes", "--json")
+    assert code == 0, doc
+    assert "    command: >-\n      ros2 launch /husarion_utils/nmea_navsat.launch.py\n      robot_namespace:=rover\n" \
+        in compose(demo, "panther-02")
+    code, doc, _ = run(capsys, demo, "config", "diff", "--all", "--json")
+    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    inv.write_text(inv.read_text().replace("gps: {enabled: true, router: {enabled: true}}", "gps: {enabled: false}"))
+    code, doc, _ = run(capsys, demo, "config", "diff", "-r", "panther-03", "--json")
+    assert doc["robots"][0]["outcome"] == "changed" and "unset launch_nmea_gps" in doc["robots"][0]["message"]
+    inv.write_text(inv.read_text().replace("gps: {enabled: false}", "gps: {enabled: yes please}"))
+    code, _doc, err = run(capsys, demo, "config", "diff", "-r", "panther-03")
+    assert code == 2 and "desired.gps.enabled" in err

@@ -1,0 +1,151 @@
+"""`sim gps add`, `sim world show|set`, `sim battery check` on local files, and the same
+validators on `config push --as components|battery`."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from panther_ops.cli.app import main
+from panther_ops.core.fleet.templates import template_path
+
+COMPONENTS = template_path("config", "panther-2.1", "panther_description", "config", "components.yaml")
+BATTERY_21 = template_path("config", "panther-2.1", "panther_gazebo", "config", "battery_plugin_config.yaml")
+BATTERY_20 = template_path("config", "panther-2.0", "panther_gazebo", "config", "battery_plugin_config.yaml")
+WORLD = """<?xml version="1.0" ?>
+<sdf version="1.6">
+  <world name="husarion_world">
+    <!-- the origin of the NavSat sensors -->
+    <spherical_coordinates>
+      <surface_model>EARTH_WGS84</surface_model>
+      <world_frame_orientation>ENU</world_frame_orientation>
+      <latitude_deg>53.1978</latitude_deg>
+      <longitude_deg>18.3732</longitude_deg>
+      <elevation>0</elevation>
+    </spherical_coordinates>
+    <gravity>0 0 -9.8</gravity>
+  </world>
+</sdf>
+"""
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_gps_add_the_manuals_entry(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "components.yaml"
+    original = COMPONENTS.read_text()
+    f.write_text(original)
+    code, out, _ = run(capsys, "sim", "gps", "add", str(f), "--dry-run")
+    assert code == 0 and "would change" in out and f.read_text() == original
+    code, out, _ = run(capsys, "sim", "gps", "add", str(f), "--yes")
+    assert code == 0
+    text = f.read_text()
+    assert "components:\n  - type: ANT02\n    parent_link: cover_link\n    xyz: 0.185 -0.12 0.0\n" \
+           "    rpy: 0.0 0.0 3.14\n    device_namespace: gps\n" in text
+    assert text.replace("components:\n  - type: ANT02\n    parent_link: cover_link\n    xyz: 0.185 -0.12 0.0\n"
+                        "    rpy: 0.0 0.0 3.14\n    device_namespace: gps\n", "components: []\n") == original
+    assert (tmp_path / "components.yaml.panther-ops.bak").read_text() == original
+    code, out, _ = run(capsys, "sim", "gps", "add", str(f), "--yes", "--json")
+    assert code == 0 and json.loads(out)["robots"][0]["outcome"] == "ok"
+    code, out, _ = run(capsys, "sim", "gps", "add", str(f), "--xyz", "0.2 -0.1 0.05", "--yes")
+    assert code == 0 and "    xyz: 0.2 -0.1 0.05\n" in f.read_text() and f.read_text().count("\n  - type: ANT02\n") == 1
+
+
+@pytest.mark.parametrize(("content", "says"), [
+    ("components:\n  - type: ANT02\n    colour: red\n", "components[0].colour: unknown key"),
+    ("components:\n  - type: antenna\n", "components[0].type"),
+    ("components:\n  - type: LDR01\n    xyz: 1 2\n", "components[0].xyz"),
+    ("components: 3\n", "components=3 must be a list"),
+    ("other: []\n", "other: unknown key (allowed: components)"),
+])
+def test_components_validator(tmp_path: Path, capsys: pytest.CaptureFixture[str], content: str, says: str) -> None:
+    f = tmp_path / "c.yaml"
+    f.write_text(content)
+    code, _out, err = run(capsys, "sim", "gps", "add", str(f), "--yes")
+    assert code == 2 and says in err and f.read_text() == content
+
+
+def test_gps_add_bad_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "c.yaml"
+    f.write_text(COMPONENTS.read_text())
+    code, _out, err = run(capsys, "sim", "gps", "add", str(f), "--rpy", "0 0", "--yes")
+    assert code == 2 and "--rpy" in err and f.read_text() == COMPONENTS.read_text()
+
+
+def test_world_show_and_set_keep_formatting(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "w.sdf"
+    f.write_text(WORLD)
+    code, out, _ = run(capsys, "sim", "world", "show", str(f), "--json")
+    sc = json.loads(out)["spherical_coordinates"]
+    assert code == 0 and sc["latitude_deg"] == "53.1978" and sc["surface_model_ok"] is True
+    code, _out, _ = run(capsys, "sim", "world", "set", str(f), "--latitude", "52.2297", "--longitude", "21.0122",
+                        "--heading", "90", "--yes")
+    assert code == 0
+    want = WORLD.replace("<latitude_deg>53.1978", "<latitude_deg>52.2297").replace(
+        "<longitude_deg>18.3732", "<longitude_deg>21.0122").replace(
+        "      <elevation>0</elevation>\n", "      <elevation>0</elevation>\n      <heading_deg>90</heading_deg>\n")
+    assert f.read_text() == want
+
+
+def test_world_without_block_gets_the_manuals(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "w.sdf"
+    bare = '<sdf version="1.6">\n  <world name="w">\n    <gravity>0 0 -9.8</gravity>\n  </world>\n</sdf>\n'
+    f.write_text(bare)
+    code, out, _ = run(capsys, "sim", "world", "show", str(f))
+    assert code == 0 and "no <spherical_coordinates>" in out
+    assert run(capsys, "sim", "world", "set", str(f), "--elevation", "120.5", "--yes")[0] == 0
+    text = f.read_text()
+    assert "    <spherical_coordinates>\n      <surface_model>EARTH_WGS84</surface_model>\n" in text
+    assert "<elevation>120.5</elevation>" in text and "<latitude_deg>53.1978</latitude_deg>" in text
+
+
+@pytest.mark.parametrize(("argv", "content", "says"), [
+    (["--latitude", "91"], WORLD, "--latitude 91"),
+    (["--longitude", "-181"], WORLD, "--longitude -181"),
+    (["--latitude", "1"], WORLD.replace("EARTH_WGS84", "EARTH_SPHERE"), "EARTH_WGS84"),
+    (["--latitude", "1"], "<sdf><world>", "not well-formed XML"),
+    ([], WORLD, "nothing to set"),
+])
+def test_world_set_refuses(tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], content: str,
+                           says: str) -> None:
+    f = tmp_path / "w.sdf"
+    f.write_text(content)
+    code, _out, err = run(capsys, "sim", "world", "set", str(f), *argv, "--yes")
+    assert code == 2 and says in err and f.read_text() == content
+
+
+def test_battery_check(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, _out, err = run(capsys, "sim", "battery", "check", str(BATTERY_20))
+    assert code == 0 and "0-1 fraction" not in err
+    code, out, _ = run(capsys, "sim", "battery", "check", str(BATTERY_21), "--json")
+    doc = json.loads(out)
+    assert code == 0 and any("0-1 fraction" in n and "70 %" in n for n in doc["notes"])
+    for content, says in (("simulate_discharging: 1\n", "simulate_discharging"),
+                          ("initial_charge_percentage: 140\n", "0-100"),
+                          ("charging_time: 0\n", "charging_time"), ("power_load: -5\n", "power_load"),
+                          ("capacity: many\n", "capacity"), ("voltage: 12\n", "voltage: unknown key")):
+        f = tmp_path / "b.yaml"
+        f.write_text(content)
+        code, _out, err = run(capsys, "sim", "battery", "check", str(f))
+        assert code == 2 and says in err, content
+
+
+def test_push_uses_the_same_validators(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    bad = tmp_path / "components.yaml"
+    bad.write_text("components:\n  - type: ANT02\n    xyz: here\n")
+    code, _out, err = run(capsys, "-i", str(tmp_path / "demo"), "config", "push", str(bad), "--as", "components",
+                          "-r", "panther-01", "--dry-run")
+    assert code == 2 and "components[0].xyz" in err
+    battery = tmp_path / "battery.yaml"
+    battery.write_text("simulate_discharging: true\ninitial_charge_percentage: 250\n")
+    code, _out, err = run(capsys, "-i", str(tmp_path / "demo"), "config", "push", str(battery), "--as", "battery",
+                          "-r", "panther-01", "--dry-run")
+    assert code == 2 and "initial_charge_percentage" in err

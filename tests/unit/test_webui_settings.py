@@ -1,0 +1,70 @@
+"""The husarion-webui settings validator (the snap configure hook's rules) and the inventory's
+desired.webui checked with it: every refusal names the key, the value and what is allowed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from panther_ops.core.fleet.inventory_file import load_inventory
+from panther_ops.core.remote.webui.settings import SettingError, validate
+from panther_ops.errors import ExitCode, InputError
+
+
+def test_manual_panther_settings_pass_as_snap_keys() -> None:
+    got = validate({"ros.namespace": "panther", "ros.transport": "rmw_cyclonedds_cpp", "webui.layout": "panther",
+                    "webui.port": 8081, "ros.domain-id": 232, "ros.localhost-only": True})
+    assert got == {"ros.namespace": "panther", "ros.transport": "rmw_cyclonedds_cpp", "webui.layout": "panther",
+                   "webui.port": "8081", "ros.domain-id": "232", "ros.localhost-only": "1"}
+    assert validate({"namespace": "panther_2", "port": "1", "domain_id": 0}) == {
+        "ros.namespace": "panther_2", "webui.port": "1", "ros.domain-id": "0"}
+    for t in ("udp", "udp-lo", "shm", "builtin", "rmw_fastrtps_cpp"):
+        assert validate({"ros.transport": t}) == {"ros.transport": t}
+
+
+@pytest.mark.parametrize(
+    ("settings", "key", "allowed"),
+    [
+        ({"ros.namespace": "bad ns"}, "ros.namespace", "1-20 characters"),
+        ({"ros.namespace": "Panther"}, "ros.namespace", "a-z"),
+        ({"ros.namespace": "a" * 21}, "ros.namespace", "1-20 characters"),
+        ({"webui.port": 70000}, "webui.port", "from 1 to 65535"),
+        ({"webui.port": 0}, "webui.port", "from 1 to 65535"),
+        ({"webui.port": "80; reboot"}, "webui.port", "whole number"),
+        ({"ros.domain-id": 300}, "ros.domain-id", "from 0 to 232"),
+        ({"ros.domain-id": -1}, "ros.domain-id", "from 0 to 232"),
+        ({"ros.localhost-only": 2}, "ros.localhost-only", "0 or 1"),
+        ({"ros.transport": "../etc/passwd"}, "ros.transport", "DDS profile"),
+        ({"ros.transport": "$(id)"}, "ros.transport", "DDS profile"),
+        ({"webui.layout": "a b"}, "webui.layout", "layout name"),
+        ({"webui.colour": "red"}, "webui.colour", "unknown key"),
+        ({"ros.namespace": None}, "ros.namespace", "a single value"),
+    ],
+)
+def test_refusals_name_key_value_and_rule(settings: dict[str, object], key: str, allowed: str) -> None:
+    with pytest.raises(SettingError) as exc:
+        validate(settings)
+    assert exc.value.key == key
+    assert allowed in str(exc.value)
+
+
+def test_custom_transport_must_be_a_present_profile_when_known() -> None:
+    assert validate({"ros.transport": "my-fastdds"}, dds_profiles={"my-fastdds"}) == {"ros.transport": "my-fastdds"}
+    with pytest.raises(SettingError, match=r"no DDS profile /var/snap/husarion-webui/common/other.xml"):
+        validate({"ros.transport": "other"}, dds_profiles={"my-fastdds"})
+    assert validate({"ros.transport": "other"}) == {"ros.transport": "other"}  # presence checked when applied
+
+
+def test_inventory_desired_webui_is_checked(tmp_path: Path) -> None:
+    path = tmp_path / "fleet.yaml"
+    path.write_text("robots:\n  r1:\n    host: a\n    desired:\n      webui:\n        namespace: panther\n"
+                    "        webui.port: 8081\n        transport: rmw_cyclonedds_cpp\n")
+    assert load_inventory(str(path)).robots["r1"].desired["webui"]["webui.port"] == 8081
+    path.write_text("robots:\n  r1:\n    host: a\n    desired:\n      webui:\n        namespace: panther\n"
+                    "        ros.domain-id: 300\n")
+    with pytest.raises(InputError) as exc:
+        load_inventory(str(path))
+    assert f"{path}:7 [robots.r1.desired.webui.ros.domain-id]" in str(exc.value)
+    assert "ros.domain-id='300' is not allowed: a whole number from 0 to 232" in str(exc.value)
+    assert exc.value.exit_code is ExitCode.USAGE
