@@ -92,3 +92,24 @@ def test_help_texts_are_complete(capsys: pytest.CaptureFixture[str]) -> None:
             assert "Commands" in out and "Example:" not in out, argv
         else:  # a command: with a real example
             assert "Example:" in out and "panther-ops " in out.split("Example:", 1)[1], argv
+
+
+def test_the_background_imports_end_before_the_interpreter(demo: Path) -> None:
+    """main() called in-process, then a normal exit: the interpreter waits for the preload's
+    imports instead of tearing down a thread inside one (it aborted: "FATAL: exception not
+    rethrown", exit -6)."""
+    import threading
+
+    from panther_ops.cli import context
+
+    context._preload(())
+    preload = [t for t in threading.enumerate() if t.name == "preload"]
+    assert preload and not any(t.daemon for t in preload)
+    for t in preload:
+        t.join(timeout=30)
+    code = ("from panther_ops.cli.app import main; import sys; "
+            f"sys.exit(main(['-i', {str(demo)!r}, 'status', '--all', '--json']))")
+    for _ in range(3):
+        done = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True,
+                              timeout=120)
+        assert done.returncode == 0, done.stderr
