@@ -94,7 +94,7 @@ def test_help_texts_are_complete(capsys: pytest.CaptureFixture[str]) -> None:
             assert "Example:" in out and "panther-ops " in out.split("Example:", 1)[1], argv
 
 
-def test_the_background_imports_end_before_the_interpreter(demo: Path) -> None:
+def test_the_background_imports_end_before_the_interpreter(demo: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """main() called in-process, then a normal exit: the interpreter waits for the preload's
     imports instead of tearing down a thread inside one (it aborted: "FATAL: exception not
     rethrown", exit -6)."""
@@ -102,11 +102,18 @@ def test_the_background_imports_end_before_the_interpreter(demo: Path) -> None:
 
     from panther_ops.cli import context
 
+    started: list[threading.Thread] = []
+
+    class Recorded(threading.Thread):
+        def start(self) -> None:
+            started.append(self)
+            super().start()
+
+    monkeypatch.setattr(threading, "Thread", Recorded)
     context._preload(())
-    preload = [t for t in threading.enumerate() if t.name == "preload"]
-    assert preload and not any(t.daemon for t in preload)
-    for t in preload:
-        t.join(timeout=30)
+    assert [t.name for t in started] == ["preload"] and not started[0].daemon
+    started[0].join(timeout=30)
+    monkeypatch.undo()
     code = ("from panther_ops.cli.app import main; import sys; "
             f"sys.exit(main(['-i', {str(demo)!r}, 'status', '--all', '--json']))")
     for _ in range(3):
