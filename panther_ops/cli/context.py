@@ -45,7 +45,11 @@ def _preload(modules: tuple[str, ...]) -> None:
         for name in ("paramiko", *modules, "rich.console", "rich.table", "rich.text"):
             importlib.import_module(name)
 
-    threading.Thread(target=load, name="preload", daemon=True).start()
+    # not a daemon: an interpreter that exits normally (main() called in-process, then
+    # sys.exit) waits for the imports to end instead of tearing down a thread that is inside
+    # one (glibc: "FATAL: exception not rethrown", SIGABRT); the console script leaves with
+    # os._exit once its output is flushed, so it never waits for them
+    threading.Thread(target=load, name="preload", daemon=False).start()
 
 
 def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:

@@ -92,3 +92,31 @@ def test_help_texts_are_complete(capsys: pytest.CaptureFixture[str]) -> None:
             assert "Commands" in out and "Example:" not in out, argv
         else:  # a command: with a real example
             assert "Example:" in out and "panther-ops " in out.split("Example:", 1)[1], argv
+
+
+def test_the_background_imports_end_before_the_interpreter(demo: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """main() called in-process, then a normal exit: the interpreter waits for the preload's
+    imports instead of tearing down a thread inside one (it aborted: "FATAL: exception not
+    rethrown", exit -6)."""
+    import threading
+
+    from panther_ops.cli import context
+
+    started: list[threading.Thread] = []
+
+    class Recorded(threading.Thread):
+        def start(self) -> None:
+            started.append(self)
+            super().start()
+
+    monkeypatch.setattr(threading, "Thread", Recorded)
+    context._preload(())
+    assert [t.name for t in started] == ["preload"] and not started[0].daemon
+    started[0].join(timeout=30)
+    monkeypatch.undo()
+    code = ("from panther_ops.cli.app import main; import sys; "
+            f"sys.exit(main(['-i', {str(demo)!r}, 'status', '--all', '--json']))")
+    for _ in range(3):
+        done = subprocess.run([sys.executable, "-c", code], check=False, capture_output=True, text=True,
+                              timeout=120)
+        assert done.returncode == 0, done.stderr
