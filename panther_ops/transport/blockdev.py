@@ -7,6 +7,9 @@ page-aligned chunks (falling back to buffered writes where the device refuses ``
 writes zeros over the first MiB first, the rest of the image, then the first MiB last, and
 syncs after each step, so an interrupted write never leaves a partition table pointing at
 half-written data.
+
+Size (~500 lines): every side effect on a block device is here, by the layer rule (facts,
+the exclusive direct writer, the read-back and byte comparison), and nothing else.
 """
 
 from __future__ import annotations

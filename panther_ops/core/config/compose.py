@@ -14,6 +14,10 @@ The driver's ``command`` may be a one-line string, a folded ``>`` / literal ``|`
 a list (flow ``[...]`` or block); `set_arg` / `unset_arg` keep that form: a one-line string
 stays one line (quoting kept), a block gets a new line at the indentation of the argument
 lines, a list is edited item by item (a new argument is appended at the end).
+
+Size (~720 lines): one class over one document, the compose model every feature edits
+(services, image, command and its launch arguments, volumes, environment); each part goes
+through the same document and merge-key rules, which is why they are kept in one place.
 """
 
 from __future__ import annotations

@@ -5,6 +5,9 @@ node is written: character spans of values (without anchors and tags), the alias
 the ``<<`` merge sources, block-sequence dash columns, the file's indentation, and plain
 Python views of the tree (merges resolved, or aliases kept as `AliasRef`). It never
 changes the text; `panther_ops.core.yaml.document.YamlDocument` does.
+
+Size (~500 lines): one class (`YamlNodes`) indexing one parsed text; its parts (spans,
+merges, aliases, plain views) read the same index and would not stand alone.
 """
 
 from __future__ import annotations
