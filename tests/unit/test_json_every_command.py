@@ -16,6 +16,7 @@ import pytest
 from panther_ops.cli.app import main
 from panther_ops.core.fleet.templates import template_path
 from tests.badinput.commands import every_command
+from tests.sim_world import WORLD
 
 R = ["-r", "panther-01"]
 VALID: dict[str, list[str]] = {
@@ -82,19 +83,6 @@ VALID: dict[str, list[str]] = {
 """Arguments that make each command valid on the demo fleet (a demo robot has no docker engine
 or SSH: some commands report that per robot, in their JSON document)."""
 
-WORLD = """<?xml version="1.0" ?>
-<sdf version="1.6">
-  <world name="husarion_world">
-    <spherical_coordinates>
-      <surface_model>EARTH_WGS84</surface_model>
-      <world_frame_orientation>ENU</world_frame_orientation>
-      <latitude_deg>53.1978</latitude_deg>
-      <longitude_deg>18.3732</longitude_deg>
-      <elevation>0</elevation>
-    </spherical_coordinates>
-  </world>
-</sdf>
-"""
 
 ON_A_DEVICE = {
     "reimage flash": "tests/integration/test_reimage_flash_lab.py",

@@ -10,25 +10,11 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.fleet.templates import template_path
+from tests.sim_world import WORLD
 
 COMPONENTS = template_path("config", "panther-2.1", "panther_description", "config", "components.yaml")
 BATTERY_21 = template_path("config", "panther-2.1", "panther_gazebo", "config", "battery_plugin_config.yaml")
 BATTERY_20 = template_path("config", "panther-2.0", "panther_gazebo", "config", "battery_plugin_config.yaml")
-WORLD = """<?xml version="1.0" ?>
-<sdf version="1.6">
-  <world name="husarion_world">
-    <!-- the origin of the NavSat sensors -->
-    <spherical_coordinates>
-      <surface_model>EARTH_WGS84</surface_model>
-      <world_frame_orientation>ENU</world_frame_orientation>
-      <latitude_deg>53.1978</latitude_deg>
-      <longitude_deg>18.3732</longitude_deg>
-      <elevation>0</elevation>
-    </spherical_coordinates>
-    <gravity>0 0 -9.8</gravity>
-  </world>
-</sdf>
-"""
 
 
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
+from tests.sim_world import WORLD
 
 from .examples import EXPECTED_EXIT, ROOT, Example, doc_examples, help_examples, needs_a_robot
 from .termrun import on_pty, piped, plain
@@ -25,21 +26,6 @@ BAD_HOSTS = "hosts:\n  - ip: not an address\n    username: Husarion\n"
 GOOD_HOSTS = "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
 BAD_ANIMATIONS = "user_animations:\n  - id: 5\n    animation: {}\n"
 BAD_PUSHED_HOSTS = "hosts:\n  - ip: '10.15.20.5; touch x'\n    username: husarion\n    port: 70000\n"
-WORLD = """<?xml version="1.0" ?>
-<sdf version="1.6">
-  <world name="husarion_world">
-    <spherical_coordinates>
-      <surface_model>EARTH_WGS84</surface_model>
-      <world_frame_orientation>ENU</world_frame_orientation>
-      <latitude_deg>53.1978</latitude_deg>
-      <longitude_deg>18.3732</longitude_deg>
-      <elevation>0</elevation>
-      <heading_deg>0</heading_deg>
-    </spherical_coordinates>
-    <gravity>0 0 -9.8</gravity>
-  </world>
-</sdf>
-"""
 BAD_BATTERY = "simulate_discharging: true\ninitial_charge_percentage: 140\n"
 ESCAPING_BTPROJ = ('<?xml version="1.0"?>\n<root BTCPP_format="4" project_format="1.0">\n'
                    '  <include path="../../../.ssh/authorized_keys"/>\n</root>\n')
