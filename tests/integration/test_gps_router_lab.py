@@ -9,7 +9,6 @@ import json
 import os
 import signal
 import stat
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -27,6 +26,9 @@ CAPTURE = (
     "s=socket.socket(socket.AF_INET,socket.SOCK_DGRAM);s.bind(('0.0.0.0',int(sys.argv[1])));s.settimeout(2.5)\n"
     "try:\n  print(s.recv(65535).decode())\nexcept socket.timeout:\n  print('NOTHING')\n"
 )
+
+SYSTEM_PYTHON = "/usr/bin/python3"
+"""Seen inside a robot's namespaces wherever this checkout lives (what the lab's stand-ins run)."""
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +54,8 @@ def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, 
 
 
 def arrives(lab: Any, port: int = 5000) -> str:
-    return str(lab.exec("r01", [sys.executable, "-c", CAPTURE, str(port)], timeout=20).stdout)
+    # the system's python3: the robot's mount namespace may hide this checkout's venv (its /tmp)
+    return str(lab.exec("r01", [SYSTEM_PYTHON, "-c", CAPTURE, str(port)], timeout=20).stdout)
 
 
 @pytest.fixture
@@ -227,7 +230,7 @@ def test_status_port_busy(router_lab: tuple[Any, Router], env: Path, capsys: pyt
     lab, _router = router_lab
     holder = "import socket,time\ns=socket.socket(socket.AF_INET,socket.SOCK_DGRAM);s.bind(('0.0.0.0',5000))\n" \
              "print('bound',flush=True);time.sleep(30)\n"
-    p = subprocess.Popen([*lab._nsenter(lab._rs("r01")), sys.executable, "-c", holder], stdout=subprocess.PIPE,
+    p = subprocess.Popen([*lab._nsenter(lab._rs("r01")), SYSTEM_PYTHON, "-c", holder], stdout=subprocess.PIPE,
                          text=True)
     child = wait_child(p.pid)  # nsenter forks: the holder is its child
     try:

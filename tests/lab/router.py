@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ._sys import LabError, wait_child, wait_for
+from ._sys import LabError, wait_for
 from .computers import ComputerSpec, add_computers
 from .files import DATA
 from .nmea import wait_until
@@ -116,10 +116,12 @@ def _start(lab: Lab, r: Any, d: Path) -> None:
     log = d / "rutx-standin.log"
     before = log.read_text().count('"listening"') if log.exists() else 0
     ttl = (d / "token-ttl").read_text().strip()
-    argv = [*lab._nsenter(r), sys.executable, str(DATA / "rutx11-standin.py"), str(d), str(REPO_ROOT), "443", ttl]
-    p = lab._spawn(argv, d / "rutx-standin.out")
-    lab._record(r, "rutx11-nsenter", p.pid)
-    lab._record(r, "rutx11", wait_child(p.pid))
+    # the router's network only: the stand-in runs this checkout's interpreter and imports from
+    # it (pynmea2, tests.lab.nmea), which a computer's own mount namespace may hide (its /tmp)
+    argv = ["nsenter", "-t", str(lab._init_pid(r)), "-n", "--", sys.executable, str(DATA / "rutx11-standin.py"),
+            str(d), str(REPO_ROOT), "443", ttl]
+    p = lab._spawn(argv, d / "rutx-standin.out")  # nsenter without a PID namespace execs it itself
+    lab._record(r, "rutx11", p.pid)
 
     def listening() -> bool:
         if p.poll() is not None:
