@@ -92,6 +92,62 @@ BATTERY_BAD: dict[str, tuple[bytes, list[str]]] = {
     "list": (b"- 1\n- 2\n", ["must be a YAML mapping"]),
 }
 
+# ------------------------------------------------------------------ gamepad (joy2twist) parameters
+JOY2TWIST = """joy2twist_node:
+  ros__parameters:
+    linear_velocity_factor:
+      fast: 1.0
+      regular: 0.5
+      slow: 0.2
+    angular_velocity_factor:
+      fast: 1.0
+      regular: 0.5
+      slow: 0.2
+    button_index_map:
+      axis:
+        angular_z: 0
+        linear_x: 4
+        linear_y: 3
+      dead_man_switch: 4
+      fast_mode: 7
+      slow_mode: 6
+      e_stop_reset: 0
+      e_stop_trigger: 1
+      enable_e_stop_reset: 6
+    e_stop:
+      present: true
+      reset_srv: hardware/e_stop_reset
+      trigger_srv: hardware/e_stop_trigger
+"""
+
+
+def _joy(old: str, new: str) -> bytes:
+    assert old in JOY2TWIST, old
+    return JOY2TWIST.replace(old, new, 1).encode()
+
+
+JOY2TWIST_BAD: dict[str, tuple[bytes, list[str]]] = {
+    "factor-text": (_joy("slow: 0.2", "slow: fast"), ["linear_velocity_factor.slow='fast' must be a floating"]),
+    "factor-int": (_joy("fast: 1.0", "fast: 1"), ["linear_velocity_factor.fast=1 must be a floating"]),
+    "factor-negative": (_joy("regular: 0.5", "regular: -0.5"), ["regular=-0.5 must be a finite number >= 0"]),
+    "factor-nan": (_joy("regular: 0.5", "regular: .nan"), ["must be a finite number >= 0"]),
+    "unknown-mode": (_joy("slow: 0.2", "slow: 0.2\n      turbo: 2.0"), ["linear_velocity_factor.turbo: unknown key"]),
+    "index-float": (_joy("linear_x: 4", "linear_x: 4.5"), ["axis.linear_x=4.5 must be an integer"]),
+    "index-negative": (_joy("dead_man_switch: 4", "dead_man_switch: -1"), ["dead_man_switch=-1 must be an index"]),
+    "index-bool": (_joy("fast_mode: 7", "fast_mode: true"), ["fast_mode=True must be an integer"]),
+    "unknown-button": (_joy("fast_mode: 7", "turbo_mode: 7"), ["button_index_map.turbo_mode: unknown key"]),
+    "unknown-axis": (_joy("linear_y: 3", "linear_z: 3"), ["axis.linear_z: unknown key"]),
+    "unknown-param": (_joy("    e_stop:\n", "    max_speed: 2.0\n    e_stop:\n"),
+                      ["ros__parameters.max_speed: unknown key"]),
+    "present-maybe": (_joy("present: true", "present: maybe"), ["e_stop.present='maybe' must be true or false"]),
+    "srv-space": (_joy("reset_srv: hardware/e_stop_reset", "reset_srv: bad srv"), ["reset_srv='bad srv'"]),
+    "wrong-node": (_joy("joy2twist_node:", "teleop_node:"), ["teleop_node: unknown node"]),
+    "axis-not-mapping": (_joy("      axis:\n        angular_z: 0\n        linear_x: 4\n        linear_y: 3\n",
+                              "      axis: 0\n"), ["button_index_map.axis=0 must be a mapping"]),
+    "list": (b"- 1\n- 2\n", ["must be a YAML mapping"]),
+    "not-yaml": (b"joy2twist_node: [\n", ["not valid YAML"]),
+}
+
 # ------------------------------------------------------------------ animations and LED config
 USER_ANIM = """user_animations:
   - id: {id}
@@ -189,6 +245,11 @@ for cid, (content, names) in COMPONENTS_BAD.items():
     CASES.append(_push("components", cid, content, names))
 for cid, (content, names) in BATTERY_BAD.items():
     CASES.append(_push("battery", cid, content, names))
+for cid, (content, names) in JOY2TWIST_BAD.items():
+    CASES.append(_push("joy2twist", cid, content, names))
+for cid in ("factor-text", "index-float", "unknown-button"):
+    CASES.append(_push("joy2twist", cid, *JOY2TWIST_BAD[cid], robot="panther-02"))
+    CASES.append(_push("joy2twist", cid, *JOY2TWIST_BAD[cid], robot="panther-03"))
 for cid, (content, names) in ANIM_BAD.items():
     CASES.append(_push("user-animations", cid, content, names))
     CASES.append(Case(f"lights-deploy-{cid}", ["lights", "deploy", "{tmp}/bad.yaml", "-r", "panther-01", "--yes"],

@@ -150,6 +150,10 @@ def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool 
     warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
                                  lambda: check_file(kind, str(bundle.main), bundle.data,
                                                     local=bundle.main, target=target, force=force)))
+    if kind is FileKind.JOY2TWIST:
+        from panther_ops.core.config.gamepad import plan_joy2twist
+
+        return plan_joy2twist(ctx, cfg, bundle.main.name, bundle.data, warnings)
     forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in _BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
@@ -216,6 +220,10 @@ def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool 
 def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     """The file of ``kind`` in use on the robot, and where it came from."""
     cfg = read_config(ctx)
+    if kind is FileKind.JOY2TWIST:
+        from panther_ops.core.config.gamepad import pull_joy2twist
+
+        return pull_joy2twist(ctx, cfg)
     if kind in _BT_ARGS:
         arg = _BT_ARGS[kind]
         current = cfg.compose.args.get(arg)

@@ -30,6 +30,7 @@ class FileKind(str, Enum):
     BT_SAFETY = "bt-safety"
     SHUTDOWN_HOSTS = "shutdown-hosts"
     BATTERY = "battery"
+    JOY2TWIST = "joy2twist"
     COMPOSE = "compose"
 
 
@@ -62,7 +63,7 @@ Validator = Callable[[str, bytes, "Path | None", Target, bool], list[str]]
 
 
 def _registry() -> dict[FileKind, Validator]:
-    from panther_ops.core.config.kinds import bt, compose, controller, hosts, lights, simple
+    from panther_ops.core.config.kinds import bt, compose, controller, hosts, joy2twist, lights, simple
 
     return {
         FileKind.CONTROLLER: controller.check_controller,
@@ -75,6 +76,7 @@ def _registry() -> dict[FileKind, Validator]:
         FileKind.BT_SAFETY: bt.check_safety_project,
         FileKind.SHUTDOWN_HOSTS: hosts.check_shutdown_hosts,
         FileKind.COMPOSE: compose.check_compose,
+        FileKind.JOY2TWIST: joy2twist.check_joy2twist,
     }
 
 

@@ -1,0 +1,116 @@
+"""The gamepad's parameters file (joy2twist, ``joy2twist_params_file``): its keys and types.
+
+The keys are those the joy2twist node (husarion/joy2twist humble-1.0.0, and the copy that
+husarion_ugv 2.2 ships as ``husarion_ugv_bringup/config/joy2twist_<model>.yaml``) declares:
+velocity factors per speed mode, the index of each axis and button of the gamepad, and the
+E-stop services it calls. The parameters sit under the node's name (``joy2twist_node``) or
+the wildcard ``/**``, below ``ros__parameters``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from panther_ops.core.config.kinds.common import is_number, load_mapping
+from panther_ops.core.config.kinds.registry import FileKindError, Target
+
+WHAT = "gamepad (joy2twist) parameters"
+NODES = ("joy2twist_node", "/**")
+MODES = ("fast", "regular", "slow")
+AXES = ("angular_z", "linear_x", "linear_y")
+BUTTONS = ("dead_man_switch", "fast_mode", "slow_mode", "e_stop_reset", "e_stop_trigger", "enable_e_stop_reset")
+E_STOP = ("present", "reset_srv", "trigger_srv")
+TOP = ("linear_velocity_factor", "angular_velocity_factor", "button_index_map", "e_stop")
+_HINT = ("a joy2twist parameters file: joy2twist_node: ros__parameters: {linear_velocity_factor, "
+         "angular_velocity_factor, button_index_map, e_stop}")
+
+
+def _unknown(doc: dict[str, Any], allowed: tuple[str, ...], where: str, errors: list[str]) -> None:
+    for key in doc:
+        if key not in allowed:
+            errors.append(f"{where}{key}: unknown key (allowed: {', '.join(allowed)})")
+
+
+def _mapping(doc: dict[str, Any], key: str, where: str, errors: list[str]) -> dict[str, Any] | None:
+    value = doc.get(key)
+    if key in doc and not isinstance(value, dict):
+        errors.append(f"{where}{key}={value!r} must be a mapping")
+        return None
+    return value
+
+
+def _factors(section: dict[str, Any], where: str, errors: list[str]) -> None:
+    _unknown(section, MODES, where, errors)
+    for mode in MODES:
+        if mode not in section:
+            continue
+        value = section[mode]
+        if not isinstance(value, float) or isinstance(value, bool):
+            errors.append(f"{where}{mode}={value!r} must be a floating-point number (e.g. 0.5; the node "
+                          "declares a double)")
+        elif not math.isfinite(value) or value < 0:
+            errors.append(f"{where}{mode}={value!r} must be a finite number >= 0")
+
+
+def _index(section: dict[str, Any], key: str, where: str, errors: list[str]) -> None:
+    value = section[key]
+    if not is_number(value) or not isinstance(value, int):
+        errors.append(f"{where}{key}={value!r} must be an integer (the index of an axis or a button)")
+    elif value < 0:
+        errors.append(f"{where}{key}={value!r} must be an index >= 0")
+
+
+def _buttons(section: dict[str, Any], where: str, errors: list[str]) -> None:
+    _unknown(section, ("axis", *BUTTONS), where, errors)
+    for key in BUTTONS:
+        if key in section:
+            _index(section, key, where, errors)
+    axis = _mapping(section, "axis", where, errors)
+    if axis is not None:
+        _unknown(axis, AXES, f"{where}axis.", errors)
+        for key in AXES:
+            if key in axis:
+                _index(axis, key, f"{where}axis.", errors)
+
+
+def _e_stop(section: dict[str, Any], where: str, errors: list[str]) -> None:
+    _unknown(section, E_STOP, where, errors)
+    if "present" in section and not isinstance(section["present"], bool):
+        errors.append(f"{where}present={section['present']!r} must be true or false")
+    for key in ("reset_srv", "trigger_srv"):
+        if key in section:
+            value = section[key]
+            if not isinstance(value, str) or not value or any(c.isspace() for c in value):
+                errors.append(f"{where}{key}={value!r} must be a ROS service name (no spaces)")
+
+
+def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
+    doc = load_mapping(source, data, WHAT)
+    errors: list[str] = []
+    nodes = [k for k in doc if k in NODES]
+    for key in doc:
+        if key not in NODES:
+            errors.append(f"{key}: unknown node (allowed: {', '.join(NODES)})")
+    if not nodes and not errors:
+        errors.append("no joy2twist_node (or /**) section")
+    for node in nodes:
+        section = doc[node]
+        if not isinstance(section, dict) or set(section) != {"ros__parameters"}:
+            errors.append(f"{node}: must hold exactly ros__parameters:")
+            continue
+        params = section["ros__parameters"]
+        where = f"{node}.ros__parameters."
+        if not isinstance(params, dict):
+            errors.append(f"{where[:-1]}={params!r} must be a mapping")
+            continue
+        _unknown(params, TOP, where, errors)
+        for key, check in (("linear_velocity_factor", _factors), ("angular_velocity_factor", _factors),
+                           ("button_index_map", _buttons), ("e_stop", _e_stop)):
+            sub = _mapping(params, key, where, errors)
+            if sub is not None:
+                check(sub, f"{where}{key}.", errors)
+    if errors:
+        raise FileKindError(source, WHAT, errors, hint=_HINT)
+    return []
