@@ -244,7 +244,7 @@ def push(
     ctx: typer.Context,
     local: Annotated[Path, typer.Argument(help="The file to push (a .btproj for bt-lights/bt-safety).")],
     as_: Annotated[str, typer.Option("--as", help="What it is: controller, wheel, components, led, "
-                                     "user-animations, bt-lights, bt-safety, shutdown-hosts, battery.")],
+                                     "user-animations, bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
     robot: Robots = None,
     group: Groups = None,
     all_: All = False,
@@ -280,7 +280,7 @@ def push(
 def pull(
     ctx: typer.Context,
     kind: Annotated[str, typer.Argument(help="controller, wheel, components, led, user-animations, "
-                                        "bt-lights, bt-safety, shutdown-hosts, battery.")],
+                                        "bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
     robot: Robots = None,
     group: Groups = None,
     all_: All = False,

@@ -32,6 +32,8 @@ AXES = ("linear.x", "linear.y", "angular.z")
 BOOL_PARAMS = ("has_velocity_limits", "has_acceleration_limits", "has_jerk_limits")
 FLOAT_PARAMS = ("max_velocity", "min_velocity", "max_acceleration", "min_acceleration", "max_jerk", "min_jerk")
 CONTROLLER_KEYS = ("drive_controller", "panther_base_controller")
+CONTROLLER_PARAMS = ("cmd_vel_timeout",)
+"""Parameters of the controller itself (``controller.<param>``, no axis): seconds > 0."""
 
 
 class ControllerError(UsageError):
@@ -65,14 +67,15 @@ WHEEL_LIMITS: dict[str, WheelLimits] = {
 
 @dataclass(frozen=True)
 class LimitKey:
-    """``controller.<axis>.<param>``: axis ``linear.x`` / ``linear.y`` / ``angular.z``."""
+    """``controller.<axis>.<param>``: axis ``linear.x`` / ``linear.y`` / ``angular.z``; or
+    ``controller.<param>`` for a parameter of the controller itself (axis ``""``)."""
 
     axis: str
     param: str
 
     @property
     def dotted(self) -> str:
-        return f"controller.{self.axis}.{self.param}"
+        return f"controller.{self.axis}.{self.param}" if self.axis else f"controller.{self.param}"
 
     @property
     def is_bool(self) -> bool:
@@ -80,6 +83,8 @@ class LimitKey:
 
     @property
     def unit(self) -> str:
+        if not self.axis:
+            return "s"
         base = "rad" if self.axis.startswith("angular") else "m"
         if "velocity" in self.param:
             return f"{base}/s"
@@ -88,6 +93,8 @@ class LimitKey:
         return f"{base}/s³" if "jerk" in self.param else ""
 
     def path(self, controller_key: str, top: str = "/**") -> tuple[str, ...]:
+        if not self.axis:
+            return (top, controller_key, "ros__parameters", self.param)
         group, axis = self.axis.split(".")
         return (top, controller_key, "ros__parameters", group, axis, self.param)
 
@@ -102,7 +109,8 @@ class ValidatedLimit:
 def all_limit_keys(wheel_type: str = "WH02") -> list[str]:
     """Every limit key for a wheel type (``linear.y`` only for WH02)."""
     axes = AXES if wheel_type == "WH02" else tuple(a for a in AXES if a != "linear.y")
-    return [f"controller.{a}.{p}" for a in axes for p in (*BOOL_PARAMS, *FLOAT_PARAMS)]
+    return [*(f"controller.{a}.{p}" for a in axes for p in (*BOOL_PARAMS, *FLOAT_PARAMS)),
+            *(f"controller.{p}" for p in CONTROLLER_PARAMS)]
 
 
 def parse_limit_key(key: str) -> LimitKey:
@@ -117,18 +125,20 @@ def parse_limit_key(key: str) -> LimitKey:
     parts = text.split(".")
     if len(parts) == 3 and f"{parts[0]}.{parts[1]}" in AXES and parts[2] in (*BOOL_PARAMS, *FLOAT_PARAMS):
         return LimitKey(f"{parts[0]}.{parts[1]}", parts[2])
+    if len(parts) == 1 and parts[0] in CONTROLLER_PARAMS:
+        return LimitKey("", parts[0])
     raise ControllerError(
         f"unknown controller limit {key!r}",
         hint="controller.{linear.x,angular.z,linear.y (WH02)}.{"
         + ",".join((*BOOL_PARAMS, *FLOAT_PARAMS))
-        + "}",
+        + "}, or controller.{" + ",".join(CONTROLLER_PARAMS) + "} (seconds)",
     )
 
 
 def upper_limit(wheel_type: str, key: LimitKey) -> float | None:
     """The wheel type's limit for a key (None: no reference limit, e.g. jerk or custom wheels)."""
     limits = WHEEL_LIMITS.get(wheel_type)
-    if limits is None or key.is_bool or "jerk" in key.param:
+    if limits is None or not key.axis or key.is_bool or "jerk" in key.param:
         return None
     linear = key.axis.startswith("linear")
     if "velocity" in key.param:
@@ -177,6 +187,12 @@ def validate_limit(
             raise error(message, hint=hint or "use --force to write it anyway")
         warnings.append(message + " (forced)")
 
+    if not lk.axis:  # cmd_vel_timeout: the watchdog's seconds, whatever the wheels
+        seconds = _as_float(lk, value)
+        if seconds <= 0:
+            raise ControllerError(f"{lk.dotted}={value!r} must be a positive number of seconds",
+                                  hint="e.g. 0.5 (panther_ros' default; husarion_ugv 2.2: 0.2)")
+        return ValidatedLimit(lk, seconds)
     if lk.axis == "linear.y" and wheel_type != "WH02":
         refuse(f"{lk.dotted}: linear.y limits exist only for the mecanum wheels WH02 (this robot: {wheel_type})")
     if lk.is_bool:

@@ -213,7 +213,8 @@ def _replacement_hint(s: ArgSpec, stack: Stack) -> str | None:
                 "not a launch argument: panther-ops gps enable")
     if s.key == "launch_gamepad":
         return (f"on {stack.label()} the gamepad runs as its own compose service (gamepad_controller, "
-                "husarion/joy2twist), not a launch argument: start or stop that service in compose.yaml")
+                "husarion/joy2twist), not a launch argument: start or stop that service in compose.yaml; its "
+                "parameters: panther-ops config push FILE --as joy2twist")
     return None
 
 
