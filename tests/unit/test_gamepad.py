@@ -1,0 +1,163 @@
+"""Issue 14 item 5: the gamepad's parameters (`config push --as joy2twist`) and the controller's
+`cmd_vel_timeout`, on the demo fleet (local transport): panther-01 runs panther_ros 2.1.1,
+panther-02 2.0.4 (both with the gamepad_controller service), panther-03 husarion_ugv 2.2.2
+(config tree, gamepad launched by the driver)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import yaml
+
+from panther_ops.cli.app import main
+from tests.badinput.test_file_kinds import JOY2TWIST
+
+HOME = "home/husarion"
+PUSHED = "config/joy2twist/config/pad.yaml"
+TREE = "config/husarion_ugv_bringup/config/joy2twist_panther.yaml"
+
+
+@pytest.fixture
+def demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.setenv("PANTHER_OPS_CACHE_DIR", str(tmp_path / "cache"))
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    return tmp_path / "demo"
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def home(demo: Path, robot: str) -> Path:
+    return demo / "robots" / robot / HOME
+
+
+def snapshot(demo: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(demo)): p.read_bytes() for p in sorted(demo.rglob("*")) if p.is_file()}
+
+
+def pad(tmp_path: Path, text: str = JOY2TWIST) -> Path:
+    path = tmp_path / "pad.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_push_mounts_and_passes_the_file_on_2_0_and_2_1(demo: Path, tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    file = pad(tmp_path)
+    code, out, _ = run(capsys, "-i", str(demo), "config", "push", str(file), "--as", "joy2twist",
+                       "-r", "panther-01", "-r", "panther-02", "--yes", "--json")
+    assert code == 0, out
+    results = {r["robot"]: r for r in json.loads(out)["robots"]}
+    assert {r["outcome"] for r in results.values()} == {"changed"}
+    for robot in ("panther-01", "panther-02"):
+        assert (home(demo, robot) / PUSHED).read_text() == JOY2TWIST
+        compose = yaml.safe_load((home(demo, robot) / "compose.yaml").read_text())
+        gamepad = compose["services"]["gamepad_controller"]
+        assert "joy2twist_params_file:=/config/joy2twist/config/pad.yaml" in gamepad["command"].split()
+        assert f"/{HOME}/{PUSHED}:/config/joy2twist/config/pad.yaml:ro" in gamepad["volumes"]
+        driver = next(s for n, s in compose["services"].items() if n != "gamepad_controller"
+                      and "panther" in str(s.get("image")))
+        assert "joy2twist" not in str(driver)  # the driver service is left alone
+    # a second run changes nothing
+    before = snapshot(demo)
+    code, out, _ = run(capsys, "-i", str(demo), "config", "push", str(file), "--as", "joy2twist",
+                       "-r", "panther-01", "-r", "panther-02", "--yes", "--json")
+    assert code == 0
+    assert {r["outcome"] for r in json.loads(out)["robots"]} == {"ok"}
+    assert snapshot(demo) == before
+
+
+def test_push_writes_the_config_tree_file_on_2_2(demo: Path, tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    compose_before = (home(demo, "panther-03") / "compose.yaml").read_bytes()
+    code, out, err = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                         "-r", "panther-03", "--yes")
+    assert code == 0, out + err
+    assert (home(demo, "panther-03") / TREE).read_text() == JOY2TWIST
+    assert (home(demo, "panther-03") / "compose.yaml").read_bytes() == compose_before
+    assert not (home(demo, "panther-03") / "config/joy2twist").exists()
+
+
+def test_pull_returns_what_was_pushed(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+               "--all", "--yes")[0] == 0
+    for robot, where in (("panther-01", "mounted into gamepad_controller"), ("panther-03", "config tree")):
+        code, out, err = run(capsys, "-i", str(demo), "config", "pull", "joy2twist", "-r", robot)
+        assert code == 0
+        assert out == JOY2TWIST
+        assert where in err
+
+
+def test_pull_of_the_image_default_says_so(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = run(capsys, "-i", str(demo), "config", "pull", "joy2twist", "-r", "panther-01")
+    assert code != 0
+    assert "the image's default" in err and "joy2twist_params_file" in err
+
+
+def test_bad_file_is_refused_naming_the_key_and_nothing_changes(demo: Path, tmp_path: Path,
+                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    before = snapshot(demo)
+    bad = pad(tmp_path, JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(bad), "--as", "joy2twist", "--all", "--yes")
+    assert code == 2
+    assert "button_index_map.dead_man_switch='LB' must be an integer" in err
+    assert snapshot(demo) == before
+
+
+def test_push_without_a_gamepad_service_is_refused(demo: Path, tmp_path: Path,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    compose = home(demo, "panther-01") / "compose.yaml"
+    doc = yaml.safe_load(compose.read_text())
+    del doc["services"]["gamepad_controller"]
+    compose.write_text(yaml.safe_dump(doc))
+    code, out, err = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                         "-r", "panther-01", "--yes")
+    assert code != 0
+    assert "no gamepad service" in out + err
+    assert not (home(demo, "panther-01") / PUSHED).exists()
+
+
+def test_launch_gamepad_on_2_1_points_at_the_gamepad_service(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "launch_gamepad", "true", "-r", "panther-01",
+                       "--yes")
+    assert code == 2
+    assert "gamepad_controller" in err and "--as joy2twist" in " ".join(err.split())
+
+
+def _timeout(demo: Path, robot: str, package: str) -> float:
+    path = home(demo, robot) / f"config/{package}/config/WH01_controller.yaml"
+    doc = yaml.safe_load(path.read_text())
+    section = next(iter(doc.values()))
+    key = "drive_controller" if "drive_controller" in section else "panther_base_controller"
+    return float(section[key]["ros__parameters"]["cmd_vel_timeout"])
+
+
+def test_cmd_vel_timeout_is_set_in_the_controller_file(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = run(capsys, "-i", str(demo), "config", "set", "controller.cmd_vel_timeout", "0.3", "--all",
+                         "--yes")
+    assert code == 0, out + err
+    assert _timeout(demo, "panther-01", "panther_controller") == 0.3
+    assert _timeout(demo, "panther-02", "panther_controller") == 0.3
+    assert _timeout(demo, "panther-03", "husarion_ugv_controller") == 0.3
+    code, out, _ = run(capsys, "-i", str(demo), "config", "get", "controller.cmd_vel_timeout", "--all", "--json")
+    assert code == 0
+    assert {r["data"]["value"] for r in json.loads(out)["robots"]} == {0.3}
+
+
+@pytest.mark.parametrize("value,says", [("0", "must be a positive number of seconds"),
+                                        ("-0.5", "must be a positive number of seconds"),
+                                        ("nan", "must be a finite number"), ("soon", "is not a number")])
+def test_cmd_vel_timeout_refuses_what_is_not_positive_seconds(demo: Path, capsys: pytest.CaptureFixture[str],
+                                                             value: str, says: str) -> None:
+    before = snapshot(demo)
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "--all", "--yes", "--",
+                       "controller.cmd_vel_timeout", value)
+    assert code == 2
+    assert "controller.cmd_vel_timeout" in err and says in err
+    assert snapshot(demo) == before
