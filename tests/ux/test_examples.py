@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
+from tests.badinput.test_file_kinds import JOY2TWIST
 from tests.sim_world import WORLD
 
 from .examples import EXPECTED_EXIT, ROOT, Example, doc_examples, help_examples, needs_a_robot
@@ -54,6 +55,8 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "my_world.sdf").write_text(WORLD)
     (tmp_path / "w.sdf").write_text(WORLD)
     (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
+    (tmp_path / "pad.yaml").write_text(JOY2TWIST)
+    (tmp_path / "bad_pad.yaml").write_text(JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
     (tmp_path / "proj").mkdir()
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)
