@@ -6,6 +6,7 @@ panther-02 2.0.4 (both with the gamepad_controller service), panther-03 husarion
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -161,3 +162,62 @@ def test_cmd_vel_timeout_refuses_what_is_not_positive_seconds(demo: Path, capsys
     assert code == 2
     assert "controller.cmd_vel_timeout" in err and says in err
     assert snapshot(demo) == before
+
+
+# The node's two forms of the gamepad map, as husarion/joy2twist's own Panther and UGV files
+# write them (the keys are theirs; the values here are a user's own)
+PANTHER_FORM = """/**:
+  ros__parameters:
+    linear_velocity_factor: {fast: 1.8, regular: 0.9, slow: 0.4}
+    angular_velocity_factor: {fast: 1.5, regular: 0.7, slow: 0.3}
+    e_stop:
+      present: true
+      topic: /panther/hardware/e_stop
+      reset_srv: /panther/hardware/e_stop_reset
+      trigger_srv: /panther/hardware/e_stop_trigger
+    button_index_map:
+      axis: {angular_z: 2, linear_x: 1, linear_y: 0}
+      dead_man_switch: 4
+      fast_mode: 7
+      slow_mode: 5
+      e_stop_reset: 1
+      e_stop_trigger: 2
+      enable_e_stop_reset: 6
+"""
+UGV_FORM = """/**:
+  ros__parameters:
+    cmd_vel_topic: manual/cmd_vel
+    cmd_vel_stamped: false
+    linear_velocity_factor: {fast: 1.5, regular: 1.0, slow: 0.3}
+    angular_velocity_factor: {fast: 1.5, regular: 0.7, slow: 0.3}
+    e_stop: {present: true, topic: hardware/e_stop, reset_srv: hardware/e_stop_reset,
+             trigger_srv: hardware/e_stop_trigger}
+    input_index_map:
+      axis: {angular_z: 'A3', linear_x: 'A1', linear_y: 'A0'}
+      dead_man_switch: 'B4'
+      fast_mode: '!A5'
+      slow_mode: 'B5'
+      e_stop_reset: 'B0'
+      e_stop_trigger: 'B1'
+      enable_e_stop_reset: '!A2'
+"""
+
+
+@pytest.mark.parametrize("text", [PANTHER_FORM, UGV_FORM], ids=["button_index_map", "input_index_map"])
+def test_both_forms_of_the_nodes_own_files_are_accepted(text: str) -> None:
+    from panther_ops.core.config.kinds import FileKind, check_file
+
+    assert check_file(FileKind.JOY2TWIST, "pad.yaml", text.encode()) == []
+
+
+@pytest.mark.parametrize(("text", "named"), [
+    (UGV_FORM.replace("'A3'", "'C3'"), "input_index_map.axis.angular_z='C3'"),
+    (UGV_FORM.replace("cmd_vel_stamped: false", "cmd_vel_stamped: maybe"), "cmd_vel_stamped='maybe'"),
+    (PANTHER_FORM.replace("    button_index_map:", "    input_index_map: {dead_man_switch: 'B4'}\n    button_index_map:"),
+     "both given"),
+], ids=["bad-input", "bad-stamped", "both-maps"])
+def test_the_input_form_is_checked_too(text: str, named: str) -> None:
+    from panther_ops.core.config.kinds import FileKind, FileKindError, check_file
+
+    with pytest.raises(FileKindError, match=re.escape(named)):
+        check_file(FileKind.JOY2TWIST, "pad.yaml", text.encode())

@@ -1,15 +1,19 @@
 """The gamepad's parameters file (joy2twist, ``joy2twist_params_file``): its keys and types.
 
-The keys are those the joy2twist node (husarion/joy2twist humble-1.0.0, and the copy that
-husarion_ugv 2.2 ships as ``husarion_ugv_bringup/config/joy2twist_<model>.yaml``) declares:
-velocity factors per speed mode, the index of each axis and button of the gamepad, and the
-E-stop services it calls. The parameters sit under the node's name (``joy2twist_node``) or
-the wildcard ``/**``, below ``ros__parameters``.
+The keys are those the joy2twist node declares (husarion/joy2twist: ``joy2twist_panther.yaml``
+and ``joy2twist_ugv.yaml``; husarion_ugv 2.2 ships a copy as
+``husarion_ugv_bringup/config/joy2twist_<model>.yaml``): velocity factors per speed mode, the
+E-stop topic and services, the output topic, and the gamepad's map in either of the node's
+two forms: ``button_index_map`` (axis and button indexes, integers) or ``input_index_map``
+(``'A3'``, ``'!A5'``, ``'B4'``: an optional negation, A for an axis or B for a button, its
+number). The parameters sit under the node's name (``joy2twist_node``) or the wildcard
+``/**``, below ``ros__parameters``.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -21,8 +25,10 @@ NODES = ("joy2twist_node", "/**")
 MODES = ("fast", "regular", "slow")
 AXES = ("angular_z", "linear_x", "linear_y")
 BUTTONS = ("dead_man_switch", "fast_mode", "slow_mode", "e_stop_reset", "e_stop_trigger", "enable_e_stop_reset")
-E_STOP = ("present", "reset_srv", "trigger_srv")
-TOP = ("linear_velocity_factor", "angular_velocity_factor", "button_index_map", "e_stop")
+E_STOP = ("present", "topic", "reset_srv", "trigger_srv")
+TOP = ("linear_velocity_factor", "angular_velocity_factor", "button_index_map", "input_index_map", "e_stop",
+       "cmd_vel_topic", "cmd_vel_stamped")
+_INPUT = re.compile(r"^!?[AB]\d{1,2}$")
 _HINT = ("a joy2twist parameters file: joy2twist_node: ros__parameters: {linear_velocity_factor, "
          "angular_velocity_factor, button_index_map, e_stop}")
 
@@ -62,28 +68,43 @@ def _index(section: dict[str, Any], key: str, where: str, errors: list[str]) -> 
         errors.append(f"{where}{key}={value!r} must be an index >= 0")
 
 
-def _buttons(section: dict[str, Any], where: str, errors: list[str]) -> None:
+def _input(section: dict[str, Any], key: str, where: str, errors: list[str]) -> None:
+    value = section[key]
+    if not isinstance(value, str) or not _INPUT.match(value):
+        errors.append(f"{where}{key}={value!r} must be an input such as 'A3', '!A5' or 'B4' (optional '!', "
+                      "A for an axis or B for a button, its number)")
+
+
+def _map(section: dict[str, Any], where: str, errors: list[str], check: Any) -> None:
     _unknown(section, ("axis", *BUTTONS), where, errors)
     for key in BUTTONS:
         if key in section:
-            _index(section, key, where, errors)
+            check(section, key, where, errors)
     axis = _mapping(section, "axis", where, errors)
     if axis is not None:
         _unknown(axis, AXES, f"{where}axis.", errors)
         for key in AXES:
             if key in axis:
-                _index(axis, key, f"{where}axis.", errors)
+                check(axis, key, f"{where}axis.", errors)
+
+
+def _buttons(section: dict[str, Any], where: str, errors: list[str]) -> None:
+    _map(section, where, errors, _index)
+
+
+def _inputs(section: dict[str, Any], where: str, errors: list[str]) -> None:
+    _map(section, where, errors, _input)
 
 
 def _e_stop(section: dict[str, Any], where: str, errors: list[str]) -> None:
     _unknown(section, E_STOP, where, errors)
     if "present" in section and not isinstance(section["present"], bool):
         errors.append(f"{where}present={section['present']!r} must be true or false")
-    for key in ("reset_srv", "trigger_srv"):
+    for key in ("topic", "reset_srv", "trigger_srv"):
         if key in section:
             value = section[key]
             if not isinstance(value, str) or not value or any(c.isspace() for c in value):
-                errors.append(f"{where}{key}={value!r} must be a ROS service name (no spaces)")
+                errors.append(f"{where}{key}={value!r} must be a ROS name (no spaces)")
 
 
 def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
@@ -107,10 +128,17 @@ def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target
             continue
         _unknown(params, TOP, where, errors)
         for key, check in (("linear_velocity_factor", _factors), ("angular_velocity_factor", _factors),
-                           ("button_index_map", _buttons), ("e_stop", _e_stop)):
+                           ("button_index_map", _buttons), ("input_index_map", _inputs), ("e_stop", _e_stop)):
             sub = _mapping(params, key, where, errors)
             if sub is not None:
                 check(sub, f"{where}{key}.", errors)
+        if "button_index_map" in params and "input_index_map" in params:
+            errors.append(f"{where}: button_index_map and input_index_map both given (the node reads one form)")
+        topic = params.get("cmd_vel_topic")
+        if "cmd_vel_topic" in params and (not isinstance(topic, str) or not topic or any(c.isspace() for c in topic)):
+            errors.append(f"{where}cmd_vel_topic={topic!r} must be a ROS topic name (no spaces)")
+        if "cmd_vel_stamped" in params and not isinstance(params["cmd_vel_stamped"], bool):
+            errors.append(f"{where}cmd_vel_stamped={params['cmd_vel_stamped']!r} must be true or false")
     if errors:
         raise FileKindError(source, WHAT, errors, hint=_HINT)
     return []
