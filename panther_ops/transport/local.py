@@ -30,13 +30,19 @@ if TYPE_CHECKING:
 class LocalTransport(Conversing):
     """A robot that is a directory on this machine."""
 
-    def __init__(self, name: str, root: Path, user: str = "husarion") -> None:
+    def __init__(self, name: str, root: Path, user: str = "husarion", home: str | None = None) -> None:
         self.name = name
         self.root = root
         self.user = user
+        self._home = home
+        """Another home than ``/home/<user>`` (a local file's directory: its backups go there)."""
         self._kept = {}
 
     def connect(self) -> None:
+        if self._home is not None:
+            if not (self.root / self._home.lstrip("/")).is_dir():
+                raise UnreachableError(self.name, f"directory {self._home} does not exist")
+            return
         if not (self.root / "home" / self.user).is_dir():
             raise UnreachableError(
                 self.name,
@@ -48,7 +54,7 @@ class LocalTransport(Conversing):
         self.drop_all_kept()
 
     def home(self) -> str:
-        return f"/home/{self.user}"
+        return self._home if self._home is not None else f"/home/{self.user}"
 
     def local_path(self, path: str) -> Path:
         """Where a robot path lives in the stand-in directory."""

@@ -163,6 +163,53 @@ def test_local_file_edits_keep_comments(tmp_path: Path, capsys: pytest.CaptureFi
     assert code == 2 and "is not an IP address" in err
 
 
+def test_local_file_edits_go_through_the_pipeline_with_a_backup(tmp_path: Path,
+                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "hosts.yaml"
+    path.write_text(GOOD)
+    code, out, _ = run(capsys, "shutdown", "hosts", "add", str(path), "--ip", "192.0.2.7", "--user", "pi",
+                       "--yes", "--json")
+    doc = json.loads(out)  # one document
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed"
+    backup_id = doc["robots"][0]["data"]["backup"]
+    bdir = tmp_path / ".panther-ops" / "backups" / backup_id
+    assert (bdir / "files" / "0").read_text() == GOOD  # the previous content, beside the file
+    manifest = json.loads((bdir / "manifest.json").read_text())
+    assert manifest["command"] == "shutdown hosts add"
+    assert manifest["files"][0]["path"] == str(path.resolve()) and "+  - ip: 192.0.2.7" in manifest["files"][0]["diff"]
+    assert (bdir / "status").read_text().strip() == "applied"
+    assert "192.0.2.7" in path.read_text()
+    # a secret asked for lands in a new file only its owner reads; the diff masks it
+    new = tmp_path / "new.yaml"
+    code, out, _ = run(capsys, "shutdown", "hosts", "add", str(new), "--ip", "192.0.2.8", "--http",
+                       "--secret-env", "NUC_SECRET", "--yes")
+    assert code == 0 and new.stat().st_mode & 0o777 == 0o600
+
+
+def test_a_local_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -> None:
+    from panther_ops.core.config.hostsfile import add_host, new_entry
+    from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+    from panther_ops.core.fleet.runner import RobotContext, open_transport
+    from panther_ops.core.shutdown.localfile import local_target, plan_local_hosts_edit
+    from panther_ops.results import Outcome
+
+    path = tmp_path / "hosts.yaml"
+    path.write_text(GOOD)
+    inv, target = local_target(path)
+    transport = open_transport(inv, target)
+    transport.connect()
+    try:
+        ctx = RobotContext(target, transport, inv)
+        plan = plan_local_hosts_edit(ctx, path, lambda text: add_host(text, new_entry("192.0.2.7", username="pi")))
+        assert "+  - ip: 192.0.2.7" in plan.diffs[0].unified
+        path.write_text(GOOD + "# edited meanwhile\n")
+        res = apply_plan(ctx, plan, ApplyOptions(restart=False, command="shutdown hosts add"))
+    finally:
+        transport.close()
+    assert res.outcome is Outcome.FAILED and "changed on the robot since it was read" in res.message
+    assert path.read_text() == GOOD + "# edited meanwhile\n"
+
+
 @pytest.fixture
 def demo(tmp_path: Path) -> Path:
     assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0

@@ -18,7 +18,6 @@ from panther_ops.cli.commands.shutdown import (
     PowerBudget,
     SecretEnv,
     SecretFile,
-    ask_to_confirm,
     secret_from,
     usage_error,
 )
@@ -196,48 +195,14 @@ def _entry(ip: str, user: str | None, port: int | None, command: str | None, tim
     return entry
 
 
-def _check_local(path: Path, after: str) -> None:
-    """The hosts file as it would be written, through the one hosts file validator (an invalid
-    entry already in the file is refused too, naming it)."""
-    from panther_ops.core.config.kinds import FileKind, check_file
+def _edit_local(file: Path, change: Any, yes: bool, dry_run: bool, json_out: bool, command: str) -> int:
+    """A local hosts file through the change pipeline (its directory is the target: diff,
+    confirm, backup beside it, atomic write; see core/shutdown/localfile.py)."""
+    from panther_ops.core.shutdown.localfile import local_target, plan_local_hosts_edit
 
-    check_file(FileKind.SHUTDOWN_HOSTS, str(path), after.encode(), local=path)
-
-
-def _write_local(path: Path, before: str | None, after: str, yes: bool, dry_run: bool, json_out: bool,
-                 command: str, message: str) -> int:
-    import os
-    import tempfile
-
-    from panther_ops.cli.render import emit_json, print_diffs
-    from panther_ops.core.config.hostsfile import mask_secrets
-    from panther_ops.core.yaml.diff import unified_diff
-    from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
-
-    changed = after != (before or "")
-    diff = Diff(str(path), unified_diff(mask_secrets(before or ""), mask_secrets(after), str(path)))
-    res = RobotResult(str(path), Outcome.CHANGED if changed else Outcome.OK,
-                      (("would change (dry run): " if dry_run else "") + message) if changed else message,
-                      diffs=[diff] if changed else [])
-    fleet = FleetResult(command, [res])
-    if changed and not dry_run:
-        if not json_out:
-            print_diffs(fleet)
-        if not ask_to_confirm(f"Write {path}?", yes, "changing the file"):
-            return 2
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=str(path.parent.resolve()))
-        with os.fdopen(fd, "w") as fh:
-            fh.write(after)
-        if before is not None:
-            os.chmod(tmp, path.stat().st_mode & 0o7777)
-        os.replace(tmp, path)
-    if json_out:
-        emit_json(fleet.to_json())
-    else:
-        if dry_run and changed:
-            print_diffs(fleet)
-        stdout().print(f"{esc(path)}: {res.outcome.value}: {esc(res.message)}")
-    return 0
+    inv, target = local_target(file)
+    return mutate(command, inv, [target], lambda c: plan_local_hosts_edit(c, file, change), yes=yes,
+                  dry_run=dry_run, restart=False, json_out=json_out, verb="Write")
 
 
 @hosts_app.command("add")
@@ -269,8 +234,9 @@ def hosts_add(
 ) -> int:
     """Add a host (or update the listed one with the same ip, user and port). On robots the file
     goes through the configuration pipeline: diff, confirm, backup, write, mount and
-    shutdown_hosts_config_path (2.0/2.1), recreate, verify. A local FILE keeps a secret given
-    with --secret-env as {env: VAR}; a robot's file gets the value (its manager reads it).
+    shutdown_hosts_config_path (2.0/2.1), recreate, verify. A local FILE goes through it too
+    (diff, confirm, backup in .panther-ops/backups/ beside it, atomic write) and keeps a secret
+    given with --secret-env as {env: VAR}; a robot's file gets the value (its manager reads it).
 
     Examples:
       panther-ops shutdown hosts add -r panther-01 --ip 10.15.20.3 --user husarion --yes
@@ -291,10 +257,8 @@ def hosts_add(
             sec = secret_from(None, None, True)
             secret_value = sec.reveal() if sec else None
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
-        before = file.read_text() if file.exists() else None
-        edit = add_host(before or "", entry, str(file))
-        _check_local(file, edit.text)
-        return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts add", edit.message)
+        return _edit_local(file, lambda text: add_host(text, entry, str(file)), yes, dry_run, json_out,
+                           "shutdown hosts add")
     sec = secret_from(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
@@ -337,10 +301,8 @@ def hosts_remove(
     if file is not None:
         if not file.exists():
             raise usage_error(f"{file} does not exist")
-        before = file.read_text()
-        edit = remove_host(before, ip, user, port, str(file))
-        _check_local(file, edit.text)
-        return _write_local(file, before, edit.text, yes, dry_run, json_out, "shutdown hosts remove", edit.message)
+        return _edit_local(file, lambda text: remove_host(text, ip, user, port, str(file)), yes, dry_run,
+                           json_out, "shutdown hosts remove")
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
     inv, chosen = context.targets(ctx, robot, group, all_)

@@ -56,6 +56,8 @@ class Robot:
     desired: dict[str, Any] = field(default_factory=dict)
     transport: str = "ssh"
     root: Path | None = None
+    home: str | None = None
+    """A local target's home when it is not ``/home/<user>`` under ``root`` (a local file's directory)."""
     compose_file: str = "~/compose.yaml"
     connect_timeout: float = 10.0
     source: str = ""

@@ -71,7 +71,7 @@ def open_transport(inventory: Inventory, robot: Robot) -> Transport:
         from panther_ops.transport.local import LocalTransport
 
         assert robot.root is not None
-        return LocalTransport(robot.name, robot.root, robot.user)
+        return LocalTransport(robot.name, robot.root, robot.user, robot.home)
     from panther_ops.transport.ssh import SshTransport
 
     return SshTransport(inventory.endpoint(robot))

@@ -1,0 +1,55 @@
+"""A local shutdown hosts file (`shutdown hosts add|remove FILE`) as a target of the change
+pipeline, as a robot's file is.
+
+The file's directory is a local target (the local transport, as a demo robot's directory):
+the plan reads the file through it, checks the whole file as it would be written with the
+hosts file kind's one validator, and carries a masked exact diff; the pipeline then backs
+the old content up in ``<directory>/.panther-ops/backups/<id>/`` (``files/0`` and a
+``manifest.json``), stages the new file beside it and renames it into place only if the file
+is still what was read. Nothing is recreated.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from panther_ops.core.config.hostsfile import Edit, MaskedFileEdit
+from panther_ops.core.config.kinds import FileKind, check_file
+from panther_ops.core.fleet.inventory import Inventory, Robot
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.errors import UsageError
+
+
+def local_target(file: Path) -> tuple[Inventory, Robot]:
+    """The file's directory as a one-target inventory (named as the operator gave the file)."""
+    full = file.resolve()
+    robot = Robot(name=str(file), host="localhost", transport="local", root=Path("/"), home=str(full.parent),
+                  source=str(file))
+    return Inventory(path=full, origin=str(file), robots={robot.name: robot}, groups={}, forks=1), robot
+
+
+def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str], Edit]) -> RobotPlan:
+    """The plan of one change to a local hosts file (``change`` maps its text to the new one)."""
+    path = str(file.resolve())
+    where = str(file)
+    try:
+        before: bytes | None = ctx.transport.read_file(path)
+    except FileNotFoundError:
+        before = None
+    try:
+        text = (before or b"").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start})",
+                         hint="nothing was changed") from exc
+    edit = change(text)
+    after = edit.text.encode()
+    warnings = check_file(FileKind.SHUTDOWN_HOSTS, where, after, local=file)
+    home = str(Path(path).parent)
+    if not edit.changed or after == before:
+        return RobotPlan(ctx.robot.name, edit.message, noop=edit.message, warnings=warnings, home=home)
+    # a new file may hold a secret (--ask-secret): only its owner reads it
+    edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
+    return RobotPlan(ctx.robot.name, edit.message, edits, warnings=warnings, home=home,
+                     data={"hosts_file": where})
