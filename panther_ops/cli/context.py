@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import typer
 
 if TYPE_CHECKING:
+    from panther_ops.core.fleet.changes import Applier, Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.runner import Task
     from panther_ops.results import FleetResult
@@ -102,3 +104,63 @@ def run(
         return run_fleet(command, inv, chosen, task, opts, progress)
 
 
+
+
+@dataclass
+class Fleet:
+    """What a fleet command was given of the shared options (cli/options.py), and the one way
+    its body goes: select the robots, run the task (or plan and apply a change), render,
+    return the exit code."""
+
+    ctx: typer.Context
+    robot: list[str] | None = None
+    group: list[str] | None = None
+    all_: bool = False
+    yes: bool = False
+    dry_run: bool = False
+    no_restart: bool = False
+    settle: float = 5.0
+    json_out: bool = False
+    forks: int | None = None
+    canary: int = 0
+    max_fail: float | None = None
+
+    def targets(self, preload: tuple[str, ...] = (), read_only: bool = False) -> tuple[Inventory, list[Robot]]:
+        """The inventory and the robots chosen (see :func:`targets`)."""
+        return targets(self.ctx, self.robot, self.group, self.all_, preload=preload, read_only=read_only)
+
+    def results(self, command: str, task: Task, *, read_only: bool = False, preload: tuple[str, ...] = (),
+                at_once: bool = False, progress: bool = True,
+                on: tuple[Inventory, list[Robot]] | None = None) -> FleetResult:
+        """``task`` run on the robots chosen (or ``on`` the targets given); ``at_once``: every
+        robot at the same time (no fork limit); ``progress``: the live progress when it is wanted."""
+        inv, chosen = on or self.targets(preload, read_only)
+        forks = (len(chosen) or None) if at_once else self.forks
+        return run(command, inv, chosen, task, forks=forks, canary=self.canary, max_fail=self.max_fail,
+                   json_out=self.json_out or not progress)
+
+    def show(self, fleet: FleetResult, view: Callable[[FleetResult], None] | None = None) -> int:
+        """The result as one JSON document, else through ``view`` (default: the generic table)."""
+        from panther_ops.cli.render import finish, print_results
+
+        return finish(fleet, self.json_out, view or print_results)
+
+    def run(self, command: str, task: Task, view: Callable[[FleetResult], None] | None = None, *,
+            read_only: bool = False, preload: tuple[str, ...] = (), at_once: bool = False,
+            on: tuple[Inventory, list[Robot]] | None = None) -> int:
+        """Select, run ``task``, render: a read or an action on each robot."""
+        return self.show(self.results(command, task, read_only=read_only, preload=preload, at_once=at_once, on=on),
+                         view)
+
+    def change(self, command: str, planner: Planner, *, applier: Applier | None = None, verb: str = "Apply to",
+               preload: tuple[str, ...] = (), read_only: bool = False,
+               on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None) -> int:
+        """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
+        targets given; ``read_only``: only compare (a dry run that does not call itself one)."""
+        from panther_ops.cli.mutate import mutate
+
+        inv, chosen = on or self.targets(preload, read_only)
+        return mutate(command, inv, chosen, planner, yes=self.yes and not read_only,
+                      dry_run=self.dry_run or read_only, restart=not self.no_restart if restart is None else restart,
+                      settle=self.settle, json_out=self.json_out, forks=self.forks, canary=self.canary,
+                      max_fail=self.max_fail, applier=applier, verb=verb, read_only=read_only)

@@ -3,17 +3,12 @@
 from __future__ import annotations
 
 import sys
-from typing import TYPE_CHECKING, Annotated, Any, Optional
+from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, Yes, mutate
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
-
-if TYPE_CHECKING:
-    from panther_ops.results import FleetResult
-
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import READ, TARGETS, shared
 
 router_app = typer.Typer(
     help="The RUTX11 router's NMEA forwarding (REST API, through the robot's SSH connection).",
@@ -35,58 +30,25 @@ def credentials() -> Any:
     return load_credentials(ask if sys.stdin.isatty() else None)
 
 
-def _print_router(fleet: FleetResult) -> None:
-    from rich.table import Table
-
-    from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-
-    table = Table(title="panther-ops gps router show")
-    for col in ("robot", "result", "gps", "forwarding", "to", "sentences", "message"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        d = r.data
-        if "forwarding" not in d:
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", "", "", "", esc(r.message))
-            continue
-        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "on" if d["gps_enabled"] else "off",
-                      "on" if d["forwarding"] else "off", esc(f"{d['hostname']}:{d['port']}/{d['proto']}"),
-                      esc(",".join(d["sentences"])), "")
-    _console().print(table)
-    print_warnings(fleet)
-    print_summary(fleet)
-
-
 @router_app.command("show")
-def router_show(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    address: Address = "10.15.20.1",
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def router_show(fleet: Fleet, address: Address = "10.15.20.1") -> int:
     """The router's GNSS switch, NMEA forwarding (enabled, hostname, port, protocol) and the
     sentences it forwards, per robot. The router's certificate is pinned on first use.
 
     Example: PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
     """
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.gps import print_router
     from panther_ops.core.gps.router import check_address, show_task
 
     check_address(address)
-    creds = credentials()
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return finish(context.run("gps router show", inv, chosen, show_task(address, creds), forks=forks,
-                              json_out=json_out), json_out, _print_router)
+    return fleet.run("gps router show", show_task(address, credentials()), print_router)
 
 
 @router_app.command("set")
+@shared(*TARGETS, "yes", "dry_run", "json_out", "forks")
 def router_set(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     address: Address = "10.15.20.1",
     enable: Annotated[
         Optional[bool],  # noqa: UP045
@@ -104,10 +66,6 @@ def router_set(
         Optional[str],  # noqa: UP045
         typer.Option("--sentences", help="Forward exactly these sentence ids (e.g. GPGGA,GPRMC), the others not."),
     ] = None,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Set the router's NMEA forwarding; only what differs is sent (PUT, values as strings),
     then read back. Shows the change and asks first (--yes: without asking).
@@ -128,7 +86,5 @@ def router_set(
         raise UsageError("nothing to set", hint="--enable/--disable, --hostname, --port or --sentences")
     check_address(address)
     creds = credentials()
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("gps router set", inv, chosen, lambda c: plan_router(c, address, creds, req),
-                  applier=apply_router(address, creds, req), yes=yes, dry_run=dry_run, json_out=json_out,
-                  forks=forks, verb="Change the router of")
+    return fleet.change("gps router set", lambda c: plan_router(c, address, creds, req),
+                        applier=apply_router(address, creds, req), verb="Change the router of")

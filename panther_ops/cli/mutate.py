@@ -3,24 +3,26 @@
 from __future__ import annotations
 
 import sys
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING
 
 import typer
-
-from panther_ops.cli.options import finite
 
 if TYPE_CHECKING:
     from panther_ops.core.fleet.changes import Applier, Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
 
-Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
-DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
-NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
-Settle = Annotated[
-    float, typer.Option("--settle", min=0, callback=finite,
-                        help="Seconds the recreated container must stay up, unrestarted.")
-]
-Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
+
+def confirm(question: str, yes: bool, refusal: str) -> bool:
+    """True with --yes, else the operator's answer to ``question``; when nobody can answer (not
+    interactive), ``refusal`` is the error and the answer is no."""
+    if yes:
+        return True
+    if not sys.stdin.isatty():
+        from panther_ops.cli.render import error
+
+        error(refusal)
+        return False
+    return bool(typer.confirm(question, default=False))
 
 
 def mutate(

@@ -1,10 +1,25 @@
-"""Options shared by fleet commands (targets, output, parallelism)."""
+"""The options fleet commands share, declared once, and :func:`shared`, which gives a command
+the ones it takes.
+
+A command names the shared options it takes (``@shared(*READ)``, ``@shared(*GATED)``...) and
+declares only its own; it receives the shared ones as one :class:`~panther_ops.cli.context.Fleet`
+(its first parameter), which selects the robots, runs the task, renders and returns the exit
+code. --help lists a command's arguments, then the robot selection, then its own options, then
+the shared ones in the order of ``_SHARED``.
+"""
 
 from __future__ import annotations
 
-from typing import Annotated, Optional
+import copy
+import inspect
+import typing
+from collections.abc import Callable
+from typing import Annotated, Any, Optional, TypeVar
 
 import typer
+from typer.models import ArgumentInfo
+
+from panther_ops.cli.context import Fleet
 
 
 def finite(value: float | None) -> float | None:
@@ -40,3 +55,84 @@ MaxFail = Annotated[
     typer.Option("--max-fail", min=0, max=100, callback=finite,
                  help="Stop starting robots once more than PCT % failed."),
 ]
+Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
+DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
+NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
+Settle = Annotated[
+    float, typer.Option("--settle", min=0, callback=finite,
+                        help="Seconds the recreated container must stay up, unrestarted.")
+]
+Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
+Lines = Annotated[
+    Optional[int],  # noqa: UP045
+    typer.Option("--lines", "-n", min=0, help="Last N lines of each robot (default 100; 0 with -f: only new)."),
+]
+Follow = Annotated[bool, typer.Option("--follow", "-f", help="Keep printing new lines (one robot; Ctrl-C ends).")]
+Timestamps = Annotated[bool, typer.Option("--timestamps", "-t", help="Docker's timestamp on each line.")]
+"""The options of a container's logs (`driver logs`, `manager logs`)."""
+
+_SHARED: dict[str, tuple[Any, Any]] = {
+    "robot": (Robots, None), "group": (Groups, None), "all_": (All, False),
+    "yes": (Yes, False), "dry_run": (DryRun, False), "no_restart": (NoRestart, False), "settle": (Settle, 5.0),
+    "json_out": (Json, False), "forks": (Forks, None), "canary": (Canary, 0), "max_fail": (MaxFail, None),
+}
+"""Each shared option: the parameter's name (a field of Fleet), its declaration and default."""
+
+TARGETS = ("robot", "group", "all_")
+READ = (*TARGETS, "json_out", "forks")
+"""A command that reads the robots."""
+WRITE = (*TARGETS, "yes", "dry_run", "no_restart", "settle", "json_out", "forks")
+"""A change through the pipeline."""
+GATED = (*WRITE, "canary", "max_fail")
+"""A change through the pipeline, rolled out with --canary and --max-fail."""
+RECREATE = tuple(n for n in WRITE if n != "no_restart")
+"""A change whose point is to recreate containers (no --no-restart)."""
+
+
+R = TypeVar("R")
+
+
+def shared(*names: str, helps: dict[str, str] | None = None) -> Callable[[Callable[..., R]], Callable[..., R]]:
+    """Give a command the shared options ``names`` (``helps``: another help text for some).
+
+    The command's first parameter receives them as a :class:`Fleet` (with the context); its
+    other parameters are its own options and arguments, declared as usual.
+    """
+    unknown = set(names) - set(_SHARED) or set(helps or {}) - set(names)
+    if unknown:
+        raise ValueError(f"not shared options of this command: {sorted(unknown)}")
+
+    def decorate(fn: Callable[..., R]) -> Callable[..., R]:
+        sig = inspect.signature(fn, eval_str=True)
+        own = list(sig.parameters.values())[1:]
+
+        def command(ctx: typer.Context, **given: Any) -> R:
+            return fn(Fleet(ctx, **{n: given.pop(n) for n in names}), **given)
+
+        params = [inspect.Parameter("ctx", inspect.Parameter.KEYWORD_ONLY, annotation=typer.Context)]
+        params += [p for p in own if _is_argument(p)]
+        params += [_parameter(n, helps) for n in names if n in TARGETS]
+        params += [p for p in own if not _is_argument(p)]
+        params += [_parameter(n, helps) for n in _SHARED if n in names and n not in TARGETS]
+        command.__signature__ = inspect.Signature(  # type: ignore[attr-defined]
+            [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in params], return_annotation=sig.return_annotation)
+        command.__annotations__ = {p.name: p.annotation for p in params} | {"return": sig.return_annotation}
+        command.__name__, command.__qualname__ = fn.__name__, fn.__qualname__
+        command.__doc__, command.__module__ = fn.__doc__, fn.__module__
+        return command
+
+    return decorate
+
+
+def _is_argument(p: inspect.Parameter) -> bool:
+    return any(isinstance(m, ArgumentInfo) for m in getattr(p.annotation, "__metadata__", ()))
+
+
+def _parameter(name: str, helps: dict[str, str] | None) -> inspect.Parameter:
+    declared, default = _SHARED[name]
+    if helps and name in helps:
+        kind, info = typing.get_args(declared)
+        info = copy.copy(info)
+        info.help = helps[name]
+        declared = Annotated[kind, info]
+    return inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=declared)

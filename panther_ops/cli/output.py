@@ -107,3 +107,9 @@ def write_json(doc: Any) -> None:
     out = stream()
     out.write(json.dumps(doc, indent=2, default=str) + "\n")
     out.flush()
+
+
+def write_bytes(data: bytes) -> None:
+    """Bytes on stdout as they are (a file fetched from a robot)."""
+    sys.stdout.buffer.write(data)
+    sys.stdout.flush()

@@ -152,3 +152,25 @@ def error(message: str) -> None:
     from panther_ops.cli.output import print_message
 
     print_message(f"[bold red]error[/] {esc(message)}")
+
+
+def outcome_cell(outcome: Outcome) -> str:
+    """A robot's outcome as a table cell, in its colour."""
+    return f"[{STYLE[outcome]}]{outcome.value}[/]"
+
+
+def new_table(title: str | None, columns: tuple[str, ...]) -> Any:
+    """A rich table with these columns, long cells folded (not cut)."""
+    from rich.table import Table
+
+    table = Table(title=title)
+    for col in columns:
+        table.add_column(col, overflow="fold")
+    return table
+
+
+def print_table(table: Any, fleet: FleetResult) -> None:
+    """A fleet result's table on stdout, then its warnings and the summary line."""
+    _console().print(table)
+    print_warnings(fleet)
+    print_summary(fleet)

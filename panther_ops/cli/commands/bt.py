@@ -24,7 +24,7 @@ def validate(
 
     Example: panther-ops bt validate my_trees/PantherSafetyBT.btproj
     """
-    from panther_ops.cli.findings_view import report_findings
+    from panther_ops.cli.views.findings import report_findings
     from panther_ops.manager import validate_bt_project
 
     return report_findings(str(file), validate_bt_project(file), json_out=json_out, what="BT project")

@@ -7,9 +7,8 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, Force, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import GATED, READ, TARGETS, WRITE, Force, shared
 
 app = typer.Typer(
     help="The robot's configuration: launch arguments, controller limits, config files, history.",
@@ -33,21 +32,13 @@ def _parse_value(text: str) -> Any:
 
 
 @app.command("get")
-def get(
-    ctx: typer.Context,
-    key: KeyArg,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def get(fleet: Fleet, key: KeyArg) -> int:
     """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
     stack's default, with where it came from. No robot chosen: every robot of the inventory.
 
     Example: panther-ops config get wheel_type --all
     """
-    from panther_ops.cli.render import finish, print_results
     from panther_ops.core.config.checks import precheck_key
     from panther_ops.core.config.plans import read_arg
     from panther_ops.results import Outcome, RobotResult
@@ -59,31 +50,19 @@ def get(
         return RobotResult(c.robot.name, Outcome.OK, f"{key} = {info['value']} ({info['source']}; {info['stack']})",
                            data=info)
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
-    return finish(context.run("config get", inv, chosen, task, forks=forks, json_out=json_out), json_out,
-                  print_results)
+    return fleet.run("config get", task, read_only=True)
 
 
 @app.command("set")
+@shared(*GATED)
 def set_(
-    ctx: typer.Context,
+    fleet: Fleet,
     key: KeyArg,
     value: Annotated[str, typer.Argument(help="The value, e.g. WH02, True, /config/x.yaml, 1.5.")],
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
     force: Force = False,
     everywhere: Annotated[bool, typer.Option(
         "--everywhere", help="namespace: also change it where the robot's other parts name it (the gamepad "
         "service, ROBOT_NAMESPACE), in the same plan.")] = False,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
 ) -> int:
     """Set a launch argument of the driver (e.g. wheel_type WH02) or a controller limit
     (controller.linear.x.max_velocity 1.0) on each robot, knowing each key per stack version.
@@ -102,8 +81,6 @@ def set_(
 
     parsed = _parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
-    inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
-    # the planners (and the YAML editor they bring) load while the robots connect
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
             from panther_ops.core.config.plans import plan_controller
@@ -116,25 +93,13 @@ def set_(
             return plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
     label = (f"config set {key} {value}" + (" --everywhere" if everywhere else "")
              + (" --force" if force else ""))
-    return mutate(label, inv, chosen, planner, yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                  max_fail=max_fail)
+    # the planners (and the YAML editor they bring) load while the robots connect
+    return fleet.change(label, planner, preload=PLANNERS)
 
 
 @app.command("unset")
-def unset(
-    ctx: typer.Context,
-    key: KeyArg,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*WRITE)
+def unset(fleet: Fleet, key: KeyArg) -> int:
     """Remove a launch argument from the driver's command (the stack's default applies again).
 
     Example: panther-ops config unset wheel_type -r panther-01 --yes
@@ -142,26 +107,18 @@ def unset(
     from panther_ops.core.config.checks import precheck_key
 
     precheck_key(key, known=False)  # an argument not in the catalogue can be removed, a malformed name not
-    inv, chosen = context.targets(ctx, robot, group, all_, preload=PLANNERS)
 
     def planner(c: Any) -> Any:
         from panther_ops.core.config.plans import plan_args
 
         return plan_args(c, {}, [key])
 
-    return mutate(f"config unset {key}", inv, chosen, planner, yes=yes,
-                  dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+    return fleet.change(f"config unset {key}", planner, preload=PLANNERS)
 
 
 @app.command("diff")
-def diff(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def diff(fleet: Fleet) -> int:
     """Compare each robot with the inventory's desired: block (launch_args, controller, image):
     `changed` means drift, with the diff that `panther-ops apply` would make.
 
@@ -169,27 +126,18 @@ def diff(
     """
     from panther_ops.core.apply.desired import plan_desired
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
-    return mutate("config diff", inv, chosen, plan_desired, yes=False, dry_run=True, json_out=json_out,
-                  forks=forks, read_only=True)
+    return fleet.change("config diff", plan_desired, read_only=True)
 
 
 @app.command("history")
-def history(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def history(fleet: Fleet) -> int:
     """List the backups each change left on the robot (~/.panther-ops/backups): id, time,
     command, what changed, and how the attempt ended (applied, rolled-back and why).
 
     Example: panther-ops config history -r panther-01
     """
-    from panther_ops.cli.history_view import print_history
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.history import print_history
     from panther_ops.core.fleet.history import list_history
     from panther_ops.results import Outcome, RobotResult
 
@@ -199,27 +147,17 @@ def history(
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
-    return finish(context.run("config history", inv, chosen, task, forks=forks, json_out=json_out), json_out,
-                  print_history)
+    return fleet.run("config history", task, print_history, read_only=True)
 
 
 @app.command("rollback")
+@shared(*WRITE)
 def rollback(
-    ctx: typer.Context,
+    fleet: Fleet,
     to: Annotated[
         Optional[str],  # noqa: UP045
         typer.Option("--to", help="Backup id (or a unique prefix) to restore; default: the newest."),
     ] = None,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Restore the files as they were before a change (a backup from `config history`), through
     the same pipeline: diff, confirm, backup, atomic write, recreate, verify.
@@ -234,29 +172,17 @@ def rollback(
     if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
         raise UsageError(f"--to {to!r} is not a backup id",
                          hint="an id (or a prefix) from `panther-ops config history`, e.g. 20261122T101500Z")
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("config rollback", inv, chosen, lambda c: plan_rollback(c, to), yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+    return fleet.change("config rollback", lambda c: plan_rollback(c, to))
 
 
 @app.command("push")
+@shared(*GATED)
 def push(
-    ctx: typer.Context,
+    fleet: Fleet,
     local: Annotated[Path, typer.Argument(help="The file to push (a .btproj for bt-lights/bt-safety).")],
     as_: Annotated[str, typer.Option("--as", help="What it is: controller, wheel, components, led, "
                                      "user-animations, bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
     force: Force = False,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
 ) -> int:
     """Upload a config file, mount it into the driver container and point its launch argument
     at it (2.0/2.1), or place it in the robot's ~/config tree (2.2): the manual's four steps in
@@ -269,21 +195,16 @@ def push(
 
     kind = push_kind(as_)
     bundle = read_bundle(kind, local, force=force)
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""), inv, chosen,
-                  lambda c: plan_push(c, kind, bundle, force=force), yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                  max_fail=max_fail)
+    return fleet.change(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""),
+                        lambda c: plan_push(c, kind, bundle, force=force))
 
 
 @app.command("pull")
+@shared(*TARGETS, "json_out")
 def pull(
-    ctx: typer.Context,
+    fleet: Fleet,
     kind: Annotated[str, typer.Argument(help="controller, wheel, components, led, user-animations, "
                                         "bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
     output: Annotated[
         Optional[Path],  # noqa: UP045
         typer.Option("--output", "-o", help="Write to this file (one robot) instead of stdout."),
@@ -292,27 +213,23 @@ def pull(
         Optional[Path],  # noqa: UP045
         typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>."),
     ] = None,
-    json_out: Json = False,
 ) -> int:
     """Fetch the config file in use: the mounted one, else the 2.2 config tree's, else the
     default inside the robot's own image, else panther-ops' template for that version.
 
     Example: panther-ops config pull controller -r panther-01 -o controller.yaml
     """
-    import sys
-
-    from panther_ops.cli.render import finish, print_results
+    from panther_ops.cli.context import info, run
+    from panther_ops.cli.output import write_bytes
+    from panther_ops.core.config.pull_files import check_destination, plan_writes, write_files
     from panther_ops.core.config.push import pull as pull_file
     from panther_ops.core.config.push import push_kind
-    from panther_ops.errors import UsageError
     from panther_ops.results import Outcome, RobotResult
 
     k = push_kind(kind, "KIND")
-    if output is not None and (output.is_dir() or not output.parent.is_dir()):
-        raise UsageError(f"--output {output}: not a file path in an existing directory")
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    if len(chosen) > 1 and dest is None:
-        raise UsageError(f"{len(chosen)} robots chosen: pass --dest DIR (files go to DIR/<robot>/)")
+    check_destination(output, None, 1)
+    inv, chosen = fleet.targets()
+    check_destination(None, dest, len(chosen))
     got: dict[str, bytes] = {}
 
     def task(c: Any) -> RobotResult:
@@ -320,38 +237,19 @@ def pull(
         got[c.robot.name] = data
         return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}", data={"source": source})
 
-    fleet = context.run("config pull", inv, chosen, task, json_out=True)
-    for name, data in got.items():
-        if dest is not None:
-            (dest / name).mkdir(parents=True, exist_ok=True)
-            (dest / name / f"{k.value}.yaml").write_bytes(data)
-        elif output is not None:
-            output.write_bytes(data)
-        elif not json_out:
-            sys.stdout.buffer.write(data)
-            sys.stdout.flush()
-    if json_out or dest is not None or output is not None:
-        return finish(fleet, json_out, print_results)
-    for r in fleet.results:
-        context.info(f"{r.robot}: {r.outcome.value}: {r.message}")
-    return int(fleet.exit_code)
+    result = run("config pull", inv, chosen, task, json_out=True)
+    write_files(plan_writes(got, k, output, dest))
+    if fleet.json_out or dest is not None or output is not None:
+        return fleet.show(result)
+    for data in got.values():
+        write_bytes(data)
+    for r in result.results:
+        info(f"{r.robot}: {r.outcome.value}: {r.message}")
+    return int(result.exit_code)
 
 
-def apply(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    force: Force = False,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
-) -> int:
+@shared(*GATED)
+def apply(fleet: Fleet, force: Force = False) -> int:
     """Converge robots to the inventory's desired: block (launch_args, controller limits, driver
     image) through the same plan / diff / confirm / backup / recreate / verify / roll back pipeline.
 
@@ -359,11 +257,7 @@ def apply(
     """
     from panther_ops.core.apply.desired import plan_desired
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    label = "apply --force" if force else "apply"
-    return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                  max_fail=max_fail)
+    return fleet.change("apply --force" if force else "apply", lambda c: plan_desired(c, force=force))
 
 
 def register(root: typer.Typer) -> None:

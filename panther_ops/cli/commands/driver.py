@@ -3,16 +3,12 @@
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Annotated, Any, Optional
+from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
-
-if TYPE_CHECKING:
-    from panther_ops.results import FleetResult
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import GATED, READ, RECREATE, TARGETS, WRITE, Follow, Lines, Timestamps, shared
 
 app = typer.Typer(
     help="The driver container (panther_ros / husarion_ugv_ros): status, logs, restart, image versions, update.",
@@ -26,42 +22,9 @@ REGISTRY_ENV = "PANTHER_OPS_DOCKERHUB_URL"
 # ------------------------------------------------------------------ status
 
 
-def _print_status(fleet: FleetResult) -> None:
-    from rich.table import Table
-
-    from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.containers.times import human_duration
-
-    table = Table(title="panther-ops driver status")
-    for col in ("robot", "result", "service", "image", "state", "uptime", "restarts", "exit", "health", "command"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        d = r.data
-        if "state" not in d or d.get("state") == "missing":
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d.get("service", "")),
-                          esc(d.get("compose_image") or ""), esc(r.message), "", "", "", "", "")
-            continue
-        drift = d.get("command_drift")
-        table.add_row(
-            r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d["service"]), esc(d.get("image") or ""),
-            esc(d["state"]), human_duration(d.get("uptime_s")) if d.get("uptime_s") is not None else "-",
-            str(d.get("restart_count", "")), str(d.get("exit_code", "")), esc(d.get("health") or "-"),
-            "[yellow]differs from compose.yaml[/]" if drift else ("as compose.yaml" if drift is False else "?"),
-        )
-    _console().print(table)
-    print_warnings(fleet)
-    print_summary(fleet)
-
-
 @app.command("status")
-def status(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def status(fleet: Fleet) -> int:
     """The driver container of each robot (its service from compose.yaml): image, state, uptime,
     start time, restart count, exit code, health, and whether it runs compose.yaml's image and
     launch command (else a warning: recreate it with `driver restart`).
@@ -71,35 +34,26 @@ def status(
 
     Example: panther-ops driver status --all
     """
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.driver import print_status
     from panther_ops.core.driver.containers import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
-    return finish(context.run("driver status", inv, chosen, status_task, forks=forks, json_out=json_out), json_out,
-                  _print_status)
+    return fleet.run("driver status", status_task, print_status, read_only=True)
 
 
 # ------------------------------------------------------------------ logs
 
 
 @app.command("logs")
+@shared(*TARGETS, "json_out")
 def logs(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    lines: Annotated[
-        Optional[int],  # noqa: UP045
-        typer.Option("--lines", "-n", min=0, help="Last N lines of each robot (default 100; 0 with -f: only new)."),
-    ] = None,
+    fleet: Fleet,
+    lines: Lines = None,
     since: Annotated[
         Optional[str],  # noqa: UP045
         typer.Option("--since", help="Only lines newer than DURATION (90s, 10m, 1h30m, 2d; robot's clock)."),
     ] = None,
-    follow: Annotated[bool, typer.Option("--follow", "-f", help="Keep printing new lines (one robot; Ctrl-C ends).")]
-    = False,
-    timestamps: Annotated[bool, typer.Option("--timestamps", "-t", help="Docker's timestamp on each line.")] = False,
-    json_out: Json = False,
+    follow: Follow = False,
+    timestamps: Timestamps = False,
 ) -> int:
     """The driver container's output (stdout and stderr), as `docker logs` shows it. With several
     robots every line starts with `<robot> | `, robots one after the other.
@@ -109,33 +63,22 @@ def logs(
       panther-ops driver logs -g warehouse --since 10m
       panther-ops driver logs -r panther-01 -f
     """
-    from panther_ops.cli.logs_view import show_logs
+    from panther_ops.cli.views.logs import show_logs
     from panther_ops.core.containers.engine import NoEngineError
     from panther_ops.core.driver.containers import open_logs, parse_duration
 
     since_s = parse_duration(since) if since is not None else None
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = fleet.targets()
     return show_logs("driver logs", inv, chosen, open_logs, lines=lines, since_s=since_s, timestamps=timestamps,
-                     follow=follow, json_out=json_out, skip=(NoEngineError,))
+                     follow=follow, json_out=fleet.json_out, skip=(NoEngineError,))
 
 
 # ------------------------------------------------------------------ restart
 
 
 @app.command("restart")
-def restart(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
-) -> int:
+@shared(*RECREATE, "canary", "max_fail")
+def restart(fleet: Fleet) -> int:
     """Recreate the driver container: `docker compose up -d --force-recreate <driver service>` as
     the robot user in a login shell (what Husarion's configurator does), then check it keeps
     running, unrestarted, with compose.yaml's launch command for --settle seconds.
@@ -146,60 +89,18 @@ def restart(
     """
     from panther_ops.core.driver.restart import apply_restart, plan_restart
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("driver restart", inv, chosen, plan_restart, applier=apply_restart, yes=yes, dry_run=dry_run,
-                   settle=settle, json_out=json_out, forks=forks, canary=canary, max_fail=max_fail, verb="Recreate")
+    return fleet.change("driver restart", plan_restart, applier=apply_restart, verb="Recreate")
 
 
 # ------------------------------------------------------------------ versions
 
 
-def _print_versions(fleet: FleetResult) -> None:
-    from rich.table import Table
-
-    from panther_ops.cli.render import STYLE, _console, esc, human_bytes, print_summary, print_warnings
-
-    table = Table(title="panther-ops driver versions (on each robot)")
-    for col in ("robot", "result", "image", "", "id", "size"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        images = r.data.get("local")
-        if not images:
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), "", "", "")
-            continue
-        for i, e in enumerate(images):
-            mark = ", ".join(m for m, on in (("in use", e["in_use"]), ("compose.yaml", e["in_compose"])) if on)
-            table.add_row(r.robot if i == 0 else "", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]" if i == 0 else "",
-                          esc(e["image"]), f"[bold]{mark}[/]" if mark else "", e["id"].removeprefix("sha256:")[:12],
-                          human_bytes(e.get("size")))
-    _console().print(table)
-    remote = fleet.data.get("remote")
-    if remote:
-        rt = Table(title="Docker Hub (released Humble tags)")
-        rt.add_column("repository")
-        rt.add_column("tags, newest first", overflow="fold")
-        for repo, info in remote.items():
-            rt.add_row(repo, esc(", ".join(t["tag"] for t in info["tags"])) if "tags" in info
-                       else f"[red]{esc(info['error'])}[/]")
-        _console().print(rt)
-        for r in fleet.results:
-            if r.data.get("newer"):
-                _console().print(f"{r.robot}: newer than {esc(r.data['compose_image'])}: "
-                                 f"{esc(', '.join(r.data['newer']))}")
-    print_warnings(fleet)
-    print_summary(fleet)
-
-
 @app.command("versions")
+@shared(*READ)
 def versions(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     remote: Annotated[bool, typer.Option("--remote", help="Also ask Docker Hub (from this machine) for the "
                                          "released Humble tags.")] = False,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """The driver images each robot has locally (husarion/panther, husarion/husarion-ugv), marking
     the one the driver container runs and the one compose.yaml names. --remote lists Docker Hub's
@@ -210,11 +111,10 @@ def versions(
       panther-ops driver versions --all
       panther-ops driver versions -r panther-01 --remote
     """
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.driver import print_versions
     from panther_ops.core.driver.containers import versions_task
     from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     tags: dict[str, list[HubTag]] | None = None
     remote_data: dict[str, Any] = {}
     notes: list[str] = []
@@ -228,40 +128,30 @@ def versions(
             except RegistryError as exc:
                 remote_data[repo] = {"error": exc.message}
                 notes.append(f"{repo}: {exc.message}")
-    fleet = context.run("driver versions", inv, chosen, versions_task(tags), forks=forks, json_out=json_out)
+    result = fleet.results("driver versions", versions_task(tags), read_only=True)
     if remote:
-        fleet.data["remote"] = remote_data
-        fleet.notes.extend(notes)
-    return finish(fleet, json_out, _print_versions)
+        result.data["remote"] = remote_data
+        result.notes.extend(notes)
+    return fleet.show(result, print_versions)
 
 
 # ------------------------------------------------------------------ update
 
 
 @app.command("update")
+@shared(*GATED)
 def update(
-    ctx: typer.Context,
+    fleet: Fleet,
     tag: Annotated[
         Optional[str],  # noqa: UP045
         typer.Argument(help="Tag (humble-2.1.2-20241125) or image (husarion/panther:humble-...); "
                             "default: the inventory's desired image."),
     ] = None,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
     pull: Annotated[bool, typer.Option("--pull", help="docker compose pull the driver before recreating it "
                                        "(the robot needs internet).")] = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
     force: Annotated[bool, typer.Option("--force", help="Allow a move between husarion/panther (<=2.1) and "
                                         "husarion/husarion-ugv (2.2), or a repository not matching the version.")]
     = False,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
 ) -> int:
     """Change the driver image in compose.yaml and recreate the driver, through the pipeline:
     plan, diff, confirm, backup, atomic write, recreate, verify, roll back on failure.
@@ -281,29 +171,18 @@ def update(
     from panther_ops.core.driver.update import apply_update, plan_update
 
     target = parse_target(tag, force=force) if tag is not None else None
-    inv, chosen = context.targets(ctx, robot, group, all_)
     command = f"driver update {tag}" if tag else "driver update (desired image)"
-    return mutate(command, inv, chosen, lambda c: plan_update(c, target, force=force, pull=pull), applier=apply_update,
-                   yes=yes, dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks,
-                   canary=canary, max_fail=max_fail)
+    return fleet.change(command, lambda c: plan_update(c, target, force=force, pull=pull), applier=apply_update)
 
 
 # ------------------------------------------------------------------ config restore-defaults
 
 
+@shared(*WRITE)
 def restore_defaults(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     hard: Annotated[bool, typer.Option("--hard", help="2.2: first remove everything in ~/config but common/ "
                                        "(Husarion's `restore_default hard`).")] = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Put each robot's driver configuration back to the image's defaults.
 
@@ -319,10 +198,8 @@ def restore_defaults(
     """
     from panther_ops.core.driver.restore import apply_restore, plan_restore_defaults
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("config restore-defaults" + (" --hard" if hard else ""), inv, chosen,
-                   lambda c: plan_restore_defaults(c, hard=hard), applier=apply_restore, yes=yes, dry_run=dry_run,
-                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+    return fleet.change("config restore-defaults" + (" --hard" if hard else ""),
+                        lambda c: plan_restore_defaults(c, hard=hard), applier=apply_restore)
 
 
 def register(root: typer.Typer) -> None:

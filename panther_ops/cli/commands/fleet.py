@@ -6,18 +6,12 @@ from typing import Annotated
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import READ, shared
 
 
-def status(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def status(fleet: Fleet) -> int:
     """Each robot: reachable, hostname, OS build, model/serial, stack and version, containers
     (state, restart count), free disk, clock offset from this machine.
 
@@ -25,24 +19,15 @@ def status(
 
     Example: panther-ops -i fleet.yaml status --all --json
     """
-    from panther_ops.cli.render import finish
-    from panther_ops.cli.status_view import print_status
+    from panther_ops.cli.views.status import print_status
     from panther_ops.core.health.status import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
-    fleet = context.run("status", inv, chosen, status_task, forks=forks, json_out=json_out)
-    return finish(fleet, json_out, print_status)
+    return fleet.run("status", status_task, print_status, read_only=True)
 
 
+@shared(*READ, "canary", "max_fail")
 def doctor(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
+    fleet: Fleet,
     password_check: Annotated[
         bool, typer.Option("--password-check/--no-password-check",
                            help="Try the default password 'husarion' once per robot (a second connection).")
@@ -54,15 +39,12 @@ def doctor(
 
     Example: panther-ops doctor --all
     """
-    from panther_ops.cli.render import finish
-    from panther_ops.cli.status_view import print_doctor
+    from panther_ops.cli.views.status import print_doctor
     from panther_ops.core.health.doctor import fleet_findings, make_doctor_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
-    fleet = context.run("doctor", inv, chosen, make_doctor_task(password_check=password_check),
-                        forks=forks, canary=canary, max_fail=max_fail, json_out=json_out)
-    fleet.data["fleet_findings"] = fleet_findings(fleet)
-    return finish(fleet, json_out, print_doctor)
+    result = fleet.results("doctor", make_doctor_task(password_check=password_check), read_only=True)
+    result.data["fleet_findings"] = fleet_findings(result)
+    return fleet.show(result, print_doctor)
 
 
 def register(app: typer.Typer) -> None:

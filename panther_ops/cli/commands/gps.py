@@ -2,35 +2,23 @@
 
 from __future__ import annotations
 
-import sys
 from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli import context
+from panther_ops.cli.context import Fleet
 from panther_ops.cli.gps_router import Address, router_app
 from panther_ops.cli.gps_router import credentials as _credentials
-from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.options import GATED, READ, TARGETS, Json, shared
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.nmea import Fix
-    from panther_ops.results import FleetResult
 
 app = typer.Typer(
     help="GPS (ANT02 on the RUTX11): the NMEA driver on robots, the router's forwarding, fix status, NMEA decoding.",
     no_args_is_help=True,
 )
 app.add_typer(router_app, name="router")
-
-
-def _fix_line(fix: Fix) -> str:
-    where = "no position" if fix.lat is None else f"{fix.lat:.8f} {fix.lon:.8f}"
-    extra = [f"sats {fix.satellites}" if fix.satellites is not None else "sats -",
-             f"hdop {fix.hdop}" if fix.hdop is not None else "hdop -"]
-    if fix.altitude_m is not None:
-        extra.append(f"alt {fix.altitude_m} m")
-    return f"{fix.time or '-'}  {fix.talker}  {where}  quality {fix.fix_quality}  " + "  ".join(extra)
 
 
 @app.command("listen")
@@ -56,29 +44,22 @@ def listen(
 
     Example: panther-ops gps listen --udp 0.0.0.0:5000 --count 3 --json
     """
+    from panther_ops.cli.views.gps import fix_line, print_listened
     from panther_ops.core.gps.listen import listen as run_listen
 
     def show(fix: Fix) -> None:
-        sys.stdout.write(_fix_line(fix) + "\n")
-        sys.stdout.flush()
+        typer.echo(fix_line(fix))
 
     result = run_listen(udp, count=count, timeout_s=timeout, on_fix=None if json_out else show)
     short = count is not None and len(result.fixes) < count
     code = 3 if short and result.timed_out else 0
-    stats = result.decoder.stats
     if json_out:
         from panther_ops.cli.render import emit_json
 
         emit_json({"schema": 1, "command": "gps listen", "address": result.address, "exit_code": code,
-                   "fixes": [f.to_json() for f in result.fixes], "counts": stats.to_json()})
+                   "fixes": [f.to_json() for f in result.fixes], "counts": result.decoder.stats.to_json()})
     else:
-        from panther_ops.cli.render import _console
-
-        types = ", ".join(f"{k} {v}" for k, v in sorted(stats.by_type.items())) or "none"
-        _console(stderr=True).print(
-            f"{len(result.fixes)} fixes; {stats.sentences} sentences ({types}); malformed {stats.malformed}, "
-            f"bad checksum {stats.bad_checksum}, unknown type {stats.unknown_type}"
-            + (f"; --timeout passed before {count} fixes" if code else ""), highlight=False, markup=False)
+        print_listened(result, count, short=bool(code))
     return code
 
 
@@ -94,11 +75,9 @@ Container = Annotated[
 
 
 @app.command("enable")
+@shared(*GATED)
 def enable(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     port: Port = 5000,
     ip: Ip = "10.15.20.2",
     namespace: Namespace = None,
@@ -109,14 +88,6 @@ def enable(
     address: Annotated[
         str, typer.Option("--address", help="The router's address on the robot's LAN (with --router).")
     ] = "10.15.20.1",
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
 ) -> int:
     """Run the NMEA GPS driver (ANT02 via the router's NMEA forwarding) on each robot, the way
     its stack does it:
@@ -149,32 +120,14 @@ def enable(
         from panther_ops.core.gps.combined import enable_applier, plan_enable_with_router
 
         creds = _credentials()
-        inv, chosen = context.targets(ctx, robot, group, all_)
-        return mutate("gps enable", inv, chosen, lambda c: plan_enable_with_router(c, opts, address, creds),
-                      applier=enable_applier(address, creds, opts), yes=yes, dry_run=dry_run,
-                      restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                      max_fail=max_fail)
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("gps enable", inv, chosen, lambda c: plan_enable(c, opts), applier=apply_gps, yes=yes,
-                  dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks,
-                  canary=canary, max_fail=max_fail)
+        return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds),
+                            applier=enable_applier(address, creds, opts))
+    return fleet.change("gps enable", lambda c: plan_enable(c, opts), applier=apply_gps)
 
 
 @app.command("disable")
-def disable(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
-) -> int:
+@shared(*GATED)
+def disable(fleet: Fleet) -> int:
     """Take back what `gps enable` adds: the nmea-gps service (its container stopped and
     removed), or launch_nmea_gps, nmea_params_path and the parameters file panther-ops wrote.
     After an enable, compose.yaml is restored byte for byte.
@@ -183,57 +136,19 @@ def disable(
     """
     from panther_ops.core.gps.service import apply_gps, plan_disable
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("gps disable", inv, chosen, plan_disable, applier=apply_gps, yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                  max_fail=max_fail)
-
-
-def _print_status(fleet: FleetResult) -> None:
-    from panther_ops.cli.render import _console, print_summary, print_warnings
-
-    _console().print(_status_table(fleet, "panther-ops gps status"))
-    print_warnings(fleet)
-    print_summary(fleet)
-
-
-def _status_table(fleet: FleetResult, title: str) -> Any:
-    from rich.table import Table
-
-    from panther_ops.cli.render import STYLE, esc
-
-    table = Table(title=title)
-    for col in ("robot", "result", "verdict", "sentences/s", "position", "sats", "hdop", "age", "driver", "detail"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        d = r.data
-        fix = d.get("fix") or {}
-        pos = f"{fix['lat']:.7f} {fix['lon']:.7f}" if fix.get("lat") is not None else "-"
-        rate = d.get("sentences_per_s")
-        age = d.get("age_s")
-        table.add_row(
-            r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d.get("verdict", "")),
-            "-" if rate is None else f"{rate:g}" + (" (recorded)" if d.get("recorded") else ""), pos,
-            str(fix.get("satellites", "-")), str(fix.get("hdop", "-")), "-" if age is None else f"{age:.1f} s",
-            esc((d.get("driver") or {}).get("mode", "")), esc(d.get("detail", r.message)),
-        )
-    return table
+    return fleet.change("gps disable", plan_disable, applier=apply_gps)
 
 
 @app.command("status")
+@shared(*READ)
 def status(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
     window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds to listen (3).")] = 3.0,
     router: Annotated[
         bool, typer.Option("--router", help="Also read the router's forwarding (credentials as for gps router).")
     ] = False,
     address: Address = "10.15.20.1",
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Per robot: is NMEA arriving at its UDP port (listened to on the robot for --window
     seconds, decoded here with pynmea2: sentences per second, fix quality, satellites, HDOP,
@@ -246,7 +161,7 @@ def status(
       panther-ops gps status --all
       panther-ops gps status -r panther-01 --router --json
     """
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.gps import print_status
     from panther_ops.core.gps.router import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
 
@@ -254,17 +169,13 @@ def status(
     StatusOptions(port=port, window_s=window)  # bad input refused before asking for credentials
     creds = _credentials() if router else None
     opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return finish(context.run("gps status", inv, chosen, status_task(opts), forks=forks, json_out=json_out),
-                  json_out, _print_status)
+    return fleet.run("gps status", status_task(opts), print_status)
 
 
 @app.command("watch")
+@shared(*TARGETS, "json_out")
 def watch(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
     window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds per refresh (2).")] = 2.0,
     count: Annotated[
@@ -273,7 +184,6 @@ def watch(
     ] = None,
     router: Annotated[bool, typer.Option("--router", help="Also read the router's forwarding each time.")] = False,
     address: Address = "10.15.20.1",
-    json_out: Json = False,
 ) -> int:
     """`gps status` again and again over the same connections: a live table on a terminal
     (one table per refresh when piped), until Ctrl-C or --count refreshes. With --json (and
@@ -283,7 +193,8 @@ def watch(
     """
     import time
 
-    from panther_ops.cli.render import _console, emit_json
+    from panther_ops.cli.render import emit_json
+    from panther_ops.cli.views.gps import watch_display
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.gps.router import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
@@ -291,40 +202,27 @@ def watch(
 
     check_address(address)  # every input checked before the first refresh
     StatusOptions(port=port, window_s=window)
-    if json_out and count is None:
+    if fleet.json_out and count is None:
         raise UsageError("gps watch --json needs --count N (one JSON document at the end)")
     creds = _credentials() if router else None
     opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = fleet.targets()
     rounds: list[dict[str, Any]] = []
     code = 0
-    live = None
-    if not json_out and sys.stdout.isatty():
-        from rich.live import Live
-
-        live = Live(console=_console(), auto_refresh=False)
-        live.start()
     try:
-        with Connections(inv) as conns:
+        with watch_display(fleet.json_out) as show, Connections(inv) as conns:
             started = time.monotonic()
             while count is None or len(rounds) < count:
                 if rounds:  # a refresh every --window seconds at most (demo robots answer at once)
                     time.sleep(max(0.0, window - (time.monotonic() - started)))
                 started = time.monotonic()
-                fleet = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), None,
-                                  conns)
-                code = int(fleet.exit_code)
-                rounds.append({"time": round(time.time(), 3), **fleet.to_json()})
-                title = f"panther-ops gps watch ({time.strftime('%H:%M:%S')}, refresh {len(rounds)})"
-                if live is not None:
-                    live.update(_status_table(fleet, title), refresh=True)
-                elif not json_out:
-                    _console().print(_status_table(fleet, title))
+                result = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), None,
+                                   conns)
+                code = int(result.exit_code)
+                rounds.append({"time": round(time.time(), 3), **result.to_json()})
+                show(result, f"panther-ops gps watch ({time.strftime('%H:%M:%S')}, refresh {len(rounds)})")
     except KeyboardInterrupt:
         pass
-    finally:
-        if live is not None:
-            live.stop()
-    if json_out:
+    if fleet.json_out:
         emit_json({"schema": 1, "command": "gps watch", "exit_code": code, "rounds": rounds})
     return code

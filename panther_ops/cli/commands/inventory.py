@@ -7,7 +7,8 @@ from typing import Annotated, Any
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.options import All, Groups, Json, Robots
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import TARGETS, Json, shared
 
 app = typer.Typer(help="Read and check the inventory (nothing is contacted).", no_args_is_help=True)
 
@@ -33,40 +34,24 @@ def _robot_json(r: Any, inv: Any) -> dict[str, Any]:
 
 
 @app.command("list")
-def list_(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-) -> int:
+@shared(*TARGETS, "json_out")
+def list_(fleet: Fleet) -> int:
     """List robots with how each is reached. With no selection, every robot is listed.
 
     Example: panther-ops inventory list -g warehouse
     """
-    inv = context.load(ctx)
-    chosen = inv.select(robot or [], group or [], True) if not (robot or group) else inv.select(
-        robot or [], group or [], all_)
-    if json_out:
+    inv = context.load(fleet.ctx)
+    robot, group = fleet.robot or [], fleet.group or []
+    chosen = inv.select(robot, group, fleet.all_ or not (robot or group))
+    if fleet.json_out:
         from panther_ops.cli.render import emit_json
 
         emit_json({"schema": 1, "inventory": str(inv.path), "origin": inv.origin,
                    "robots": [_robot_json(r, inv) for r in chosen], "groups": sorted(inv.groups)})
         return 0
-    from rich.table import Table
+    from panther_ops.cli.views.inventory import print_robots
 
-    from panther_ops.cli.render import _console
-
-    table = Table(title=f"inventory {inv.path}")
-    for col in ("robot", "reached as", "via", "groups", "stack"):
-        table.add_column(col)
-    for r in chosen:
-        if r.transport == "local":
-            where = f"local dir {r.root}"
-        else:
-            where = f"{r.user}@{r.host}" + (f":{r.port}" if r.port else "")
-        table.add_row(r.name, where, r.jump or "", ", ".join(r.groups), r.stack)
-    _console().print(table)
+    print_robots(inv, chosen)
     return 0
 
 

@@ -7,9 +7,8 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import TARGETS, WRITE, Json, shared
 
 app = typer.Typer(help="LED animations: check, preview as a GIF, deploy, test on a robot.", no_args_is_help=True)
 
@@ -32,7 +31,7 @@ def validate(
 
     Example: panther-ops lights validate my_awesome_user_animations.yaml
     """
-    from panther_ops.cli.findings_view import report_findings
+    from panther_ops.cli.views.findings import report_findings
     from panther_ops.manager import validate_animations
 
     return report_findings(str(file), validate_animations(file, led_config), json_out=json_out, what="animations")
@@ -75,18 +74,10 @@ def preview(
 
 
 @app.command("deploy")
+@shared(*WRITE)
 def deploy(
-    ctx: typer.Context,
+    fleet: Fleet,
     file: Annotated[Path, typer.Argument(help="User animations file; the images it references come along.")],
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Validate, then push a user animations file with its images to the robots and point the
     driver at it (user_led_animations_file, 2.2: user_led_animations_path) through the pipeline.
@@ -97,29 +88,22 @@ def deploy(
     from panther_ops.core.config.push import plan_push, read_bundle
 
     bundle = read_bundle(FileKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"lights deploy {file.name}", inv, chosen,
-                  lambda c: plan_push(c, FileKind.USER_ANIMATIONS, bundle), yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+    return fleet.change(f"lights deploy {file.name}", lambda c: plan_push(c, FileKind.USER_ANIMATIONS, bundle))
 
 
 @app.command("test")
+@shared(*TARGETS, "json_out")
 def test(
-    ctx: typer.Context,
+    fleet: Fleet,
     anim_id: Annotated[int, typer.Argument(help="Animation id to show.")],
     param: Annotated[str, typer.Option("--param", help="Animation parameter.")] = "",
     repeating: Annotated[bool, typer.Option("--repeating", help="Keep repeating it.")] = False,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
 ) -> int:
     """Show an animation on the robot now: the lights/set_animation service call, made inside
     the driver container (as the manual's `ros2 service call` example).
 
     Example: panther-ops lights test 21 --repeating -r panther-01
     """
-    from panther_ops.cli.render import finish, print_results
     from panther_ops.core.manager_ops.lights import set_animation
     from panther_ops.errors import UsageError
 
@@ -131,5 +115,4 @@ def test(
     def task(c: Any) -> Any:
         return set_animation(c, anim_id, param, repeating)
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return finish(context.run("lights test", inv, chosen, task, json_out=json_out), json_out, print_results)
+    return fleet.run("lights test", task)

@@ -9,9 +9,8 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, Settle, Yes
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots, finite
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import READ, RECREATE, TARGETS, Follow, Json, Lines, Timestamps, finite, shared
 
 app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behaviour trees).", no_args_is_help=True)
 
@@ -85,7 +84,7 @@ def run(
         emit_json({"schema": 1, "command": "manager run --sim", "scenario": loaded.name, "source": str(path),
                    "snapshots": [dataclasses.asdict(snap) for snap in snapshots]})
         return 0
-    from panther_ops.cli.sim_view import live
+    from panther_ops.cli.views.sim import live
 
     return live(snapshots, str(path))
 
@@ -94,11 +93,9 @@ def run(
 
 
 @app.command("deploy")
+@shared(*RECREATE, "canary", "max_fail")
 def deploy(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     sim: Annotated[
         Optional[bool],  # noqa: UP045
         typer.Option("--sim/--ros2", help="Simulation adapter (labs) or the robot's ROS 2 graph; default: "
@@ -108,13 +105,6 @@ def deploy(
         Optional[str],  # noqa: UP045
         typer.Option("--scenario", help="With --sim: a shipped scenario (charging, low_battery, ...) or a file."),
     ] = None,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
-    canary: Canary = 0,
-    max_fail: MaxFail = None,
 ) -> int:
     """Install the runtime manager on each robot as the compose service panther_ops_manager, on
     the robot's own driver image, and set disable_manager:=True on the driver so the stock
@@ -131,7 +121,6 @@ def deploy(
       panther-ops manager deploy -g warehouse --canary 1 --yes
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
-    from panther_ops.cli.mutate import mutate
     from panther_ops.core.manager_ops.apply_step import apply_manager
     from panther_ops.core.manager_ops.bundle import build_bundle
     from panther_ops.core.manager_ops.deploy import plan_deploy
@@ -142,25 +131,14 @@ def deploy(
 
         load_scenario(scenario_path(scenario))
     bundle = build_bundle()
-    inv, chosen = context.targets(ctx, robot, group, all_)
     label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))
-    return mutate(label, inv, chosen, lambda c: plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
-                  applier=apply_manager, yes=yes, dry_run=dry_run, settle=settle, json_out=json_out, forks=forks,
-                  canary=canary, max_fail=max_fail)
+    return fleet.change(label, lambda c: plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
+                        applier=apply_manager)
 
 
 @app.command("remove")
-def remove(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    settle: Settle = 5.0,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*RECREATE)
+def remove(fleet: Fleet) -> int:
     """Undo `manager deploy`: stop and delete the panther_ops_manager container, take the service
     out of compose.yaml, put disable_manager back as it was before the first deploy (compose.yaml
     byte-identical to before), delete the uploaded files, recreate the driver so the stock
@@ -168,44 +146,15 @@ def remove(
 
     Example: panther-ops manager remove -r panther-01 --yes
     """
-    from panther_ops.cli.mutate import mutate
     from panther_ops.core.manager_ops.apply_step import apply_manager
     from panther_ops.core.manager_ops.deploy import plan_remove
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate("manager remove", inv, chosen, plan_remove, applier=apply_manager, yes=yes, dry_run=dry_run,
-                  settle=settle, json_out=json_out, forks=forks)
-
-
-def _print_status(fleet: Any) -> None:
-    from rich.table import Table
-
-    from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
-    from panther_ops.core.containers.times import human_duration
-
-    table = Table(title="panther-ops manager status")
-    for col in ("robot", "result", "version", "mode", "state", "uptime", "restarts", "disable_manager", "message"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        d = r.data
-        uptime = human_duration(d["uptime_s"]) if d.get("uptime_s") is not None else "-"
-        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(d.get("version") or "-"),
-                      esc(d.get("mode") or "-"), esc(d.get("state") or "-"), uptime,
-                      str(d.get("restart_count", "-")), esc(d.get("disable_manager") or "not set"), esc(r.message))
-    _console().print(table)
-    print_warnings(fleet)
-    print_summary(fleet)
+    return fleet.change("manager remove", plan_remove, applier=apply_manager)
 
 
 @app.command("status")
-def status(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def status(fleet: Fleet) -> int:
     """The deployed manager on each robot: service in compose.yaml, container state, uptime and
     restart count (docker on the robot's own connection), the version deployed (deployed.json)
     and the one the container runs, and whether disable_manager is set on the driver.
@@ -215,28 +164,19 @@ def status(
 
     Example: panther-ops manager status --all
     """
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.manager import print_status
     from panther_ops.core.manager_ops.status import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return finish(context.run("manager status", inv, chosen, status_task, forks=forks, json_out=json_out),
-                  json_out, _print_status)
+    return fleet.run("manager status", status_task, print_status)
 
 
 @app.command("logs")
+@shared(*TARGETS, "json_out")
 def logs(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    lines: Annotated[
-        Optional[int],  # noqa: UP045
-        typer.Option("--lines", "-n", min=0, help="Last N lines of each robot (default 100; 0 with -f: only new)."),
-    ] = None,
-    follow: Annotated[bool, typer.Option("--follow", "-f", help="Keep printing new lines (one robot; Ctrl-C ends).")]
-    = False,
-    timestamps: Annotated[bool, typer.Option("--timestamps", "-t", help="Docker's timestamp on each line.")] = False,
-    json_out: Json = False,
+    fleet: Fleet,
+    lines: Lines = None,
+    follow: Follow = False,
+    timestamps: Timestamps = False,
 ) -> int:
     """The manager container's output (`docker logs panther_ops_manager`): its start line, and in
     simulation every service call and a status line every 10 s. With several robots every line
@@ -246,9 +186,9 @@ def logs(
       panther-ops manager logs -r panther-01 -n 20
       panther-ops manager logs -r panther-01 -f
     """
-    from panther_ops.cli.logs_view import show_logs
+    from panther_ops.cli.views.logs import show_logs
     from panther_ops.core.manager_ops.status import open_logs
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = fleet.targets()
     return show_logs("manager logs", inv, chosen, open_logs, lines=lines, since_s=None, timestamps=timestamps,
-                     follow=follow, json_out=json_out)
+                     follow=follow, json_out=fleet.json_out)

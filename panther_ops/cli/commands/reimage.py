@@ -8,8 +8,8 @@ from typing import Annotated, Optional
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import READ, Json, shared
 
 app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
 
@@ -38,8 +38,8 @@ def flash(
 
     Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
     """
-    from panther_ops.cli.reimage_view import progress
     from panther_ops.cli.render import emit_json, error
+    from panther_ops.cli.views.reimage import progress
     from panther_ops.core.reimage.device import describe
     from panther_ops.core.reimage.flash import check_sha256, eligible_device, flash, inspect_image
     from panther_ops.errors import ExitCode
@@ -79,8 +79,8 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Jso
 
     Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
     """
-    from panther_ops.cli.reimage_view import progress
     from panther_ops.cli.render import emit_json
+    from panther_ops.cli.views.reimage import progress
     from panther_ops.core.reimage.flash import check_sha256, inspect_image, verify
     from panther_ops.errors import ExitCode
 
@@ -97,15 +97,12 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Jso
     return 0 if v.ok else int(ExitCode.PARTIAL)
 
 
+_PRELOAD = ("panther_ops.core.reimage.tasks",)
+
+
 @app.command("plan")
-def plan(
-    ctx: typer.Context,
-    robots: Robots = None,
-    groups: Groups = None,
-    all_: All = False,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def plan(fleet: Fleet) -> int:
     """List what `reimage backup` would carry from each robot (read only).
 
     The compose file, the config tree, every file the driver mounts from the robot, the
@@ -115,24 +112,17 @@ def plan(
 
     Example: panther-ops reimage plan -r panther-01
     """
-    from panther_ops.cli.reimage_view import print_carried
-    from panther_ops.cli.render import finish
+    from panther_ops.cli.views.reimage import print_carried
     from panther_ops.core.reimage.tasks import plan_task
 
-    inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
-    fleet = context.run("reimage plan", inv, chosen, plan_task, forks=forks, json_out=json_out)
-    return finish(fleet, json_out, lambda f: print_carried(f, title="reimage plan"))
+    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"), preload=_PRELOAD)
 
 
 @app.command("backup")
+@shared(*READ)
 def backup(
-    ctx: typer.Context,
-    robots: Robots = None,
-    groups: Groups = None,
-    all_: All = False,
+    fleet: Fleet,
     out: Annotated[str, typer.Option("--out", "-o", help="Directory for the archives (created 0700).")] = "backups",
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Back up each robot into one archive (OUT/ROBOT-TIME.tar.gz, mode 0600) with a manifest.
 
@@ -142,25 +132,21 @@ def backup(
 
     Example: panther-ops reimage backup --all --out backups/
     """
-    from panther_ops.cli.render import finish, print_results
+    from panther_ops.cli.render import print_results
     from panther_ops.core.reimage.archive import out_dir
     from panther_ops.core.reimage.tasks import backup_task
 
     directory = out_dir(out)
-    inv, chosen = context.targets(ctx, robots, groups, all_, preload=("panther_ops.core.reimage.tasks",))
-    fleet = context.run("reimage backup", inv, chosen, backup_task(directory), forks=forks, json_out=json_out)
-    return finish(fleet, json_out, lambda f: print_results(f, title="reimage backup"))
+    return fleet.run("reimage backup", backup_task(directory), lambda f: print_results(f, title="reimage backup"),
+                     preload=_PRELOAD)
 
 
 @app.command("restore")
+@shared("yes", "dry_run", "no_restart", "settle")
 def restore(
-    ctx: typer.Context,
+    fleet: Fleet,
     robot: Annotated[str, typer.Option("--robot", "-r", help="The robot the backup was taken from.")],
     from_: Annotated[str, typer.Option("--from", help="The robot's backup archive (reimage backup).")],
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
 ) -> int:
     """Put a backup back onto the robot after its OS was reinstalled.
 
@@ -177,15 +163,14 @@ def restore(
 
     Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """
-    from panther_ops.cli.mutate import mutate
-    from panther_ops.cli.status_view import print_doctor
+    from panther_ops.cli.views.status import print_doctor
     from panther_ops.core.apply.desired import plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError
 
     backup = load_backup(from_)
-    inv = context.load(ctx)
+    inv = context.load(fleet.ctx)
     (target,) = inv.select([robot], [], False)[:1]
     taken_from = backup.robot.get("name")
     if taken_from != target.name:
@@ -205,13 +190,11 @@ def restore(
                 hint=f"check it on the robot (ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub), "
                      f"then `panther-ops trust {target.name}{again}`",
             )
-    code = mutate("reimage restore", inv, [target], restore_planner(backup), yes=yes, dry_run=dry_run,
-                  restart=not no_restart, settle=settle, verb="Restore onto")
-    if code != 0 or dry_run:
+    code = fleet.change("reimage restore", restore_planner(backup), on=(inv, [target]), verb="Restore onto")
+    if code != 0 or fleet.dry_run:
         return code
     if target.desired:
-        code = mutate("apply", inv, [target], plan_desired, yes=yes, dry_run=False,
-                      restart=not no_restart, settle=settle)
+        code = fleet.change("apply", plan_desired, on=(inv, [target]))
     summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
     print_doctor(summary)
     return code

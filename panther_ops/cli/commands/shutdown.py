@@ -11,26 +11,31 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Optional
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.mutate import NoRestart, Settle
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
-from panther_ops.cli.shutdown_view import (
-    esc,
-    finish_hosts,
-    finish_steps,
-    print_findings,
-    print_plan,
-    stdout,
+from panther_ops.cli.commands.shutdown_inputs import (
+    AskSecret,
+    OptFloat,
+    OptInt,
+    OptPath,
+    OptStr,
+    PowerBudget,
+    SecretEnv,
+    SecretFile,
+    ask_to_confirm,
+    secret_from,
+    usage_error,
 )
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import READ, TARGETS, finite, shared
+from panther_ops.cli.views.shutdown import finish_hosts, print_findings, print_plan, print_steps
 
 if TYPE_CHECKING:
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.results import RobotResult
-    from panther_ops.transport.base import Secret
 
 
 app = typer.Typer(
@@ -40,93 +45,17 @@ app = typer.Typer(
 )
 
 
-
-
-FileArg = Annotated[
-    Optional[Path],  # noqa: UP045 - typer needs Optional on Python 3.10
-    typer.Argument(help="A local hosts file (instead of -r ROBOT).", show_default=False),
-]
-
-
-PowerBudget = Annotated[
-    float,
-    typer.Option("--power-budget", min=0.1, callback=finite,
-                 help="Seconds the robot's hardware gives its computers before it cuts "
-                 "the power (a timeout above it is warned)."),
-]
-
-
-OptStr = Optional[str]  # noqa: UP045
-
-
-OptInt = Optional[int]  # noqa: UP045
-
-
-OptFloat = Optional[float]  # noqa: UP045
-
-
-OptPath = Optional[Path]  # noqa: UP045
-
-
-SecretEnv = Annotated[OptStr, typer.Option("--secret-env", metavar="VAR",
-                                           help="HTTP hosts: the shared secret from this environment variable.")]
-
-
-SecretFile = Annotated[OptPath, typer.Option("--secret-file", metavar="PATH",
-                                             help="HTTP hosts: the shared secret from this file.")]
-
-
-AskSecret = Annotated[bool, typer.Option("--ask-secret", help="HTTP hosts: ask for the shared secret.")]
-
-
-def usage_error(message: str, hint: str | None = None) -> Exception:
-    from panther_ops.errors import UsageError
-
-    return UsageError(message, hint=hint)
-
-
-def ask_to_confirm(question: str, yes: bool, what: str) -> bool:
-    if yes:
-        return True
-    if not sys.stdin.isatty():
-        from panther_ops.cli.render import error
-
-        error(f"{question} -- {what} needs confirmation: pass --yes when not interactive (or --dry-run to only "
-              "look)")
-        return False
-    return bool(typer.confirm(question, default=False))
-
-
-def secret_from(env: str | None, file: Path | None, ask: bool) -> Secret | None:
-    import getpass
-    import os
-
-    from panther_ops.transport.base import Secret
-
-    given = [x for x in (env, file, ask or None) if x]
-    if len(given) > 1:
-        raise usage_error("give the secret one way: --secret-env, --secret-file or --ask-secret")
-    if env:
-        value = os.environ.get(env)
-        if value is None:
-            raise usage_error(f"--secret-env {env}: the variable is not set")
-        return Secret(value)
-    if file:
-        try:
-            return Secret(file.read_text().strip())
-        except OSError as exc:
-            raise usage_error(f"--secret-file {file}: {exc.strerror}") from None
-    if ask:
-        return Secret(getpass.getpass("shared secret of the husarion-shutdown service: "))
-    return None
-
-
 # =================================================================================================
 # panther-ops shutdown --hosts FILE
 # =================================================================================================
+_YES = "Shut down without asking (needed when not interactive)."
+
+
 @app.callback(invoke_without_command=True)
+@shared("yes", "dry_run", "json_out", helps={"yes": _YES,
+                                             "dry_run": "Show what would be sent to each host; contact nothing."})
 def shutdown(
-    ctx: typer.Context,
+    fleet: Fleet,
     hosts: Annotated[OptPath, typer.Option("--hosts", help="Hosts file to shut down (the robot's format).")] = None,
     via: Annotated[OptStr, typer.Option("--via", metavar="ROBOT", help="Run through this robot (its LAN, its key "
                                         "and known_hosts), as its manager would.")] = None,
@@ -134,12 +63,7 @@ def shutdown(
                                               "~/.ssh/id_*).")] = None,
     known_hosts: Annotated[OptPath, typer.Option("--known-hosts", help="known_hosts for the hosts (from here; "
                                                  "default ~/.ssh/known_hosts).")] = None,
-    yes: Annotated[bool, typer.Option("--yes", "-y", help="Shut down without asking (needed when not "
-                                      "interactive).")] = False,
-    dry_run: Annotated[bool, typer.Option("--dry-run", help="Show what would be sent to each host; contact "
-                                          "nothing.")] = False,
     power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
 ) -> None:
     """Shut down the hosts of a hosts file, side by side, like the manager's ShutdownHostsFromFile:
     per host ping (no answer: skipped), the command over SSH or the signed HTTP request, then
@@ -147,18 +71,18 @@ def shutdown(
 
     Example: panther-ops shutdown --hosts hosts.yaml --yes
     """
-    if ctx.invoked_subcommand is not None:
+    if fleet.ctx.invoked_subcommand is not None:
         if hosts is not None or via is not None:
             raise usage_error("--hosts/--via go without a subcommand: panther-ops shutdown --hosts FILE")
         return
     if hosts is None:
-        typer.echo(ctx.get_help())
+        typer.echo(fleet.ctx.get_help())
         raise typer.Exit(0)
-    raise typer.Exit(_shutdown_file(ctx, hosts, via, identity, known_hosts, yes, dry_run, power_budget, json_out))
+    raise typer.Exit(_shutdown_file(fleet, hosts, via, identity, known_hosts, power_budget))
 
 
-def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Path | None,
-                   known_hosts: Path | None, yes: bool, dry_run: bool, power_budget: float, json_out: bool) -> int:
+def _shutdown_file(fleet: Fleet, path: Path, via: str | None, identity: Path | None, known_hosts: Path | None,
+                   power_budget: float) -> int:
     from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
@@ -170,7 +94,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     if via is not None:  # the robot must exist and reach its LAN, dry run or not
         from panther_ops.core.shutdown.remote import lan_robot
 
-        inv = context.load(ctx)
+        inv = context.load(fleet.ctx)
         if via not in inv.robots:
             inv.select([via], [], False)  # no robot matches: exit 2 naming the robots
             raise usage_error(f"--via {via!r}: name one robot of the inventory (not a glob)")
@@ -179,6 +103,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
     print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
     where = f"through {via}" if via else "from here"
+    dry_run, json_out = fleet.dry_run, fleet.json_out
     if json_out and (dry_run or not hosts):
         from panther_ops.cli.render import emit_json
 
@@ -194,7 +119,7 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
         context.info("dry run: nothing was contacted")
         return 0
     names = ", ".join(h.describe() for h in hosts)
-    if not ask_to_confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", yes, "shutting hosts down"):
+    if not ask_to_confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", fleet.yes, "shutting hosts down"):
         return 2
     if inv is not None and link_robot is not None:
         from panther_ops.core.fleet.runner import Connections
@@ -202,22 +127,24 @@ def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Pa
 
         with Connections(inv) as conns:
             link = RobotLink(conns.get(link_robot), link_robot.name)
-            fleet = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
+            done = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
     else:
         from panther_ops.core.shutdown.remote import backends_here
 
-        fleet = shutdown_hosts(hosts, backends_here(str(known_hosts) if known_hosts else None,
-                                                    str(identity) if identity else None),
-                               command=f"shutdown --hosts {path.name}")
-    return finish_hosts(fleet, json_out)
+        done = shutdown_hosts(hosts, backends_here(str(known_hosts) if known_hosts else None,
+                                                   str(identity) if identity else None),
+                              command=f"shutdown --hosts {path.name}")
+    return finish_hosts(done, json_out)
 
 
 # =================================================================================================
 # panther-ops shutdown setup / check / robot
 # =================================================================================================
 @app.command("setup")
+@shared(*TARGETS, "yes", "no_restart", "settle", "json_out", helps={
+    "yes": "Trust the computer's host key (check the fingerprint shown first) and apply without asking."})
 def setup(
-    ctx: typer.Context,
+    fleet: Fleet,
     host: Annotated[str, typer.Option("--host", help="Address of the user computer on the robot's LAN.")],
     user: Annotated[OptStr, typer.Option("--user", "-u", help="User on the computer (SSH era; default "
                                          "husarion).")] = None,
@@ -230,15 +157,7 @@ def setup(
     secret_env: SecretEnv = None,
     secret_file: SecretFile = None,
     ask_secret: AskSecret = False,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Annotated[bool, typer.Option("--yes", "-y", help="Trust the computer's host key (check the fingerprint "
-                                      "shown first) and apply without asking.")] = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
     power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
 ) -> int:
     """Set a user computer up to be shut down by the robot, through the robot (the computer sits on
     its LAN): the robot's key pair (~/.ssh/id_rsa, mounted into the driver), its public key in
@@ -260,7 +179,7 @@ def setup(
     if errors:
         raise usage_error("; ".join(str(f) for f in errors), hint="nothing was changed")
     secret = secret_from(secret_env, secret_file, ask_secret)
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = fleet.targets()
     if len(chosen) != 1:
         raise usage_error(f"setup works on one robot at a time ({len(chosen)} chosen)")
     password = Secret(getpass.getpass(f"password of {user or 'husarion'}@{host}: ")) if ask_password else None
@@ -269,77 +188,38 @@ def setup(
 
     def confirm(address: str, fp: str) -> bool:
         context.info(f"{host} offers the host key {fp}")
-        if not yes and not sys.stdin.isatty():
+        if not fleet.yes and not sys.stdin.isatty():
             refused.append(address)
-        return ask_to_confirm(f"Trust {address} ({fp}) and record it in {chosen[0].name}'s ~/.ssh/known_hosts?", yes,
-                        "trusting a new host key")
+        return ask_to_confirm(f"Trust {address} ({fp}) and record it in {chosen[0].name}'s ~/.ssh/known_hosts?",
+                              fleet.yes, "trusting a new host key")
 
     req = SetupRequest(ip=host, user=user, port=port, timeout=timeout, password=password, secret=secret,
                        operator_keys=tuple(r for r in (chosen[0].identity_file,) if r), confirm_host_key=confirm,
-                       settle=settle, restart=not no_restart, power_budget=power_budget,
+                       settle=fleet.settle, restart=not fleet.no_restart, power_budget=power_budget,
                        command=f"shutdown setup --host {host}")
-    fleet = context.run("shutdown setup", inv, chosen, lambda c: run_setup(c, req), json_out=json_out)
-    code = finish_steps(fleet, json_out)
+    code = fleet.run("shutdown setup", lambda c: run_setup(c, req), print_steps, on=(inv, chosen))
     return 2 if refused else code
 
 
 @app.command("check")
-def check(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def check(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     """Prove, from each robot, that every host of its hosts file would power off, without powering
     it off: ping, host key, login with the robot's key (batch), `sudo -n -l <command>`; HTTP hosts:
     the service answers and accepts the secret. Names the failing step and its fix.
 
     Example: panther-ops shutdown check -r panther-01
     """
+    from panther_ops.cli.views.shutdown import print_check
     from panther_ops.core.shutdown.check import check_robot
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    fleet = context.run("shutdown check", inv, chosen, lambda c: check_robot(c, power_budget), forks=forks,
-                        json_out=json_out)
-    from panther_ops.cli.render import STYLE, emit_json, print_warnings
-
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
-    from rich.table import Table
-
-    table = Table(title="panther-ops shutdown check")
-    for col in ("robot", "host", "result", "step", "message", "fix"):
-        table.add_column(col, overflow="fold")
-    for r in fleet.results:
-        rows = r.data.get("hosts", [])
-        if not rows:
-            table.add_row(r.robot, "-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", esc(r.message), "")
-        for i, h in enumerate(rows):
-            result = "[green]ok[/]" if h["ok"] else "[red]failed[/]"
-            table.add_row(r.robot if i == 0 else "", esc(h["host"]), result, h["step"], esc(h["message"]),
-                          esc(h["fix"]))
-    stdout().print(table)
-    print_warnings(fleet)
-    return int(fleet.exit_code)
+    return fleet.run("shutdown check", lambda c: check_robot(c, power_budget), print_check)
 
 
 @app.command("robot")
-def robot_(
-    ctx: typer.Context,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Annotated[bool, typer.Option("--yes", "-y", help="Shut down without asking (needed when not "
-                                      "interactive).")] = False,
-    dry_run: Annotated[bool, typer.Option("--dry-run", help="Show the robots and hosts; contact no host.")] = False,
-    power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*TARGETS, "yes", "dry_run", "json_out", "forks", helps={
+    "yes": _YES, "dry_run": "Show the robots and hosts; contact no host."})
+def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     """Shut each robot down as its Shutdown tree does: the hosts of its hosts file first, side by
     side and from the robot (their failures do not stop it), then the Built-in Computer.
     Names the robot and every host and asks first (--yes).
@@ -351,10 +231,10 @@ def robot_(
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
+    inv, chosen = fleet.targets()
     plans: dict[str, RobotShutdownPlan] = {}
     usage: dict[str, UsageError] = {}
-    opts = RunOptions(forks=forks or inv.forks)
+    opts = RunOptions(forks=fleet.forks or inv.forks)
 
     def plan_task(c: Any) -> RobotResult:
         try:
@@ -368,7 +248,8 @@ def robot_(
                            data={"hosts_file": p.hosts_file.source},
                            warnings=[str(f) for f in p.parsed.warnings])
 
-    from panther_ops.cli.render import emit_json, error, print_results
+    from panther_ops.cli.render import error, print_results
+    from panther_ops.cli.views.shutdown import print_robots_down
 
     with Connections(inv) as conns:
         planned = run_fleet("shutdown robot (plan)", inv, chosen, plan_task, opts, None, conns)
@@ -376,39 +257,18 @@ def robot_(
             for name, exc in usage.items():
                 error(f"{name}: {exc}")
             return int(ExitCode.USAGE)
-        if not json_out:  # with --json, stdout holds one JSON document and nothing else
-            print_results(planned, title="shutdown robot: " + ("dry run" if dry_run else "plan"))
-        if dry_run or not plans:
-            if json_out:
-                emit_json(planned.to_json())
-            return int(planned.exit_code)
+        if not fleet.json_out:  # with --json, stdout holds one JSON document and nothing else
+            print_results(planned, title="shutdown robot: " + ("dry run" if fleet.dry_run else "plan"))
+        if fleet.dry_run or not plans:
+            return fleet.show(planned, lambda _: None)
         what = "; ".join(f"{n} after {', '.join(h.describe() for h in p.hosts) or 'no hosts'}"
                          for n, p in plans.items())
-        if not ask_to_confirm(f"Shut down {what}?", yes, "shutting robots down"):
+        if not ask_to_confirm(f"Shut down {what}?", fleet.yes, "shutting robots down"):
             return int(ExitCode.USAGE)
         todo = [r for r in chosen if r.name in plans]
-        fleet = run_fleet("shutdown robot", inv, todo, lambda c: shutdown_robot(c, plans[c.robot.name]), opts,
-                          None, conns)
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
-    from rich.table import Table
-
-    from panther_ops.cli.render import STYLE, print_summary, print_warnings
-
-    for r in fleet.results:
-        table = Table(title=f"shutdown robot: {r.robot}")
-        for col in ("host", "result", "message", "time"):
-            table.add_column(col, overflow="fold")
-        for h in r.data.get("hosts", []):
-            o = Outcome(h["outcome"])
-            table.add_row(esc(h["robot"]), f"[{STYLE[o]}]{o.value}[/]", esc(h["message"]), f"{h['duration_s']:.1f} s")
-        table.add_row(f"{esc(r.robot)} (Built-in Computer)", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]",
-                      esc(r.message), f"{r.duration_s:.1f} s")
-        stdout().print(table)
-    print_warnings(fleet)
-    print_summary(fleet)
-    return int(fleet.exit_code)
+        done = run_fleet("shutdown robot", inv, todo, lambda c: shutdown_robot(c, plans[c.robot.name]), opts,
+                         None, conns)
+    return fleet.show(done, print_robots_down)
 
 
 def register(root: typer.Typer) -> None:

@@ -8,8 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.commands.shutdown import (
+from panther_ops.cli.commands.shutdown_inputs import (
     AskSecret,
     FileArg,
     OptFloat,
@@ -21,14 +20,9 @@ from panther_ops.cli.commands.shutdown import (
     secret_from,
     usage_error,
 )
-from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots, finite
-from panther_ops.cli.shutdown_view import (
-    esc,
-    finish_list,
-    stderr,
-    stdout,
-)
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import READ, WRITE, finite, shared
+from panther_ops.cli.views.shutdown import print_list, print_validated
 
 hosts_app = typer.Typer(help="The shutdown hosts file: the robot's (-r ROBOT) or a local FILE.", no_args_is_help=True)
 
@@ -40,22 +34,14 @@ if TYPE_CHECKING:
 # =================================================================================================
 # panther-ops shutdown hosts ...
 # =================================================================================================
-def _local_or_robots(file: Path | None, robot: list[str] | None, group: list[str] | None, all_: bool) -> None:
-    if file is not None and (robot or group or all_):
+def _local_or_robots(file: Path | None, fleet: Fleet) -> None:
+    if file is not None and (fleet.robot or fleet.group or fleet.all_):
         raise usage_error("give either a local FILE or robots (-r/-g/--all), not both")
 
 
 @hosts_app.command("list")
-def hosts_list(
-    ctx: typer.Context,
-    file: FileArg = None,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
-    forks: Forks = None,
-) -> int:
+@shared(*READ)
+def hosts_list(fleet: Fleet, file: FileArg = None, power_budget: PowerBudget = 15.0) -> int:
     """Show the hosts of a local FILE, or of each robot's hosts file (the one its manager reads).
 
     Example: panther-ops shutdown hosts list -r panther-01
@@ -63,13 +49,12 @@ def hosts_list(
     from panther_ops.core.config.hostsfile import load_hosts_file
     from panther_ops.results import FleetResult, Outcome, RobotResult
 
-    _local_or_robots(file, robot, group, all_)
+    _local_or_robots(file, fleet)
     if file is not None:
         parsed = load_hosts_file(file, power_budget=power_budget)
         res = RobotResult(str(file), Outcome.FAILED if parsed.errors else Outcome.OK, f"{len(parsed.entries)} hosts",
                           data=_file_data(parsed, str(file)), warnings=[str(f) for f in parsed.warnings])
-        fleet = FleetResult("shutdown hosts list", [res])
-        return finish_list(fleet, json_out)
+        return fleet.show(FleetResult("shutdown hosts list", [res]), print_list)
     from panther_ops.core.shutdown.robotfile import read_robot_hosts
 
     def task(c: Any) -> RobotResult:
@@ -79,9 +64,7 @@ def hosts_list(
                            f"{len(parsed.entries)} hosts in {rf.source}", data=_file_data(parsed, rf.source, rf),
                            warnings=[str(f) for f in parsed.warnings])
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return finish_list(context.run("shutdown hosts list", inv, chosen, task, forks=forks, json_out=json_out),
-                        json_out)
+    return fleet.run("shutdown hosts list", task, print_list)
 
 
 def _file_data(parsed: HostsFile, source: str, rf: Any = None) -> dict[str, Any]:
@@ -102,17 +85,13 @@ def _check_ip(ip: str) -> None:
 
 
 @hosts_app.command("validate")
+@shared(*READ)
 def hosts_validate(
-    ctx: typer.Context,
+    fleet: Fleet,
     file: FileArg = None,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
     stack: Annotated[OptStr, typer.Option("--stack", help="A local file: check it for this stack version "
                                           "(e.g. 2.1.1: SSH entries; 2.2.2: HTTP entries).")] = None,
     power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Check a hosts file: addresses, POSIX user names, ports, timeouts > 0, duplicates (same ip,
     user and port), the entry format of the robot's stack; warn about commands that are not a
@@ -122,9 +101,9 @@ def hosts_validate(
     Example: panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
     """
     from panther_ops.core.config.hostsfile import Mode, load_hosts_file
-    from panther_ops.results import FleetResult, Outcome
+    from panther_ops.results import FleetResult
 
-    _local_or_robots(file, robot, group, all_)
+    _local_or_robots(file, fleet)
     if stack and file is None:
         raise usage_error("--stack goes with a local FILE (a robot's hosts file is checked for the robot's own stack)")
     if file is not None:
@@ -135,7 +114,7 @@ def hosts_validate(
             mode = Mode.HTTP if stack_option(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
         results = [_validate_result(str(file), parsed, str(file))]
-        fleet = FleetResult("shutdown hosts validate", results)
+        result = FleetResult("shutdown hosts validate", results)
     else:
         from panther_ops.core.shutdown.robotfile import read_robot_hosts
 
@@ -143,25 +122,9 @@ def hosts_validate(
             rf = read_robot_hosts(c)
             return _validate_result(c.robot.name, rf.parse(power_budget), rf.source)
 
-        inv, chosen = context.targets(ctx, robot, group, all_)
-        fleet = context.run("shutdown hosts validate", inv, chosen, task, forks=forks, json_out=json_out)
-    bad = any(r.data.get("errors") for r in fleet.results)
-    if json_out:
-        from panther_ops.cli.render import emit_json
-
-        emit_json(fleet.to_json())
-    else:
-        out, err = stdout(), stderr()
-        for r in fleet.results:
-            for e in r.data.get("errors", []):
-                err.print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
-            for w in r.warnings:
-                err.print(f"[yellow]warning[/] {esc(r.robot)}: {esc(w)}")
-            colour = "red" if r.outcome is not Outcome.OK else "green"
-            out.print(f"{esc(r.robot)}: [{colour}]{r.outcome.value}[/] {esc(r.message)}")
-    if bad:
-        return 2
-    return int(fleet.exit_code)
+        result = fleet.results("shutdown hosts validate", task)
+    code = fleet.show(result, print_validated)
+    return 2 if any(r.data.get("errors") for r in result.results) else code
 
 
 def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
@@ -195,19 +158,20 @@ def _entry(ip: str, user: str | None, port: int | None, command: str | None, tim
     return entry
 
 
-def _edit_local(file: Path, change: Any, yes: bool, dry_run: bool, json_out: bool, command: str) -> int:
+def _edit_local(fleet: Fleet, file: Path, change: Any, command: str) -> int:
     """A local hosts file through the change pipeline (its directory is the target: diff,
     confirm, backup beside it, atomic write; see core/shutdown/localfile.py)."""
     from panther_ops.core.shutdown.localfile import local_target, plan_local_hosts_edit
 
     inv, target = local_target(file)
-    return mutate(command, inv, [target], lambda c: plan_local_hosts_edit(c, file, change), yes=yes,
-                  dry_run=dry_run, restart=False, json_out=json_out, verb="Write")
+    return fleet.change(command, lambda c: plan_local_hosts_edit(c, file, change), on=(inv, [target]), restart=False,
+                        verb="Write")
 
 
 @hosts_app.command("add")
+@shared(*WRITE)
 def hosts_add(
-    ctx: typer.Context,
+    fleet: Fleet,
     file: FileArg = None,
     ip: Annotated[str, typer.Option("--ip", help="Address or host name of the computer.")] = "",
     user: Annotated[OptStr, typer.Option("--user", "-u", help="SSH user on the computer (SSH hosts).")] = None,
@@ -221,16 +185,7 @@ def hosts_add(
     secret_env: SecretEnv = None,
     secret_file: SecretFile = None,
     ask_secret: AskSecret = False,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
     power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Add a host (or update the listed one with the same ip, user and port). On robots the file
     goes through the configuration pipeline: diff, confirm, backup, write, mount and
@@ -246,7 +201,7 @@ def hosts_add(
 
     if not ip:
         raise usage_error("--ip is required")
-    _local_or_robots(file, robot, group, all_)
+    _local_or_robots(file, fleet)
     if file is not None:
         secret_value: Any = None
         if secret_env:
@@ -257,36 +212,26 @@ def hosts_add(
             sec = secret_from(None, None, True)
             secret_value = sec.reveal() if sec else None
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
-        return _edit_local(file, lambda text: add_host(text, entry, str(file)), yes, dry_run, json_out,
-                           "shutdown hosts add")
+        return _edit_local(fleet, file, lambda text: add_host(text, entry, str(file)), "shutdown hosts add")
     sec = secret_from(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
     label = f"{user}@{ip}" if user else f"http://{ip}"
-    return mutate(f"shutdown hosts add {label}", inv, chosen,
-                  lambda c: plan_hosts_edit(c, lambda text, _mode: add_host(text, entry), power_budget=power_budget),
-                  yes=yes, dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+    return fleet.change(f"shutdown hosts add {label}",
+                        lambda c: plan_hosts_edit(c, lambda text, _mode: add_host(text, entry),
+                                                  power_budget=power_budget))
 
 
 @hosts_app.command("remove")
+@shared(*WRITE)
 def hosts_remove(
-    ctx: typer.Context,
+    fleet: Fleet,
     file: FileArg = None,
     ip: Annotated[str, typer.Option("--ip", help="Address of the host to remove.")] = "",
     user: Annotated[OptStr, typer.Option("--user", "-u", help="Only the entry of this user.")] = None,
     port: Annotated[OptInt, typer.Option("--port", help="Only the entry of this port.")] = None,
-    robot: Robots = None,
-    group: Groups = None,
-    all_: All = False,
-    yes: Yes = False,
-    dry_run: DryRun = False,
-    no_restart: NoRestart = False,
-    settle: Settle = 5.0,
     power_budget: PowerBudget = 15.0,
-    json_out: Json = False,
-    forks: Forks = None,
 ) -> int:
     """Remove a host's entries (every entry of --ip, narrowed by --user/--port).
 
@@ -297,16 +242,14 @@ def hosts_remove(
     if not ip:
         raise usage_error("--ip is required")
     _check_ip(ip)
-    _local_or_robots(file, robot, group, all_)
+    _local_or_robots(file, fleet)
     if file is not None:
         if not file.exists():
             raise usage_error(f"{file} does not exist")
-        return _edit_local(file, lambda text: remove_host(text, ip, user, port, str(file)), yes, dry_run,
-                           json_out, "shutdown hosts remove")
+        return _edit_local(fleet, file, lambda text: remove_host(text, ip, user, port, str(file)),
+                           "shutdown hosts remove")
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
-    inv, chosen = context.targets(ctx, robot, group, all_)
-    return mutate(f"shutdown hosts remove {ip}", inv, chosen,
-                  lambda c: plan_hosts_edit(c, lambda text, _mode: remove_host(text, ip, user, port),
-                                            power_budget=power_budget),
-                  yes=yes, dry_run=dry_run, restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
+    return fleet.change(f"shutdown hosts remove {ip}",
+                        lambda c: plan_hosts_edit(c, lambda text, _mode: remove_host(text, ip, user, port),
+                                                  power_budget=power_budget))

@@ -9,8 +9,7 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli.mutate import DryRun, Yes
-from panther_ops.cli.options import Json
+from panther_ops.cli.options import DryRun, Json, Yes
 
 app = typer.Typer(help="Simulation files: the ANT02 (GPS) component, a world's spherical coordinates, the battery "
                        "plugin.", no_args_is_help=True)

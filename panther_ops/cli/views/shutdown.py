@@ -72,13 +72,11 @@ def esc(text: object) -> str:
     return esc(text)
 
 
-def finish_list(fleet: FleetResult, json_out: bool) -> int:
-    from panther_ops.cli.render import STYLE, emit_json, print_warnings
-
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
+def print_list(fleet: FleetResult) -> None:
+    """`shutdown hosts list`: each file's hosts."""
     from rich.table import Table
+
+    from panther_ops.cli.render import STYLE, print_warnings
 
     for r in fleet.results:
         title = f"{r.robot}: {r.data.get('hosts_file', '')}"
@@ -96,17 +94,14 @@ def finish_list(fleet: FleetResult, json_out: bool) -> int:
         for e in r.data.get("errors", []):
             stderr().print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
     print_warnings(fleet)
-    return int(fleet.exit_code)
 
 
-def finish_steps(fleet: FleetResult, json_out: bool) -> int:
-    from panther_ops.cli.render import STYLE, emit_json, print_diffs, print_warnings
-    from panther_ops.results import Outcome
-
-    if json_out:
-        emit_json(fleet.to_json())
-        return int(fleet.exit_code)
+def print_steps(fleet: FleetResult) -> None:
+    """`shutdown setup`: each robot's steps."""
     from rich.table import Table
+
+    from panther_ops.cli.render import STYLE, print_diffs, print_warnings
+    from panther_ops.results import Outcome
 
     for r in fleet.results:
         table = Table(title=f"{fleet.command}: {r.robot}")
@@ -124,4 +119,51 @@ def finish_steps(fleet: FleetResult, json_out: bool) -> int:
         shown = r.data.get("steps") and not r.outcome.is_failure
         stderr().print(f"{esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
                         + (f" {esc(r.message)}" if shown else ""))
-    return int(fleet.exit_code)
+
+
+def print_validated(fleet: FleetResult) -> None:
+    """`shutdown hosts validate`: each file's errors and warnings, and its verdict."""
+    from panther_ops.results import Outcome
+
+    out, err = stdout(), stderr()
+    for r in fleet.results:
+        for e in r.data.get("errors", []):
+            err.print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
+        for w in r.warnings:
+            err.print(f"[yellow]warning[/] {esc(r.robot)}: {esc(w)}")
+        colour = "red" if r.outcome is not Outcome.OK else "green"
+        out.print(f"{esc(r.robot)}: [{colour}]{r.outcome.value}[/] {esc(r.message)}")
+
+
+def print_check(fleet: FleetResult) -> None:
+    """`shutdown check`: each host of each robot, the step it stopped at and its fix."""
+    from panther_ops.cli.render import new_table, outcome_cell, print_warnings
+
+    table = new_table("panther-ops shutdown check", ("robot", "host", "result", "step", "message", "fix"))
+    for r in fleet.results:
+        rows = r.data.get("hosts", [])
+        if not rows:
+            table.add_row(r.robot, "-", outcome_cell(r.outcome), "", esc(r.message), "")
+        for i, h in enumerate(rows):
+            result = "[green]ok[/]" if h["ok"] else "[red]failed[/]"
+            table.add_row(r.robot if i == 0 else "", esc(h["host"]), result, h["step"], esc(h["message"]),
+                          esc(h["fix"]))
+    stdout().print(table)
+    print_warnings(fleet)
+
+
+def print_robots_down(fleet: FleetResult) -> None:
+    """`shutdown robot`: per robot its hosts, then its Built-in Computer."""
+    from panther_ops.cli.render import new_table, outcome_cell, print_summary, print_warnings
+    from panther_ops.results import Outcome
+
+    for r in fleet.results:
+        table = new_table(f"shutdown robot: {r.robot}", ("host", "result", "message", "time"))
+        for h in r.data.get("hosts", []):
+            table.add_row(esc(h["robot"]), outcome_cell(Outcome(h["outcome"])), esc(h["message"]),
+                          f"{h['duration_s']:.1f} s")
+        table.add_row(f"{esc(r.robot)} (Built-in Computer)", outcome_cell(r.outcome), esc(r.message),
+                      f"{r.duration_s:.1f} s")
+        stdout().print(table)
+    print_warnings(fleet)
+    print_summary(fleet)

@@ -1,0 +1,20 @@
+"""Human view of `manager status`."""
+
+from __future__ import annotations
+
+from panther_ops.cli.render import esc, new_table, outcome_cell, print_table
+from panther_ops.results import FleetResult
+
+
+def print_status(fleet: FleetResult) -> None:
+    from panther_ops.core.containers.times import human_duration
+
+    table = new_table("panther-ops manager status", ("robot", "result", "version", "mode", "state", "uptime",
+                                                     "restarts", "disable_manager", "message"))
+    for r in fleet.results:
+        d = r.data
+        uptime = human_duration(d["uptime_s"]) if d.get("uptime_s") is not None else "-"
+        table.add_row(r.robot, outcome_cell(r.outcome), esc(d.get("version") or "-"),
+                      esc(d.get("mode") or "-"), esc(d.get("state") or "-"), uptime,
+                      str(d.get("restart_count", "-")), esc(d.get("disable_manager") or "not set"), esc(r.message))
+    print_table(table, fleet)
