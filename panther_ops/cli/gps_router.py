@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import sys
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, TARGETS, shared
+from panther_ops.cli.options import READ, TARGETS, OptBool, OptInt, OptStr, shared
 
 router_app = typer.Typer(
     help="The RUTX11 router's NMEA forwarding (REST API, through the robot's SSH connection).",
@@ -50,22 +50,13 @@ def router_show(fleet: Fleet, address: Address = "10.15.20.1") -> int:
 def router_set(
     fleet: Fleet,
     address: Address = "10.15.20.1",
-    enable: Annotated[
-        Optional[bool],  # noqa: UP045
-        typer.Option("--enable/--disable", help="Turn NMEA forwarding on (and the GNSS with it) or off."),
-    ] = None,
-    hostname: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--hostname", help="Where the router sends NMEA (the Built-in Computer: 10.15.20.2)."),
-    ] = None,
-    port: Annotated[
-        Optional[int],  # noqa: UP045
-        typer.Option("--port", help="UDP port the router sends NMEA to (5000)."),
-    ] = None,
-    sentences: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--sentences", help="Forward exactly these sentence ids (e.g. GPGGA,GPRMC), the others not."),
-    ] = None,
+    enable: Annotated[OptBool, typer.Option("--enable/--disable",
+                                            help="Turn NMEA forwarding on (and the GNSS with it) or off.")] = None,
+    hostname: Annotated[OptStr, typer.Option(
+        "--hostname", help="Where the router sends NMEA (the Built-in Computer: 10.15.20.2).")] = None,
+    port: Annotated[OptInt, typer.Option("--port", help="UDP port the router sends NMEA to (5000).")] = None,
+    sentences: Annotated[OptStr, typer.Option(
+        "--sentences", help="Forward exactly these sentence ids (e.g. GPGGA,GPRMC), the others not.")] = None,
 ) -> int:
     """Set the router's NMEA forwarding; only what differs is sent (PUT, values as strings),
     then read back. Shows the change and asks first (--yes: without asking).

@@ -14,6 +14,7 @@ import copy
 import inspect
 import typing
 from collections.abc import Callable
+from pathlib import Path
 from typing import Annotated, Any, Optional, TypeVar
 
 import typer
@@ -31,6 +32,13 @@ def finite(value: float | None) -> float | None:
         raise typer.BadParameter(f"{value} is not a finite number")
     return value
 
+
+OptStr = Optional[str]  # noqa: UP045 - typer needs Optional on Python 3.10
+OptInt = Optional[int]  # noqa: UP045
+OptFloat = Optional[float]  # noqa: UP045
+OptBool = Optional[bool]  # noqa: UP045
+OptPath = Optional[Path]  # noqa: UP045
+"""An option's type when it may be left out (typer needs Optional on Python 3.10)."""
 
 Robots = Annotated[
     Optional[list[str]],  # noqa: UP045 - typer needs Optional on Python 3.10

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import GATED, READ, TARGETS, WRITE, Force, shared
+from panther_ops.cli.options import GATED, READ, TARGETS, WRITE, Force, OptPath, OptStr, shared
 
 app = typer.Typer(
     help="The robot's configuration: launch arguments, controller limits, config files, history.",
@@ -154,10 +154,8 @@ def history(fleet: Fleet) -> int:
 @shared(*WRITE)
 def rollback(
     fleet: Fleet,
-    to: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--to", help="Backup id (or a unique prefix) to restore; default: the newest."),
-    ] = None,
+    to: Annotated[OptStr, typer.Option("--to",
+                                       help="Backup id (or a unique prefix) to restore; default: the newest.")] = None,
 ) -> int:
     """Restore the files as they were before a change (a backup from `config history`), through
     the same pipeline: diff, confirm, backup, atomic write, recreate, verify.
@@ -205,14 +203,9 @@ def pull(
     fleet: Fleet,
     kind: Annotated[str, typer.Argument(help="controller, wheel, components, led, user-animations, "
                                         "bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
-    output: Annotated[
-        Optional[Path],  # noqa: UP045
-        typer.Option("--output", "-o", help="Write to this file (one robot) instead of stdout."),
-    ] = None,
-    dest: Annotated[
-        Optional[Path],  # noqa: UP045
-        typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>."),
-    ] = None,
+    output: Annotated[OptPath, typer.Option("--output", "-o",
+                                            help="Write to this file (one robot) instead of stdout.")] = None,
+    dest: Annotated[OptPath, typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>.")] = None,
 ) -> int:
     """Fetch the config file in use: the mounted one, else the 2.2 config tree's, else the
     default inside the robot's own image, else panther-ops' template for that version.

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import os
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import GATED, READ, RECREATE, TARGETS, WRITE, Follow, Lines, Timestamps, shared
+from panther_ops.cli.options import GATED, READ, RECREATE, TARGETS, WRITE, Follow, Lines, OptStr, Timestamps, shared
 
 app = typer.Typer(
     help="The driver container (panther_ros / husarion_ugv_ros): status, logs, restart, image versions, update.",
@@ -48,10 +48,8 @@ def status(fleet: Fleet) -> int:
 def logs(
     fleet: Fleet,
     lines: Lines = None,
-    since: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--since", help="Only lines newer than DURATION (90s, 10m, 1h30m, 2d; robot's clock)."),
-    ] = None,
+    since: Annotated[OptStr, typer.Option(
+        "--since", help="Only lines newer than DURATION (90s, 10m, 1h30m, 2d; robot's clock).")] = None,
     follow: Follow = False,
     timestamps: Timestamps = False,
 ) -> int:
@@ -142,11 +140,9 @@ def versions(
 @shared(*GATED)
 def update(
     fleet: Fleet,
-    tag: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Argument(help="Tag (humble-2.1.2-20241125) or image (husarion/panther:humble-...); "
-                            "default: the inventory's desired image."),
-    ] = None,
+    tag: Annotated[OptStr, typer.Argument(
+        help="Tag (humble-2.1.2-20241125) or image (husarion/panther:humble-...); default: the inventory's desired "
+        "image.")] = None,
     pull: Annotated[bool, typer.Option("--pull", help="docker compose pull the driver before recreating it "
                                        "(the robot needs internet).")] = False,
     force: Annotated[bool, typer.Option("--force", help="Allow a move between husarion/panther (<=2.1) and "

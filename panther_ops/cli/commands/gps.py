@@ -9,7 +9,7 @@ import typer
 from panther_ops.cli.context import Fleet
 from panther_ops.cli.gps_router import Address, router_app
 from panther_ops.cli.gps_router import credentials as _credentials
-from panther_ops.cli.options import GATED, READ, TARGETS, Json, shared
+from panther_ops.cli.options import GATED, READ, TARGETS, Json, OptFloat, OptInt, shared
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.nmea import Fix
@@ -24,14 +24,9 @@ app.add_typer(router_app, name="router")
 @app.command("listen")
 def listen(
     udp: Annotated[str, typer.Option("--udp", help="HOST:PORT of this machine to receive NMEA on, e.g. 0.0.0.0:5000.")],
-    count: Annotated[
-        Optional[int],  # noqa: UP045
-        typer.Option("--count", "-n", min=1, help="Stop after N fixes (GGA sentences)."),
-    ] = None,
-    timeout: Annotated[
-        Optional[float],  # noqa: UP045
-        typer.Option("--timeout", min=0.1, help="Stop after SECONDS (default: none; Ctrl-C stops)."),
-    ] = None,
+    count: Annotated[OptInt, typer.Option("--count", "-n", min=1, help="Stop after N fixes (GGA sentences).")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", min=0.1,
+                                              help="Stop after SECONDS (default: none; Ctrl-C stops).")] = None,
     json_out: Json = False,
 ) -> int:
     """Decode NMEA arriving at a UDP address of this machine (an operator on the robot's
@@ -178,10 +173,8 @@ def watch(
     fleet: Fleet,
     port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
     window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds per refresh (2).")] = 2.0,
-    count: Annotated[
-        Optional[int],  # noqa: UP045
-        typer.Option("--count", "-n", min=1, help="Stop after N refreshes (needed with --json)."),
-    ] = None,
+    count: Annotated[OptInt, typer.Option("--count", "-n", min=1,
+                                          help="Stop after N refreshes (needed with --json).")] = None,
     router: Annotated[bool, typer.Option("--router", help="Also read the router's forwarding each time.")] = False,
     address: Address = "10.15.20.1",
 ) -> int:

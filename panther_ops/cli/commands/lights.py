@@ -8,7 +8,7 @@ from typing import Annotated, Any, Optional
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import TARGETS, WRITE, Json, shared
+from panther_ops.cli.options import TARGETS, WRITE, Json, OptStr, shared
 
 app = typer.Typer(help="LED animations: check, preview as a GIF, deploy, test on a robot.", no_args_is_help=True)
 
@@ -43,10 +43,8 @@ def preview(
     anim_id: Annotated[int, typer.Option("--id", help="Animation id to draw.")],
     out: Annotated[Path, typer.Option("--out", help="GIF to write.")] = Path("animation.gif"),
     led_config: LedConfig = None,
-    param: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--param", help="Animation parameter (battery level 0-1 for ChargingAnimation)."),
-    ] = None,
+    param: Annotated[OptStr, typer.Option(
+        "--param", help="Animation parameter (battery level 0-1 for ChargingAnimation).")] = None,
 ) -> int:
     """Draw both bumpers of animation --id as an animated GIF, frame by frame at the lights
     controller's 50 Hz (duration x 50 x repeat frames).

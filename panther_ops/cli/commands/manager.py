@@ -4,13 +4,26 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, RECREATE, TARGETS, Follow, Json, Lines, Timestamps, finite, shared
+from panther_ops.cli.options import (
+    READ,
+    RECREATE,
+    TARGETS,
+    Follow,
+    Json,
+    Lines,
+    OptBool,
+    OptFloat,
+    OptPath,
+    OptStr,
+    Timestamps,
+    finite,
+    shared,
+)
 
 app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behaviour trees).", no_args_is_help=True)
 
@@ -18,27 +31,19 @@ app = typer.Typer(help="The runtime manager (Lights, Safety and Shutdown behavio
 @app.command("run")
 def run(
     sim: Annotated[bool, typer.Option("--sim", help="Run on the simulated Panther (the only mode off-robot).")] = False,
-    scenario: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--scenario", help="A shipped scenario (charging, low_battery, ...) or a scenario YAML file "
-                     "(timed events); default: charging."),
-    ] = None,
-    duration: Annotated[
-        Optional[float],  # noqa: UP045
-        typer.Option("--duration", min=0.1, callback=finite, help="Simulated seconds (default: the scenario's)."),
-    ] = None,
+    scenario: Annotated[OptStr, typer.Option(
+        "--scenario", help="A shipped scenario (charging, low_battery, ...) or a scenario YAML file (timed events); "
+        "default: charging.")] = None,
+    duration: Annotated[OptFloat, typer.Option("--duration", min=0.1, callback=finite,
+                                               help="Simulated seconds (default: the scenario's).")] = None,
     speed: Annotated[float, typer.Option("--speed", min=0.1, callback=finite,
                                          help="Simulated seconds per real second.")] = 1.0,
     xml: Annotated[bool, typer.Option("--xml", help="Run the shipped BT.CPP XML trees instead of the Python trees.")]
     = False,
-    lights_bt: Annotated[
-        Optional[Path],  # noqa: UP045
-        typer.Option("--lights-bt", help="A Lights .btproj to run (with --safety-bt)."),
-    ] = None,
-    safety_bt: Annotated[
-        Optional[Path],  # noqa: UP045
-        typer.Option("--safety-bt", help="A Safety .btproj to run (with --lights-bt)."),
-    ] = None,
+    lights_bt: Annotated[OptPath, typer.Option("--lights-bt",
+                                               help="A Lights .btproj to run (with --safety-bt).")] = None,
+    safety_bt: Annotated[OptPath, typer.Option("--safety-bt",
+                                               help="A Safety .btproj to run (with --lights-bt).")] = None,
     json_out: Json = False,
 ) -> int:
     """Tick the Lights and Safety trees at 10 Hz against a simulated Panther (linear battery,
@@ -96,15 +101,11 @@ def run(
 @shared(*RECREATE, "canary", "max_fail")
 def deploy(
     fleet: Fleet,
-    sim: Annotated[
-        Optional[bool],  # noqa: UP045
-        typer.Option("--sim/--ros2", help="Simulation adapter (labs) or the robot's ROS 2 graph; default: "
-                     "desired.manager.mode, else ros2."),
-    ] = None,
-    scenario: Annotated[
-        Optional[str],  # noqa: UP045
-        typer.Option("--scenario", help="With --sim: a shipped scenario (charging, low_battery, ...) or a file."),
-    ] = None,
+    sim: Annotated[OptBool, typer.Option(
+        "--sim/--ros2", help="Simulation adapter (labs) or the robot's ROS 2 graph; default: desired.manager.mode, "
+        "else ros2.")] = None,
+    scenario: Annotated[OptStr, typer.Option(
+        "--scenario", help="With --sim: a shipped scenario (charging, low_battery, ...) or a file.")] = None,
 ) -> int:
     """Install the runtime manager on each robot as the compose service panther_ops_manager, on
     the robot's own driver image, and set disable_manager:=True on the driver so the stock

@@ -18,10 +18,6 @@ import typer
 from panther_ops.cli import context
 from panther_ops.cli.commands.shutdown_inputs import (
     AskSecret,
-    OptFloat,
-    OptInt,
-    OptPath,
-    OptStr,
     PowerBudget,
     SecretEnv,
     SecretFile,
@@ -30,7 +26,7 @@ from panther_ops.cli.commands.shutdown_inputs import (
     usage_error,
 )
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, TARGETS, finite, shared
+from panther_ops.cli.options import READ, TARGETS, OptFloat, OptInt, OptPath, OptStr, finite, shared
 from panther_ops.cli.views.shutdown import finish_hosts, print_findings, print_plan, print_steps
 
 if TYPE_CHECKING:

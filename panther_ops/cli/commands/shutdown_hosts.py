@@ -11,9 +11,6 @@ import typer
 from panther_ops.cli.commands.shutdown_inputs import (
     AskSecret,
     FileArg,
-    OptFloat,
-    OptInt,
-    OptStr,
     PowerBudget,
     SecretEnv,
     SecretFile,
@@ -21,7 +18,7 @@ from panther_ops.cli.commands.shutdown_inputs import (
     usage_error,
 )
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, WRITE, finite, shared
+from panther_ops.cli.options import READ, WRITE, OptFloat, OptInt, OptStr, finite, shared
 from panther_ops.cli.views.shutdown import print_list, print_validated
 
 hosts_app = typer.Typer(help="The shutdown hosts file: the robot's (-r ROBOT) or a local FILE.", no_args_is_help=True)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
-from panther_ops.cli.options import finite
+from panther_ops.cli.options import OptPath, OptStr, finite
 
 if TYPE_CHECKING:
     from panther_ops.transport.base import Secret
@@ -23,10 +23,6 @@ PowerBudget = Annotated[
                  help="Seconds the robot's hardware gives its computers before it cuts "
                  "the power (a timeout above it is warned)."),
 ]
-OptStr = Optional[str]  # noqa: UP045
-OptInt = Optional[int]  # noqa: UP045
-OptFloat = Optional[float]  # noqa: UP045
-OptPath = Optional[Path]  # noqa: UP045
 SecretEnv = Annotated[OptStr, typer.Option("--secret-env", metavar="VAR",
                                            help="HTTP hosts: the shared secret from this environment variable.")]
 SecretFile = Annotated[OptPath, typer.Option("--secret-file", metavar="PATH",
