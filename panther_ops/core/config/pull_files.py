@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from panther_ops.core.config.kinds import FileKind
+from panther_ops.core.kinds import FileKind
 from panther_ops.errors import UsageError
 
 
