@@ -214,15 +214,15 @@ def pull(
     """
     from panther_ops.cli.context import info, run
     from panther_ops.cli.output import write_bytes
-    from panther_ops.core.config.pull_files import check_destination, plan_writes, write_files
+    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, write_files
     from panther_ops.core.config.push import pull as pull_file
     from panther_ops.core.config.push import push_kind
     from panther_ops.results import Outcome, RobotResult
 
     k = push_kind(kind, "KIND")
-    check_destination(output, None, 1)
+    check_output(output)
     inv, chosen = fleet.targets()
-    check_destination(None, dest, len(chosen))
+    check_dest(dest, len(chosen))
     got: dict[str, bytes] = {}
 
     def task(c: Any) -> RobotResult:

@@ -19,10 +19,14 @@ class LocalWrite:
     data: bytes
 
 
-def check_destination(output: Path | None, dest: Path | None, robots: int) -> None:
-    """Refuse (exit 2, before anything is fetched) a destination the files cannot go to."""
+def check_output(output: Path | None) -> None:
+    """--output names a file in an existing directory (exit 2 before the inventory is read)."""
     if output is not None and (output.is_dir() or not output.parent.is_dir()):
         raise UsageError(f"--output {output}: not a file path in an existing directory")
+
+
+def check_dest(dest: Path | None, robots: int) -> None:
+    """Several robots need --dest (exit 2 before anything is fetched)."""
     if robots > 1 and dest is None:
         raise UsageError(f"{robots} robots chosen: pass --dest DIR (files go to DIR/<robot>/)")
 
