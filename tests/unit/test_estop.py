@@ -136,3 +136,76 @@ def test_demo_recording_missing_is_a_failure_with_the_fix(tmp_path: Path, capsys
     code, doc = _cli(capsys, "-i", str(demo), "estop", "status", "-r", "panther-01", "--json")
     assert code == 3 and doc["robots"][0]["outcome"] == "failed"
     assert "demo init --force" in doc["robots"][0]["data"]["hint"]
+
+
+FAKE_CURL = r"""#!/bin/sh
+# curl as the docker engine answers on its socket: $FAKE/exec_<container> (the exec's JSON or
+# the engine's error), $FAKE/svc_<service> (the running containers of that compose service)
+echo "curl $*" >> "$FAKE/log"
+[ -e "$FAKE/down" ] && { echo "curl: (7) Couldn't connect to server" >&2; exit 7; }
+w= svc=
+for a in "$@"; do
+    case $a in
+        *com.docker.compose.service=*) svc=${a#*service=}; svc=${svc%%\"*} ;;
+        %*) w=$a ;;
+        http://docker/containers/json) cat "$FAKE/svc_$svc" 2>/dev/null || echo '[]' ;;
+        http://docker/containers/*/exec)
+            c=${a#http://docker/containers/}; c=${c%/exec}
+            if [ -e "$FAKE/exec_$c" ]; then cat "$FAKE/exec_$c"; code=201
+            else echo "{\"message\":\"No such container: $c\"}"; code=404; fi
+            case $(cat "$FAKE/exec_$c" 2>/dev/null) in *not\ running*) code=409 ;; esac
+            [ -n "$w" ] && printf '%s' "$code@@"; w= ;;
+        http://docker/exec/*/start) id=${a#http://docker/exec/}; echo "started ${id%/start}" ;;
+    esac
+done
+"""
+
+
+def _robot_script(tmp_path: Path, **engine: str) -> tuple[int, str, str, list[str]]:
+    """ROBOT_SCRIPT run by sh against a stand-in of curl and the engine's answers."""
+    import os
+    import subprocess
+
+    from panther_ops.core.remote.estop.calls import ROBOT_SCRIPT
+
+    fake = tmp_path / "engine"
+    (fake / "bin").mkdir(parents=True)
+    (fake / "bin" / "curl").write_text(FAKE_CURL)
+    (fake / "bin" / "curl").chmod(0o755)
+    for name, answer in engine.items():
+        (fake / name).write_text(answer + "\n")
+    cp = subprocess.run(["sh", "-c", ROBOT_SCRIPT, "sh", '{"Cmd":["true"]}', "husarion_ugv_ros", "panther_ros"],
+                        check=False, capture_output=True, text=True, timeout=10,
+                        env={**os.environ, "FAKE": str(fake), "PATH": f"{fake / 'bin'}:{os.environ['PATH']}"})
+    log = (fake / "log").read_text().splitlines() if (fake / "log").exists() else []
+    return cp.returncode, cp.stdout, cp.stderr, log
+
+
+def test_robot_script_one_curl_for_the_exec_whichever_name_the_driver_has(tmp_path: Path) -> None:
+    """Two curl per robot: the exec asked for under both names at once (--next), then started."""
+    code, out, err, log = _robot_script(tmp_path / "a", exec_panther_ros='{"Id":"abc123"}')
+    assert (code, out.strip(), err.strip()) == (0, "started abc123", "@@container panther_ros")
+    assert len(log) == 2 and log[0].count("--next") == 1 and log[0].count("/exec") == 2
+
+    code, out, err, log = _robot_script(tmp_path / "b", exec_husarion_ugv_ros='{"Id":"def456"}',
+                                        exec_panther_ros='{"Id":"zzz"}')
+    assert (code, out.strip(), err.strip()) == (0, "started def456", "@@container husarion_ugv_ros")
+    assert len(log) == 2
+
+
+def test_robot_script_compose_service_then_errors(tmp_path: Path) -> None:
+    # neither name: the container of the compose service
+    code, out, err, log = _robot_script(tmp_path / "a", svc_panther_ros='[{"Id":"c0ffee","Names":["/x"]}]',
+                                        exec_c0ffee='{"Id":"e1"}')
+    assert (code, out.strip(), err.strip()) == (0, "started e1", "@@container c0ffee")
+    assert len(log) == 5  # the exec under both names, each service looked up, the exec, its start
+    # a stopped driver: the engine's words, exit 3
+    code, out, err, _ = _robot_script(tmp_path / "b",
+                                      exec_panther_ros='{"message":"Container 0a1b is not running"}')
+    assert code == 3 and out == ""
+    assert "no running driver container" in err and "Container 0a1b is not running" in err
+    # no engine to talk to
+    (tmp_path / "c" / "engine").mkdir(parents=True)
+    (tmp_path / "c" / "engine" / "down").write_text("")
+    code, _, err, _ = _robot_script(tmp_path / "c")
+    assert code == 4 and "Couldn't connect" in err

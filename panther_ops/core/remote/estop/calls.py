@@ -46,32 +46,54 @@ DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
 #: panther_ros, else the container of that compose service), made with the docker engine's
 #: API on its socket (what `docker exec` sends, without starting the docker CLI twice per
 #: robot). $1 the exec's JSON (the container script and its arguments), then the names.
-#: The output is the engine's multiplexed stream (8-byte frame headers), or its error.
+#: Few processes on the robot (the shell, then two curl): one curl asks for the exec in the
+#: container of each name in turn (--next; a name with no container costs the engine a
+#: lookup, not a process), the answers are read with the shell's own expansions, and the
+#: second curl starts the exec in its place. Only when no container has either name is the
+#: compose service looked up (one more curl per name). The output is the engine's
+#: multiplexed stream (8-byte frame headers), or its error.
 ROBOT_SCRIPT = r"""body=$1; shift
 sock=/var/run/docker.sock
 case "${DOCKER_HOST:-}" in unix://*) sock=${DOCKER_HOST#unix://} ;; esac
-api() { curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' "$@"; }
+names=$*
+exec_in() {  # one curl: an exec asked for in each name's container in turn; answers end in HTTP status@@
+    i=$#
+    while [ "$i" -gt 0 ]; do
+        set -- "$@" --unix-socket "$sock" -sS -H 'Content-Type: application/json' -w '%{http_code}@@' -d "$body" \
+            "http://docker/containers/$1/exec"
+        shift
+        i=$((i - 1))
+        [ "$i" -eq 0 ] || set -- "$@" --next
+    done
+    curl "$@"
+}
+first_id() {  # $1 the answers, then the names asked for: c and id of the first exec made
+    rest=$1; shift
+    for c in "$@"; do
+        a=${rest%%@@*}; rest=${rest#*@@}
+        case $a in
+            *'"Id":"'*) id=${a#*'"Id":"'}; id=${id%%'"'*}; return 0 ;;
+            *"No such container"*) ;;
+            *) why="$why $a" ;;
+        esac
+    done
+    return 1
+}
 id= why=
-for c in "$@"; do
-    out=$(api -d "$body" "http://docker/containers/$c/exec") || exit 4
-    id=$(printf '%s' "$out" | sed -n 's/.*"Id":"\([0-9a-f]*\)".*/\1/p')
-    [ -n "$id" ] && break
-    case "$out" in *"No such container"*) ;; *) why="$why $out" ;; esac
-done
-if [ -z "$id" ]; then
-    for svc in "$@"; do
-        out=$(api -G --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
+out=$(exec_in $names) || exit 4
+if ! first_id "$out" $names; then
+    for svc in $names; do
+        out=$(curl -sS --unix-socket "$sock" -G \
+            --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
             http://docker/containers/json) || exit 4
-        c=$(printf '%s' "$out" | sed -n 's/^\[{"Id":"\([0-9a-f]*\)".*/\1/p')
-        [ -n "$c" ] || continue
-        out=$(api -d "$body" "http://docker/containers/$c/exec") || exit 4
-        id=$(printf '%s' "$out" | sed -n 's/.*"Id":"\([0-9a-f]*\)".*/\1/p')
-        [ -n "$id" ] && break
-        why="$why $out"
+        case $out in '[{"Id":"'*) ;; *) continue ;; esac
+        c=${out#'[{"Id":"'}; c=${c%%'"'*}
+        out=$(exec_in "$c") || exit 4
+        first_id "$out" "$c" && break
     done
 fi
 if [ -z "$id" ]; then
-    echo "no running driver container (named or a compose service $*)${why:+:$why}" >&2
+    echo "no running driver container (named or a compose service $names)${why:+:$why}" >&2
     exit 3
 fi
 echo "@@container $c" >&2
