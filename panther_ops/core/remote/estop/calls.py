@@ -39,61 +39,54 @@ ROS_TIMEOUT_S = 10
 DEMO_RECORDING = "/var/lib/panther-ops-demo/ros.json"
 """Where a demo robot keeps the recorded answers of its driver (inside its directory)."""
 
-DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
-"""The driver's container and compose service names (2.2+, up to 2.1), as compose.yaml's."""
+DRIVERS = (("husarion_ugv_ros", "/run/husarion/robot_config.env"), ("panther_ros", "/run/husarion/panther_config.env"))
+"""The driver's container and compose service name (as compose.yaml's) and the environment
+file the Built-in Computer's OS writes for that stack (2.2+, up to 2.1)."""
 
 #: On the robot: an exec in the running driver container (named husarion_ugv_ros or
 #: panther_ros, else the container of that compose service), made with the docker engine's
 #: API on its socket (what `docker exec` sends, without starting the docker CLI twice per
-#: robot). $1 the exec's JSON (the container script and its arguments), then the names.
-#: Few processes on the robot (the shell, then two curl): one curl asks for the exec in the
-#: container of each name in turn (--next; a name with no container costs the engine a
-#: lookup, not a process), the answers are read with the shell's own expansions, and the
-#: second curl starts the exec in its place. Only when no container has either name is the
-#: compose service looked up (one more curl per name). The output is the engine's
-#: multiplexed stream (8-byte frame headers), or its error.
+#: robot). $1 the exec's JSON (the container script and its arguments), then pairs of a
+#: name and its stack's environment file (:data:`DRIVERS`).
+#: Few processes (the shell, then curl twice: the exec made, then started in its place): the
+#: name whose environment file exists is asked for first (the other only when it has no
+#: container: one more curl, and the engine logs the miss), the answers are read with the
+#: shell's own expansions; only when neither name has a running container is the compose
+#: service looked up. The output is the engine's multiplexed stream (8-byte frame headers),
+#: or its error.
 ROBOT_SCRIPT = r"""body=$1; shift
 sock=/var/run/docker.sock
 case "${DOCKER_HOST:-}" in unix://*) sock=${DOCKER_HOST#unix://} ;; esac
-names=$*
-exec_in() {  # one curl: an exec asked for in each name's container in turn; answers end in HTTP status@@
-    i=$#
-    while [ "$i" -gt 0 ]; do
-        set -- "$@" --unix-socket "$sock" -sS -H 'Content-Type: application/json' -w '%{http_code}@@' -d "$body" \
-            "http://docker/containers/$1/exec"
-        shift
-        i=$((i - 1))
-        [ "$i" -eq 0 ] || set -- "$@" --next
-    done
-    curl "$@"
-}
-first_id() {  # $1 the answers, then the names asked for: c and id of the first exec made
-    rest=$1; shift
-    for c in "$@"; do
-        a=${rest%%@@*}; rest=${rest#*@@}
-        case $a in
-            *'"Id":"'*) id=${a#*'"Id":"'}; id=${id%%'"'*}; return 0 ;;
-            *"No such container"*) ;;
-            *) why="$why $a" ;;
-        esac
-    done
-    return 1
-}
+likely= other=
+while [ $# -ge 2 ]; do
+    if [ -e "$2" ]; then likely="$likely $1"; else other="$other $1"; fi
+    shift 2
+done
 id= why=
-out=$(exec_in $names) || exit 4
-if ! first_id "$out" $names; then
-    for svc in $names; do
+exec_in() {  # $1 a container: id set when the engine made the exec, else its words kept in why
+    out=$(curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' -d "$body" \
+        "http://docker/containers/$1/exec") || exit 4
+    case $out in
+        *'"Id":"'*) id=${out#*'"Id":"'}; id=${id%%'"'*} ;;
+        *"No such container"*) return 1 ;;
+        *) why="$why $out"; return 1 ;;
+    esac
+}
+for c in $likely $other; do
+    exec_in "$c" && break
+done
+if [ -z "$id" ]; then
+    for svc in $likely $other; do
         out=$(curl -sS --unix-socket "$sock" -G \
             --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
             http://docker/containers/json) || exit 4
         case $out in '[{"Id":"'*) ;; *) continue ;; esac
         c=${out#'[{"Id":"'}; c=${c%%'"'*}
-        out=$(exec_in "$c") || exit 4
-        first_id "$out" "$c" && break
+        exec_in "$c" && break
     done
 fi
 if [ -z "$id" ]; then
-    echo "no running driver container (named or a compose service $names)${why:+:$why}" >&2
+    echo "no running driver container (named or a compose service$likely$other)${why:+:$why}" >&2
     exit 3
 fi
 echo "@@container $c" >&2
@@ -139,7 +132,7 @@ def command(namespace: str, actions: tuple[str, ...], timeout: int = ROS_TIMEOUT
         raise ValueError(f"unknown E-stop actions {unknown}")
     argv = ["/ros_entrypoint.sh", "sh", "-c", CONTAINER_SCRIPT, "sh", str(timeout), namespace, *actions]
     body = json.dumps({"AttachStdout": True, "AttachStderr": True, "Cmd": argv}, separators=(",", ":"))
-    return Command.sh(ROBOT_SCRIPT, body, *DRIVER_SERVICES)
+    return Command.sh(ROBOT_SCRIPT, body, *(word for pair in DRIVERS for word in pair))
 
 
 def is_demo(ctx: RobotContext) -> bool:
