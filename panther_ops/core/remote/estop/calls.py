@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.stack import DRIVER_ENV_FILES, DRIVER_SERVICES
 from panther_ops.core.remote.estop import answers
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult
@@ -39,7 +40,7 @@ ROS_TIMEOUT_S = 10
 DEMO_RECORDING = "/var/lib/panther-ops-demo/ros.json"
 """Where a demo robot keeps the recorded answers of its driver (inside its directory)."""
 
-DRIVERS = (("husarion_ugv_ros", "/run/husarion/robot_config.env"), ("panther_ros", "/run/husarion/panther_config.env"))
+DRIVERS = tuple(zip(DRIVER_SERVICES, DRIVER_ENV_FILES, strict=True))
 """The driver's container and compose service name (as compose.yaml's) and the environment
 file the Built-in Computer's OS writes for that stack (2.2+, up to 2.1)."""
 
