@@ -30,7 +30,8 @@ def _plain(value: str | None) -> str | None:
     return m.group(1) if m else value
 
 
-def _dotenv(text: str, key: str) -> str | None:
+def dotenv_value(text: str, key: str) -> str | None:
+    """``key``'s value in a dotenv text (the last one wins, as in compose); None: not there."""
     found = None
     for raw in text.splitlines():
         line = raw.strip()
@@ -56,7 +57,7 @@ def driver_namespace(ctx: RobotContext, cfg: RobotConfig) -> tuple[str, str]:
             text = ctx.transport.read_file(path).decode(errors="replace")
         except FileNotFoundError:
             continue
-        value = _dotenv(text, ENV_KEY)
+        value = dotenv_value(text, ENV_KEY)
         if value:
             found = (value, f"{ENV_KEY} in {name}")
     return found or ("", "default")
