@@ -22,6 +22,7 @@ from panther_ops.core.remote.webui.remote import (
     apply_settings,
     open_webui_session,
     plan_changes,
+    plan_text,
     read_webui,
 )
 from panther_ops.core.remote.webui.settings import SNAP, SettingError, validate
@@ -45,8 +46,7 @@ class WebuiPlan:
 
     @property
     def summary(self) -> str:
-        text = ", ".join(f"{k}: {c or '(unset)'} -> {n}" for k, c, n in self.changes)
-        return f"set WebUI {text}" + (" and restart it" if self.running else "")
+        return f"set WebUI {plan_text(self.changes, self.note)}" + (" and restart it" if self.running else "")
 
     def to_json(self) -> dict[str, Any]:
         return {"user_computer": self.host, "running": self.running, "namespace": self.note,

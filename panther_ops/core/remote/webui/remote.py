@@ -193,10 +193,15 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
                        f"{'running' if state.running else 'stopped'}; {answered} (recorded: demo robot)", data=data)
 
 
-def _plan_text(plan: list[tuple[str, str, str]], note: str) -> str:
-    text = ", ".join(f"{k}: {c or '(unset)'} -> {n}" for k, c, n in plan)
-    defaulted = any(k == NS_KEY for k, _, _ in plan) and note.startswith(f"{NS_KEY} ")
-    return text + (f" ({note.split(': ', 1)[1]})" if defaulted else "")
+def plan_text(plan: list[tuple[str, str, str]], note: str) -> str:
+    """``key: current -> new, ...``; a ``ros.namespace`` that is the robot's default says so."""
+    defaulted = note.startswith(f"{NS_KEY} ") and ": " in note
+
+    def item(k: str, c: str, n: str) -> str:
+        why = f" ({note.split(': ', 1)[1]})" if k == NS_KEY and defaulted else ""
+        return f"{k}: {c or '(unset)'} -> {n}{why}"
+
+    return ", ".join(item(k, c, n) for k, c, n in plan)
 
 
 def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
@@ -218,7 +223,7 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
                                 "running": state.running, "ready": bool(plan), "namespace": note}
         if not plan:
             return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data)
-        return RobotResult(ctx.robot.name, Outcome.OK, f"plan: {_plan_text(plan, note)}", data=data)
+        return RobotResult(ctx.robot.name, Outcome.OK, f"plan: {plan_text(plan, note)}", data=data)
     return task
 
 
