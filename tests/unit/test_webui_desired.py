@@ -24,8 +24,8 @@ def demo(tmp_path: Path) -> Path:
     assert main(["demo", "init", "--dest", str(path)]) == 0
     inv = path / "inventory.yaml"
     text = inv.read_text().replace(WAREHOUSE, WAREHOUSE + "      webui:\n        port: 8081\n")
-    text = text.replace("    description: outdoor robots\n", "    description: outdoor robots\n    desired:\n"
-                        "      webui:\n        layout: husarion-ugv\n        transport: rmw_cyclonedds_cpp\n")
+    assert "        layout: panther\n" in text  # the demo's field group wants what panther-03 has
+    text = text.replace("        layout: panther\n", "        layout: husarion-ugv\n")
     inv.write_text(text)
     return inv
 
@@ -35,6 +35,16 @@ def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, 
     code = main([*argv, "--json"])
     doc = json.loads(capsys.readouterr().out)
     return code, {r["robot"]: r for r in doc["robots"]}
+
+
+def test_the_demo_fleets_desired_webui_matches_its_recording(tmp_path: Path,
+                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "demo"
+    assert main(["demo", "init", "--dest", str(path)]) == 0
+    code, robots = run(capsys, "-i", str(path), "config", "diff", "-r", "panther-03")
+    assert code == 0 and robots["panther-03"]["outcome"] == "ok"
+    assert robots["panther-03"]["message"] == "matches the inventory's desired state"
+    assert robots["panther-03"]["data"]["webui"]["plan"] == []
 
 
 def test_config_diff_reports_webui_drift_beside_the_files(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -54,7 +54,8 @@ groups:
     description: outdoor robots
     desired:
       webui:                    # the WebUI snap on the User Computer (apply, config diff)
-        layout: husarion-ugv
+        layout: panther
+        transport: rmw_cyclonedds_cpp
 robots:
 {robots}
 # A real robot (reached by its Husarnet hostname; every Panther is 10.15.20.2 inside):

@@ -48,23 +48,24 @@ def install_task(channel: str, password: Secret | None) -> Task:
                                    f"{CLOCK_LIMIT_S:g} s)", data={"clock_offsets": offsets, "hint": CLOCK_FIX})
             state = read_state(session)
             want = channel if "/" in channel else f"{channel}/stable"
-            done: list[str] = []
-            if not (state.installed and state.channel == want):
+            installed_now = not (state.installed and state.channel == want)
+            if installed_now:
                 sudo(session, "snap", "install", SNAP, f"--channel={channel}")
-                done.append(f"installed {SNAP}")
-            if read_state(session).installed:
-                applied = apply_settings(session, {}, robot)
-                done += [f"set {k}={v} ({robot.note})" for k, _, v in applied.changes]
             after = read_state(session)
+            changes = []
+            if after.installed:
+                applied = apply_settings(session, {}, robot)
+                after, changes = applied.after, applied.changes
         finally:
             session.close()
         data = {"clock_offsets": offsets, **after.to_json()}
         if not after.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} not installed after snap install", data=data)
+        done = [f"installed {SNAP} {after.channel} rev {after.revision}"] if installed_now else []
+        done += [f"set {k}={v} ({robot.note})" for k, _, v in changes]
         if not done:
             return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed", data=data)
-        return RobotResult(ctx.robot.name, Outcome.CHANGED,
-                           "; ".join(done) + f" ({after.channel} rev {after.revision})", data=data)
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, "; ".join(done), data=data)
     return task
 
 
