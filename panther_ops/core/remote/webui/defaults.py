@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from panther_ops.core.config.namespace import driver_namespace
 from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.remote.webui.settings import NAMESPACE
+from panther_ops.core.kinds.webui_settings import NAMESPACE
 from panther_ops.errors import OpsError
 
 KEY = "ros.namespace"

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.webui_settings import SNAP, SettingError, validate
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import RobotNamespace, robot_namespace, with_robot_namespace
 from panther_ops.core.remote.webui.remote import (
@@ -25,7 +26,6 @@ from panther_ops.core.remote.webui.remote import (
     plan_text,
     read_webui,
 )
-from panther_ops.core.remote.webui.settings import SNAP, SettingError, validate
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome
 from panther_ops.transport.base import Secret

@@ -8,6 +8,7 @@ import time
 from collections.abc import Callable
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.webui_settings import SNAP
 from panther_ops.core.remote.webui.defaults import robot_namespace
 from panther_ops.core.remote.webui.remote import (
     Task,
@@ -18,7 +19,6 @@ from panther_ops.core.remote.webui.remote import (
     read_webui,
     sudo,
 )
-from panther_ops.core.remote.webui.settings import SNAP
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command, Secret
