@@ -25,8 +25,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import DRIVER_ENV_FILES, DRIVER_SERVICES
 from panther_ops.core.remote.estop import answers
+from panther_ops.core.stack import DRIVER_ENV_FILES, DRIVER_SERVICES
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
