@@ -175,7 +175,7 @@ def test_local_file_edits_go_through_the_pipeline_with_a_backup(tmp_path: Path,
     bdir = tmp_path / ".panther-ops" / "backups" / backup_id
     assert (bdir / "files" / "0").read_text() == GOOD  # the previous content, beside the file
     manifest = json.loads((bdir / "manifest.json").read_text())
-    assert manifest["command"] == "shutdown hosts add"
+    assert manifest["command"] == "shutdown hosts add pi@192.0.2.7"
     assert manifest["files"][0]["path"] == str(path.resolve()) and "+  - ip: 192.0.2.7" in manifest["files"][0]["diff"]
     assert (bdir / "status").read_text().strip() == "applied"
     assert "192.0.2.7" in path.read_text()
