@@ -195,3 +195,21 @@ def test_a_file_changed_since_the_rollback_was_planned_is_not_written(hosts: Pat
         transport.close()
     assert res.outcome is Outcome.FAILED and "changed on the robot since it was read" in res.message
     assert hosts.read_text().endswith("# edited meanwhile\n")
+
+
+def test_a_moved_directory_keeps_its_history_and_writes_only_the_file_named(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    first = tmp_path / "first"
+    first.mkdir()
+    (first / "hosts.yaml").write_text(START)
+    backup = add(capsys, first / "hosts.yaml", "--ip", "192.0.2.5", "--user", "pi")
+    moved = tmp_path / "moved"
+    first.rename(moved)
+    first.mkdir()  # a file of the old path, which the manifest still names: never written
+    (first / "hosts.yaml").write_text("untouched\n")
+    hosts = moved / "hosts.yaml"
+    assert [e["id"] for e in history(capsys, hosts)] == [backup]
+    code, out, err = run(capsys, "config", "rollback", "--file", str(hosts), "--yes", "--json")
+    assert code == 0, err
+    assert json.loads(out)["robots"][0]["diffs"][0]["path"] == str(hosts)
+    assert hosts.read_text() == START and (first / "hosts.yaml").read_text() == "untouched\n"

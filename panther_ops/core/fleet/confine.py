@@ -71,12 +71,15 @@ def backup_entry_ok(entry_id: object, files: object) -> bool:
 
 
 def backup_of_file(entry: Mapping[str, Any], path: str) -> bool:
-    """A local file's backup: a well-formed manifest whose one file is ``path`` (absolute),
-    kept as ``files/0`` (or none: the change created the file)."""
+    """A backup of the local file ``path``, read from the file's own directory: a well-formed
+    manifest of one file of that name, kept as ``files/0`` (or none: the change created the
+    file). The name, not the directory, counts (a directory moved or copied keeps its
+    history); a rollback writes ``path`` itself, never the path the manifest names."""
     files = entry.get("files")
     if not backup_entry_ok(entry.get("id"), files) or not isinstance(files, list) or len(files) != 1:
         return False
-    return bool(files[0]["path"] == path and files[0].get("backup") in (None, "files/0"))
+    named = posixpath.basename(files[0]["path"])
+    return bool(named == posixpath.basename(path) and files[0].get("backup") in (None, "files/0"))
 
 
 def local_file(file: str, option: str = "--file") -> str:

@@ -7,8 +7,8 @@ A rollback restores one backup through the same pipeline, so it is itself backed
 
 A local file (``shutdown hosts add|remove FILE``) keeps its backups the same way in its own
 directory (the local target's home, ``<dir>/.panther-ops/backups/``): ``only`` narrows the
-history and the rollback to the backups of that one file, which is all such a rollback may
-write (see :func:`confine.backup_of_file`); it recreates nothing.
+history and the rollback to the backups of that one file, which is all such a rollback
+writes (see :func:`confine.backup_of_file`); it recreates nothing.
 """
 
 from __future__ import annotations
@@ -61,17 +61,20 @@ def plan_rollback(ctx: RobotContext, to: str | None, *, only: str | None = None,
     others = entries
     if only is not None:
         entries = [e for e in entries if backup_of_file(e, only)]
-    if not entries and only is not None:
+    if to is not None:
+        entry = _pick(ctx, entries, others, to, only)
+    elif entries:
+        entry = entries[-1]
+    elif only is not None:
         raise UsageError(f"no backups of {ctx.robot.name}: nothing to roll back to",
                          hint="`shutdown hosts add|remove FILE` keep the file's backups beside it, in "
                          ".panther-ops/backups/")
-    if not entries:
+    else:
         raise RemoteStateError("no backups on this robot: nothing to roll back to")
-    entry = entries[-1] if to is None else _pick(ctx, entries, others, to, only)
     bdir = f"{BACKUP_ROOT}/{entry['id']}"
     edits: list[FileEdit] = []
     for f in entry.get("files", []):
-        path = str(f["path"])
+        path = str(f["path"]) if only is None else only
         try:
             now: bytes | None = ctx.transport.read_file(path)
         except FileNotFoundError:
@@ -101,7 +104,7 @@ def _pick(ctx: RobotContext, entries: list[dict[str, Any]], others: list[dict[st
     hits = [e for e in entries if str(e.get("id", "")).startswith(to)]
     if len(hits) == 1:
         return hits[0]
-    known = ", ".join(str(e.get("id")) for e in entries[-5:])
+    known = ", ".join(str(e.get("id")) for e in entries[-5:]) or "none"
     elsewhere = [e for e in others if e not in entries and str(e.get("id", "")).startswith(to)]
     if not hits and elsewhere:
         files = ", ".join(str(f.get("path")) for f in elsewhere[0].get("files", []))
