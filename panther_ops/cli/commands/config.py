@@ -203,12 +203,7 @@ def history(
     from panther_ops.results import Outcome, RobotResult
 
     def task(c: Any) -> RobotResult:
-        if file is not None:
-            from panther_ops.core.shutdown.localfile import local_history
-
-            entries = local_history(c, file)
-        else:
-            entries = list_history(c)
+        entries = list_history(c, only=str(file.resolve()) if file is not None else None)
         for e in entries:
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
@@ -220,7 +215,7 @@ def history(
 
 
 def _local(file: Path, robot: list[str] | None, group: list[str] | None, all_: bool) -> tuple[Any, list[Any]]:
-    """--file: the local hosts file's directory as the one target (not robots as well)."""
+    """--file: the local hosts file's directory as the one target (see core/shutdown/localfile.py)."""
     from panther_ops.core.shutdown.localfile import local_target
     from panther_ops.errors import UsageError
 

@@ -8,23 +8,23 @@ the old content up in ``<directory>/.panther-ops/backups/<id>/`` (``files/0`` an
 ``manifest.json``), stages the new file beside it and renames it into place only if the file
 is still what was read. Nothing is recreated.
 
-``config history --file FILE`` lists those backups (the ones of that file: a directory may
-hold several hosts files) and ``config rollback --file FILE`` restores one through the same
-plan and pipeline as a robot's rollback (``history.plan_rollback``): masked exact diff,
-backup of the current file first, staged write renamed only if the file is unchanged; the
-content restored goes through the hosts file validator as every write of the file does.
+``config history --file FILE`` lists those backups (``history.list_history`` with ``only``:
+the ones of that file; a directory may hold several hosts files) and ``config rollback --file
+FILE`` restores one through the same plan and pipeline as a robot's rollback
+(``history.plan_rollback``): masked exact diff, backup of the current file first, staged
+write renamed only if the file is unchanged; the content restored goes through the hosts
+file validator as every write of the file does.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 from panther_ops.core.config.hostsfile import Edit, MaskedFileEdit
 from panther_ops.core.config.kinds import FileKind, check_file
 from panther_ops.core.fleet.confine import local_file
-from panther_ops.core.fleet.history import list_history, plan_rollback
+from panther_ops.core.fleet.history import plan_rollback
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
@@ -63,11 +63,6 @@ def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str],
     edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
     return RobotPlan(ctx.robot.name, edit.message, edits, warnings=warnings, home=home,
                      data={"hosts_file": where})
-
-
-def local_history(ctx: RobotContext, file: Path) -> list[dict[str, Any]]:
-    """The backups of the local file, oldest first."""
-    return list_history(ctx, only=str(file.resolve()))
 
 
 def plan_local_rollback(ctx: RobotContext, file: Path, to: str | None) -> RobotPlan:
