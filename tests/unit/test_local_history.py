@@ -213,3 +213,16 @@ def test_a_moved_directory_keeps_its_history_and_writes_only_the_file_named(
     assert code == 0, err
     assert json.loads(out)["robots"][0]["diffs"][0]["path"] == str(hosts)
     assert hosts.read_text() == START and (first / "hosts.yaml").read_text() == "untouched\n"
+
+
+def test_a_masked_diff_marks_a_replaced_secret_only() -> None:
+    from panther_ops.core.config.hostsfile import MaskedFileEdit
+
+    one = b"hosts:\n  - ip: 192.0.2.5\n    port: 3003\n    secret: first-value\n"
+    two = one.replace(b"first-value", b"second-value")
+    added = one + b"  - ip: 192.0.2.6\n    port: 3003\n    secret: second-value\n"
+    diff = MaskedFileEdit("/h.yaml", one, two).diff().unified
+    assert "-    secret: **** (old value)\n+    secret: **** (new value)\n" in diff and "value" not in \
+        diff.replace("(old value)", "").replace("(new value)", "")
+    diff = MaskedFileEdit("/h.yaml", one, added).diff().unified  # a host added: nothing replaced
+    assert "+    secret: ****\n" in diff and "(new value)" not in diff and "second" not in diff

@@ -537,15 +537,18 @@ def mask_secrets(text: str) -> str:
 
 @dataclass(frozen=True)
 class MaskedFileEdit(FileEdit):
-    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value); a value
-    that only one side holds is marked ``**** (old value)`` / ``**** (new value)``, so a changed
-    secret still shows as a changed line (a rollback may change nothing else)."""
+    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value). When a
+    value gives way to another, each is marked ``**** (old value)`` / ``**** (new value)``, so a
+    changed secret still shows as a changed line (a rollback may change nothing else)."""
 
     def diff(self) -> Diff:
         plain = super().diff()
         before = (self.before or b"").decode(errors="replace")
         after = (self.after or b"").decode(errors="replace")
-        kept = {m.group(2) for m in _SECRET_LINE.finditer(before)} & {m.group(2) for m in _SECRET_LINE.finditer(after)}
+        old_values = {m.group(2) for m in _SECRET_LINE.finditer(before)}
+        new_values = {m.group(2) for m in _SECRET_LINE.finditer(after)}
+        replaced = bool(old_values - new_values) and bool(new_values - old_values)
+        kept = old_values & new_values if replaced else old_values | new_values
 
         def mask(text: str, note: str) -> str:
             return _SECRET_LINE.sub(lambda m: f"{m.group(1)}****{'' if m.group(2) in kept else note}{m.group(3)}", text)
