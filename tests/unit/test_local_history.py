@@ -216,7 +216,7 @@ def test_a_moved_directory_keeps_its_history_and_writes_only_the_file_named(
 
 
 def test_a_masked_diff_marks_a_replaced_secret_only() -> None:
-    from panther_ops.core.config.hostsfile import MaskedFileEdit
+    from panther_ops.core.fleet.plan import MaskedFileEdit
 
     one = b"hosts:\n  - ip: 192.0.2.5\n    port: 3003\n    secret: first-value\n"
     two = one.replace(b"first-value", b"second-value")

@@ -21,13 +21,13 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from panther_ops.core.config.hostsfile import Edit, MaskedFileEdit
-from panther_ops.core.config.kinds import FileKind, check_file
 from panther_ops.core.fleet.confine import local_file
 from panther_ops.core.fleet.history import plan_rollback
 from panther_ops.core.fleet.inventory import Inventory, Robot
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds import FileKind, check_file
+from panther_ops.core.kinds.hostsfile import Edit
 from panther_ops.errors import UsageError
 
 

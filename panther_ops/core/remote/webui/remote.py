@@ -16,9 +16,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.webui_settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
 from panther_ops.core.remote.estop.answers import split
 from panther_ops.core.remote.user_computer.access import open_session
-from panther_ops.core.remote.webui.settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command, Secret
