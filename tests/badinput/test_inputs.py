@@ -244,6 +244,24 @@ ALIASES = [
          files={"a.yaml": esc("animations: &a [{id: 21, name: *a}]\n")}),
 ]
 
+LOCAL_01 = "version: 1\nrobots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n"
+WEBUI = [  # desired.webui: the inventory's values (when it loads), a DDS profile the User Computer lacks (at plan)
+    Case("webui-desired-port", ["apply", "--all", "--yes"], ["desired.webui.port", "70000", "1 to 65535"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{port: 70000}}}}\n"),
+    Case("webui-desired-namespace", ["config", "diff", "--all"], ["desired.webui.namespace", "bad ns", "a-z"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{namespace: bad ns}}}}\n"),
+    Case("webui-desired-domain", ["apply", "--all", "--dry-run"], ["desired.webui.ros.domain-id", "300", "0 to 232"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{ros.domain-id: 300}}}}\n"),
+    Case("webui-desired-unknown-key", ["apply", "--all", "--yes"], ["desired.webui.colour", "ros.namespace"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{colour: red}}}}\n"),
+    Case("webui-desired-transport-no-profile", ["apply", "--all", "--yes"],
+         ["desired.webui", "ros.transport='my-profile'", "no DDS profile", "--dds-file"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{transport: my-profile}}}}\n"),
+    Case("webui-apply-transport-injection", ["apply", "--all", "--yes"], ["desired.webui.transport", INJECT],
+         inventory=LOCAL_01 + "    desired: {{webui: {{transport: \"" + esc(INJECT) + "\"}}}}\n"),
+]
+
+
 # ------------------------------------------------------------------ a local hosts file's backups (--file)
 HOSTS = "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
 BACKUP = "20261122T101500Z-1a2b"
@@ -285,7 +303,7 @@ LOCAL_FILES = [
          files=backup(old="hosts:\n  - ip: '10.15.20.3; reboot'\n    username: pi\n")),
 ]
 
-CASES = (INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
+CASES = (WEBUI + INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
          + LOCAL_FILES)
 
 

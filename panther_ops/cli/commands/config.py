@@ -9,7 +9,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, Force, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.options import All, AskPassword, Canary, Forks, Groups, Json, MaxFail, Robots, sudo_password
 
 app = typer.Typer(
     help="The robot's configuration: launch arguments, controller limits, config files, history.",
@@ -167,8 +167,9 @@ def diff(
     json_out: Json = False,
     forks: Forks = None,
 ) -> int:
-    """Compare each robot with the inventory's desired: block (launch_args, controller, image):
-    `changed` means drift, with the diff that `panther-ops apply` would make.
+    """Compare each robot with the inventory's desired: block (launch_args, controller, image,
+    GPS, and desired.webui against the WebUI snap's keys on its User Computer): `changed` means
+    drift, with the diff (and WebUI keys, current -> new) that `panther-ops apply` would change.
 
     Example: panther-ops config diff --all
     """
@@ -382,19 +383,23 @@ def apply(
     forks: Forks = None,
     canary: Canary = 0,
     max_fail: MaxFail = None,
+    ask_sudo_password: AskPassword = False,
 ) -> int:
     """Converge robots to the inventory's desired: block (launch_args, controller limits, driver
-    image) through the same plan / diff / confirm / backup / recreate / verify / roll back pipeline.
+    image, GPS) through the same plan / diff / confirm / backup / recreate / verify / roll back
+    pipeline, and desired.webui on each robot's User Computer (sudo snap set, the WebUI
+    restarted when it was running; ros.namespace defaults to the robot's namespace).
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.apply.desired import plan_desired
+    from panther_ops.core.apply.desired import desired_applier, plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "apply --force" if force else "apply"
+    password = sudo_password(ask_sudo_password) if any(r.desired.get("webui") for r in chosen) else None
     return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                  max_fail=max_fail)
+                  max_fail=max_fail, applier=desired_applier(password), applier_for_actions=True)
 
 
 def register(root: typer.Typer) -> None:
