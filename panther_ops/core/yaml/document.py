@@ -351,11 +351,7 @@ class YamlDocument(YamlNodes):
         try:
             root = self._compose(new_text)
         except DocumentError as exc:
-            raise DocumentError(
-                f"internal: editing {format_path(parts)} would make the file invalid YAML ({exc.message})",
-                path=self.path,
-                line=self.line_of(parts),
-            ) from exc
+            raise self._refused(parts, f"would make the file invalid YAML ({exc.message})") from exc
         probe = object.__new__(YamlDocument)
         probe._text = new_text
         probe._root = root
@@ -363,24 +359,20 @@ class YamlDocument(YamlNodes):
         try:
             probe._index()
         except DocumentError as exc:
-            raise DocumentError(
-                f"internal: editing {format_path(parts)} would make the file invalid ({exc.message})",
-                path=self.path,
-                line=self.line_of(parts),
-            ) from exc
+            raise self._refused(parts, f"would make the file invalid ({exc.message})") from exc
         got = probe._unresolved(root)
         if got is None and expected == {}:
             got = {}
         if not same_value(normalise(got), normalise(expected)):
-            raise DocumentError(
-                f"internal: editing {format_path(parts)} would change more than that value; "
-                "the file was left as it was",
-                path=self.path,
-                line=self.line_of(parts),
-            )
+            raise self._refused(parts, "would change more than that value; the file was left as it was")
         self._text = new_text
         self._root = root
         self._alias_slots, self._anchors, self._indent = probe._alias_slots, probe._anchors, probe._indent
+
+    def _refused(self, parts: Sequence[PathPart], what: str) -> DocumentError:
+        """The error for an edit at ``parts`` that the commit check turned down."""
+        return DocumentError(f"internal: editing {format_path(parts)} {what}",
+                             path=self.path, line=self.line_of(parts))
 
     def _splice(self, start: int, end: int, new: str) -> str:
         return self._text[:start] + new + self._text[end:]
