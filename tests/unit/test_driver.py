@@ -387,12 +387,6 @@ def test_newer_tags_stay_in_the_robots_repository() -> None:
 # ------------------------------------------------------------------ plans on the demo fleet
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
 def compose_of(demo: Path, robot: str) -> Path:
     return demo / "robots" / robot / "home" / "husarion" / "compose.yaml"
 

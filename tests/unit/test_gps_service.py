@@ -14,13 +14,6 @@ from panther_ops.cli.app import main
 ROBOT_ROOT = "robots/{}/home/husarion"
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    dest = tmp_path / "demo"
-    assert main(["demo", "init", "--dest", str(dest)]) == 0
-    return dest
-
-
 def run(capsys: pytest.CaptureFixture[str], demo: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
     capsys.readouterr()
     code = main(["-i", str(demo), *argv])
