@@ -391,12 +391,7 @@ class YamlDocument(YamlNodes):
             slot = self._slot(node, part)
             if slot is not None:
                 if (id(node), slot) in self._alias_slots:
-                    if rest:
-                        full = copy.deepcopy(self.get(here))
-                        self._py_set_checked(full, rest, value, here)
-                    else:
-                        full = value
-                    self._materialize(here, full)
+                    self._materialize_set(here, rest, value)
                     return
                 if not rest:
                     self._replace_slot(parts, node, slot, value)
@@ -412,15 +407,19 @@ class YamlDocument(YamlNodes):
                 raise self._path_error(here, f"index out of range (the sequence has {len(node.value)} items)")
             inherited = self._merged_lookup(cast("MappingNode", node), part)
             if inherited is not None:
-                if rest:
-                    full = copy.deepcopy(self.get(here))
-                    self._py_set_checked(full, rest, value, here)
-                else:
-                    full = value
-                self._materialize(here, full)
+                self._materialize_set(here, rest, value)
                 return
             self._insert_entry(here[:-1], cast("MappingNode", node), part, nest(rest, value), parts)
             return
+
+    def _materialize_set(self, here: Sequence[PathPart], rest: Sequence[PathPart], value: Any) -> None:
+        """Write out the value at ``here`` (an alias or a merged key) with ``rest`` set to ``value``."""
+        if rest:
+            full = copy.deepcopy(self.get(here))
+            self._py_set_checked(full, rest, value, here)
+        else:
+            full = value
+        self._materialize(here, full)
 
     def _py_set_checked(self, tree: Any, rest: Sequence[PathPart], value: Any, here: Sequence[PathPart]) -> None:
         if not rest:
