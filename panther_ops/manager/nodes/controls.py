@@ -17,6 +17,8 @@ from py_trees.common import Status
 
 from panther_ops.manager.nodes.base import Outcome, TickGen, finish, halt, tick_child
 
+Children = SequenceOf[py_trees.behaviour.Behaviour] | None
+
 
 class BtComposite(py_trees.composites.Composite):
     """Shared tick plumbing: SKIPPED flag, initialise on (re)entry, `finish`.
@@ -24,6 +26,14 @@ class BtComposite(py_trees.composites.Composite):
     The concrete classes also derive from py_trees' Sequence / Selector, so py_trees' display
     and dot rendering draw them with the right symbols; their tick is this one.
     """
+
+    MEMORY: ClassVar[bool]
+    """Resume from a running child (py_trees' ``memory``), or start from the first each tick."""
+
+    def __init__(self, name: str, children: Children = None) -> None:
+        # the next class in the MRO is py_trees' Sequence or Selector, which take `memory`
+        super().__init__(name, memory=self.MEMORY, children=children)  # type: ignore[call-arg]
+        self._bt_init()
 
     def _bt_init(self) -> None:
         self.skipped = False
@@ -48,9 +58,6 @@ class BtComposite(py_trees.composites.Composite):
                 halt(child)
 
 
-Children = SequenceOf[py_trees.behaviour.Behaviour] | None
-
-
 class ResumingComposite(BtComposite):
     """Children in order, resuming from a running child (Sequence, Fallback).
 
@@ -58,6 +65,7 @@ class ResumingComposite(BtComposite):
     with `decides`. When every child passed, the composite returns `passes` itself.
     """
 
+    MEMORY = True
     passes: ClassVar[Status]
     decides: ClassVar[Status]
 
@@ -85,6 +93,7 @@ class ReactiveComposite(BtComposite):
     `passes` and `decides` as in `ResumingComposite`.
     """
 
+    MEMORY = False
     passes: ClassVar[Status]
     decides: ClassVar[Status]
 
@@ -107,19 +116,11 @@ class Sequence(ResumingComposite, py_trees.composites.Sequence):
 
     passes, decides = Status.SUCCESS, Status.FAILURE
 
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Sequence.__init__(self, name, memory=True, children=children)
-        self._bt_init()
-
 
 class Fallback(ResumingComposite, py_trees.composites.Selector):
     """BT.CPP Fallback: the first child that does not fail decides; resumes a running one."""
 
     passes, decides = Status.FAILURE, Status.SUCCESS
-
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Selector.__init__(self, name, memory=True, children=children)
-        self._bt_init()
 
 
 class ReactiveSequence(ReactiveComposite, py_trees.composites.Sequence):
@@ -127,19 +128,11 @@ class ReactiveSequence(ReactiveComposite, py_trees.composites.Sequence):
 
     passes, decides = Status.SUCCESS, Status.FAILURE
 
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Sequence.__init__(self, name, memory=False, children=children)
-        self._bt_init()
-
 
 class ReactiveFallback(ReactiveComposite, py_trees.composites.Selector):
     """BT.CPP ReactiveFallback: every tick from the first child; a success ends it."""
 
     passes, decides = Status.FAILURE, Status.SUCCESS
-
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Selector.__init__(self, name, memory=False, children=children)
-        self._bt_init()
 
 
 def run_outcome(node: py_trees.behaviour.Behaviour) -> Outcome:
