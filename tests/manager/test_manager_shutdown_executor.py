@@ -259,14 +259,24 @@ def loopback_sshd(tmp_path: Path) -> Iterator[dict[str, Any]]:
     process.wait(timeout=5)
 
 
-def test_ssh_refuses_an_unknown_host_key_and_runs_with_a_known_one(
-        loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
+def loopback_host(loopback_sshd: dict[str, Any], command: str) -> ShutdownHost:
+    """The loopback sshd as a host to shut down, by this user, running `command`."""
     import getpass
 
-    host = ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
-                        command="echo harmless-test-command", timeout=5.0)
+    return ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
+                        command=command, timeout=5.0)
+
+
+def empty_known_hosts(tmp_path: Path) -> Path:
     known_hosts = tmp_path / "known_hosts"
     known_hosts.write_text("")
+    return known_hosts
+
+
+def test_ssh_refuses_an_unknown_host_key_and_runs_with_a_known_one(
+        loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
+    host = loopback_host(loopback_sshd, "echo harmless-test-command")
+    known_hosts = empty_known_hosts(tmp_path)
     strict = ParamikoShutdown(known_hosts, key_filename=loopback_sshd["client_key"])
     refused = strict.request(host)
     assert not refused.ok and "known_hosts" in refused.error
@@ -286,14 +296,10 @@ def test_local_commands_run_without_a_shell() -> None:
 def test_openssh_backend_refuses_an_unknown_host_key_and_runs_with_a_known_one(
         loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
     """The backend the deployed manager uses where paramiko is missing: the real ssh client, a real sshd."""
-    import getpass
-
     from panther_ops.manager.shutdown_executor import OpenSshShutdown
 
-    host = ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
-                        command="echo harmless-test-command 'two words'", timeout=5.0)
-    known_hosts = tmp_path / "known_hosts"
-    known_hosts.write_text("")
+    host = loopback_host(loopback_sshd, "echo harmless-test-command 'two words'")
+    known_hosts = empty_known_hosts(tmp_path)
     strict = OpenSshShutdown(known_hosts, key_filename=loopback_sshd["client_key"])
     argv = strict.argv(host)
     assert argv[-3:] == ["--", "127.0.0.1", host.command]  # the command is one argument, no local shell
@@ -306,8 +312,7 @@ def test_openssh_backend_refuses_an_unknown_host_key_and_runs_with_a_known_one(
     accepted = strict.request(host)
     assert accepted.ok, accepted.error
     assert accepted.output.strip() == "harmless-test-command two words"
-    failing = strict.request(ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
-                                          command="exit 3", timeout=5.0))
+    failing = strict.request(loopback_host(loopback_sshd, "exit 3"))
     assert not failing.ok and failing.error.startswith("command exited with 3")
     other_key = tmp_path / "other_key"
     subprocess.run(["ssh-keygen", "-q", "-t", "ed25519", "-N", "", "-f", str(other_key)], check=True)
