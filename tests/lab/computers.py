@@ -44,7 +44,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from . import files as F
-from ._sys import LabError, run, wait_child, wait_for
+from ._sys import LabError, run
 from .state import RobotState, base_lock
 
 if TYPE_CHECKING:
@@ -351,13 +351,5 @@ def _start_service(lab: Lab, r: RobotState, http: HttpService) -> None:
     log = d / "var/log/shutdown-service.log"
     before = log.read_text().count('"listening"') if log.exists() else 0
     argv = [*lab._nsenter(r), python, str(d / "shutdown-service.py"), r.ip, str(http.port), SECRET_PATH]
-    p = lab._spawn(argv, d / "shutdown-service.out")
-    lab._record(r, "http-nsenter", p.pid)
-    lab._record(r, "shutdown-http", wait_child(p.pid))
-
-    def listening() -> bool:
-        if p.poll() is not None:
-            raise LabError(f"{r.name}: shutdown service exited:\n{(d / 'shutdown-service.out').read_text()}")
-        return log.exists() and log.read_text().count('"listening"') > before
-
-    wait_for(listening, 10.0, f"shutdown service of {r.name}")
+    lab._start_until(r, argv, d / "shutdown-service.out", ("http-nsenter", "shutdown-http"), "shutdown service",
+                     lambda: log.exists() and log.read_text().count('"listening"') > before)
