@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import re
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -18,6 +17,7 @@ from typing import Any
 import pytest
 
 from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back, run_cli
+from tests.ports import free_port
 
 pytestmark = pytest.mark.lab
 
@@ -58,14 +58,6 @@ def leaves_the_lab_as_found(lab: Any) -> Iterator[None]:
     assert snapshot(lab) == before
 
 
-def closed_port() -> int:
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = int(s.getsockname()[1])
-    s.close()
-    return port
-
-
 def test_status_logs_and_versions_read_every_robot(lab: Any, capsys: pytest.CaptureFixture[str],
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
     inv = str(lab.inventory_path)
@@ -90,7 +82,7 @@ def test_status_logs_and_versions_read_every_robot(lab: Any, capsys: pytest.Capt
     code, _, out, _ = run_cli(capsys, "-i", inv, "driver", "logs", "-r", "r05", "--since", "1d", "-t")
     assert code == 0 and " | " not in out and re.match(r"^20\d\d-\d\d-\d\dT", out)
 
-    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{closed_port()}/{{repo}}")
+    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{free_port()}/{{repo}}")
     code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "versions", "--all", "--remote", "--json")
     assert code == 0, doc
     for res in doc["robots"]:

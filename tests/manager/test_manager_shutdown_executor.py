@@ -7,7 +7,6 @@ import hashlib
 import hmac
 import http.server
 import shutil
-import socket
 import subprocess
 import threading
 import time
@@ -41,14 +40,9 @@ from panther_ops.manager.shutdown_executor import (
 )
 from panther_ops.manager.trees.safety import build_shutdown_tree
 from tests.manager.doubles import FakeLocalRunner, FakeRobotIO, fake_backends, tick
+from tests.ports import free_port
 
 SECRET = "husarion"
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 class ShutdownServer(http.server.BaseHTTPRequestHandler):

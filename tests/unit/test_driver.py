@@ -4,7 +4,6 @@ real-shaped compose files of templates/compose/ (the demo fleet: robots that are
 from __future__ import annotations
 
 import json
-import socket
 import threading
 from collections.abc import Iterator
 from datetime import datetime, timezone
@@ -36,6 +35,7 @@ from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.errors import RemoteStateError, UsageError
+from tests.ports import free_port
 
 # A Docker Hub answer in the shape of GET /v2/namespaces/husarion/repositories/husarion-ugv/tags
 # (fields as in Docker Hub's published tag schema; tag names from panther-stack.md §0/§2.2, plus
@@ -353,16 +353,8 @@ def test_fetch_follows_pages_and_sorts(fake_hub: tuple[str, list[str]]) -> None:
                      "/v2/namespaces/husarion/repositories/husarion-ugv/tags?page=2&page_size=100"]
 
 
-def closed_port() -> int:
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = int(s.getsockname()[1])
-    s.close()
-    return port
-
-
 def test_fetch_unreachable_is_a_clean_error() -> None:
-    url = f"http://127.0.0.1:{closed_port()}/v2/namespaces/husarion/repositories/{{repo}}/tags"
+    url = f"http://127.0.0.1:{free_port()}/v2/namespaces/husarion/repositories/{{repo}}/tags"
     with pytest.raises(RegistryError) as exc:
         fetch_hub_tags("husarion/panther", url_template=url, timeout=2)
     assert str(exc.value).startswith("registry unreachable: ")
@@ -519,7 +511,7 @@ def test_cli_read_only_commands_skip_demo_robots(demo: Path, capsys: pytest.Capt
 
 def test_cli_versions_remote_unreachable_is_a_note(demo: Path, capsys: pytest.CaptureFixture[str],
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{closed_port()}/{{repo}}")
+    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{free_port()}/{{repo}}")
     code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "versions", "--all", "--remote", "--json")
     assert code == 0
     assert set(doc["data"]["remote"]) == {"husarion/panther", "husarion/husarion-ugv"}
