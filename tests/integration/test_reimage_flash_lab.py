@@ -8,6 +8,7 @@ Marked `lab`: without root or losetup/sfdisk/mkfs.ext4/mount they skip, and fail
 
 from __future__ import annotations
 
+import contextlib
 import gzip
 import hashlib
 import json
@@ -231,6 +232,19 @@ def test_a_change_after_the_write_phase_fails_the_flash_itself(images: dict[str,
 # --- refusals: exit 2, nothing written ------------------------------------------------------------
 
 
+@contextlib.contextmanager
+def _mounted(loop: MakeLoop, dev: str, mnt: Path) -> Iterator[Path]:
+    """The ext4 file system on `dev` mounted at `mnt` during the block (the loop fixture unmounts it
+    too, should the test stop half way)."""
+    mnt.mkdir()
+    _sh("mount", "-t", "ext4", dev, str(mnt))
+    loop.mounts.append(mnt)  # type: ignore[attr-defined]
+    try:
+        yield mnt
+    finally:
+        _sh("umount", str(mnt))
+
+
 def _refused(capsys: pytest.CaptureFixture[str], image: Path, dev: str, *extra: str) -> str:
     code, _, _, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, *extra)
     assert code == 2, err
@@ -243,15 +257,9 @@ def test_refuses_a_mounted_device(
     dev = loop(300 * MIB)
     _sh("mkfs.ext4", "-q", "-F", dev, "64M")
     marks = _mark(dev, (0, 128 * MIB))
-    mnt = tmp_path / "mnt"
-    mnt.mkdir()
-    _sh("mount", "-t", "ext4", dev, str(mnt))
-    loop.mounts.append(mnt)  # type: ignore[attr-defined]
-    try:
+    with _mounted(loop, dev, tmp_path / "mnt") as mnt:
         err = _refused(capsys, images["random"], dev, "--yes")
         assert f"{dev} is mounted at {mnt}" in err and "nothing was written" in err
-    finally:
-        _sh("umount", str(mnt))
     assert _unchanged(dev, marks)
 
 
@@ -289,15 +297,9 @@ def test_refuses_a_partition(images: dict[str, Path], loop: MakeLoop, tmp_path: 
     assert _unchanged(part, marks)
     # the whole device holding that partition is refused while the partition is mounted
     _sh("mkfs.ext4", "-q", "-F", part, "64M")
-    mnt = tmp_path / "mnt"
-    mnt.mkdir()
-    _sh("mount", "-t", "ext4", part, str(mnt))
-    loop.mounts.append(mnt)  # type: ignore[attr-defined]
-    try:
+    with _mounted(loop, part, tmp_path / "mnt") as mnt:
         err = _refused(capsys, images["random"], dev, "--yes")
         assert f"{dev}: {part} is mounted at {mnt}" in err
-    finally:
-        _sh("umount", str(mnt))
 
 
 def test_refuses_a_wrong_or_missing_checksum(
