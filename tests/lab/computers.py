@@ -224,21 +224,11 @@ def _spec(lab: Lab, r: RobotState) -> ComputerSpec:
 
 def _ensure_lan(lab: Lab, robot: str) -> None:
     """The robot's own LAN bridge (as Lab.behind_jump creates it), once."""
-    from .lab import SUBNET_BASE, _free_subnet, _used_subnets
-
-    st = lab.st
     j = lab._rs(robot)
     if j.jump:
         raise LabError(f"{robot} is itself behind {j.jump}: computers go behind a directly reachable robot")
     with base_lock(lab.base), lab._lock:
-        if robot in st.jump_subnets:
-            return
-        w = _free_subnet(_used_subnets(lab.base))
-        st.jump_subnets[robot] = w
-        st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
-        st.save()
-        run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
-        lab._jump_bridge(j, w)
+        lab._jump_lan(j)
 
 
 def _standin(delay: float) -> str:

@@ -582,6 +582,19 @@ class Lab:
         return path.read_text().strip()
 
     # -- network -----------------------------------------------------------------------
+    def _jump_lan(self, jump: RobotState) -> None:
+        """A subnet of the robot's own behind its bridge, once; the host only has an `unreachable`
+        route to it. The caller holds the base lock and the lab's lock."""
+        st = self.st
+        if jump.name in st.jump_subnets:
+            return
+        w = _free_subnet(_used_subnets(self.base))
+        st.jump_subnets[jump.name] = w
+        st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
+        st.save()
+        run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
+        self._jump_bridge(jump, w)
+
     def _jump_bridge(self, jump: RobotState, w: int) -> None:
         cmds = (
             f"link add {JUMP_BRIDGE} type bridge\n"
@@ -1115,13 +1128,7 @@ class Lab:
         if j.jump or any(x.jump == name for x in st.robots.values()) or name == jump:
             raise LabError("a jump robot cannot be behind a jump robot itself")
         with base_lock(self.base), self._lock:
-            if jump not in st.jump_subnets:
-                w = _free_subnet(_used_subnets(self.base))
-                st.jump_subnets[jump] = w
-                st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
-                st.save()
-                run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
-                self._jump_bridge(j, w)
+            self._jump_lan(j)
         w = st.jump_subnets[jump]
         # unwire: deleting eth0 in the robot deletes its peer too
         run(["ip", "-n", r.ns, "link", "del", "eth0"], check=False)

@@ -429,6 +429,14 @@ class YamlDocument(YamlNodes):
         except (KeyError, IndexError, TypeError) as exc:
             raise self._path_error((*here, *rest), f"cannot be set ({exc})") from exc
 
+    def _copy_with(self, here: Sequence[PathPart], rest: Sequence[PathPart], value: Any) -> Any:
+        """A copy of the value at ``here`` with ``rest`` inside it set to ``value`` (``value`` when no rest)."""
+        if not rest:
+            return value
+        sub = copy.deepcopy(self.get(here))
+        py_set(sub, rest, value)
+        return sub
+
     def _materialize(self, parts: Sequence[PathPart], full: Any) -> None:
         """Write ``full`` as an explicit value at ``parts`` (inherited or aliased before)."""
         parts = tuple(parts)
@@ -441,12 +449,7 @@ class YamlDocument(YamlNodes):
             if slot is None:
                 anchor = self._merged_lookup(cast("MappingNode", node), part)
                 source = anchor[1] if anchor else "?"
-                sub = copy.deepcopy(self.get(here))
-                rest = parts[depth + 1 :]
-                if rest:
-                    py_set(sub, rest, full)
-                else:
-                    sub = full
+                sub = self._copy_with(here, parts[depth + 1 :], full)
                 self.notes.append(
                     f"{format_path(here)} was inherited from &{source} through '<<': "
                     f"wrote an explicit override in {format_path(here[:-1]) or 'the document'}; "
@@ -455,12 +458,7 @@ class YamlDocument(YamlNodes):
                 self._insert_entry(here[:-1], cast("MappingNode", node), part, sub, here)
                 return
             if (id(node), slot) in self._alias_slots:
-                sub = copy.deepcopy(self.get(here))
-                rest = parts[depth + 1 :]
-                if rest:
-                    py_set(sub, rest, full)
-                else:
-                    sub = full
+                sub = self._copy_with(here, parts[depth + 1 :], full)
                 anchor_name = (node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]).anchor
                 self.notes.append(
                     f"{format_path(here)} was an alias of &{anchor_name}: replaced it with an "
