@@ -37,10 +37,17 @@ from panther_ops.core.fleet.templates import template_path
 from panther_ops.errors import RemoteStateError, UsageError
 from tests.ports import free_port
 
+
 # A Docker Hub answer in the shape of GET /v2/namespaces/husarion/repositories/husarion-ugv/tags
 # (fields as in Docker Hub's published tag schema; tag names from panther-stack.md §0/§2.2, plus
 # the kinds of tags the filter must drop). Not fetched here: there is no network, and tests
 # must never contact Docker Hub.
+def _tag(name: str, last_updated: str, full_size: int, digest: str) -> dict[str, Any]:
+    """A tag as Docker Hub lists it, the fields the client reads only (digest: one hex digit, repeated)."""
+    return {"name": name, "last_updated": last_updated, "full_size": full_size, "tag_status": "active",
+            "digest": "sha256:" + digest * 64}
+
+
 HUB_PAGE_1: dict[str, Any] = {
     "count": 9,
     "next": "{base}/v2/namespaces/husarion/repositories/husarion-ugv/tags?page=2&page_size=100",
@@ -62,14 +69,10 @@ HUB_PAGE_1: dict[str, Any] = {
          "tag_last_pulled": "2025-11-03T17:01:02Z", "tag_last_pushed": "2025-07-02T10:58:12Z",
          "media_type": "application/vnd.oci.image.index.v1+json", "content_type": "image",
          "digest": "sha256:" + "2" * 64},
-        {"name": "humble-2.2.2-20250702-stable", "last_updated": "2025-07-10T09:00:00.000000Z",
-         "full_size": 1593835520, "tag_status": "active", "digest": "sha256:" + "2" * 64},
-        {"name": "humble", "last_updated": "2025-07-10T09:00:00.000000Z", "full_size": 1593835520,
-         "tag_status": "active", "digest": "sha256:" + "2" * 64},
-        {"name": "humble-nightly", "last_updated": "2025-11-01T02:00:00.000000Z", "full_size": 1600000000,
-         "tag_status": "active", "digest": "sha256:" + "3" * 64},
-        {"name": "latest", "last_updated": "2025-07-02T11:20:33.104845Z", "full_size": 1610612736,
-         "tag_status": "active", "digest": "sha256:" + "1" * 64},
+        _tag("humble-2.2.2-20250702-stable", "2025-07-10T09:00:00.000000Z", 1593835520, "2"),
+        _tag("humble", "2025-07-10T09:00:00.000000Z", 1593835520, "2"),
+        _tag("humble-nightly", "2025-11-01T02:00:00.000000Z", 1600000000, "3"),
+        _tag("latest", "2025-07-02T11:20:33.104845Z", 1610612736, "1"),
     ],
 }
 HUB_PAGE_2: dict[str, Any] = {
@@ -77,12 +80,9 @@ HUB_PAGE_2: dict[str, Any] = {
     "next": None,
     "previous": "{base}/v2/namespaces/husarion/repositories/husarion-ugv/tags?page=1&page_size=100",
     "results": [
-        {"name": "humble-2.2.1-20250331", "last_updated": "2025-03-31T12:00:00.000000Z", "full_size": 1580000000,
-         "tag_status": "active", "digest": "sha256:" + "4" * 64},
-        {"name": "humble-2.2.0-20240227", "last_updated": "2025-03-13T12:00:00.000000Z", "full_size": 1570000000,
-         "tag_status": "active", "digest": "sha256:" + "5" * 64},
-        {"name": "humble-2.2.0-rc1", "last_updated": "2025-02-01T12:00:00.000000Z", "full_size": 1570000000,
-         "tag_status": "active", "digest": "sha256:" + "6" * 64},
+        _tag("humble-2.2.1-20250331", "2025-03-31T12:00:00.000000Z", 1580000000, "4"),
+        _tag("humble-2.2.0-20240227", "2025-03-13T12:00:00.000000Z", 1570000000, "5"),
+        _tag("humble-2.2.0-rc1", "2025-02-01T12:00:00.000000Z", 1570000000, "6"),
     ],
 }
 
