@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+from typing import Any
+
 import pytest
 
 from panther_ops.cli.app import main
@@ -13,3 +16,10 @@ def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
     code = main(list(argv))
     out, err = capsys.readouterr()
     return code, out, err
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
+    """Exit code, the JSON document printed (empty when none), stdout, stderr."""
+    code, out, err = run(capsys, *argv)
+    doc = json.loads(out) if out.strip().startswith("{") else {}
+    return code, doc, out, err

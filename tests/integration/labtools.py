@@ -1,4 +1,4 @@
-"""What the lab test modules share: the CLI in-process, robots by stack, their containers, and
+"""What the lab test modules share: robots by stack, their containers, and
 putting every robot back as it was (compose.yaml, ~/config, backups, the running stack)."""
 
 from __future__ import annotations
@@ -12,20 +12,10 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
 from tests.lab import Lab, missing_requirements
 from tests.lab.computers import ComputerSpec
 
 COMPOSE = "/home/husarion/compose.yaml"
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    """Exit code, the JSON document printed (empty when none), stdout, stderr."""
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if out.strip().startswith("{") else {}
-    return code, doc, out, err
 
 
 def robot_of(lab: Any, version: str, index: int = 0) -> str:

@@ -16,7 +16,8 @@ from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.runner import Connections, RunOptions
-from tests.integration.labtools import COMPOSE, robot_of, robots_put_back, run_cli
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, robot_of, robots_put_back
 
 pytestmark = pytest.mark.lab
 

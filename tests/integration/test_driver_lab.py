@@ -16,7 +16,8 @@ from typing import Any
 
 import pytest
 
-from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back, run_cli
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back
 from tests.ports import free_port
 
 pytestmark = pytest.mark.lab

@@ -12,7 +12,8 @@ from typing import Any
 
 import pytest
 
-from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back, run_cli
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back
 from tests.lab.nmea import burst
 from tests.lab.nmea_image import use_nmea_image
 

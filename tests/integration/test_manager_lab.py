@@ -20,7 +20,8 @@ import pytest
 import yaml
 
 from panther_ops.core.manager_ops.bundle import build_bundle
-from tests.integration.labtools import COMPOSE, robot_of, run_cli
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, robot_of
 from tests.lab.pyimage import restore_driver_image, use_python_image
 
 pytestmark = pytest.mark.lab

@@ -23,7 +23,8 @@ from typing import Any
 import pytest
 
 from panther_ops.core.manager_ops.bundle import build_bundle
-from tests.integration.labtools import COMPOSE, robot_of, run_cli
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, robot_of
 from tests.lab.computers import ComputerSpec, is_silent
 from tests.lab.pyimage import restore_driver_image, use_python_image
 

@@ -11,19 +11,17 @@ from __future__ import annotations
 import contextlib
 import gzip
 import hashlib
-import json
 import lzma
 import os
 import shutil
 import subprocess
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
 from panther_ops.transport import blockdev
+from tests.clirun import run_cli
 from tests.conftest import skip_or_fail
 
 pytestmark = pytest.mark.lab
@@ -113,14 +111,6 @@ def images(loop_ready: None, tmp_path_factory: pytest.TempPathFactory) -> dict[s
     return out
 
 
-def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if "--json" in argv and out.strip() else {}
-    return code, doc, out, err
-
-
 def _device_bytes(dev: str, length: int, offset: int = 0) -> bytes:
     with open(dev, "rb") as fh:
         fh.seek(offset)
@@ -163,7 +153,7 @@ def test_flash_verifies_and_the_device_holds_the_image(
     image = images[name]
     dev = loop(300 * MIB)
     _mark(dev, (0, 200 * MIB))
-    code, doc, _, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--json")
     assert code == 0, err
     assert doc["ok"] is True and doc["verify"]["first_difference"] is None
     assert doc["image"]["bytes"] == IMAGE_BYTES and doc["write"]["bytes"] == IMAGE_BYTES
@@ -185,10 +175,10 @@ def test_a_byte_changed_after_writing_fails_verify_naming_the_offset(
 ) -> None:
     image = images["disk.xz"]
     dev = loop(300 * MIB)
-    code, _, out, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes")
+    code, _, out, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes")
     assert code == 0, err
     assert "verified:" in out
-    code, doc, _, err = cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
     assert code == 0 and doc["ok"] is True, err
     offset = 123 * MIB + 4567
     old = _device_bytes(dev, 1, offset)
@@ -198,11 +188,11 @@ def test_a_byte_changed_after_writing_fails_verify_naming_the_offset(
         os.fsync(fd)
     finally:
         os.close(fd)
-    code, doc, _, err = cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
     assert code == 3, err
     assert doc["ok"] is False and doc["verify"]["first_difference"] == offset
     assert doc["verify"]["device_sha256"] != doc["verify"]["image_sha256"]
-    code, _, out, _ = cli(capsys, "reimage", "verify", str(image), "--device", dev)
+    code, _, out, _ = run_cli(capsys, "reimage", "verify", str(image), "--device", dev)
     assert code == 3
     assert f"VERIFY FAILED: {dev}: differs from the image: first difference at byte {offset}" in out
 
@@ -246,7 +236,7 @@ def _mounted(loop: MakeLoop, dev: str, mnt: Path) -> Iterator[Path]:
 
 
 def _refused(capsys: pytest.CaptureFixture[str], image: Path, dev: str, *extra: str) -> str:
-    code, _, _, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, *extra)
+    code, _, _, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, *extra)
     assert code == 2, err
     return " ".join(err.split())
 

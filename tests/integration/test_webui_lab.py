@@ -12,7 +12,7 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
+from tests.clirun import run_cli
 from tests.integration.labtools import computers_lab, user_computer_inventory
 from tests.lab import Lab
 from tests.lab.computers import ComputerSpec
@@ -34,10 +34,8 @@ def wlab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Lab, Path]]
 
 
 def cli(capsys: pytest.CaptureFixture[str], inventory: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(["-i", str(inventory), *argv])
-    out, err = capsys.readouterr()
-    return code, json.loads(out) if out.strip().startswith("{") else {}, err
+    code, doc, _, err = run_cli(capsys, "-i", str(inventory), *argv)
+    return code, doc, err
 
 
 def ui_status(lab: Lab, robot: str, computer: str, port: int) -> str:
