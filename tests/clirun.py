@@ -19,7 +19,10 @@ def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
 
 
 def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    """Exit code, the JSON document printed (empty when none), stdout, stderr."""
+    """Exit code, the JSON document printed (empty when nothing was), stdout, stderr.
+
+    With ``--json`` any output must be one JSON document: ``json.loads`` raises otherwise."""
     code, out, err = run(capsys, *argv)
-    doc = json.loads(out) if out.strip().startswith("{") else {}
+    parse = out.strip() and ("--json" in argv or out.strip().startswith("{"))
+    doc = json.loads(out) if parse else {}
     return code, doc, out, err
