@@ -84,6 +84,16 @@ VALID: dict[str, list[str]] = {
 or SSH: some commands report that per robot, in their JSON document)."""
 
 
+LOCAL_FILE: list[tuple[str, list[str]]] = [
+    ("config history", ["--file", "{tmp}/local/hosts.yaml"]),
+    ("config rollback", ["--file", "{tmp}/local/hosts.yaml", "--dry-run"]),
+    ("config rollback", ["--file", "{tmp}/local/hosts.yaml", "--yes"]),
+    ("shutdown hosts add", ["{tmp}/local/hosts.yaml", "--ip", "10.15.20.9", "--user", "pi", "--dry-run"]),
+    ("shutdown hosts remove", ["{tmp}/local/hosts.yaml", "--ip", "10.15.20.3", "--dry-run"]),
+]
+"""The forms on a local hosts file (its backups beside it, in the fixture's local/): each prints
+one JSON document too."""
+
 ON_A_DEVICE = {
     "reimage flash": "tests/integration/test_reimage_flash_lab.py",
     "reimage verify": "tests/integration/test_reimage_flash_lab.py",
@@ -124,17 +134,36 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Path:
                  str(tmp / "controller.yaml")]) == 0
     (tmp / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
     (tmp / "world.sdf").write_text(WORLD)
+    (tmp / "local").mkdir()
+    (tmp / "local" / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
+    assert main(["shutdown", "hosts", "add", str(tmp / "local" / "hosts.yaml"), "--ip", "10.15.20.4", "--user", "pi",
+                 "--yes"]) == 0  # a backup to list and roll back to
     return tmp
 
 
 @pytest.mark.parametrize("command", JSON_COMMANDS)
 def test_one_json_document(command: str, fleet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                            monkeypatch: pytest.MonkeyPatch) -> None:
+    _one_document(command, VALID[command], fleet, tmp_path, capsys, monkeypatch)
+
+
+@pytest.mark.parametrize(("command", "args"), LOCAL_FILE, ids=[f"{c} {' '.join(a[2:])}" for c, a in LOCAL_FILE])
+def test_one_json_document_on_a_local_file(command: str, args: list[str], fleet: Path, tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str],
+                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    local = tmp_path / "local"  # its own copy of the file and its backups
+    shutil.copytree(fleet / "local", local)
+    _one_document(command, [a.replace("{tmp}/local", str(local)) for a in args], fleet, tmp_path, capsys,
+                  monkeypatch)
+
+
+def _one_document(command: str, args: list[str], fleet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                  monkeypatch: pytest.MonkeyPatch) -> None:
     demo = tmp_path / "demo"  # each command on its own copy: --dry-run or not, nothing leaks
     shutil.copytree(fleet / "demo", demo, symlinks=True)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr("sys.stdin", io.StringIO(""))
-    argv = ["-i", str(demo), *command.split(), *(a.format(tmp=fleet) for a in VALID[command]), "--json"]
+    argv = ["-i", str(demo), *command.split(), *(a.format(tmp=fleet) for a in args), "--json"]
     capsys.readouterr()
     code = main(argv)
     out, err = capsys.readouterr()

@@ -175,7 +175,7 @@ def test_local_file_edits_go_through_the_pipeline_with_a_backup(tmp_path: Path,
     bdir = tmp_path / ".panther-ops" / "backups" / backup_id
     assert (bdir / "files" / "0").read_text() == GOOD  # the previous content, beside the file
     manifest = json.loads((bdir / "manifest.json").read_text())
-    assert manifest["command"] == "shutdown hosts add"
+    assert manifest["command"] == "shutdown hosts add pi@192.0.2.7"
     assert manifest["files"][0]["path"] == str(path.resolve()) and "+  - ip: 192.0.2.7" in manifest["files"][0]["diff"]
     assert (bdir / "status").read_text().strip() == "applied"
     assert "192.0.2.7" in path.read_text()
@@ -187,9 +187,9 @@ def test_local_file_edits_go_through_the_pipeline_with_a_backup(tmp_path: Path,
 
 
 def test_a_local_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -> None:
-    from panther_ops.core.config.hostsfile import add_host, new_entry
     from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
     from panther_ops.core.fleet.runner import RobotContext, open_transport
+    from panther_ops.core.kinds.hostsfile import add_host, new_entry
     from panther_ops.core.shutdown.localfile import local_target, plan_local_hosts_edit
     from panther_ops.results import Outcome
 

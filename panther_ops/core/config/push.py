@@ -20,13 +20,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
-from panther_ops.core.config.kinds import PUSHABLE, FileKind, Target, check_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plans import compose_plan, edit_args
 from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds import PUSHABLE, FileKind, Target, check_file
 from panther_ops.errors import InputError, UsageError
 
 _KINDS = {
@@ -84,7 +84,7 @@ def read_bundle(kind: FileKind, path: Path, *, force: bool = False) -> Bundle:
     if kind in _BT_ARGS:
         if path.suffix != ".btproj":
             raise InputError("a BT project is pushed by its .btproj file", path=str(path))
-        from panther_ops.core.config.kinds.bt import project_files
+        from panther_ops.core.kinds.bt import project_files
 
         check_file(kind, str(path), data, local=path, force=force)
         bundle.extra = {rel: src.read_bytes() for rel, src in project_files(path).items()}

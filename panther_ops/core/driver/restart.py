@@ -8,7 +8,7 @@ from panther_ops.core.driver.containers import compose_argv, service_containers
 from panther_ops.core.fleet.pipeline import ApplyOptions, recreate_and_verify
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import Family
+from panther_ops.core.stack import Family
 from panther_ops.results import Outcome, RobotResult
 
 DEFAULT_SERVICE = {Family.PANTHER_ROS: "panther_ros", Family.HUSARION_UGV: "husarion_ugv_ros"}

@@ -19,7 +19,7 @@ from panther_ops.core.driver.restart import DEFAULT_SERVICE
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, mark_backup, recreate_and_verify, roll_back
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import Family, parse_image
+from panther_ops.core.stack import Family, parse_image
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command

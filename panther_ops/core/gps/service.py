@@ -32,8 +32,8 @@ from panther_ops.core.config.robot import RobotConfig, read_config
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import Family
 from panther_ops.core.gps.listen import check_port
+from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult

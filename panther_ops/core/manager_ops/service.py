@@ -12,7 +12,6 @@ from panther_ops.core.config.compose import Volume
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.robot import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import Family
 from panther_ops.core.manager_ops.layout import Layout
 from panther_ops.core.manager_ops.settings import (
     _SHARED_TARGETS,
@@ -24,6 +23,7 @@ from panther_ops.core.manager_ops.settings import (
     SSH_POWEROFF,
     ManagerSettings,
 )
+from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 
@@ -138,7 +138,7 @@ def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
 
 def _check_hosts(ctx: RobotContext, cfg: RobotConfig, path: str) -> None:
     """The hosts file the deployed manager will read, through the one hosts file validator."""
-    from panther_ops.core.config.kinds import FileKind, Target, check_file
+    from panther_ops.core.kinds import FileKind, Target, check_file
 
     try:
         data = ctx.transport.read_file(path)

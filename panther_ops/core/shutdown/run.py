@@ -18,8 +18,8 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S, HostsFile
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, HostsFile
 from panther_ops.core.shutdown.remote import RobotLink, backends_via
 from panther_ops.core.shutdown.robotfile import RobotHostsFile, read_robot_hosts
 from panther_ops.errors import OpsError, UsageError
