@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+import yaml
 
 from tests.clirun import run_cli
 from tests.integration.labtools import computers_lab, user_computer_inventory
