@@ -210,12 +210,6 @@ def test_a_local_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -
     assert path.read_text() == GOOD + "# edited meanwhile\n"
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
 def test_robot_file_through_the_pipeline_on_the_demo_fleet(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     inv = str(demo)
     hosts_21 = "/home/husarion/config/panther_manager/config/shutdown_hosts_config.yaml"
