@@ -13,8 +13,9 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
-from tests.lab import Lab, missing_requirements
+from tests.clirun import run_cli
+from tests.integration.labtools import computers_lab, user_computer_inventory
+from tests.lab import Lab
 from tests.lab.computers import ComputerSpec
 
 pytestmark = pytest.mark.lab
@@ -25,33 +26,17 @@ STATE = "/var/lib/snapd-standin/husarion-webui.json"
 
 @pytest.fixture(scope="module")
 def wlab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Lab, Path]]:
-    why = missing_requirements(docker=False)
-    if why:  # a lab test: a failure under CI=true
-        pytest.skip("simulated robot lab unavailable: " + "; ".join(why))
-    lab = Lab(2, docker=False, ephemeral=True).up()
-    try:
-        lab.add_computers([
-            ComputerSpec("w1", behind="r01", password=W1_PASSWORD, admin="group", webui=True),  # sudo asks
-            ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
-        ])
-        doc = yaml.safe_load(lab.inventory_path.read_text())
-        doc["settings"]["known_hosts"] = [str(lab.known_hosts_path), str(lab.computers_known_hosts_path)]
-        doc["settings"]["ssh_config"] = str(lab.ssh_config_path)
-        doc["defaults"]["identity_file"] = str(lab.identity_file)
-        for robot, computer in (("r01", "w1"), ("r02", "w2")):
-            doc["robots"][robot]["user_computer"] = {"host": lab.computer(computer).ip, "key": str(lab.identity_file)}
+    with computers_lab(
+        ComputerSpec("w1", behind="r01", password=W1_PASSWORD, admin="group", webui=True),  # sudo asks
+        ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
+    ) as lab:
         path = tmp_path_factory.mktemp("webui") / "inventory.yaml"
-        path.write_text(yaml.safe_dump(doc))
-        yield lab, path
-    finally:
-        lab.down()
+        yield lab, user_computer_inventory(lab, path, {"r01": "w1", "r02": "w2"})
 
 
 def cli(capsys: pytest.CaptureFixture[str], inventory: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(["-i", str(inventory), *argv])
-    out, err = capsys.readouterr()
-    return code, json.loads(out) if out.strip().startswith("{") else {}, err
+    code, doc, _, err = run_cli(capsys, "-i", str(inventory), *argv)
+    return code, doc, err
 
 
 def ui_status(lab: Lab, robot: str, computer: str, port: int) -> str:

@@ -12,26 +12,12 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
 from tests.badinput.test_file_kinds import JOY2TWIST
+from tests.clirun import run
 
 HOME = "home/husarion"
 PUSHED = "config/joy2twist/config/pad.yaml"
 TREE = "config/husarion_ugv_bringup/config/joy2twist_panther.yaml"
-
-
-@pytest.fixture
-def demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.setenv("PANTHER_OPS_CACHE_DIR", str(tmp_path / "cache"))
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def home(demo: Path, robot: str) -> Path:
