@@ -34,17 +34,22 @@ def info(message: str) -> None:
     sys.stderr.write(message + "\n")
 
 
+RICH = ("rich.console", "rich.table", "rich.text")
+"""What a table on the terminal needs (``--json`` needs none of it)."""
+
+
 def _preload(modules: tuple[str, ...]) -> None:
     """Import paramiko in the background while the inventory loads (it takes ~0.1 s), then
     ``modules`` (what the command's robot tasks need, e.g. the planners and their YAML
-    editor: ~0.04 s) and what the output needs (rich: ~0.03 s), all while the fleet's
+    editor: ~0.04 s; what the output needs, :data:`RICH`: ~0.03 s), all while the fleet's
     handshakes run: a task then finds them loaded instead of importing them itself while
-    the other robots' tasks wait on the import lock."""
+    the other robots' tasks wait on the import lock. Only what the run will use: on a busy
+    machine the imports take the interpreter from the handshakes."""
     import importlib
     import threading
 
     def load() -> None:
-        for name in ("paramiko", *modules, "rich.console", "rich.table", "rich.text"):
+        for name in ("paramiko", *modules):
             importlib.import_module(name)
 
     # not a daemon: an interpreter that exits normally (main() called in-process, then
@@ -54,11 +59,12 @@ def _preload(modules: tuple[str, ...]) -> None:
     threading.Thread(target=load, name="preload", daemon=False).start()
 
 
-def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
-    """The inventory, the background imports started first (see :func:`_preload`)."""
+def load(ctx: typer.Context, preload: tuple[str, ...] = (), tables: bool = True) -> Inventory:
+    """The inventory, the background imports started first (see :func:`_preload`);
+    ``tables``: the output will be rich tables (not ``--json``)."""
     from panther_ops.core.fleet.inventory_file import load_inventory
 
-    _preload(preload)
+    _preload(preload + RICH if tables else preload)
     inv = load_inventory(settings(ctx).inventory)
     info(f"inventory: {inv.path} (from {inv.origin})")
     return inv
@@ -66,14 +72,15 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), read_only: bool = False,
+    preload: tuple[str, ...] = (), read_only: bool = False, tables: bool = True,
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
+    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import;
+    ``tables``: the output will be rich tables (False with ``--json``: rich is not preloaded).
 
     ``read_only``: a command that only reads answers, when no robot is chosen, for the
     inventory's ``settings.default_group``, else for every robot.
     """
-    inv = load(ctx, preload)
+    inv = load(ctx, preload, tables)
     if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
         if inv.default_group is not None:
             info(f"no robot chosen: group {inv.default_group} (settings.default_group)")
@@ -104,8 +111,6 @@ def run(
         return run_fleet(command, inv, chosen, task, opts, progress)
 
 
-
-
 @dataclass
 class Fleet:
     """What a fleet command was given of the shared options (cli/options.py), and the one way
@@ -126,8 +131,9 @@ class Fleet:
     max_fail: float | None = None
 
     def targets(self, preload: tuple[str, ...] = (), read_only: bool = False) -> tuple[Inventory, list[Robot]]:
-        """The inventory and the robots chosen (see :func:`targets`)."""
-        return targets(self.ctx, self.robot, self.group, self.all_, preload=preload, read_only=read_only)
+        """The inventory and the robots chosen (see :func:`targets`; rich is preloaded only for tables)."""
+        return targets(self.ctx, self.robot, self.group, self.all_, preload=preload, read_only=read_only,
+                       tables=not self.json_out)
 
     def results(self, command: str, task: Task, *, read_only: bool = False, preload: tuple[str, ...] = (),
                 at_once: bool = False, progress: bool = True,
@@ -154,13 +160,16 @@ class Fleet:
 
     def change(self, command: str, planner: Planner, *, applier: Applier | None = None, verb: str = "Apply to",
                preload: tuple[str, ...] = (), read_only: bool = False,
-               on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None) -> int:
+               on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None,
+               applier_for_actions: bool = False) -> int:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
-        targets given; ``read_only``: only compare (a dry run that does not call itself one)."""
+        targets given; ``read_only``: only compare (a dry run that does not call itself one);
+        ``applier_for_actions``: see :func:`~panther_ops.cli.mutate.mutate`."""
         from panther_ops.cli.mutate import mutate
 
         inv, chosen = on or self.targets(preload, read_only)
         return mutate(command, inv, chosen, planner, yes=self.yes and not read_only,
                       dry_run=self.dry_run or read_only, restart=not self.no_restart if restart is None else restart,
                       settle=self.settle, json_out=self.json_out, forks=self.forks, canary=self.canary,
-                      max_fail=self.max_fail, applier=applier, verb=verb, read_only=read_only)
+                      max_fail=self.max_fail, applier=applier, verb=verb, read_only=read_only,
+                      applier_for_actions=applier_for_actions)

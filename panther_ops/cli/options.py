@@ -15,12 +15,15 @@ import inspect
 import typing
 from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any, Optional, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, Optional, TypeVar
 
 import typer
 from typer.models import ArgumentInfo
 
 from panther_ops.cli.context import Fleet
+
+if TYPE_CHECKING:
+    from panther_ops.transport.base import Secret
 
 
 def finite(value: float | None) -> float | None:
@@ -78,6 +81,34 @@ Lines = Annotated[
 Follow = Annotated[bool, typer.Option("--follow", "-f", help="Keep printing new lines (one robot; Ctrl-C ends).")]
 Timestamps = Annotated[bool, typer.Option("--timestamps", "-t", help="Docker's timestamp on each line.")]
 """The options of a container's logs (`driver logs`, `manager logs`)."""
+
+LocalFile = Annotated[
+    OptPath,
+    typer.Option("--file", help="A local hosts file (`shutdown hosts add|remove FILE`): its backups, kept "
+                 "beside it, instead of robots'.", show_default=False),
+]
+"""`config history|rollback --file`: a local hosts file instead of the robots."""
+
+PASSWORD_ENV = "PANTHER_OPS_SUDO_PASSWORD"
+AskPassword = Annotated[bool, typer.Option(
+    "--ask-sudo-password", help=f"Ask once for the User Computers' sudo password (else ${PASSWORD_ENV}, else "
+    "sudo must not ask).")]
+
+
+def sudo_password(ask: bool) -> Secret | None:
+    """The User Computers' sudo password: asked once (``--ask-sudo-password``), else the
+    environment's, else None (sudo must not ask). Never stored or printed."""
+    import os
+
+    from panther_ops.transport.base import Secret
+
+    if ask:
+        import getpass
+
+        return Secret(getpass.getpass("sudo password of the User Computers: "))
+    value = os.environ.get(PASSWORD_ENV)
+    return Secret(value) if value else None
+
 
 _SHARED: dict[str, tuple[Any, Any]] = {
     "robot": (Robots, None), "group": (Groups, None), "all_": (All, False),

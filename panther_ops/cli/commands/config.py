@@ -8,7 +8,19 @@ from typing import Annotated, Any
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import GATED, READ, TARGETS, WRITE, Force, OptPath, OptStr, shared
+from panther_ops.cli.options import (
+    GATED,
+    READ,
+    TARGETS,
+    WRITE,
+    AskPassword,
+    Force,
+    LocalFile,
+    OptPath,
+    OptStr,
+    shared,
+    sudo_password,
+)
 
 app = typer.Typer(
     help="The robot's configuration: launch arguments, controller limits, config files, history.",
@@ -119,8 +131,9 @@ def unset(fleet: Fleet, key: KeyArg) -> int:
 @app.command("diff")
 @shared(*READ)
 def diff(fleet: Fleet) -> int:
-    """Compare each robot with the inventory's desired: block (launch_args, controller, image):
-    `changed` means drift, with the diff that `panther-ops apply` would make.
+    """Compare each robot with the inventory's desired: block (launch_args, controller, image,
+    GPS, and desired.webui against the WebUI snap's keys on its User Computer): `changed` means
+    drift, with the diff (and WebUI keys, current -> new) that `panther-ops apply` would change.
 
     Example: panther-ops config diff --all
     """
@@ -131,23 +144,38 @@ def diff(fleet: Fleet) -> int:
 
 @app.command("history")
 @shared(*READ)
-def history(fleet: Fleet) -> int:
+def history(fleet: Fleet, file: LocalFile = None) -> int:
     """List the backups each change left on the robot (~/.panther-ops/backups): id, time,
-    command, what changed, and how the attempt ended (applied, rolled-back and why).
+    command, what changed, and how the attempt ended (applied, rolled-back and why). --file:
+    the backups of a local hosts file, kept beside it by `shutdown hosts add|remove FILE`.
 
-    Example: panther-ops config history -r panther-01
+    Examples:
+      panther-ops config history -r panther-01
+      panther-ops config history --file hosts.yaml
     """
     from panther_ops.cli.views.history import print_history
     from panther_ops.core.fleet.history import list_history
     from panther_ops.results import Outcome, RobotResult
 
     def task(c: Any) -> RobotResult:
-        entries = list_history(c)
+        entries = list_history(c, only=str(file.resolve()) if file is not None else None)
         for e in entries:
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
 
-    return fleet.run("config history", task, print_history, read_only=True)
+    return fleet.run("config history", task, print_history, read_only=True,
+                     on=_local(file, fleet) if file is not None else None)
+
+
+def _local(file: Path, fleet: Fleet) -> tuple[Any, list[Any]]:
+    """--file: the local hosts file's directory as the one target (see core/shutdown/localfile.py)."""
+    from panther_ops.core.shutdown.localfile import local_target
+    from panther_ops.errors import UsageError
+
+    if fleet.robot or fleet.group or fleet.all_:
+        raise UsageError("give either --file FILE (a local hosts file) or robots (-r/-g/--all), not both")
+    inv, target = local_target(file, "--file")
+    return inv, [target]
 
 
 @app.command("rollback")
@@ -156,11 +184,15 @@ def rollback(
     fleet: Fleet,
     to: Annotated[OptStr, typer.Option("--to",
                                        help="Backup id (or a unique prefix) to restore; default: the newest.")] = None,
+    file: LocalFile = None,
 ) -> int:
     """Restore the files as they were before a change (a backup from `config history`), through
-    the same pipeline: diff, confirm, backup, atomic write, recreate, verify.
+    the same pipeline: diff, confirm, backup, atomic write, recreate, verify. --file: a local
+    hosts file from its own backups (nothing recreated).
 
-    Example: panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
+    Examples:
+      panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
+      panther-ops config rollback --file hosts.yaml --dry-run
     """
     import re
 
@@ -170,6 +202,11 @@ def rollback(
     if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
         raise UsageError(f"--to {to!r} is not a backup id",
                          hint="an id (or a prefix) from `panther-ops config history`, e.g. 20261122T101500Z")
+    if file is not None:
+        from panther_ops.core.shutdown.localfile import plan_local_rollback
+
+        return fleet.change("config rollback", lambda c: plan_local_rollback(c, file, to), on=_local(file, fleet),
+                            restart=False, verb="Write")
     return fleet.change("config rollback", lambda c: plan_rollback(c, to))
 
 
@@ -242,15 +279,20 @@ def pull(
 
 
 @shared(*GATED)
-def apply(fleet: Fleet, force: Force = False) -> int:
+def apply(fleet: Fleet, force: Force = False, ask_sudo_password: AskPassword = False) -> int:
     """Converge robots to the inventory's desired: block (launch_args, controller limits, driver
-    image) through the same plan / diff / confirm / backup / recreate / verify / roll back pipeline.
+    image, GPS) through the same plan / diff / confirm / backup / recreate / verify / roll back
+    pipeline, and desired.webui on each robot's User Computer (sudo snap set, the WebUI
+    restarted when it was running; ros.namespace defaults to the robot's namespace).
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.apply.desired import plan_desired
+    from panther_ops.core.apply.desired import desired_applier, plan_desired
 
-    return fleet.change("apply --force" if force else "apply", lambda c: plan_desired(c, force=force))
+    inv, chosen = fleet.targets()
+    password = sudo_password(ask_sudo_password) if any(r.desired.get("webui") for r in chosen) else None
+    return fleet.change("apply --force" if force else "apply", lambda c: plan_desired(c, force=force),
+                        on=(inv, chosen), applier=desired_applier(password), applier_for_actions=True)
 
 
 def register(root: typer.Typer) -> None:

@@ -10,7 +10,7 @@ from panther_ops.cli.options import TARGETS, shared
 app = typer.Typer(help="The E-stop: see it, trigger it (all targeted robots at once), reset it.",
                   no_args_is_help=True)
 
-_PRELOAD = ("panther_ops.core.remote.estop.calls", "panther_ops.core.config.robot")
+_PRELOAD = ("panther_ops.core.remote.estop.calls",)
 
 
 @app.command("status")

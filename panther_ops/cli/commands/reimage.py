@@ -9,7 +9,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, Json, shared
+from panther_ops.cli.options import READ, Json, shared, sudo_password
 
 app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
 
@@ -164,7 +164,7 @@ def restore(
     Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """
     from panther_ops.cli.views.status import print_doctor
-    from panther_ops.core.apply.desired import plan_desired
+    from panther_ops.core.apply.desired import desired_applier, plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError
@@ -194,7 +194,8 @@ def restore(
     if code != 0 or fleet.dry_run:
         return code
     if target.desired:
-        code = fleet.change("apply", plan_desired, on=(inv, [target]))
+        code = fleet.change("apply", plan_desired, on=(inv, [target]), applier=desired_applier(sudo_password(False)),
+                            applier_for_actions=True)
     summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
     print_doctor(summary)
     return code

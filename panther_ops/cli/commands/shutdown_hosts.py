@@ -209,7 +209,8 @@ def hosts_add(
             sec = secret_from(None, None, True)
             secret_value = sec.reveal() if sec else None
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
-        return _edit_local(fleet, file, lambda text: add_host(text, entry, str(file)), "shutdown hosts add")
+        return _edit_local(fleet, file, lambda text: add_host(text, entry, str(file)),
+                           f"shutdown hosts add {f'{user}@{ip}' if user else f'http://{ip}'}")
     sec = secret_from(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
@@ -244,7 +245,7 @@ def hosts_remove(
         if not file.exists():
             raise usage_error(f"{file} does not exist")
         return _edit_local(fleet, file, lambda text: remove_host(text, ip, user, port, str(file)),
-                           "shutdown hosts remove")
+                           f"shutdown hosts remove {ip}")
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
     return fleet.change(f"shutdown hosts remove {ip}",

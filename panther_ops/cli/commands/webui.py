@@ -3,37 +3,18 @@ User Computer, reached through the robot."""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Optional
+from typing import Annotated, Optional
 
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import TARGETS, shared
-
-if TYPE_CHECKING:
-    from panther_ops.transport.base import Secret
+from panther_ops.cli.options import TARGETS, AskPassword, shared, sudo_password
 
 app = typer.Typer(help="The husarion-webui snap on the robots' User Computers (through the robots).",
                   no_args_is_help=True)
 
-PASSWORD_ENV = "PANTHER_OPS_SUDO_PASSWORD"
-AskPassword = Annotated[bool, typer.Option(
-    "--ask-sudo-password", help=f"Ask once for the User Computers' sudo password (else ${PASSWORD_ENV}, else "
-    "sudo must not ask).")]
 _PRELOAD = ("panther_ops.core.remote.webui.remote", "fabric")
-
-
-def _password(ask: bool) -> Secret | None:
-    from panther_ops.transport.base import Secret
-
-    if ask:
-        import getpass
-
-        return Secret(getpass.getpass("sudo password of the User Computers: "))
-    value = os.environ.get(PASSWORD_ENV)
-    return Secret(value) if value else None
 
 
 @app.command("status")
@@ -46,7 +27,7 @@ def status(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return fleet.run("webui status", status_task(_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), preload=_PRELOAD)
 
 
 @app.command("get")
@@ -58,7 +39,7 @@ def get(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return fleet.run("webui status", status_task(_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), preload=_PRELOAD)
 
 
 @app.command("install")
@@ -71,13 +52,13 @@ def install(fleet: Fleet, channel: Annotated[str, typer.Option("--channel", help
     Example: panther-ops webui install -r panther-01 --ask-sudo-password
     """
     from panther_ops.core.kinds.webui_settings import PROFILE
-    from panther_ops.core.remote.webui.remote import install_task
+    from panther_ops.core.remote.webui.install import install_task
 
     if not PROFILE.match(channel.replace("/", "_")):
         from panther_ops.errors import UsageError
 
         raise UsageError(f"--channel {channel!r} is not a snap channel", hint="e.g. humble or humble/edge")
-    return fleet.run("webui install", install_task(channel, _password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui install", install_task(channel, sudo_password(ask_sudo_password)), preload=_PRELOAD)
 
 
 @app.command("start")
@@ -89,7 +70,7 @@ def start(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import start_stop_task
 
-    return fleet.run("webui start", start_stop_task(True, _password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui start", start_stop_task(True, sudo_password(ask_sudo_password)), preload=_PRELOAD)
 
 
 @app.command("stop")
@@ -101,7 +82,7 @@ def stop(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import start_stop_task
 
-    return fleet.run("webui stop", start_stop_task(False, _password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui stop", start_stop_task(False, sudo_password(ask_sudo_password)), preload=_PRELOAD)
 
 
 @app.command("url")
@@ -113,7 +94,7 @@ def url(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import url_task
 
-    return fleet.run("webui url", url_task(_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)), preload=_PRELOAD)
 
 
 @app.command("set")
@@ -139,7 +120,7 @@ def set_(
     from panther_ops.core.remote.webui.remote import set_apply_task, set_plan_task
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
-    password = _password(ask_sudo_password)
+    password = sudo_password(ask_sudo_password)
     inv, chosen = fleet.targets(_PRELOAD)
     with Connections(inv) as conns:
         plan_wanted = dict(wanted)

@@ -1,12 +1,26 @@
 """`panther-ops apply` and `config diff`: the inventory's desired state (launch arguments,
-controller, image, GPS) converged in one plan per robot."""
+controller, image, GPS, the WebUI on the User Computer) converged in one plan per robot.
+
+The robot's files go through the pipeline (backup, recreate, verify, roll back); the WebUI's
+settings are an action after them (`desired_applier`): `sudo snap set` on the User Computer
+through the robot's connection, the WebUI restarted when it was running, read back.
+"""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from panther_ops.core.config.plans import _args_summary, compose_plan, controller_edits, edit_args
-from panther_ops.core.config.robot import read_config
+from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.errors import OpsError
+from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport.base import Secret
+
+if TYPE_CHECKING:
+    from panther_ops.core.remote.webui.desired import WebuiPlan
 
 
 def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
@@ -65,7 +79,8 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     arg_summary = _args_summary(cfg, old_args)
     if arg_summary != "no change":
         parts.insert(0, arg_summary)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps"})
+    webui = _plan_webui(ctx, cfg, desired.get("webui"), warnings)
+    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps", "webui"})
     if unsupported:
         warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
     plan = compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
@@ -75,4 +90,62 @@ def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
         plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
         if driver_same:
             plan.verify = [v for v in plan.verify if v.service in recreate]
+    _add_webui(plan, webui)
     return plan
+
+
+def _plan_webui(ctx: RobotContext, cfg: RobotConfig, desired: dict[str, Any] | None,
+                warnings: list[str]) -> WebuiPlan | None:
+    """desired.webui's plan, with the robot's namespace as this plan leaves the compose file."""
+    if not desired:
+        return None
+    from panther_ops.core.remote.webui.defaults import robot_namespace
+    from panther_ops.core.remote.webui.desired import plan_desired_webui
+
+    webui = plan_desired_webui(ctx, desired, robot_namespace(ctx, cfg))
+    warnings += webui.warnings or []
+    return webui
+
+
+def _add_webui(plan: RobotPlan, webui: WebuiPlan | None) -> None:
+    """The WebUI's change as the plan's action, after the files (see the module's text)."""
+    if webui is None or not webui.changes:
+        if webui is not None and webui.host:
+            plan.data["webui"] = webui.to_json()
+        return
+    from panther_ops.core.remote.webui.desired import ACTION
+
+    plan.data.update(action=ACTION, webui={**webui.to_json(), "wanted": webui.wanted},
+                     files_summary=plan.summary if plan.edits else "")
+    plan.summary = f"change {plan.summary}; {webui.summary}" if plan.edits else webui.summary
+    plan.noop = None
+
+
+def desired_applier(password: Secret | None) -> Any:
+    """Carry out `plan_desired`'s plans: the files through the pipeline, then the WebUI's
+    settings (files that failed or rolled back leave the WebUI untouched)."""
+    def apply(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+        from panther_ops.core.remote.webui.desired import ACTION, apply_desired_webui
+
+        result = apply_plan(ctx, plan, opts)
+        if plan.data.get("action") != ACTION or opts.dry_run:
+            return result
+        if plan.edits and result.outcome is not Outcome.CHANGED:
+            return result
+        files = f"{plan.data.get('files_summary')}; " if plan.edits else ""
+        try:
+            outcome, message, after = apply_desired_webui(ctx, plan.data["webui"]["wanted"], password)
+        except OpsError as exc:
+            outcome, message, after = Outcome.FAILED, f"WebUI: {exc.message}", {}
+            if exc.hint:
+                result.warnings.append(exc.hint)
+        result.data["webui_after"] = after
+        if outcome is Outcome.SKIPPED and plan.edits:
+            result.warnings.append(message)
+            result.message = plan.data.get("files_summary", result.message)
+        else:
+            result.outcome = outcome if outcome is not Outcome.OK or not plan.edits else Outcome.CHANGED
+            result.message = files + message
+        return result
+
+    return apply

@@ -7,6 +7,13 @@ hosts file kind's one validator, and carries a masked exact diff; the pipeline t
 the old content up in ``<directory>/.panther-ops/backups/<id>/`` (``files/0`` and a
 ``manifest.json``), stages the new file beside it and renames it into place only if the file
 is still what was read. Nothing is recreated.
+
+``config history --file FILE`` lists those backups (``history.list_history`` with ``only``:
+the ones of that file; a directory may hold several hosts files) and ``config rollback --file
+FILE`` restores one through the same plan and pipeline as a robot's rollback
+(``history.plan_rollback``): masked exact diff, backup of the current file first, staged
+write renamed only if the file is unchanged; the content restored goes through the hosts
+file validator as every write of the file does.
 """
 
 from __future__ import annotations
@@ -14,6 +21,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+from panther_ops.core.fleet.confine import local_file
+from panther_ops.core.fleet.history import plan_rollback
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
@@ -22,9 +31,10 @@ from panther_ops.core.kinds.hostsfile import Edit
 from panther_ops.errors import UsageError
 
 
-def local_target(file: Path) -> tuple[Inventory, Robot]:
-    """The file's directory as a one-target inventory (named as the operator gave the file)."""
-    full = file.resolve()
+def local_target(file: Path, option: str | None = None) -> tuple[Inventory, Robot]:
+    """The file's directory as a one-target inventory (named as the operator gave the file);
+    ``option``: the file was given with it (``--file``) and is checked first (exit 2)."""
+    full = Path(local_file(str(file), option)) if option else file.resolve()
     robot = Robot(name=str(file), host="localhost", transport="local", root=Path("/"), home=str(full.parent),
                   source=str(file))
     return Inventory(path=full, origin=str(file), robots={robot.name: robot}, groups={}, forks=1), robot
@@ -53,3 +63,20 @@ def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str],
     edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
     return RobotPlan(ctx.robot.name, edit.message, edits, warnings=warnings, home=home,
                      data={"hosts_file": where})
+
+
+def plan_local_rollback(ctx: RobotContext, file: Path, to: str | None) -> RobotPlan:
+    """The plan restoring the local file as it was before backup ``to`` (default: the newest)."""
+
+    warnings: list[str] = []
+
+    def edit(path: str, now: bytes | None, old: bytes | None) -> FileEdit:
+        if old is not None:
+            warnings.extend(check_file(FileKind.SHUTDOWN_HOSTS, str(file), old, local=file))
+        return MaskedFileEdit(path, now, old, None if now is not None else 0o600)
+
+    plan = plan_rollback(ctx, to, only=str(file.resolve()), edit=edit)
+    plan.warnings += warnings
+    plan.home = str(file.resolve().parent)
+    plan.data["hosts_file"] = str(file)
+    return plan
