@@ -212,7 +212,8 @@ def versions(
     """
     from panther_ops.cli.render import finish
     from panther_ops.core.driver.containers import versions_task
-    from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags
+    from panther_ops.core.driver.hub import fetch_hub_tags
+    from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError
 
     inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
     tags: dict[str, list[HubTag]] | None = None

@@ -140,8 +140,9 @@ def enable(
       panther-ops gps enable -r panther-01 --yes
       panther-ops gps enable -r panther-01 --router --yes
     """
+    from panther_ops.core.gps.plan import GpsOptions
     from panther_ops.core.gps.router import check_address
-    from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+    from panther_ops.core.gps.service import apply_gps, plan_enable
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)

@@ -30,7 +30,7 @@ from panther_ops.cli.shutdown_view import (
 if TYPE_CHECKING:
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.results import RobotResult
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
 
 app = typer.Typer(
@@ -101,7 +101,7 @@ def secret_from(env: str | None, file: Path | None, ask: bool) -> Secret | None:
     import getpass
     import os
 
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
     given = [x for x in (env, file, ask or None) if x]
     if len(given) > 1:
@@ -253,7 +253,7 @@ def setup(
 
     from panther_ops.core.config.hostsfile import check_entry, new_entry
     from panther_ops.core.shutdown.setup import SetupRequest, run_setup
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
     errors = [f for f in check_entry(new_entry(host, username=user or "husarion", port=port, timeout=timeout))
               if f.level == "error"]

@@ -14,7 +14,7 @@ from panther_ops.cli import context
 from panther_ops.cli.options import All, Groups, Json, Robots
 
 if TYPE_CHECKING:
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
 app = typer.Typer(help="The husarion-webui snap on the robots' User Computers (through the robots).",
                   no_args_is_help=True)
@@ -27,7 +27,7 @@ _PRELOAD = ("panther_ops.core.remote.webui.remote", "fabric")
 
 
 def _password(ask: bool) -> Secret | None:
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
     if ask:
         import getpass

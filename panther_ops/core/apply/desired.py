@@ -1,78 +1,17 @@
-"""`panther-ops apply` and `config diff`: the inventory's desired state (launch arguments,
-controller, image, GPS) converged in one plan per robot."""
+"""`panther-ops apply` and `config diff` on one robot: read compose.yaml (kept for the write
+when there is a desired state to converge) and the files the planner (`plan_desired.py`) asks for."""
 
 from __future__ import annotations
 
-from panther_ops.core.config.plans import _args_summary, compose_plan, controller_edits, edit_args
-from panther_ops.core.config.robot import read_config
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.apply import plan_desired as planner
+from panther_ops.core.config.robot import read_compose
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 
 
 def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     """Converge the robot to the inventory's ``desired:`` launch_args, controller and image."""
     desired = ctx.robot.desired
-    if not desired:
-        cfg = read_config(ctx)
-        return compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
-    cfg = read_config(ctx, keep=True)
-    old_args = dict(cfg.compose.args)
-    driver_before = cfg.compose.service(cfg.service)
-    warnings: list[str] = []
-    verify: list[Verify] = []
-    edits: list[FileEdit] = []
-    parts: list[str] = []
-    image = desired.get("image")
-    if image and image != cfg.compose.driver_image:
-        cfg.compose.set_image(image)
-        parts.append(f"image -> {image}")
-    migrated = None
-    if desired.get("launch_args"):
-        largs = dict(desired["launch_args"])
-        if "wheel_type" in largs:
-            from panther_ops.core.config.wheel_change import migrate, point_at
-
-            migrated = migrate(ctx, cfg, str(largs["wheel_type"]))
-            if migrated is not None:
-                largs.update(point_at(cfg, migrated))
-                warnings += migrated.warnings
-                parts.append(migrated.summary)
-        w, v = edit_args(cfg, largs, [], force)
-        warnings += w
-        verify.append(v)
-    if desired.get("controller"):
-        e, w, v, s = controller_edits(ctx, cfg, desired["controller"], force, migrated)
-        if migrated is not None:
-            migrated.edits = []  # the controller edit below carries the migrated file
-        if e:
-            edits += e
-            parts.append(s)
-        warnings += w
-        verify.append(v)
-    if migrated is not None:
-        edits += migrated.edits
-    recreate: tuple[str, ...] = ()
-    driver_files = bool(edits)
-    if desired.get("gps") is not None:
-        from panther_ops.core.gps.desired import desired_gps
-
-        gps = desired_gps(ctx, cfg, desired["gps"])
-        edits += gps.extra
-        warnings += gps.warnings
-        verify += gps.verify
-        parts += gps.parts
-        recreate = gps.recreate
-    arg_summary = _args_summary(cfg, old_args)
-    if arg_summary != "no change":
-        parts.insert(0, arg_summary)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps"})
-    if unsupported:
-        warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
-    plan = compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
-                        "matches the inventory's desired state", extra=edits)
-    if plan.edits and recreate:  # desired.gps: the nmea-gps service alone when the driver is as it was
-        driver_same = not driver_files and cfg.compose.service(cfg.service) == driver_before
-        plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
-        if driver_same:
-            plan.verify = [v for v in plan.verify if v.service in recreate]
-    return plan
+    raw = read_compose(ctx, keep=bool(desired))
+    return read_and_plan(ctx, lambda reads: planner.plan_desired(raw, reads, desired, force=force))

@@ -15,9 +15,9 @@ import posixpath
 
 from panther_ops.core.config.compose import image_repo
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
-from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.fleet.stack import Family
 from panther_ops.errors import UsageError
 
@@ -47,14 +47,7 @@ def _mounted(cfg: RobotConfig, service: str, container_path: str) -> str | None:
     return None
 
 
-def _read(ctx: RobotContext, path: str) -> bytes | None:
-    try:
-        return ctx.transport.read_file(path)
-    except FileNotFoundError:
-        return None
-
-
-def plan_joy2twist(ctx: RobotContext, cfg: RobotConfig, name: str, data: bytes, warnings: list[str]) -> RobotPlan:
+def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warnings: list[str]) -> RobotPlan:
     """The plan of a checked joy2twist file ``name`` with content ``data`` for this robot."""
     edits: list[FileEdit] = []
     if cfg.stack.family is Family.HUSARION_UGV:
@@ -77,14 +70,14 @@ def plan_joy2twist(ctx: RobotContext, cfg: RobotConfig, name: str, data: bytes, 
             cfg.compose.add_volume(path, container, ro=True, service=service)
         cfg.compose.set_arg(ARG, container, service)
         contains = (f"{ARG}:={container}",)
-    before = _read(ctx, path)
+    before = reads.file(path)
     if before != data:
         edits.append(FileEdit(path, before, data))
     after = cfg.compose.text().encode()
     if after != cfg.before:
         edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
     summary = f"joy2twist: {name} -> {path}" + (f" ({contains[0]} in {service})" if contains else "")
-    plan = RobotPlan(ctx.robot.name, summary, edits, (service,), cfg.compose_path, [Verify(service, contains)],
+    plan = RobotPlan(reads.robot, summary, edits, (service,), cfg.compose_path, [Verify(service, contains)],
                      None if edits else f"{path} already has this content", [*warnings, *cfg.compose.notes])
     plan.data["stack"] = cfg.stack.label()
     plan.data["robot_path"] = path
@@ -92,11 +85,11 @@ def plan_joy2twist(ctx: RobotContext, cfg: RobotConfig, name: str, data: bytes, 
     return plan
 
 
-def pull_joy2twist(ctx: RobotContext, cfg: RobotConfig) -> tuple[bytes, str]:
+def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str]:
     """The gamepad parameters in use: the mounted file (<= 2.1) or the tree's (2.2)."""
     if cfg.stack.family is Family.HUSARION_UGV:
         path = tree_path(cfg)
-        if cfg.tree_mounted and (data := _read(ctx, path)) is not None:
+        if cfg.tree_mounted and (data := reads.file(path)) is not None:
             return data, f"{path} (config tree)"
         raise UsageError(f"{path} not found: the driver uses its image's default gamepad parameters",
                          hint="panther-ops has no template of the joy2twist file")
@@ -107,7 +100,7 @@ def pull_joy2twist(ctx: RobotContext, cfg: RobotConfig) -> tuple[bytes, str]:
             target = v.target.rstrip("/")
             if v.source and (current == target or current.startswith(target + "/")):
                 host = posixpath.normpath(cfg.resolve(v.source) + current[len(target):])
-                if (data := _read(ctx, host)) is not None:
+                if (data := reads.file(host)) is not None:
                     return data, f"{host} (mounted into {service}, {ARG}:={current})"
     raise UsageError(f"{service} uses {ARG}:={current or '(none)'}: the image's default, not a file on the robot",
                      hint="panther-ops has no template of the joy2twist file")

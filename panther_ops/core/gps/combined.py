@@ -13,8 +13,9 @@ from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.credentials import Credentials
+from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.core.gps.router import RouterRequest, changes, describe, open_router, read_state, summary_of
-from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+from panther_ops.core.gps.service import apply_gps, plan_enable
 from panther_ops.results import Outcome, RobotResult
 
 

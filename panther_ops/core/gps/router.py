@@ -21,7 +21,7 @@ from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.credentials import Credentials
-from panther_ops.core.gps.listen import check_port
+from panther_ops.core.gps.udp_address import check_port
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult
 

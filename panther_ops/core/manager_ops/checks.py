@@ -25,7 +25,7 @@ import shlex
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost

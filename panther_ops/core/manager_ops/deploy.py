@@ -25,8 +25,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.config.plans import compose_plan, edit_args
-from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.config.planners import compose_plan, edit_args
+from panther_ops.core.config.robot import read_config
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.templates import template_file
@@ -73,7 +74,7 @@ def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | N
     _refuse_old(cfg, ctx.robot.name)
     settings = manager_settings(ctx.robot.desired, sim=sim, scenario=scenario)
     if not settings.enabled:
-        plan = compose_plan(ctx, cfg, "no change", [], [], "desired.manager.enabled is false: not deployed "
+        plan = compose_plan(ctx.robot.name, cfg, "no change", [], [], "desired.manager.enabled is false: not deployed "
                             "(panther-ops manager remove takes a deployed one away)")
         plan.recreate = ()
         return plan
@@ -111,7 +112,8 @@ def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | N
     noop = (f"manager {bundle.version} ({settings.mode}) already deployed; "
             f"{arg}:={cfg.compose.args.get(arg)} on {cfg.service}")
     briefs = {e.path: brief(e, what.get(e.path, "")) for e in edits if e.path in what or e.after is None}
-    plan = as_manager_plan(compose_plan(ctx, cfg, "; ".join(parts), warnings, verify, noop, extra=edits), briefs)
+    plan = as_manager_plan(compose_plan(ctx.robot.name, cfg, "; ".join(parts), warnings, verify, noop, extra=edits),
+                           briefs)
     plan.recreate = tuple(recreate) if plan.edits else ()
     plan.warnings = [x for x in plan.warnings if not x.startswith(f"services.{SERVICE}.")]
     if not plan.edits:
@@ -212,7 +214,7 @@ def plan_remove(ctx: RobotContext) -> RobotPlan:
     warnings: list[str] = []
     present = SERVICE in compose.services()
     if not present and state is None:
-        plan = compose_plan(ctx, cfg, "no change", [], [], "the manager is not deployed")
+        plan = compose_plan(ctx.robot.name, cfg, "no change", [], [], "the manager is not deployed")
         plan.recreate = ()
         return plan
     arg = _arg_name(cfg)
@@ -244,8 +246,8 @@ def plan_remove(ctx: RobotContext) -> RobotPlan:
     parts = [f"remove manager {version} (service {SERVICE})" if present else f"remove manager {version} files"]
     if driver_changed:
         parts.append(f"{arg} restored on {cfg.service} (stock manager back)")
-    plan = as_manager_plan(compose_plan(ctx, cfg, "; ".join(parts), warnings, [verify] if driver_changed else [],
-                                        "the manager is not deployed", extra=edits),
+    plan = as_manager_plan(compose_plan(ctx.robot.name, cfg, "; ".join(parts), warnings,
+                                        [verify] if driver_changed else [], "the manager is not deployed", extra=edits),
                            {e.path: brief(e, "") for e in edits if e.path != cfg.compose_path})
     plan.recreate = (cfg.service,) if driver_changed else ()
     plan.data.update({"action": "remove", "version": version, "service": SERVICE, "root": root,

@@ -15,7 +15,8 @@ import json
 import posixpath
 import re
 
-from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.config.robot import read_config
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError
 from panther_ops.manager.adapters.interfaces import RosInterfaces, interfaces_for

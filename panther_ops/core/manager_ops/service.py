@@ -10,7 +10,7 @@ from typing import Any
 
 from panther_ops.core.config.compose import Volume
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.stack import Family
 from panther_ops.core.manager_ops.layout import Layout

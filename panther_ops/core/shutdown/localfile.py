@@ -14,12 +14,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from panther_ops.core.config.hostsfile import Edit, MaskedFileEdit
-from panther_ops.core.config.kinds import FileKind, check_file
+from panther_ops.core.config.hostsfile import Edit
 from panther_ops.core.fleet.inventory import Inventory, Robot
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import UsageError
+from panther_ops.core.shutdown.plan_hosts import plan_local_edit
 
 
 def local_target(file: Path) -> tuple[Inventory, Robot]:
@@ -32,24 +32,4 @@ def local_target(file: Path) -> tuple[Inventory, Robot]:
 
 def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str], Edit]) -> RobotPlan:
     """The plan of one change to a local hosts file (``change`` maps its text to the new one)."""
-    path = str(file.resolve())
-    where = str(file)
-    try:
-        before: bytes | None = ctx.transport.read_file(path)
-    except FileNotFoundError:
-        before = None
-    try:
-        text = (before or b"").decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise UsageError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start})",
-                         hint="nothing was changed") from exc
-    edit = change(text)
-    after = edit.text.encode()
-    warnings = check_file(FileKind.SHUTDOWN_HOSTS, where, after, local=file)
-    home = str(Path(path).parent)
-    if not edit.changed or after == before:
-        return RobotPlan(ctx.robot.name, edit.message, noop=edit.message, warnings=warnings, home=home)
-    # a new file may hold a secret (--ask-secret): only its owner reads it
-    edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
-    return RobotPlan(ctx.robot.name, edit.message, edits, warnings=warnings, home=home,
-                     data={"hosts_file": where})
+    return read_and_plan(ctx, lambda reads: plan_local_edit(reads, file, change))

@@ -21,7 +21,8 @@ from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.core.remote.webui.settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
-from panther_ops.transport.base import Command, Secret
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command
 from panther_ops.transport.user_computer import UserComputerSession
 
 DEFAULT_CHANNEL = "humble"
