@@ -72,7 +72,8 @@ def router_show(
     Example: PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.gps.router import check_address, show_task
+    from panther_ops.core.gps.router import show_task
+    from panther_ops.core.gps.router_plan import check_address
 
     check_address(address)
     creds = credentials()
@@ -114,13 +115,8 @@ def router_set(
 
     Example: panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
-    from panther_ops.core.gps.router import (
-        RouterRequest,
-        apply_router,
-        check_address,
-        parse_sentences,
-        plan_router,
-    )
+    from panther_ops.core.gps.router import apply_router, plan_router
+    from panther_ops.core.gps.router_plan import RouterRequest, check_address, parse_sentences
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))

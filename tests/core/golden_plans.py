@@ -4,7 +4,7 @@ A case names the planner, what the reader read and what the user asked:
 
     description: set wheel_type on a 2.1.1 robot
     planner: config.set            # a key of PLANNERS below
-    compose: templates/compose/panther-2.1.1.yaml   # compose.yaml as read (repository file)
+    compose: templates/compose/panther-2.1.1.yaml   # compose.yaml as read (repository file; optional)
     home: /home/husarion            # optional; compose.yaml is <home>/compose.yaml
     stack: auto                     # the inventory's stack: setting (optional)
     namespace: null                 # the inventory's namespace: (optional)
@@ -12,7 +12,7 @@ A case names the planner, what the reader read and what the user asked:
       /home/husarion/x.yaml: templates/...   # a repository file,
       /home/husarion/y.yaml: {text: "..."}   # literal content,
       /home/husarion/z.yaml: null            # or absent on the robot
-    facts: {engine: null}           # facts by kind (``kind`` or ``kind key``), optional
+    facts: {engine: null}           # facts by kind (``kind`` or ``kind key``), optional; {text: ...}: bytes
     args: {...}                     # what the user asked (per planner)
     expect: {...}                   # the plan, as :func:`render` shows it
 
@@ -28,14 +28,19 @@ from typing import Any
 
 from panther_ops.core.apply.plan_desired import plan_desired
 from panther_ops.core.config import planners as config_planners
+from panther_ops.core.config.hostsfile import POWER_BUDGET_S
 from panther_ops.core.config.kinds import FileKind
 from panther_ops.core.config.plan_push import Bundle, plan_push
 from panther_ops.core.config.robot_config import ComposeRead
 from panther_ops.core.driver import planners as driver_planners
 from panther_ops.core.driver.images import parse_target
 from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Need, Reads
 from panther_ops.core.gps.plan import GpsOptions, plan_disable, plan_enable
+from panther_ops.core.gps.router_plan import RouterRequest, router_plan
+from panther_ops.core.manager_ops.bundle import ManagerBundle
+from panther_ops.core.manager_ops.plan_deploy import plan_deploy, plan_remove
 from panther_ops.core.shutdown import plan_hosts
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -78,10 +83,33 @@ def _hosts_add(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
     return plan
 
 
+def _shutdown_robot(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
+    """`shutdown robot`'s plan (hosts to shut down) shown as a RobotPlan: summary = the hosts."""
+    from panther_ops.core.config.robot_config import parse_config
+
+    rf = plan_hosts.hosts_in_use(parse_config(raw, reads.stack), reads)
+    assert rf is not None
+    sp = plan_hosts.shutdown_plan(reads.robot, rf, a.get("power_budget", POWER_BUDGET_S))
+    plan = RobotPlan(sp.robot, "; ".join(f"{h.ip}:{h.port} {h.method.value}" for h in sp.hosts))
+    plan.data["source"] = sp.hosts_file.source
+    return plan
+
+
 def _push(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
     data = str(a["text"]).encode() if "text" in a else (ROOT / a["file"]).read_bytes()
     bundle = Bundle(Path(a.get("name") or Path(a["file"]).name), data)
     return plan_push(raw, reads, FileKind(a["kind"]), bundle, force=a.get("force", False))
+
+
+def _deploy(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
+    b = a["bundle"]  # a stand-in archive: the real one changes with every change of the manager's code
+    bundle = ManagerBundle(str(b["text"]).encode(), b["version"], b["build"], dependencies=b.get("dependencies", {}))
+    return plan_deploy(raw, reads, a.get("desired", {}), sim=a.get("sim"), scenario=a.get("scenario"), bundle=bundle)
+
+
+def _router(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
+    req = RouterRequest(**{k: tuple(v) if k == "sentences" else v for k, v in a["request"].items()})
+    return router_plan(reads.robot, a["address"], a["state"], req, a.get("fingerprint"), a.get("pinned_now", False))
 
 
 PLANNERS: dict[str, Callable[[ComposeRead, Reads, dict[str, Any]], RobotPlan]] = {
@@ -99,17 +127,23 @@ PLANNERS: dict[str, Callable[[ComposeRead, Reads, dict[str, Any]], RobotPlan]] =
         desired_image=a.get("desired_image"), force=a.get("force", False), pull=a.get("pull", False)),
     "driver.restore": lambda raw, reads, a: driver_planners.plan_restore_defaults(raw, reads, hard=a.get("hard", False)),
     "shutdown.hosts_add": _hosts_add,
+    "shutdown.robot": _shutdown_robot,
+    "manager.deploy": _deploy,
+    "manager.remove": lambda raw, reads, a: plan_remove(raw, reads),
+    "config.rollback": lambda raw, reads, a: plan_rollback(reads, a.get("to")),
+    "gps.router": _router,
     "apply.desired": lambda raw, reads, a: plan_desired(raw, reads, a.get("desired", {}), force=a.get("force", False)),
 }
 
 
 def run_case(case: dict[str, Any]) -> tuple[RobotPlan, TrackedReads]:
     home = case.get("home", "/home/husarion")
-    raw = ComposeRead(home, f"{home}/compose.yaml", (ROOT / case["compose"]).read_bytes(), case.get("mode"))
+    compose = (ROOT / case["compose"]).read_bytes() if case.get("compose") else b""  # not every planner reads it
+    raw = ComposeRead(home, f"{home}/compose.yaml", compose, case.get("mode"))
     facts: dict[Need, Any] = {}
     for name, value in (case.get("facts") or {}).items():
         kind, _, key = str(name).partition(" ")
-        facts[Need(kind, key)] = value
+        facts[Need(kind, key)] = _content(value) if isinstance(value, dict) and set(value) == {"text"} else value
     reads = TrackedReads(case.get("robot", "panther-01"), str(case.get("stack", "auto")), case.get("namespace"),
                          {path: _content(v) for path, v in (case.get("files") or {}).items()}, facts)
     plan = PLANNERS[case["planner"]](raw, reads, case.get("args") or {})

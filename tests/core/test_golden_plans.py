@@ -61,3 +61,13 @@ def test_planner_golden_case(case_file: Path) -> None:
 def test_every_planner_has_a_case() -> None:
     used = {yaml.safe_load(p.read_text(encoding="utf-8"))["planner"] for p in CASE_FILES}
     assert used == set(PLANNERS), f"planners without a golden case: {sorted(set(PLANNERS) - used)}"
+
+
+def test_trust_planner() -> None:
+    """`trust`: the offered key against the recorded ones (pure: types and fingerprints)."""
+    from panther_ops.core.fleet.plan_trust import trust_state
+
+    assert trust_state("ssh-ed25519", "SHA256:a", [("ssh-ed25519", "SHA256:a")]) == "known"
+    assert trust_state("ssh-ed25519", "SHA256:b", [("ssh-ed25519", "SHA256:a")]) == "changed"
+    assert trust_state("ssh-ed25519", "SHA256:b", [("ssh-rsa", "SHA256:c")]) == "new"
+    assert trust_state("ssh-ed25519", "SHA256:b", []) == "new"

@@ -141,7 +141,7 @@ def enable(
       panther-ops gps enable -r panther-01 --router --yes
     """
     from panther_ops.core.gps.plan import GpsOptions
-    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.router_plan import check_address
     from panther_ops.core.gps.service import apply_gps, plan_enable
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
@@ -248,7 +248,7 @@ def status(
       panther-ops gps status -r panther-01 --router --json
     """
     from panther_ops.cli.render import finish
-    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.router_plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
 
     check_address(address)
@@ -286,7 +286,7 @@ def watch(
 
     from panther_ops.cli.render import _console, emit_json
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.router_plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
     from panther_ops.errors import UsageError
 

@@ -11,10 +11,12 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from panther_ops.core.fleet import plan_rollback as planner
 from panther_ops.core.fleet.pipeline import BACKUP_ROOT
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import RemoteStateError, TransportError, UsageError
+from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.transport import scripts_backup
 from panther_ops.transport.base import Command
 
@@ -39,44 +41,17 @@ def list_history(ctx: RobotContext) -> list[dict[str, Any]]:
     return entries
 
 
-def plan_rollback(ctx: RobotContext, to: str | None) -> RobotPlan:
-    """Restore the files of backup ``to`` (default: the newest) as they were before that change."""
-    from panther_ops.core.fleet.confine import backup_entry_ok, backup_ref
+def read_backup(ctx: RobotContext, key: str) -> bytes:
+    """A file of a backup (``key``: ``<id>/<name in the backup>``) as it was saved."""
+    backup_id, _, name = key.partition("/")
+    res = ctx.transport.run(Command.sh(scripts_backup.READ_BACKUP, f"{BACKUP_ROOT}/{backup_id}", name))
+    if not res.ok:
+        raise RemoteStateError(f"backup {backup_id} is incomplete: {name} missing")
+    return res.raw_stdout
 
-    backup_ref(to)
-    entries = [e for e in list_history(ctx) if backup_entry_ok(e.get("id"), e.get("files", []))]
-    if not entries:
-        raise RemoteStateError("no backups on this robot: nothing to roll back to")
-    if to is None:
-        entry = entries[-1]
-    else:
-        hits = [e for e in entries if str(e.get("id", "")).startswith(to)]
-        if len(hits) != 1:
-            known = ", ".join(str(e.get("id")) for e in entries[-5:])
-            raise UsageError(f"backup {to!r} {'is ambiguous' if hits else 'not found'} on {ctx.robot.name}",
-                             hint=f"newest backups: {known} (panther-ops config history)")
-        entry = hits[0]
-    bdir = f"{BACKUP_ROOT}/{entry['id']}"
-    edits: list[FileEdit] = []
-    for f in entry.get("files", []):
-        path = str(f["path"])
-        try:
-            now: bytes | None = ctx.transport.read_file(path)
-        except FileNotFoundError:
-            now = None
-        if f.get("backup"):
-            res = ctx.transport.run(Command.sh(scripts_backup.READ_BACKUP, bdir, str(f["backup"])))
-            if not res.ok:
-                raise RemoteStateError(f"backup {entry['id']} is incomplete: {f['backup']} missing")
-            old: bytes | None = res.raw_stdout
-        else:
-            old = None
-        if now != old:
-            edits.append(FileEdit(path, now, old))
-    services = tuple(entry.get("recreate", ()))
-    plan = RobotPlan(ctx.robot.name, f"restore backup {entry['id']} (before: {entry.get('command') or '?'})",
-                     edits, services, str(entry.get("compose_file", "~/compose.yaml")),
-                     [Verify(s) for s in services],
-                     noop=f"already as before {entry['id']}")
-    plan.data["backup_restored"] = entry["id"]
-    return plan
+
+def plan_rollback(ctx: RobotContext, to: str | None) -> RobotPlan:
+    """Restore the files of backup ``to`` (default: the newest): read the backups the planner
+    (`plan_rollback.py`, pure) asks for, and the files as they are now."""
+    return read_and_plan(ctx, lambda reads: planner.plan_rollback(reads, to),
+                         {planner.HISTORY: lambda c, _key: list_history(c), planner.BACKUP: read_backup})

@@ -85,7 +85,7 @@ class StatusOptions:
         """Bad input refused before any robot is contacted (exit 2)."""
         import math
 
-        from panther_ops.core.gps.router import check_address
+        from panther_ops.core.gps.router_plan import check_address
         from panther_ops.core.gps.udp_address import check_port
 
         check_port(self.port, "--port")
@@ -170,7 +170,8 @@ def status_task(opts: StatusOptions) -> Any:
         router = None
         warnings: list[str] = []
         if opts.router is not None and opts.credentials is not None:
-            from panther_ops.core.gps.router import open_router, read_state, summary_of
+            from panther_ops.core.gps.router import open_router, read_state
+            from panther_ops.core.gps.router_plan import summary_of
 
             api = open_router(ctx, opts.router, opts.credentials)
             router = summary_of(read_state(api))

@@ -32,6 +32,7 @@ from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.fleet.stack import Stack
 from panther_ops.errors import InputError, UsageError
+from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 
 
 @dataclass
@@ -140,3 +141,22 @@ def plan_local_edit(reads: Reads, file: Path, change: Callable[[str], Edit]) -> 
     edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
     return RobotPlan(reads.robot, edit.message, edits, warnings=warnings, home=home,
                      data={"hosts_file": where})
+
+
+@dataclass
+class RobotShutdownPlan:
+    robot: str
+    hosts_file: RobotHostsFile
+    parsed: HostsFile
+    hosts: list[ShutdownHost]
+
+
+def shutdown_plan(robot: str, rf: RobotHostsFile, power_budget: float = POWER_BUDGET_S) -> RobotShutdownPlan:
+    """`shutdown robot`: the robot's hosts file, validated (UsageError when it has errors)."""
+    parsed = rf.parse(power_budget)
+    if parsed.errors:
+        raise UsageError(f"its hosts file ({rf.source}) has errors: "
+                         + "; ".join(str(f) for f in parsed.errors),
+                         hint=f"fix it first (panther-ops shutdown hosts validate -r {robot}); nothing was "
+                         "shut down")
+    return RobotShutdownPlan(robot, rf, parsed, parsed.hosts())
