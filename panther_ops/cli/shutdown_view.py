@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from panther_ops.core.config.hostsfile import HostsFile
+    from panther_ops.core.kinds.hostsfile import HostsFile
     from panther_ops.results import FleetResult
 
 

@@ -27,7 +27,7 @@ from typing import Any
 from panther_ops.core.config import arg_edits
 from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.fleet.stack import stack_from_version
+from panther_ops.core.stack import stack_from_version
 from panther_ops.core.yaml.document import Flow, Folded, Literal, Quoted, YamlDocument
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -28,8 +28,6 @@ from typing import Any
 
 from panther_ops.core.apply.plan_desired import plan_desired
 from panther_ops.core.config import planners as config_planners
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S
-from panther_ops.core.config.kinds import FileKind
 from panther_ops.core.config.plan_push import Bundle, plan_push
 from panther_ops.core.config.robot_config import ComposeRead
 from panther_ops.core.driver import planners as driver_planners
@@ -39,6 +37,8 @@ from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Need, Reads
 from panther_ops.core.gps.plan import GpsOptions, plan_disable, plan_enable
 from panther_ops.core.gps.router_plan import RouterRequest, router_plan
+from panther_ops.core.kinds import FileKind
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.manager_ops.bundle import ManagerBundle
 from panther_ops.core.manager_ops.plan_deploy import plan_deploy, plan_remove
 from panther_ops.core.shutdown import plan_hosts
@@ -72,8 +72,8 @@ def _content(value: Any) -> bytes | None:
 
 
 def _hosts_add(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
-    from panther_ops.core.config.hostsfile import add_host, new_entry
     from panther_ops.core.config.robot_config import parse_config
+    from panther_ops.core.kinds.hostsfile import add_host, new_entry
 
     rf = plan_hosts.hosts_in_use(parse_config(raw, reads.stack), reads)
     assert rf is not None, "the case's robot uses its image's default hosts file: that plan is config push's"

@@ -6,22 +6,23 @@ import pytest
 
 from panther_ops.core.config import controller as ctl
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.fleet.stack import stack_from_version
+from panther_ops.core.kinds import controller_limits as lim
+from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 
 S204, S211, S222 = (stack_from_version(v) for v in ("2.0.4", "2.1.1", "2.2.2"))
 
 
 def test_parse_limit_keys() -> None:
-    assert ctl.parse_limit_key("controller.linear.x.max_velocity") == ctl.LimitKey("linear.x", "max_velocity")
-    assert ctl.parse_limit_key("angular.z.has_jerk_limits").dotted == "controller.angular.z.has_jerk_limits"
-    assert ctl.LimitKey("angular.z", "max_acceleration").unit == "rad/s²"
-    assert ctl.LimitKey("linear.x", "max_acceleration").path("drive_controller") == (
+    assert lim.parse_limit_key("controller.linear.x.max_velocity") == lim.LimitKey("linear.x", "max_velocity")
+    assert lim.parse_limit_key("angular.z.has_jerk_limits").dotted == "controller.angular.z.has_jerk_limits"
+    assert lim.LimitKey("angular.z", "max_acceleration").unit == "rad/s²"
+    assert lim.LimitKey("linear.x", "max_acceleration").path("drive_controller") == (
         "/**", "drive_controller", "ros__parameters", "linear", "x", "max_acceleration")
-    with pytest.raises(ctl.ControllerError, match="max_velocity"):
-        ctl.parse_limit_key("controller.linear.z.max_velocity")
-    assert "controller.linear.y.max_velocity" in ctl.all_limit_keys("WH02")
-    assert "controller.linear.y.max_velocity" not in ctl.all_limit_keys("WH01")
+    with pytest.raises(lim.ControllerError, match="max_velocity"):
+        lim.parse_limit_key("controller.linear.z.max_velocity")
+    assert "controller.linear.y.max_velocity" in lim.all_limit_keys("WH02")
+    assert "controller.linear.y.max_velocity" not in lim.all_limit_keys("WH01")
 
 
 @pytest.mark.parametrize(
@@ -38,30 +39,30 @@ def test_parse_limit_keys() -> None:
     ],
 )
 def test_wheel_limits_are_enforced(wheel: str, key: str, limit: float) -> None:
-    assert ctl.validate_limit(S211, wheel, key, limit).value == limit
-    with pytest.raises(ctl.LimitExceededError) as err:
-        ctl.validate_limit(S211, wheel, key, limit + 0.1)
+    assert lim.validate_limit(S211, wheel, key, limit).value == limit
+    with pytest.raises(lim.LimitExceededError) as err:
+        lim.validate_limit(S211, wheel, key, limit + 0.1)
     assert f"exceeds the {wheel} limit of {limit}" in str(err.value) and isinstance(err.value, UsageError)
-    forced = ctl.validate_limit(S211, wheel, key, limit + 0.1, force=True)
+    forced = lim.validate_limit(S211, wheel, key, limit + 0.1, force=True)
     assert forced.value == pytest.approx(limit + 0.1) and "(forced)" in forced.warnings[0]
 
 
 def test_value_checks() -> None:
-    assert ctl.validate_limit(S211, "WH01", "controller.linear.x.has_velocity_limits", "False").value is False
-    assert ctl.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", "1").value == 1.0
-    with pytest.raises(ctl.ControllerError, match="not a number"):
-        ctl.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", "fast")
-    with pytest.raises(ctl.ControllerError, match="not a boolean"):
-        ctl.validate_limit(S211, "WH01", "controller.linear.x.has_jerk_limits", "yes please")
-    with pytest.raises(ctl.ControllerError, match="negative"):
-        ctl.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", -1)
-    with pytest.raises(ctl.ControllerError, match="positive"):
-        ctl.validate_limit(S211, "WH01", "controller.linear.x.min_velocity", 1)
-    with pytest.raises(ctl.ControllerError, match="mecanum"):
-        ctl.validate_limit(S211, "WH01", "controller.linear.y.max_velocity", 1)
-    with pytest.raises(ctl.ControllerError, match="finite"):
-        ctl.validate_limit(S211, "WH01", "controller.linear.x.max_jerk", "inf")
-    custom = ctl.validate_limit(S211, "custom", "controller.linear.x.max_velocity", 3.0)
+    assert lim.validate_limit(S211, "WH01", "controller.linear.x.has_velocity_limits", "False").value is False
+    assert lim.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", "1").value == 1.0
+    with pytest.raises(lim.ControllerError, match="not a number"):
+        lim.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", "fast")
+    with pytest.raises(lim.ControllerError, match="not a boolean"):
+        lim.validate_limit(S211, "WH01", "controller.linear.x.has_jerk_limits", "yes please")
+    with pytest.raises(lim.ControllerError, match="negative"):
+        lim.validate_limit(S211, "WH01", "controller.linear.x.max_velocity", -1)
+    with pytest.raises(lim.ControllerError, match="positive"):
+        lim.validate_limit(S211, "WH01", "controller.linear.x.min_velocity", 1)
+    with pytest.raises(lim.ControllerError, match="mecanum"):
+        lim.validate_limit(S211, "WH01", "controller.linear.y.max_velocity", 1)
+    with pytest.raises(lim.ControllerError, match="finite"):
+        lim.validate_limit(S211, "WH01", "controller.linear.x.max_jerk", "inf")
+    custom = lim.validate_limit(S211, "custom", "controller.linear.x.max_velocity", 3.0)
     assert "no reference limits" in custom.warnings[0]
 
 
@@ -70,7 +71,7 @@ def test_value_checks() -> None:
 def test_default_files_carry_the_wheel_limits(stack: object, wheel: str) -> None:
     config = ctl.ControllerConfig.default(stack, wheel)  # type: ignore[arg-type]
     assert config.controller_key == stack.controller_key  # type: ignore[attr-defined]
-    limits = ctl.WHEEL_LIMITS[wheel]
+    limits = lim.WHEEL_LIMITS[wheel]
     assert config.get("controller.linear.x.max_velocity") == limits.linear_velocity
     assert config.get("controller.linear.x.max_acceleration") == limits.linear_acceleration
     assert config.get("controller.angular.z.max_velocity") == limits.angular_velocity
@@ -82,11 +83,11 @@ def test_default_files_carry_the_wheel_limits(stack: object, wheel: str) -> None
 
 def test_controller_key_must_match_the_stack() -> None:
     old = ctl.default_controller_text(S204, "WH01")
-    with pytest.raises(ctl.ControllerFileError, match="drive_controller"):
+    with pytest.raises(lim.ControllerFileError, match="drive_controller"):
         ctl.ControllerConfig.parse(old, S211, "WH01", path="/config/WH01_controller.yaml")
     forced = ctl.ControllerConfig.parse(old, S211, "WH01", force=True)
     assert forced.controller_key == "panther_base_controller" and forced.doc.notes
-    with pytest.raises(ctl.ControllerFileError, match="no drive_controller"):
+    with pytest.raises(lim.ControllerFileError, match="no drive_controller"):
         ctl.ControllerConfig.parse("a: 1\n", S211, "WH01")
 
 

@@ -9,7 +9,7 @@ import pytest
 from panther_ops.core.config import arg_catalogue, arg_edits, arg_rules
 from panther_ops.core.config import launch_args as la
 from panther_ops.core.config.compose import ComposeFile
-from panther_ops.core.fleet.stack import stack_from_version
+from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 
 S200, S201, S204, S210, S211, S220, S222 = (

@@ -194,7 +194,7 @@ def test_the_manuals_animations_example_is_pushed(demo: Path, tmp_path: Path,
 
 
 def test_registry_has_one_validator_per_kind() -> None:
-    from panther_ops.core.config.kinds import FileKind, FileKindError, check_file
+    from panther_ops.core.kinds import FileKind, FileKindError, check_file
 
     for kind in FileKind:
         with pytest.raises(FileKindError):
@@ -202,7 +202,7 @@ def test_registry_has_one_validator_per_kind() -> None:
 
 
 def test_compose_kind() -> None:
-    from panther_ops.core.config.kinds import FileKind, FileKindError, check_file
+    from panther_ops.core.kinds import FileKind, FileKindError, check_file
 
     assert check_file(FileKind.COMPOSE, "c.yaml", b"services:\n  a:\n    image: x\n") == []
     with pytest.raises(FileKindError, match="services must be a mapping"):

@@ -205,7 +205,7 @@ UGV_FORM = """/**:
 
 @pytest.mark.parametrize("text", [PANTHER_FORM, UGV_FORM], ids=["button_index_map", "input_index_map"])
 def test_both_forms_of_the_nodes_own_files_are_accepted(text: str) -> None:
-    from panther_ops.core.config.kinds import FileKind, check_file
+    from panther_ops.core.kinds import FileKind, check_file
 
     assert check_file(FileKind.JOY2TWIST, "pad.yaml", text.encode()) == []
 
@@ -217,7 +217,7 @@ def test_both_forms_of_the_nodes_own_files_are_accepted(text: str) -> None:
      "both given"),
 ], ids=["bad-input", "bad-stamped", "both-maps"])
 def test_the_input_form_is_checked_too(text: str, named: str) -> None:
-    from panther_ops.core.config.kinds import FileKind, FileKindError, check_file
+    from panther_ops.core.kinds import FileKind, FileKindError, check_file
 
     with pytest.raises(FileKindError, match=re.escape(named)):
         check_file(FileKind.JOY2TWIST, "pad.yaml", text.encode())

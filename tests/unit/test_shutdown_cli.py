@@ -187,9 +187,9 @@ def test_local_file_edits_go_through_the_pipeline_with_a_backup(tmp_path: Path,
 
 
 def test_a_local_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -> None:
-    from panther_ops.core.config.hostsfile import add_host, new_entry
     from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
     from panther_ops.core.fleet.runner import RobotContext, open_transport
+    from panther_ops.core.kinds.hostsfile import add_host, new_entry
     from panther_ops.core.shutdown.localfile import local_target, plan_local_hosts_edit
     from panther_ops.results import Outcome
 

@@ -9,13 +9,13 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.config.hostsfile import (
+from panther_ops.core.fleet.plan import mask_secrets
+from panther_ops.core.kinds.hostsfile import (
     Mode,
     add_host,
     check_entry,
     is_power_off_command,
     load_hosts_file,
-    mask_secrets,
     new_entry,
     parse_hosts,
     remove_host,

@@ -3,7 +3,7 @@ from __future__ import annotations
 import pytest
 
 from panther_ops.core.fleet.facts import clock_offset, parse_env, parse_probe
-from panther_ops.core.fleet.stack import Family, Generation, find_driver, parse_image
+from panther_ops.core.stack import Family, Generation, find_driver, parse_image
 from panther_ops.errors import RemoteStateError
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.remote.webui.settings import SettingError, dds_profile
+from panther_ops.core.kinds.webui_settings import SettingError, dds_profile
 from panther_ops.core.remote.webui.state import parse_state, plan_changes
 
 STATE = """@@list

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.core.fleet.inventory_file import load_inventory
-from panther_ops.core.remote.webui.settings import SettingError, validate
+from panther_ops.core.kinds.webui_settings import SettingError, validate
 from panther_ops.errors import ExitCode, InputError
 
 

@@ -93,8 +93,8 @@ def deploy(
 
     Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
-    from panther_ops.core.config.kinds import FileKind
     from panther_ops.core.config.push import plan_push, read_bundle
+    from panther_ops.core.kinds import FileKind
 
     bundle = read_bundle(FileKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
     inv, chosen = context.targets(ctx, robot, group, all_)

@@ -159,7 +159,7 @@ def shutdown(
 
 def _shutdown_file(ctx: typer.Context, path: Path, via: str | None, identity: Path | None,
                    known_hosts: Path | None, yes: bool, dry_run: bool, power_budget: float, json_out: bool) -> int:
-    from panther_ops.core.config.hostsfile import load_hosts_file
+    from panther_ops.core.kinds.hostsfile import load_hosts_file
     from panther_ops.core.shutdown.run import shutdown_hosts
 
     for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
@@ -251,7 +251,7 @@ def setup(
     """
     import getpass
 
-    from panther_ops.core.config.hostsfile import check_entry, new_entry
+    from panther_ops.core.kinds.hostsfile import check_entry, new_entry
     from panther_ops.core.shutdown.setup import SetupRequest, run_setup
     from panther_ops.secret import Secret
 

@@ -33,7 +33,7 @@ from panther_ops.cli.shutdown_view import (
 hosts_app = typer.Typer(help="The shutdown hosts file: the robot's (-r ROBOT) or a local FILE.", no_args_is_help=True)
 
 if TYPE_CHECKING:
-    from panther_ops.core.config.hostsfile import HostsFile
+    from panther_ops.core.kinds.hostsfile import HostsFile
     from panther_ops.results import RobotResult
 
 
@@ -60,7 +60,7 @@ def hosts_list(
 
     Example: panther-ops shutdown hosts list -r panther-01
     """
-    from panther_ops.core.config.hostsfile import load_hosts_file
+    from panther_ops.core.kinds.hostsfile import load_hosts_file
     from panther_ops.results import FleetResult, Outcome, RobotResult
 
     _local_or_robots(file, robot, group, all_)
@@ -95,7 +95,7 @@ def _file_data(parsed: HostsFile, source: str, rf: Any = None) -> dict[str, Any]
 
 def _check_ip(ip: str) -> None:
     """--ip of `hosts remove` is what a hosts file's ip may be (the hosts file validator's rule)."""
-    from panther_ops.core.config.hostsfile import valid_address
+    from panther_ops.core.kinds.hostsfile import valid_address
 
     if not valid_address(ip):
         raise usage_error(f"--ip {ip!r} is not an IP address or host name")
@@ -121,7 +121,7 @@ def hosts_validate(
 
     Example: panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
     """
-    from panther_ops.core.config.hostsfile import Mode, load_hosts_file
+    from panther_ops.core.kinds.hostsfile import Mode, load_hosts_file
     from panther_ops.results import FleetResult, Outcome
 
     _local_or_robots(file, robot, group, all_)
@@ -130,7 +130,7 @@ def hosts_validate(
     if file is not None:
         mode = None
         if stack:
-            from panther_ops.core.fleet.stack import stack_option
+            from panther_ops.core.stack import stack_option
 
             mode = Mode.HTTP if stack_option(stack).shutdown_over_http else Mode.SSH
         parsed = load_hosts_file(file, mode=mode, power_budget=power_budget)
@@ -181,7 +181,7 @@ def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
 
 def _entry(ip: str, user: str | None, port: int | None, command: str | None, timeout: float | None,
            no_ping: bool, http: bool, secret: Any) -> dict[str, Any]:
-    from panther_ops.core.config.hostsfile import check_entry, new_entry
+    from panther_ops.core.kinds.hostsfile import check_entry, new_entry
 
     if http and user:
         raise usage_error("--http hosts have no --user (husarion-shutdown takes a signed request, not a login)")
@@ -242,7 +242,7 @@ def hosts_add(
       panther-ops shutdown hosts add -r panther-01 --ip 10.15.20.3 --user husarion --yes
       panther-ops shutdown hosts add hosts.yaml --ip 10.15.20.5 --http --secret-env NUC_SECRET
     """
-    from panther_ops.core.config.hostsfile import add_host
+    from panther_ops.core.kinds.hostsfile import add_host
 
     if not ip:
         raise usage_error("--ip is required")
@@ -292,7 +292,7 @@ def hosts_remove(
 
     Example: panther-ops shutdown hosts remove -r panther-01 --ip 10.15.20.3 --yes
     """
-    from panther_ops.core.config.hostsfile import remove_host
+    from panther_ops.core.kinds.hostsfile import remove_host
 
     if not ip:
         raise usage_error("--ip is required")

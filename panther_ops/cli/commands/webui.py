@@ -78,8 +78,8 @@ def install(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_
 
     Example: panther-ops webui install -r panther-01 --ask-sudo-password
     """
+    from panther_ops.core.kinds.webui_settings import PROFILE
     from panther_ops.core.remote.webui.remote import install_task
-    from panther_ops.core.remote.webui.settings import PROFILE
 
     if not PROFILE.match(channel.replace("/", "_")):
         from panther_ops.errors import UsageError
@@ -191,7 +191,7 @@ def set_(
 
 def _wanted(settings: list[str], dds_file: Path | None) -> tuple[dict[str, str], tuple[str, bytes] | None]:
     """KEY=VALUE arguments and the DDS profile, validated (UsageError: nothing is sent)."""
-    from panther_ops.core.remote.webui.settings import SettingError, dds_profile, validate
+    from panther_ops.core.kinds.webui_settings import SettingError, dds_profile, validate
     from panther_ops.errors import UsageError
 
     pairs: dict[str, str] = {}

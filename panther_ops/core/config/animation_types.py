@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import re
 
-from panther_ops.core.fleet.stack import Family, Stack
+from panther_ops.core.stack import Family, Stack
 
 STOCK_TYPES = ("ImageAnimation", "ChargingAnimation")
 PACKAGES = {Family.PANTHER_ROS: "panther_lights", Family.HUSARION_UGV: "husarion_ugv_lights"}

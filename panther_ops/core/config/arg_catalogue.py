@@ -6,7 +6,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
-from panther_ops.core.fleet.stack import Family, Stack
+from panther_ops.core.stack import Family, Stack
 
 Version = tuple[int, int, int]
 

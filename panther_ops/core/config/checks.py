@@ -6,7 +6,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from panther_ops.core.config.launch_args import validate_arg
-from panther_ops.core.fleet.stack import stack_from_version
+from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 
 REPRESENTATIVE = ("2.0.0", "2.0.4", "2.1.0", "2.1.1", "2.2.0", "2.2.2")
@@ -21,7 +21,7 @@ def precheck_key(key: str, *, known: bool = True) -> None:
         UsageError: naming the key, with close names where there are some.
     """
     if key.startswith("controller."):
-        from panther_ops.core.config.controller import parse_limit_key
+        from panther_ops.core.kinds.controller_limits import parse_limit_key
 
         parse_limit_key(key)
         return
@@ -40,7 +40,7 @@ def precheck(values: Mapping[str, Any], *, force: bool = False) -> None:
     """
     for key, value in values.items():
         if key.startswith("controller."):  # loaded only for controller keys: start-up stays short
-            from panther_ops.core.config.controller import parse_limit_key, validate_limit
+            from panther_ops.core.kinds.controller_limits import parse_limit_key, validate_limit
         errors: list[UsageError] = []
         relevant: list[UsageError] = []
         """errors of stacks that have the key: they are about the value, not about a version"""

@@ -36,7 +36,7 @@ from panther_ops.core.config.launchcmd import (
     shell_tokens,
     split_arg,
 )
-from panther_ops.core.fleet.stack import Stack, parse_image
+from panther_ops.core.stack import Stack, parse_image
 from panther_ops.core.yaml.document import (
     Alias,
     DocumentError,

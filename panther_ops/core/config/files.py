@@ -19,8 +19,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
-from panther_ops.core.fleet.stack import Family, Generation, Stack
 from panther_ops.core.fleet.templates import read_template, template_path
+from panther_ops.core.stack import Family, Generation, Stack
 from panther_ops.errors import UsageError
 
 ROBOT_CONFIG_DIR = "/home/husarion/config"

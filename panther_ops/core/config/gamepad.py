@@ -18,7 +18,7 @@ from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.fleet.stack import Family
+from panther_ops.core.stack import Family
 from panther_ops.errors import UsageError
 
 ARG = "joy2twist_params_file"

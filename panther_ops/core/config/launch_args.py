@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from panther_ops.core.config.arg_catalogue import _ALIAS_NOTES, _BY_NAME, _V2_2, CATALOGUE, ArgSpec, ArgType, _ugv
-from panther_ops.core.fleet.stack import Stack
+from panther_ops.core.stack import Stack
 from panther_ops.errors import UsageError
 
 if TYPE_CHECKING:  # validating a value needs no YAML editor (ruamel loads when a compose file is edited)

@@ -12,13 +12,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
-from panther_ops.core.config.kinds import FileKind, Target, check_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.planners import compose_plan, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind, Target, check_file
 from panther_ops.errors import InputError
 
 KINDS = {

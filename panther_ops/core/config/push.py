@@ -19,7 +19,6 @@ from pathlib import Path
 
 from panther_ops.core.config import plan_push as planner
 from panther_ops.core.config.files import config_file
-from panther_ops.core.config.kinds import PUSHABLE, FileKind, check_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plan_push import BT_ARGS, BT_TEMPLATES, KINDS, Bundle, wheel_of
 from panther_ops.core.config.robot import read_compose, read_config
@@ -27,6 +26,7 @@ from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds import PUSHABLE, FileKind, check_file
 from panther_ops.errors import InputError, UsageError
 
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
@@ -61,7 +61,7 @@ def read_bundle(kind: FileKind, path: Path, *, force: bool = False) -> Bundle:
     if kind in BT_ARGS:
         if path.suffix != ".btproj":
             raise InputError("a BT project is pushed by its .btproj file", path=str(path))
-        from panther_ops.core.config.kinds.bt import project_files
+        from panther_ops.core.kinds.bt import project_files
 
         check_file(kind, str(path), data, local=path, force=force)
         bundle.extra = {rel: src.read_bytes() for rel, src in project_files(path).items()}

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
-from panther_ops.core.fleet.stack import Stack, stack_from_version
+from panther_ops.core.stack import Stack, stack_from_version
 
 
 @dataclass

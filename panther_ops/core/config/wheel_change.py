@@ -14,12 +14,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from panther_ops.core.config.controller import ControllerConfig, parse_limit_key, validate_limit
+from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds.controller_limits import parse_limit_key, validate_limit
 from panther_ops.errors import UsageError
 
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.config.compose import image_repo
-from panther_ops.core.fleet.stack import PANTHER_REPO, UGV_REPO
+from panther_ops.core.stack import PANTHER_REPO, UGV_REPO
 from panther_ops.errors import OpsError, UsageError
 
 DRIVER_REPOS = (PANTHER_REPO, UGV_REPO)

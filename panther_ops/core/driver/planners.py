@@ -20,7 +20,7 @@ from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.fleet.stack import Family, parse_image
+from panther_ops.core.stack import Family, parse_image
 from panther_ops.errors import OpsError, RemoteStateError, UsageError
 
 ENGINE = "engine"

@@ -68,7 +68,7 @@ _COMPOSE_CHECKED: Memo[list[str]] = Memo()
 def check_written(plan: RobotPlan) -> None:
     """The compose file a plan writes, through the compose file kind's validator (once per
     distinct content: the robots of a fleet mostly share one)."""
-    from panther_ops.core.config.kinds import FileKind, check_file
+    from panther_ops.core.kinds import FileKind, check_file
 
     for e in plan.edits:
         if e.path == plan.compose_file and e.after is not None:

@@ -281,7 +281,7 @@ class _Loader:
 
     def check_webui(self, m: LineDict, f: Path, key: str) -> None:
         """desired.webui: the snap's keys (or their short names) with the configure hook's rules."""
-        from panther_ops.core.remote.webui.settings import SettingError, validate
+        from panther_ops.core.kinds.webui_settings import SettingError, validate
 
         for sk, sv in m.items():
             try:

@@ -145,7 +145,7 @@ def stack_value(v: Any) -> str:
     if not isinstance(v, str) or not (v == "auto" or VERSION.match(v)):
         raise BadValue(f"stack {v!r} is not allowed", "auto, or a version such as 2.1.1 or 2.2.2")
     if v != "auto":
-        from panther_ops.core.fleet.stack import stack_from_version
+        from panther_ops.core.stack import stack_from_version
         from panther_ops.errors import RemoteStateError
 
         try:

@@ -5,6 +5,7 @@ what must hold afterwards. Planners build these from what they read; the pipelin
 from __future__ import annotations
 
 import functools
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -25,6 +26,26 @@ class FileEdit:
 
     def diff(self) -> Diff:
         return _diff(self.path, self.before, self.after)
+
+
+_SECRET_LINE = re.compile(r"^(\s*(?:-\s+)?secret\s*:\s*)(?![{\s]|$)([^#\n]*?)(\s*(?:#.*)?)$", re.MULTILINE)
+
+
+def mask_secrets(text: str) -> str:
+    """`secret: value` lines with the value replaced by ****, for diffs and logs."""
+    return _SECRET_LINE.sub(lambda m: f"{m.group(1)}****{m.group(3)}", text)
+
+
+@dataclass(frozen=True)
+class MaskedFileEdit(FileEdit):
+    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value: a
+    shutdown hosts file's HMAC secret)."""
+
+    def diff(self) -> Diff:
+        plain = super().diff()
+        old = mask_secrets((self.before or b"").decode(errors="replace"))
+        new = mask_secrets((self.after or b"").decode(errors="replace"))
+        return Diff(plain.path, unified_diff(old, new, self.path))
 
 
 @functools.lru_cache(maxsize=256)

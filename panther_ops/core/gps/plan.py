@@ -32,8 +32,8 @@ from panther_ops.core.config.planners import edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.fleet.stack import Family
 from panther_ops.core.gps.udp_address import check_port
+from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 

@@ -7,7 +7,7 @@ from typing import Any
 
 from panther_ops.core.fleet.facts import RobotFacts, clock_offset, parse_probe, probe_command
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import Stack, find_driver, parse_image, stack_from_version
+from panther_ops.core.stack import Stack, find_driver, parse_image, stack_from_version
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command

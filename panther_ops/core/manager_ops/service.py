@@ -12,7 +12,6 @@ from panther_ops.core.config.compose import Volume
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.fleet.stack import Family
 from panther_ops.core.manager_ops.layout import Layout
 from panther_ops.core.manager_ops.settings import (
     _SHARED_TARGETS,
@@ -24,6 +23,7 @@ from panther_ops.core.manager_ops.settings import (
     SSH_POWEROFF,
     ManagerSettings,
 )
+from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 
@@ -140,7 +140,7 @@ def _hosts_file(reads: Reads, cfg: RobotConfig, settings: ManagerSettings,
 
 def _check_hosts(reads: Reads, cfg: RobotConfig, path: str) -> None:
     """The hosts file the deployed manager will read, through the one hosts file validator."""
-    from panther_ops.core.config.kinds import FileKind, Target, check_file
+    from panther_ops.core.kinds import FileKind, Target, check_file
 
     data = reads.file(path)
     if data is None:

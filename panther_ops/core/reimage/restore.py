@@ -24,9 +24,9 @@ from typing import Any
 from panther_ops.core.fleet.changes import Planner
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import parse_version
 from panther_ops.core.reimage.backup import MANIFEST_VERSION, collect
 from panther_ops.core.reimage.reapply import reapply, same_line
+from panther_ops.core.stack import parse_version
 from panther_ops.core.yaml.diff import unified_diff
 from panther_ops.errors import UsageError
 from panther_ops.results import Diff
@@ -171,7 +171,7 @@ def _edit(f: BackupFile, before: bytes | None) -> FileEdit:
     """The write of one file; a secret's diff is masked (a private key: wholly; a shutdown
     hosts file: its ``secret:`` values)."""
     if f.secret and posixpath.basename(f.path).startswith("shutdown_hosts"):
-        from panther_ops.core.config.hostsfile import MaskedFileEdit
+        from panther_ops.core.fleet.plan import MaskedFileEdit
 
         return MaskedFileEdit(f.path, before, f.data, f.mode)
     if f.secret:

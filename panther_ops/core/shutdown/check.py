@@ -21,8 +21,8 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S, HostEntry
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, HostEntry
 from panther_ops.core.shutdown.remote import RobotLink, exec_on
 from panther_ops.core.shutdown.robotfile import read_robot_hosts
 from panther_ops.errors import OpsError

@@ -14,11 +14,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from panther_ops.core.config.hostsfile import Edit
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.hostsfile import Edit
 from panther_ops.core.shutdown.plan_hosts import plan_local_edit
 
 

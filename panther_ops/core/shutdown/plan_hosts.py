@@ -23,14 +23,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Edit, HostsFile, MaskedFileEdit, Mode, parse_hosts
-from panther_ops.core.config.kinds import FileKind, FileKindError, check_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.planners import compose_plan
 from panther_ops.core.config.robot_config import RobotConfig
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.fleet.stack import Stack
+from panther_ops.core.kinds import FileKind, FileKindError, check_file
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, parse_hosts
+from panther_ops.core.stack import Stack
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 

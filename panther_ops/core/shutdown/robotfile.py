@@ -6,14 +6,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S
-from panther_ops.core.config.kinds import FileKind
 from panther_ops.core.config.plan_push import Bundle
 from panther_ops.core.config.push import plan_push, pull
 from panther_ops.core.config.robot import read_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds import FileKind
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.shutdown.plan_hosts import (
     Editor,
     RobotHostsFile,

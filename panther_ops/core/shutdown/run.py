@@ -17,8 +17,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterable
 
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.shutdown.plan_hosts import RobotShutdownPlan, shutdown_plan
 from panther_ops.core.shutdown.remote import RobotLink, backends_via
 from panther_ops.core.shutdown.robotfile import read_robot_hosts

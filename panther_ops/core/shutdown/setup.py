@@ -31,13 +31,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from panther_ops.core.config.hostsfile import POWER_BUDGET_S, Mode, add_host, new_entry
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.stack import Stack
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Mode, add_host, new_entry
 from panther_ops.core.shutdown.check import install_hint, probe_secret, sudo_without_password
 from panther_ops.core.shutdown.remote import RobotLink, TargetError, exec_on
 from panther_ops.core.shutdown.robotfile import plan_hosts_edit
+from panther_ops.core.stack import Stack
 from panther_ops.errors import OpsError
 from panther_ops.manager.shutdown_executor import ShutdownHost
 from panther_ops.results import Diff, Outcome, RobotResult

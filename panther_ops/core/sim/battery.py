@@ -1,13 +1,13 @@
 """battery_plugin_config.yaml (simulation only, panther_gazebo): `sim battery check`.
 
-The file kind's one validator is `core/config/kinds` (the same that `config push --as battery`
+The file kind's one validator is `core/kinds` (the same that `config push --as battery`
 uses); here it is asked about a local file, whose stack is not known: 0-100 (percent, 2.0)
 is accepted and a 0-1 value is reported as the fraction that panther_ros 2.1.1+ writes.
 """
 
 from __future__ import annotations
 
-from panther_ops.core.config.kinds import FileKind, check_file
+from panther_ops.core.kinds import FileKind, check_file
 
 
 def validate_battery(data: bytes, path: str) -> list[str]:

@@ -35,8 +35,8 @@ def check_triple(value: Any, what: str) -> str:
 
 def validate_components(text: str, path: str) -> None:
     """`FileKindError` (exit 2, naming the entry and key) unless ``text`` is a valid components
-    file: the file kind's one validator (`core/config/kinds`, also `config push --as components`)."""
-    from panther_ops.core.config.kinds import FileKind, check_file
+    file: the file kind's one validator (`core/kinds`, also `config push --as components`)."""
+    from panther_ops.core.kinds import FileKind, check_file
 
     check_file(FileKind.COMPONENTS, path, text.encode())
 

@@ -1,7 +1,8 @@
 """The husarion-webui snap on a robot's User Computer.
 
-* `settings`: its configuration keys and the one validator of them (the rules of the
-  snap's configure hook), used by every path that writes WebUI settings.
+* `remote`: its state on a User Computer, install and settings. The settings' keys and their
+  one validator (the rules of the snap's configure hook) are `core.kinds.webui_settings`,
+  used by every path that writes WebUI settings (and by the inventory's ``desired.webui``).
 """
 
 from __future__ import annotations

@@ -15,8 +15,8 @@ from collections.abc import Callable
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, validate
 from panther_ops.core.remote.user_computer.access import open_session
-from panther_ops.core.remote.webui.settings import COMMON_DIR, SNAP, SettingError, validate
 from panther_ops.core.remote.webui.state import WebuiState, parse_state, plan_changes
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult

@@ -7,8 +7,8 @@ import json
 from dataclasses import dataclass, field
 from typing import Any
 
+from panther_ops.core.kinds.webui_settings import DEFAULTS, SNAP
 from panther_ops.core.remote.estop.answers import split
-from panther_ops.core.remote.webui.settings import DEFAULTS, SNAP
 
 
 @dataclass

@@ -7,9 +7,9 @@ import re
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.kinds.common import is_number, load_mapping
-from panther_ops.core.config.kinds.registry import FileKindError, Target
-from panther_ops.core.fleet.stack import Family
+from panther_ops.core.kinds.common import is_number, load_mapping
+from panther_ops.core.kinds.registry import FileKindError, Target
+from panther_ops.core.stack import Family
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _PATHISH = re.compile(r"^[A-Za-z0-9_./-]+$")

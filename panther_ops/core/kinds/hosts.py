@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from panther_ops.core.config.kinds.common import text_of
-from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.common import text_of
+from panther_ops.core.kinds.registry import FileKindError, Target
 
 WHAT = "shutdown hosts file"
 
 
 def check_shutdown_hosts(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
-    from panther_ops.core.config.hostsfile import Mode, parse_hosts
+    from panther_ops.core.kinds.hostsfile import Mode, parse_hosts
 
     text = text_of(source, data, WHAT)
     mode = None

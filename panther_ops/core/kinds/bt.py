@@ -12,9 +12,9 @@ import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from panther_ops.core.config.kinds.common import text_of
-from panther_ops.core.config.kinds.lights import on_disk, split
-from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.common import text_of
+from panther_ops.core.kinds.lights import on_disk, split
+from panther_ops.core.kinds.registry import FileKindError, Target
 
 WHAT = "BT project"
 

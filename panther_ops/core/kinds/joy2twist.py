@@ -17,8 +17,8 @@ import re
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.kinds.common import is_number, load_mapping
-from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.common import is_number, load_mapping
+from panther_ops.core.kinds.registry import FileKindError, Target
 
 WHAT = "gamepad (joy2twist) parameters"
 NODES = ("joy2twist_node", "/**")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from panther_ops.core.config.kinds.registry import FileKindError
+from panther_ops.core.kinds.registry import FileKindError
 
 
 def text_of(source: str, data: bytes, what: str) -> str:

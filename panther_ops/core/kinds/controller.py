@@ -1,6 +1,6 @@
 """The controller file (``WH0X_controller.yaml``): structure, ROS types and the wheel limits.
 
-The limits are checked by `core.controller.validate_limit`, the check `config set
+The limits are checked by `controller_limits.validate_limit`, the check `config set
 controller.<key>` makes, so a pushed file and a set value get the same message. A file
 value must also have the type ROS declares: a double parameter written as an integer
 (``max_velocity: 2``) makes the controller refuse to load.
@@ -13,8 +13,20 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.kinds.common import text_of
-from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.common import text_of
+from panther_ops.core.kinds.controller_limits import (
+    BOOL_PARAMS,
+    CONTROLLER_KEYS,
+    FLOAT_PARAMS,
+    ControllerError,
+    LimitExceededError,
+    file_limits,
+    limit_warnings,
+    locate,
+    validate_limit,
+)
+from panther_ops.core.kinds.registry import FileKindError, Target
+from panther_ops.core.stack import stack_from_version
 
 WHAT = "controller file"
 KINEMATICS = ("wheel_radius", "wheel_separation", "wheel_separation_x", "wheel_separation_y",
@@ -58,15 +70,6 @@ class _Check:
                     self.limit(f"controller.{group}.{axis}.{param}", param, value)
 
     def limit(self, dotted: str, param: str, value: Any) -> None:
-        from panther_ops.core.config.controller import (
-            BOOL_PARAMS,
-            FLOAT_PARAMS,
-            ControllerError,
-            LimitExceededError,
-            validate_limit,
-        )
-        from panther_ops.core.fleet.stack import stack_from_version
-
         if param in BOOL_PARAMS and not isinstance(value, bool):
             self.errors.append(f"{dotted}={value!r} is not a boolean; allowed: true, false")
             return
@@ -91,7 +94,6 @@ class _Check:
 
 
 def check_controller(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
-    from panther_ops.core.config.controller import CONTROLLER_KEYS, ControllerConfig
     from panther_ops.core.yaml.document import YamlDocument
     from panther_ops.core.yaml.paths import DocumentError
     from panther_ops.errors import UsageError
@@ -107,9 +109,11 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
     check = _Check(target, force)
     if target.stack is not None:
         try:
-            ctrl = ControllerConfig(doc, target.stack, target.wheel_type or "custom", force=force)
+            top, key = locate(doc, target.stack, force=force)
             check.warnings.extend(doc.notes)
-            check.warnings.extend(w for w in ctrl.check() if "exceeds" not in w)  # limits at zero
+            limits = file_limits(doc, top, key)
+            check.warnings.extend(w for w in limit_warnings(limits, target.wheel_type or "custom")
+                                  if "exceeds" not in w)  # limits at zero
         except UsageError as exc:
             check.errors.append(exc.message)
             check.hint = exc.hint

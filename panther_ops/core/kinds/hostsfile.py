@@ -15,7 +15,7 @@ A local file may hold the secret as ``secret: {env: VARIABLE}`` or ``{file: PATH
 relative to the hosts file), resolved only when the hosts are used; the robot's own file
 holds the value itself, since the manager reads it.
 
-Size (~540 lines): the file kind's one model: both formats, their validation and their
+Size (~525 lines): the file kind's one model: both formats, their validation and their
 edits share the entry rules, so the validator and the editor cannot drift apart.
 """
 
@@ -32,12 +32,9 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.fleet.plan import FileEdit
-from panther_ops.core.yaml.diff import unified_diff
 from panther_ops.core.yaml.document import DocumentError, Flow, YamlDocument
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
-from panther_ops.results import Diff
 from panther_ops.secret import Secret
 
 DEFAULT_COMMAND = "sudo shutdown now"
@@ -525,22 +522,3 @@ def remove_host(text: str, ip: str, username: str | None = None, port: int | Non
     for i in reversed(drop):
         doc.delete(f"hosts.{i}")
     return Edit(doc.text, True, f"removed {len(drop)} entr{'y' if len(drop) == 1 else 'ies'} of {ip}")
-
-
-_SECRET_LINE = re.compile(r"^(\s*(?:-\s+)?secret\s*:\s*)(?![{\s]|$)([^#\n]*?)(\s*(?:#.*)?)$", re.MULTILINE)
-
-
-def mask_secrets(text: str) -> str:
-    """`secret: value` lines with the value replaced by ****, for diffs and logs."""
-    return _SECRET_LINE.sub(lambda m: f"{m.group(1)}****{m.group(3)}", text)
-
-
-@dataclass(frozen=True)
-class MaskedFileEdit(FileEdit):
-    """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value)."""
-
-    def diff(self) -> Diff:
-        plain = super().diff()
-        old = mask_secrets((self.before or b"").decode(errors="replace"))
-        new = mask_secrets((self.after or b"").decode(errors="replace"))
-        return Diff(plain.path, unified_diff(old, new, self.path))

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
 
-from panther_ops.core.fleet.stack import Stack
+from panther_ops.core.stack import Stack
 from panther_ops.errors import UsageError
 
 
@@ -63,7 +63,7 @@ Validator = Callable[[str, bytes, "Path | None", Target, bool], list[str]]
 
 
 def _registry() -> dict[FileKind, Validator]:
-    from panther_ops.core.config.kinds import bt, compose, controller, hosts, joy2twist, lights, simple
+    from panther_ops.core.kinds import bt, compose, controller, hosts, joy2twist, lights, simple
 
     return {
         FileKind.CONTROLLER: controller.check_controller,

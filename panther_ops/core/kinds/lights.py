@@ -7,8 +7,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.kinds.common import load_mapping
-from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.common import load_mapping
+from panther_ops.core.kinds.registry import FileKindError, Target
 
 
 def finding_line(f: Any) -> str:

@@ -6,10 +6,17 @@ hosts add/remove``, ``apply``, ``manager deploy``...) checks the new content thr
 same message whatever command carries it: the message of the kind's dedicated validator
 (``bt validate``, ``lights validate``, ``shutdown hosts validate``, the controller limits of
 ``config set``).
+
+The shared engine, below `fleet` (whose change pipeline checks every compose file a plan
+writes, and whose inventory checks ``desired.webui``) and above `stack` and `yaml`: the
+kinds' models and rules live here, not in a feature, so every feature and the engine use the
+same one. Besides the registry: `controller_limits` (the wheel types' limits, shared with
+``config set``), `hostsfile` (the shutdown hosts file: both formats, validation and edits),
+`webui_settings` (the husarion-webui snap's keys and its configure hook's rules).
 """
 
 from __future__ import annotations
 
-from panther_ops.core.config.kinds.registry import PUSHABLE, FileKind, FileKindError, Target, check_file
+from panther_ops.core.kinds.registry import PUSHABLE, FileKind, FileKindError, Target, check_file
 
 __all__ = ["PUSHABLE", "FileKind", "FileKindError", "Target", "check_file"]

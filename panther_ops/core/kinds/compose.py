@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from panther_ops.core.config.kinds.common import load_mapping
-from panther_ops.core.config.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.common import load_mapping
+from panther_ops.core.kinds.registry import FileKindError, Target
 
 WHAT = "compose file"
 

@@ -1,0 +1,291 @@
+"""The drive controller's limits (``WH0X_controller.yaml``): keys, the wheel types' limits, checks.
+
+Keys are dotted: ``controller.linear.x.max_velocity``, ``controller.angular.z.max_acceleration``,
+``controller.linear.x.has_jerk_limits``... (``linear.y`` exists only for the mecanum wheels
+WH02). They map into the controller file under
+``/**: <controller_key>: ros__parameters: linear: x: max_velocity``, where the controller key
+is ``panther_base_controller`` up to panther_ros 2.0.4 and ``drive_controller`` from 2.1.0.
+
+The wheel types have upper limits (panther-stack.md 1.4; the shipped defaults equal them):
+WH01 2.0 m/s, 2.7 m/s², 4.0 rad/s, 5.74 rad/s²; WH02 and WH04 1.1 m/s, 1.5 m/s², 2.2 rad/s,
+3.2 rad/s². A value above the limit is refused with `LimitExceededError` naming it, unless
+``force`` (then it is written with a warning).
+
+The rules shared by the controller file's validator (`controller.py`) and its editor
+(`core.config.controller.ControllerConfig`, ``config set controller.<key>``): the same value
+gets the same message whichever path writes it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from panther_ops.core.stack import Stack
+from panther_ops.errors import InputError, UsageError
+
+if TYPE_CHECKING:  # the YAML editor (ruamel) loads when a file is read, not for validating values
+    from panther_ops.core.yaml.document import YamlDocument
+
+AXES = ("linear.x", "linear.y", "angular.z")
+BOOL_PARAMS = ("has_velocity_limits", "has_acceleration_limits", "has_jerk_limits")
+FLOAT_PARAMS = ("max_velocity", "min_velocity", "max_acceleration", "min_acceleration", "max_jerk", "min_jerk")
+CONTROLLER_KEYS = ("drive_controller", "panther_base_controller")
+CONTROLLER_PARAMS = ("cmd_vel_timeout",)
+"""Parameters of the controller itself (``controller.<param>``, no axis): seconds > 0."""
+
+
+class ControllerError(UsageError):
+    """A controller limit key or value that is not allowed."""
+
+
+class LimitExceededError(ControllerError):
+    """A value above the wheel type's upper limit."""
+
+
+class ControllerFileError(InputError):
+    """The controller file does not fit the robot's stack (e.g. wrong controller key)."""
+
+
+@dataclass(frozen=True)
+class WheelLimits:
+    """Upper limits of a wheel type."""
+
+    linear_velocity: float
+    linear_acceleration: float
+    angular_velocity: float
+    angular_acceleration: float
+
+
+WHEEL_LIMITS: dict[str, WheelLimits] = {
+    "WH01": WheelLimits(2.0, 2.7, 4.0, 5.74),
+    "WH02": WheelLimits(1.1, 1.5, 2.2, 3.2),
+    "WH04": WheelLimits(1.1, 1.5, 2.2, 3.2),
+}
+
+
+@dataclass(frozen=True)
+class LimitKey:
+    """``controller.<axis>.<param>``: axis ``linear.x`` / ``linear.y`` / ``angular.z``; or
+    ``controller.<param>`` for a parameter of the controller itself (axis ``""``)."""
+
+    axis: str
+    param: str
+
+    @property
+    def dotted(self) -> str:
+        return f"controller.{self.axis}.{self.param}" if self.axis else f"controller.{self.param}"
+
+    @property
+    def is_bool(self) -> bool:
+        return self.param in BOOL_PARAMS
+
+    @property
+    def unit(self) -> str:
+        if not self.axis:
+            return "s"
+        base = "rad" if self.axis.startswith("angular") else "m"
+        if "velocity" in self.param:
+            return f"{base}/s"
+        if "acceleration" in self.param:
+            return f"{base}/s²"
+        return f"{base}/s³" if "jerk" in self.param else ""
+
+    def path(self, controller_key: str, top: str = "/**") -> tuple[str, ...]:
+        if not self.axis:
+            return (top, controller_key, "ros__parameters", self.param)
+        group, axis = self.axis.split(".")
+        return (top, controller_key, "ros__parameters", group, axis, self.param)
+
+
+@dataclass(frozen=True)
+class ValidatedLimit:
+    key: LimitKey
+    value: bool | float
+    warnings: tuple[str, ...] = ()
+
+
+def all_limit_keys(wheel_type: str = "WH02") -> list[str]:
+    """Every limit key for a wheel type (``linear.y`` only for WH02)."""
+    axes = AXES if wheel_type == "WH02" else tuple(a for a in AXES if a != "linear.y")
+    return [*(f"controller.{a}.{p}" for a in axes for p in (*BOOL_PARAMS, *FLOAT_PARAMS)),
+            *(f"controller.{p}" for p in CONTROLLER_PARAMS)]
+
+
+def parse_limit_key(key: str) -> LimitKey:
+    """``controller.linear.x.max_velocity`` (the ``controller.`` prefix is optional).
+
+    Raises:
+        ControllerError: not a limit key (the message lists the allowed ones).
+    """
+    text = key.strip()
+    if text.startswith("controller."):
+        text = text[len("controller.") :]
+    parts = text.split(".")
+    if len(parts) == 3 and f"{parts[0]}.{parts[1]}" in AXES and parts[2] in (*BOOL_PARAMS, *FLOAT_PARAMS):
+        return LimitKey(f"{parts[0]}.{parts[1]}", parts[2])
+    if len(parts) == 1 and parts[0] in CONTROLLER_PARAMS:
+        return LimitKey("", parts[0])
+    raise ControllerError(
+        f"unknown controller limit {key!r}",
+        hint="controller.{linear.x,angular.z,linear.y (WH02)}.{"
+        + ",".join((*BOOL_PARAMS, *FLOAT_PARAMS))
+        + "}, or controller.{" + ",".join(CONTROLLER_PARAMS) + "} (seconds)",
+    )
+
+
+def upper_limit(wheel_type: str, key: LimitKey) -> float | None:
+    """The wheel type's limit for a key (None: no reference limit, e.g. jerk or custom wheels)."""
+    limits = WHEEL_LIMITS.get(wheel_type)
+    if limits is None or not key.axis or key.is_bool or "jerk" in key.param:
+        return None
+    linear = key.axis.startswith("linear")
+    if "velocity" in key.param:
+        return limits.linear_velocity if linear else limits.angular_velocity
+    return limits.linear_acceleration if linear else limits.angular_acceleration
+
+
+def _as_bool(key: LimitKey, value: Any) -> bool:
+    if isinstance(value, bool):
+        return value
+    text = str(value).strip().lower()
+    if text in ("true", "1"):
+        return True
+    if text in ("false", "0"):
+        return False
+    raise ControllerError(f"{key.dotted}={value!r} is not a boolean; allowed: true, false")
+
+
+def _as_float(key: LimitKey, value: Any) -> float:
+    if isinstance(value, bool):
+        raise ControllerError(f"{key.dotted}={value!r} is not a number")
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ControllerError(f"{key.dotted}={value!r} is not a number ({key.unit})") from None
+    if not math.isfinite(number):
+        raise ControllerError(f"{key.dotted}={value!r} must be a finite number ({key.unit})")
+    return number
+
+
+def validate_limit(
+    stack: Stack, wheel_type: str, key: str | LimitKey, value: Any, *, force: bool = False
+) -> ValidatedLimit:
+    """Check a limit value for the wheel type.
+
+    Raises:
+        ControllerError: bad key or value type, ``linear.y`` on non-mecanum wheels, a
+            negative maximum or positive minimum (unless ``force``).
+        LimitExceededError: above the wheel type's limit (unless ``force``).
+    """
+    lk = key if isinstance(key, LimitKey) else parse_limit_key(key)
+    warnings: list[str] = []
+
+    def refuse(message: str, error: type[ControllerError] = ControllerError, hint: str | None = None) -> None:
+        if not force:
+            raise error(message, hint=hint or "use --force to write it anyway")
+        warnings.append(message + " (forced)")
+
+    if not lk.axis:  # cmd_vel_timeout: the watchdog's seconds, whatever the wheels
+        seconds = _as_float(lk, value)
+        if seconds <= 0:
+            raise ControllerError(f"{lk.dotted}={value!r} must be a positive number of seconds",
+                                  hint="e.g. 0.5 (panther_ros' default; husarion_ugv 2.2: 0.2)")
+        return ValidatedLimit(lk, seconds)
+    if lk.axis == "linear.y" and wheel_type != "WH02":
+        refuse(f"{lk.dotted}: linear.y limits exist only for the mecanum wheels WH02 (this robot: {wheel_type})")
+    if lk.is_bool:
+        return ValidatedLimit(lk, _as_bool(lk, value), tuple(warnings))
+    number = _as_float(lk, value)
+    if lk.param.startswith("max_") and number < 0:
+        refuse(f"{lk.dotted}={number} must not be negative")
+    if lk.param.startswith("min_") and number > 0:
+        refuse(f"{lk.dotted}={number} must not be positive (it limits the reverse direction)")
+    limit = upper_limit(wheel_type, lk)
+    if limit is not None and abs(number) > limit + 1e-9:
+        refuse(
+            f"{lk.dotted}={number} {lk.unit} exceeds the {wheel_type} limit of {limit} {lk.unit}",
+            LimitExceededError,
+            hint=f"{wheel_type} limits: {_limits_text(wheel_type)}; --force writes it anyway",
+        )
+    elif limit is None and "jerk" not in lk.param:
+        warnings.append(f"no reference limits for wheel type {wheel_type}; {lk.dotted} not checked")
+    return ValidatedLimit(lk, number, tuple(warnings))
+
+
+def _limits_text(wheel_type: str) -> str:
+    lim = WHEEL_LIMITS[wheel_type]
+    return (
+        f"linear {lim.linear_velocity} m/s, {lim.linear_acceleration} m/s²; "
+        f"angular {lim.angular_velocity} rad/s, {lim.angular_acceleration} rad/s²"
+    )
+
+
+def locate(doc: YamlDocument, stack: Stack, *, force: bool = False) -> tuple[str, str]:
+    """Where the stack's controller section is: (top key, controller key).
+
+    Raises:
+        ControllerFileError: no controller section, or the other generation's controller
+            key (unless ``force``: then a note in ``doc.notes``).
+    """
+    data = doc.to_plain()
+    if not isinstance(data, dict):
+        raise ControllerFileError("not a controller file: the top level is not a mapping", path=doc.path)
+    expected = stack.controller_key
+    found: list[tuple[str, str]] = []
+    for top, body in data.items():
+        if isinstance(body, dict):
+            found.extend((str(top), k) for k in CONTROLLER_KEYS if isinstance(body.get(k), dict))
+    for top, key in found:
+        if key == expected:
+            return top, key
+    if found:
+        top, key = found[0]
+        message = (
+            f"the file configures {key} but {stack.label()} runs {expected}: "
+            "the limits in this file would not be applied"
+        )
+        if not force:
+            raise ControllerFileError(
+                message,
+                path=doc.path,
+                line=doc.line_of((top, key)),
+                key=f"{top}.{key}",
+                hint=f"rename the {key} keys to {expected} (the controller was renamed in panther_ros 2.1.0)",
+            )
+        doc.notes.append(message + " (forced)")
+        return top, key
+    raise ControllerFileError(
+        f"no {expected} section in the controller file", path=doc.path, key=f"/**.{expected}"
+    )
+
+
+def file_limits(doc: YamlDocument, top: str, controller_key: str) -> dict[str, Any]:
+    """Every limit key present in the file's controller section (dotted key -> value)."""
+    out: dict[str, Any] = {}
+    for dotted in all_limit_keys("WH02"):
+        value = doc.get(parse_limit_key(dotted).path(controller_key, top), None)
+        if value is not None:
+            out[dotted] = value
+    return out
+
+
+def limit_warnings(limits: dict[str, Any], wheel_type: str) -> list[str]:
+    """Warnings about a file's limits as they are: above the wheel limits, enabled limits at 0."""
+    warnings: list[str] = []
+    for dotted, value in limits.items():
+        lk = parse_limit_key(dotted)
+        limit = upper_limit(wheel_type, lk)
+        if limit is not None and isinstance(value, int | float) and abs(value) > limit + 1e-9:
+            warnings.append(f"{dotted}={value} {lk.unit} exceeds the {wheel_type} limit of {limit} {lk.unit}")
+    for axis in AXES:
+        for kind in ("velocity", "acceleration", "jerk"):
+            enabled = limits.get(f"controller.{axis}.has_{kind}_limits")
+            maximum = limits.get(f"controller.{axis}.max_{kind}")
+            if enabled is True and isinstance(maximum, int | float) and maximum == 0:
+                warnings.append(
+                    f"controller.{axis}.has_{kind}_limits is true with max_{kind} 0.0: "
+                    f"the {axis} {kind} is limited to zero"
+                )
+    return warnings
