@@ -32,17 +32,22 @@ def info(message: str) -> None:
     sys.stderr.write(message + "\n")
 
 
+RICH = ("rich.console", "rich.table", "rich.text")
+"""What a table on the terminal needs (``--json`` needs none of it)."""
+
+
 def _preload(modules: tuple[str, ...]) -> None:
     """Import paramiko in the background while the inventory loads (it takes ~0.1 s), then
     ``modules`` (what the command's robot tasks need, e.g. the planners and their YAML
-    editor: ~0.04 s) and what the output needs (rich: ~0.03 s), all while the fleet's
+    editor: ~0.04 s; what the output needs, :data:`RICH`: ~0.03 s), all while the fleet's
     handshakes run: a task then finds them loaded instead of importing them itself while
-    the other robots' tasks wait on the import lock."""
+    the other robots' tasks wait on the import lock. Only what the run will use: on a busy
+    machine the imports take the interpreter from the handshakes."""
     import importlib
     import threading
 
     def load() -> None:
-        for name in ("paramiko", *modules, "rich.console", "rich.table", "rich.text"):
+        for name in ("paramiko", *modules):
             importlib.import_module(name)
 
     # not a daemon: an interpreter that exits normally (main() called in-process, then
@@ -52,11 +57,12 @@ def _preload(modules: tuple[str, ...]) -> None:
     threading.Thread(target=load, name="preload", daemon=False).start()
 
 
-def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
-    """The inventory, the background imports started first (see :func:`_preload`)."""
+def load(ctx: typer.Context, preload: tuple[str, ...] = (), tables: bool = True) -> Inventory:
+    """The inventory, the background imports started first (see :func:`_preload`);
+    ``tables``: the output will be rich tables (not ``--json``)."""
     from panther_ops.core.fleet.inventory_file import load_inventory
 
-    _preload(preload)
+    _preload(preload + RICH if tables else preload)
     inv = load_inventory(settings(ctx).inventory)
     info(f"inventory: {inv.path} (from {inv.origin})")
     return inv
@@ -64,14 +70,15 @@ def load(ctx: typer.Context, preload: tuple[str, ...] = ()) -> Inventory:
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), read_only: bool = False,
+    preload: tuple[str, ...] = (), read_only: bool = False, tables: bool = True,
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import.
+    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import;
+    ``tables``: the output will be rich tables (False with ``--json``: rich is not preloaded).
 
     ``read_only``: a command that only reads answers, when no robot is chosen, for the
     inventory's ``settings.default_group``, else for every robot.
     """
-    inv = load(ctx, preload)
+    inv = load(ctx, preload, tables)
     if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
         if inv.default_group is not None:
             info(f"no robot chosen: group {inv.default_group} (settings.default_group)")

@@ -40,6 +40,7 @@ def mutate(
     applier: Applier | None = None,
     verb: str = "Apply to",
     read_only: bool = False,
+    applier_for_actions: bool = False,
 ) -> int:
     """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
 
@@ -47,6 +48,8 @@ def mutate(
     with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
     applied, and the results table follows. ``read_only``: a command that only compares
     (``config diff``): the plan is shown as a dry run's, without speaking of one.
+    ``applier_for_actions``: the applier differs from the pipeline only for plans with an
+    action (``apply``'s WebUI change); the others are staged while planning as usual.
     """
     from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
@@ -57,7 +60,7 @@ def mutate(
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
     apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
-    early = yes and not dry_run and applier is None  # no question to wait for: stage while planning
+    early = yes and not dry_run and (applier is None or applier_for_actions)  # no question: stage while planning
     progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out))
     with Connections(inv) as conns:
         with progress.live():

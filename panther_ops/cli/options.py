@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
+
+if TYPE_CHECKING:
+    from panther_ops.secret import Secret
 
 
 def finite(value: float | None) -> float | None:
@@ -40,3 +43,23 @@ MaxFail = Annotated[
     typer.Option("--max-fail", min=0, max=100, callback=finite,
                  help="Stop starting robots once more than PCT % failed."),
 ]
+
+PASSWORD_ENV = "PANTHER_OPS_SUDO_PASSWORD"
+AskPassword = Annotated[bool, typer.Option(
+    "--ask-sudo-password", help=f"Ask once for the User Computers' sudo password (else ${PASSWORD_ENV}, else "
+    "sudo must not ask).")]
+
+
+def sudo_password(ask: bool) -> Secret | None:
+    """The User Computers' sudo password: asked once (``--ask-sudo-password``), else the
+    environment's, else None (sudo must not ask). Never stored or printed."""
+    import os
+
+    from panther_ops.secret import Secret
+
+    if ask:
+        import getpass
+
+        return Secret(getpass.getpass("sudo password of the User Computers: "))
+    value = os.environ.get(PASSWORD_ENV)
+    return Secret(value) if value else None

@@ -98,9 +98,7 @@ class Stack:
 
     @property
     def robot_env_file(self) -> str:
-        if self.family is Family.HUSARION_UGV:
-            return "/run/husarion/robot_config.env"
-        return "/run/husarion/panther_config.env"
+        return DRIVER_ENV_FILES[0] if self.family is Family.HUSARION_UGV else DRIVER_ENV_FILES[1]
 
     def label(self) -> str:
         return f"{self.family.value} {self.version_str}"
@@ -174,6 +172,9 @@ def stack_option(text: str, option: str = "--stack") -> Stack:
 
 
 DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
+"""The driver's compose service and container name: husarion_ugv 2.2+, panther_ros up to 2.1."""
+DRIVER_ENV_FILES = ("/run/husarion/robot_config.env", "/run/husarion/panther_config.env")
+"""The environment file the Built-in Computer's OS writes for each stack of :data:`DRIVER_SERVICES`."""
 
 
 def find_driver(compose: object) -> tuple[str, str] | None:

@@ -34,17 +34,10 @@ from panther_ops.manager.yaml_io import read_yaml
 
 
 @dataclass(frozen=True)
-class LightsParams:
-    """Parameters of the Lights tree (lights_manager node)."""
+class TreeParams:
+    """What both manager nodes take: tick rate, service timeouts, their BT project."""
 
     timer_frequency: float = 10.0
-    battery_percent_window_len: int = 6
-    low_battery_threshold_percent: float = 0.4
-    critical_battery_threshold_percent: float = 0.1
-    low_battery_anim_period: float = 30.0
-    critical_battery_anim_period: float = 15.0
-    battery_state_anim_period: float = 120.0
-    update_charging_anim_step: float = 0.1
     service_availability_timeout: float = 1.0
     service_response_timeout: float = 1.0
     bt_project_path: str = ""
@@ -56,10 +49,22 @@ class LightsParams:
 
 
 @dataclass(frozen=True)
-class SafetyParams:
+class LightsParams(TreeParams):
+    """Parameters of the Lights tree (lights_manager node)."""
+
+    battery_percent_window_len: int = 6
+    low_battery_threshold_percent: float = 0.4
+    critical_battery_threshold_percent: float = 0.1
+    low_battery_anim_period: float = 30.0
+    critical_battery_anim_period: float = 15.0
+    battery_state_anim_period: float = 120.0
+    update_charging_anim_step: float = 0.1
+
+
+@dataclass(frozen=True)
+class SafetyParams(TreeParams):
     """Parameters of the Safety and Shutdown trees (safety_manager node)."""
 
-    timer_frequency: float = 10.0
     fan_turn_off_timeout: float = 60.0
     battery_temp_window_len: int = 6
     cpu_temp_window_len: int = 6
@@ -71,17 +76,9 @@ class SafetyParams:
     high_bat_temp: float = 55.0
     critical_bat_temp: float = 55.0
     fatal_bat_temp: float = 62.0
-    service_availability_timeout: float = 1.0
-    service_response_timeout: float = 1.0
     shutdown_hosts_path: str = ""
     shutdown_localhost_command: str = "sudo shutdown now"
     shutdown_frequency: float = 30.0
-    bt_project_path: str = ""
-
-    @property
-    def service_timeout(self) -> float:
-        """How long a service call may take: waiting for the server, then for the answer."""
-        return self.service_availability_timeout + self.service_response_timeout
 
 
 @dataclass(frozen=True)
@@ -311,14 +308,17 @@ def check_params(lights: LightsParams, safety: SafetyParams) -> list[str]:
     return warnings
 
 
+def _upper_names(params: LightsParams | SafetyParams, names: str) -> dict[str, Any]:
+    """`names` (space-separated fields of `params`) as constants: the manual spells them upper case."""
+    return {name.upper(): getattr(params, name) for name in names.split()}
+
+
 def lights_constants(p: LightsParams) -> dict[str, Any]:
     """The Lights tree's constant blackboard entries, by the manual's names."""
     return {
-        "BATTERY_STATE_ANIM_PERIOD": p.battery_state_anim_period,
-        "CRITICAL_BATTERY_ANIM_PERIOD": p.critical_battery_anim_period,
-        "CRITICAL_BATTERY_THRESHOLD_PERCENT": p.critical_battery_threshold_percent,
-        "LOW_BATTERY_ANIM_PERIOD": p.low_battery_anim_period,
-        "LOW_BATTERY_THRESHOLD_PERCENT": p.low_battery_threshold_percent,
+        **_upper_names(p, "battery_state_anim_period critical_battery_anim_period"
+                          " critical_battery_threshold_percent low_battery_anim_period"
+                          " low_battery_threshold_percent"),
         **ANIMATION_ID_CONSTANTS,
         **STATUS_CONSTANTS,
         **HEALTH_CONSTANTS,
@@ -328,14 +328,8 @@ def lights_constants(p: LightsParams) -> dict[str, Any]:
 def safety_constants(p: SafetyParams) -> dict[str, Any]:
     """The Safety tree's constant blackboard entries, by the manual's (and 2.1's) names."""
     return {
-        "CPU_FAN_OFF_TEMP": p.cpu_fan_off_temp,
-        "CPU_FAN_ON_TEMP": p.cpu_fan_on_temp,
-        "DRIVER_FAN_OFF_TEMP": p.driver_fan_off_temp,
-        "DRIVER_FAN_ON_TEMP": p.driver_fan_on_temp,
-        "FAN_TURN_OFF_TIMEOUT": p.fan_turn_off_timeout,
-        "HIGH_BAT_TEMP": p.high_bat_temp,
-        "CRITICAL_BAT_TEMP": p.critical_bat_temp,
-        "FATAL_BAT_TEMP": p.fatal_bat_temp,
+        **_upper_names(p, "cpu_fan_off_temp cpu_fan_on_temp driver_fan_off_temp driver_fan_on_temp"
+                          " fan_turn_off_timeout high_bat_temp critical_bat_temp fatal_bat_temp"),
         **HEALTH_CONSTANTS,
         **STATUS_CONSTANTS,
     }

@@ -7,7 +7,6 @@ of it, so the robot's sshd sees exactly one connection.
 
 from __future__ import annotations
 
-import functools
 import os
 import secrets
 import socket
@@ -46,40 +45,6 @@ def _refuse_unknown_policy() -> Any:
     return RefuseUnknown()
 
 
-@functools.cache
-def _client_type() -> Any:
-    """An SSHClient class that loads each private key file once per command, not once per robot.
-
-    paramiko parses a key file on every connection, trying the RSA, ECDSA and Ed25519
-    formats in turn (~0.7 ms of CPU per robot for an Ed25519 key); the parsed key, or the
-    error of each format that does not fit, is kept per version of the file. Keys that
-    need a passphrase are loaded as paramiko does, every time.
-    """
-    import paramiko
-
-    load_file = paramiko.SSHClient._key_from_filepath  # type: ignore[attr-defined]  # private, not in the stubs
-
-    class Client(paramiko.SSHClient):
-        def _key_from_filepath(self, filename: str, klass: Any, password: Any) -> Any:
-            if password is not None:
-                return load_file(self, filename, klass, password)
-
-            def load(_: str) -> Any:
-                try:
-                    return load_file(self, filename, klass, None)
-                except paramiko.SSHException as exc:  # this format does not fit: remembered too
-                    return exc
-
-            got = parsed(f"private key {klass.__name__}", filename, load)
-            if got is None:  # the file is gone: let paramiko say so
-                return load_file(self, filename, klass, None)
-            if isinstance(got, paramiko.SSHException):
-                raise type(got)(*got.args)  # a fresh one: threads may raise it at once
-            return got
-
-    return Client
-
-
 def _load_host_keys(path: str) -> paramiko.HostKeys:
     import paramiko
 
@@ -104,7 +69,7 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
             raise UnreachableError(
                 robot, f"jump host {hop.jump.hostname} could not reach {hop.hostname}:{hop.port}: {exc}"
             ) from exc
-    client: paramiko.SSHClient = _client_type()()
+    client = paramiko.SSHClient()
     keys = client.get_host_keys()
     name = known_hosts_name(hop.hostname, hop.port)
     for path in hop.known_hosts:  # each file parsed once per command; only this host's entries are added

@@ -6,6 +6,7 @@ file (demo robots, backups, history, the operator's files) byte-identical.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -243,7 +244,67 @@ ALIASES = [
          files={"a.yaml": esc("animations: &a [{id: 21, name: *a}]\n")}),
 ]
 
-CASES = INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
+LOCAL_01 = "version: 1\nrobots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n"
+WEBUI = [  # desired.webui: the inventory's values (when it loads), a DDS profile the User Computer lacks (at plan)
+    Case("webui-desired-port", ["apply", "--all", "--yes"], ["desired.webui.port", "70000", "1 to 65535"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{port: 70000}}}}\n"),
+    Case("webui-desired-namespace", ["config", "diff", "--all"], ["desired.webui.namespace", "bad ns", "a-z"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{namespace: bad ns}}}}\n"),
+    Case("webui-desired-domain", ["apply", "--all", "--dry-run"], ["desired.webui.ros.domain-id", "300", "0 to 232"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{ros.domain-id: 300}}}}\n"),
+    Case("webui-desired-unknown-key", ["apply", "--all", "--yes"], ["desired.webui.colour", "ros.namespace"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{colour: red}}}}\n"),
+    Case("webui-desired-transport-no-profile", ["apply", "--all", "--yes"],
+         ["desired.webui", "ros.transport='my-profile'", "no DDS profile", "--dds-file"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{transport: my-profile}}}}\n"),
+    Case("webui-apply-transport-injection", ["apply", "--all", "--yes"], ["desired.webui.transport", INJECT],
+         inventory=LOCAL_01 + "    desired: {{webui: {{transport: \"" + esc(INJECT) + "\"}}}}\n"),
+]
+
+
+# ------------------------------------------------------------------ a local hosts file's backups (--file)
+HOSTS = "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
+BACKUP = "20261122T101500Z-1a2b"
+
+
+def backup(path: str = "{tmp}/hosts.yaml", bid: str = BACKUP, old: str = HOSTS) -> dict[str, str]:
+    """A backup of ``path`` beside hosts.yaml, as `shutdown hosts add hosts.yaml` leaves it."""
+    manifest = esc(json.dumps({"id": bid, "created": "2026-11-22T10:15:00+00:00", "command": "shutdown hosts add",
+                               "summary": "added", "files": [{"path": "PATH", "backup": "files/0"}]}))
+    root = f".panther-ops/backups/{bid}"
+    return {"hosts.yaml": HOSTS + "  - ip: 10.15.20.4\n    username: pi\n", f"{root}/files/0": esc(old),
+            f"{root}/manifest.json": manifest.replace("PATH", path)}
+
+
+LOCAL = ["--file", "{tmp}/hosts.yaml"]
+ALLOWED_FILE = "shutdown hosts add|remove FILE"
+LOCAL_FILES = [
+    Case("local-history-directory", ["config", "history", "--file", "{tmp}"], ["--file", "is a directory",
+                                                                                ALLOWED_FILE]),
+    Case("local-history-no-directory", ["config", "history", "--file", "{tmp}/none/hosts.yaml"],
+         ["--file", "none", "does not exist", ALLOWED_FILE]),
+    Case("local-history-newline", ["config", "history", "--file", "{tmp}/a\nb.yaml"], ["control character"]),
+    Case("local-history-and-robots", ["config", "history", *LOCAL, "--all"], ["--file", "not both"]),
+    Case("local-rollback-and-robots", ["config", "rollback", *LOCAL, *R1], ["--file", "not both"]),
+    Case("local-rollback-directory", ["config", "rollback", "--file", "{tmp}", "--yes"], ["is a directory"]),
+    Case("local-rollback-no-backups", ["config", "rollback", *LOCAL, "--yes"],
+         ["no backups of {tmp}/hosts.yaml", ".panther-ops/backups/"], files={"hosts.yaml": HOSTS}),
+    Case("local-rollback-id-dotdot", ["config", "rollback", *LOCAL, "--to", "../../etc", "--yes"],
+         ["--to", "'../../etc'"], files=backup()),
+    Case("local-rollback-id-injection", ["config", "rollback", *LOCAL, "--to", INJECT, "--yes"], [INJECT],
+         files=backup()),
+    Case("local-rollback-id-unknown", ["config", "rollback", *LOCAL, "--to", "20991231", "--yes"],
+         ["'20991231' not found for {tmp}/hosts.yaml", f"newest backups: {BACKUP}"], files=backup()),
+    Case("local-rollback-other-file", ["config", "rollback", *LOCAL, "--to", BACKUP, "--yes"],
+         [f"backup {BACKUP} is not a backup of {{tmp}}/hosts.yaml", "{tmp}/victim.txt"],
+         files={**backup("{tmp}/victim.txt"), "victim.txt": "keep me\n"}),
+    Case("local-rollback-invalid-content", ["config", "rollback", *LOCAL, "--yes"],
+         ["hosts.yaml", "'10.15.20.3; reboot' is not an IP address"],
+         files=backup(old="hosts:\n  - ip: '10.15.20.3; reboot'\n    username: pi\n")),
+]
+
+CASES = (WEBUI + INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
+         + LOCAL_FILES)
 
 
 def test_the_corpus_is_large_and_unique() -> None:

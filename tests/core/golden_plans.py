@@ -12,7 +12,8 @@ A case names the planner, what the reader read and what the user asked:
       /home/husarion/x.yaml: templates/...   # a repository file,
       /home/husarion/y.yaml: {text: "..."}   # literal content,
       /home/husarion/z.yaml: null            # or absent on the robot
-    facts: {engine: null}           # facts by kind (``kind`` or ``kind key``), optional; {text: ...}: bytes
+    facts: {engine: null}           # facts by kind (``kind`` or ``kind key``), optional; {text: ...}: bytes;
+                                    # webui: {state: <the snap's answers>, host: ...} or {warning: ...}
     args: {...}                     # what the user asked (per planner)
     expect: {...}                   # the plan, as :func:`render` shows it
 
@@ -69,6 +70,15 @@ def _content(value: Any) -> bytes | None:
     if isinstance(value, dict):
         return str(value["text"]).encode()
     return (ROOT / str(value)).read_bytes()
+
+
+def _webui(value: dict[str, Any]) -> Any:
+    from panther_ops.core.remote.webui.plan_desired import WebuiRead
+    from panther_ops.core.remote.webui.state import parse_state
+
+    if "state" not in value:
+        return WebuiRead(None, warning=value["warning"])
+    return WebuiRead(parse_state(value["state"]), value.get("host", "10.15.20.3"))
 
 
 def _hosts_add(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
@@ -130,7 +140,8 @@ PLANNERS: dict[str, Callable[[ComposeRead, Reads, dict[str, Any]], RobotPlan]] =
     "shutdown.robot": _shutdown_robot,
     "manager.deploy": _deploy,
     "manager.remove": lambda raw, reads, a: plan_remove(raw, reads),
-    "config.rollback": lambda raw, reads, a: plan_rollback(reads, a.get("to")),
+    "config.rollback": lambda raw, reads, a: plan_rollback(reads, a.get("to"), only=a.get("only")),
+    "config.rollback_local": lambda raw, reads, a: plan_hosts.plan_local_restore(reads, Path(a["file"]), a.get("to")),
     "gps.router": _router,
     "apply.desired": lambda raw, reads, a: plan_desired(raw, reads, a.get("desired", {}), force=a.get("force", False)),
 }
@@ -144,6 +155,8 @@ def run_case(case: dict[str, Any]) -> tuple[RobotPlan, TrackedReads]:
     for name, value in (case.get("facts") or {}).items():
         kind, _, key = str(name).partition(" ")
         facts[Need(kind, key)] = _content(value) if isinstance(value, dict) and set(value) == {"text"} else value
+        if kind == "webui":
+            facts[Need(kind, key)] = _webui(value)
     reads = TrackedReads(case.get("robot", "panther-01"), str(case.get("stack", "auto")), case.get("namespace"),
                          {path: _content(v) for path, v in (case.get("files") or {}).items()}, facts)
     plan = PLANNERS[case["planner"]](raw, reads, case.get("args") or {})

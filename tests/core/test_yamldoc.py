@@ -273,21 +273,21 @@ def test_materialize_and_alias_values() -> None:
     assert "alias of &x" in d2.notes[0]
 
 
-def test_delete_removes_lines_comments_and_separator() -> None:
-    text = "hosts:\n  # NUC\n  - ip: 1\n    user: a\n  # UR5\n  - ip: 2\n    user: b\nz: 1\n"
+@pytest.mark.parametrize(("text", "steps"), [
+    pytest.param("hosts:\n  # NUC\n  - ip: 1\n    user: a\n  # UR5\n  - ip: 2\n    user: b\nz: 1\n",
+                 [("hosts[1]", "hosts:\n  # NUC\n  - ip: 1\n    user: a\nz: 1\n"),
+                  ("hosts[0]", "hosts: []\nz: 1\n")],
+                 id="removes-lines-comments-and-separator"),
+    pytest.param("hosts:\n  - ip: 1\n    user: a\n",
+                 [("hosts[0].ip", "hosts:\n  - user: a\n"),
+                  ("hosts[0].user", "hosts:\n  - {}\n")],
+                 id="first-key-of-a-list-item"),
+])
+def test_delete_in_turn(text: str, steps: list[tuple[str, str]]) -> None:
     d = YamlDocument(text)
-    d.delete("hosts[1]")
-    assert d.text == "hosts:\n  # NUC\n  - ip: 1\n    user: a\nz: 1\n"
-    d.delete("hosts[0]")
-    assert d.text == "hosts: []\nz: 1\n"
-
-
-def test_delete_first_key_of_a_list_item() -> None:
-    d = YamlDocument("hosts:\n  - ip: 1\n    user: a\n")
-    d.delete("hosts[0].ip")
-    assert d.text == "hosts:\n  - user: a\n"
-    d.delete("hosts[0].user")
-    assert d.text == "hosts:\n  - {}\n"
+    for path, after in steps:
+        d.delete(path)
+        assert d.text == after, path
 
 
 def test_delete_last_key_leaves_empty_mapping() -> None:

@@ -11,28 +11,15 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
 from panther_ops.core.config.plans import plan_args
 from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.runner import Connections, RunOptions
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, robot_of, robots_put_back
 
 pytestmark = pytest.mark.lab
-
-COMPOSE = "/home/husarion/compose.yaml"
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if out.strip().startswith("{") else {}
-    return code, doc, out, err
-
-
-def robot_of(lab: Any, version: str) -> Any:
-    return next(r for r in lab.robots if version in r.image and not r.jump)
 
 
 def driver_cmd(lab: Any, name: str) -> list[str]:
@@ -50,15 +37,8 @@ def driver_state(lab: Any, name: str) -> dict[str, Any]:
 @pytest.fixture
 def pristine(lab: Any) -> Iterator[None]:
     """Put every robot back as it was: compose.yaml, ~/config, backups, running stack."""
-    saved = {r.name: lab.read(r.name, COMPOSE) for r in lab.robots}
-    for r in lab.robots:
-        lab.sh(r.name, "rm -rf /tmp/cfg-save && cp -a /home/husarion/config /tmp/cfg-save 2>/dev/null; true")
-    yield
-    for r in lab.robots:
-        lab.write(r.name, COMPOSE, saved[r.name])
-        lab.sh(r.name, "rm -rf /home/husarion/config /home/husarion/.panther-ops; "
-                       "[ -d /tmp/cfg-save ] && cp -a /tmp/cfg-save /home/husarion/config; true")
-        lab.compose(r.name, "up", "-d", "--force-recreate")
+    with robots_put_back(lab):
+        yield
 
 
 def changed_lines(before: str, after: str) -> list[tuple[str, str]]:
@@ -70,7 +50,7 @@ def changed_lines(before: str, after: str) -> list[tuple[str, str]]:
 @pytest.mark.parametrize("version", ["2.1.1", "2.2.2"])
 def test_set_wheel_type_recreates_and_second_run_is_ok(lab: Any, pristine: None, version: str,
                                                         capsys: pytest.CaptureFixture[str]) -> None:
-    name = robot_of(lab, version).name
+    name = robot_of(lab, version)
     before = lab.read(name, COMPOSE)
     code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "config", "set", "wheel_type", "WH02",
                               "-r", name, "--yes", "--settle", "2", "--json")
@@ -104,7 +84,7 @@ def test_one_connection_per_robot(lab: Any, pristine: None, capsys: pytest.Captu
 
 def test_dry_run_prints_the_diff_and_writes_nothing(lab: Any, pristine: None,
                                                     capsys: pytest.CaptureFixture[str]) -> None:
-    name = robot_of(lab, "2.1.1").name
+    name = robot_of(lab, "2.1.1")
     before = lab.read_bytes(name, COMPOSE)
     mtime = lab.sh(name, f"stat -c %Y.%i {COMPOSE}").stdout
     code, _, out, _ = run_cli(capsys, "-i", str(lab.inventory_path), "config", "set", "wheel_type", "WH04",
@@ -122,7 +102,7 @@ def test_bad_values_exit_2_and_touch_nothing(lab: Any, pristine: None, capsys: p
                               "--all", "--yes")
     assert code == 2
     assert "WH01, WH02, WH04, custom" in err
-    wh01 = robot_of(lab, "2.0.4").name  # default wheel type WH01
+    wh01 = robot_of(lab, "2.0.4")  # default wheel type WH01
     code, _, _, err = run_cli(capsys, "-i", str(lab.inventory_path), "config", "set",
                               "controller.linear.x.max_velocity", "5.0", "-r", wh01, "--yes")
     assert code == 2
@@ -132,7 +112,7 @@ def test_bad_values_exit_2_and_touch_nothing(lab: Any, pristine: None, capsys: p
 
 def test_push_and_pull_controller_on_21(lab: Any, pristine: None, tmp_path: Path,
                                         capsys: pytest.CaptureFixture[str]) -> None:
-    name = robot_of(lab, "2.1.1").name
+    name = robot_of(lab, "2.1.1")
     mine = tmp_path / "my_controller.yaml"
     mine.write_text("# mine\n/**:\n  drive_controller:\n    ros__parameters:\n      linear:\n        x:\n"
                     "          max_velocity: 0.8 # slow indoors\n")
@@ -155,7 +135,7 @@ def test_push_and_pull_controller_on_21(lab: Any, pristine: None, tmp_path: Path
 
 def test_failing_change_is_rolled_back_and_history_rollback(lab: Any, pristine: None,
                                                             capsys: pytest.CaptureFixture[str]) -> None:
-    name = robot_of(lab, "2.1.1").name
+    name = robot_of(lab, "2.1.1")
     inv = str(lab.inventory_path)
     original = lab.read_bytes(name, COMPOSE)
     code, doc, _, _ = run_cli(capsys, "-i", inv, "config", "set", "wheel_type", "WH04", "-r", name, "--yes",
@@ -250,7 +230,7 @@ def test_compose_refused_by_docker_compose_is_not_written(lab: Any, pristine: No
     from panther_ops.core.config.robot import read_config
     from panther_ops.core.fleet.plan import FileEdit, RobotPlan
 
-    name = robot_of(lab, "2.1.1").name
+    name = robot_of(lab, "2.1.1")
     inv = load_inventory(str(lab.inventory_path))
     robots = [inv.robots[name]]
     before = lab.read_bytes(name, COMPOSE)

@@ -5,10 +5,8 @@ from another image reference, and a tag that is not there cannot be pulled: no n
 
 from __future__ import annotations
 
-import json
 import re
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -18,35 +16,13 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back
+from tests.ports import free_port
 
 pytestmark = pytest.mark.lab
 
-COMPOSE = "/home/husarion/compose.yaml"
 UGV_IMAGE = "husarion/husarion-ugv:humble-2.2.2-20250702"
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if out.strip().startswith("{") else {}
-    return code, doc, out, err
-
-
-def robot_of(lab: Any, version: str, index: int = 0) -> str:
-    return [r.name for r in lab.robots if version in r.image and not r.jump][index]
-
-
-def containers(lab: Any, name: str) -> dict[str, dict[str, Any]]:
-    """Every container on the robot by name: id, image reference, state, command."""
-    ids = lab.docker(name, "ps", "-aq", check=True).stdout.split()
-    if not ids:
-        return {}
-    docs = json.loads(lab.docker(name, "inspect", *ids, check=True).stdout)
-    return {d["Name"].lstrip("/"): {"id": d["Id"], "image": d["Config"]["Image"], "state": d["State"]["Status"],
-                                    "cmd": d["Config"]["Cmd"], "restarts": d["RestartCount"],
-                                    "mounts": {m["Destination"]: m["Source"] for m in d["Mounts"]}} for d in docs}
 
 
 def tree(lab: Any, name: str, home: str = "/home/husarion") -> str:
@@ -58,18 +34,12 @@ def tree(lab: Any, name: str, home: str = "/home/husarion") -> str:
 @pytest.fixture
 def pristine(lab: Any) -> Iterator[None]:
     """Put every robot back as it was: compose.yaml, ~/config, backups, running stack."""
-    saved = {r.name: lab.read(r.name, COMPOSE) for r in lab.robots}
-    running = {r.name: {k: v["id"] for k, v in containers(lab, r.name).items()} for r in lab.robots}
-    for r in lab.robots:
-        lab.sh(r.name, "rm -rf /tmp/cfg-save && cp -a /home/husarion/config /tmp/cfg-save 2>/dev/null; true")
-    yield
-    for r in lab.robots:
-        changed = lab.read(r.name, COMPOSE) != saved[r.name]
-        lab.write(r.name, COMPOSE, saved[r.name])
-        lab.sh(r.name, "rm -rf /home/husarion/config /home/husarion/.panther-ops; "
-                       "[ -d /tmp/cfg-save ] && cp -a /tmp/cfg-save /home/husarion/config; true")
-        if changed or {k: v["id"] for k, v in containers(lab, r.name).items()} != running[r.name]:
-            lab.compose(r.name, "up", "-d", "--force-recreate", "--remove-orphans")
+    def ids(name: str) -> dict[str, str]:
+        return {k: v["id"] for k, v in containers(lab, name).items()}
+
+    running = {r.name: ids(r.name) for r in lab.robots}
+    with robots_put_back(lab, lambda name, changed: changed or ids(name) != running[name]):
+        yield
 
 
 def snapshot(lab: Any) -> dict[str, Any]:
@@ -87,14 +57,6 @@ def leaves_the_lab_as_found(lab: Any) -> Iterator[None]:
     before = snapshot(lab)
     yield
     assert snapshot(lab) == before
-
-
-def closed_port() -> int:
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = int(s.getsockname()[1])
-    s.close()
-    return port
 
 
 def test_status_logs_and_versions_read_every_robot(lab: Any, capsys: pytest.CaptureFixture[str],
@@ -121,7 +83,7 @@ def test_status_logs_and_versions_read_every_robot(lab: Any, capsys: pytest.Capt
     code, _, out, _ = run_cli(capsys, "-i", inv, "driver", "logs", "-r", "r05", "--since", "1d", "-t")
     assert code == 0 and " | " not in out and re.match(r"^20\d\d-\d\d-\d\dT", out)
 
-    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{closed_port()}/{{repo}}")
+    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{free_port()}/{{repo}}")
     code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "versions", "--all", "--remote", "--json")
     assert code == 0, doc
     for res in doc["robots"]:

@@ -17,6 +17,7 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
+from tests.clirun import run_cli
 
 pytestmark = pytest.mark.lab
 
@@ -30,10 +31,8 @@ def fleet(lab_factory: Any) -> Any:
 
 
 def cli(capsys: pytest.CaptureFixture[str], lab: Any, *argv: str) -> tuple[int, dict[str, Any]]:
-    capsys.readouterr()
-    code = main(["-i", str(lab.inventory_path), *argv])
-    out = capsys.readouterr().out
-    return code, json.loads(out) if out.strip().startswith("{") else {}
+    code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), *argv)
+    return code, doc
 
 
 def e_stop_file(lab: Any, name: str) -> str:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 from typing import Any
@@ -10,15 +9,9 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
+from tests.clirun import run_cli
 
 pytestmark = pytest.mark.lab
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, json.loads(out) if out.strip().startswith("{") else {}, err
 
 
 def by_robot(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
@@ -26,7 +19,7 @@ def by_robot(doc: dict[str, Any]) -> dict[str, dict[str, Any]]:
 
 
 def test_status_on_five_robots_with_three_stacks(lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
-    code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
     assert code == 0, doc
     robots = by_robot(doc)
     assert len(robots) == len(lab.robots) >= 5
@@ -54,7 +47,7 @@ def test_changed_host_key_is_refused_others_succeed(lab: Any, capsys: pytest.Cap
     lab.rotate_host_key(victim)
     try:
         new = lab.host_fingerprint(victim)
-        code, doc, _err = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+        code, doc, _, _err = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
         assert code == 3
         robots = by_robot(doc)
         assert robots[victim]["outcome"] == "unreachable"
@@ -70,7 +63,7 @@ def test_link_down_is_unreachable_exit_3(lab: Any, capsys: pytest.CaptureFixture
     lab.link_down(victim)
     try:
         start = time.monotonic()
-        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+        code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
         assert code == 3
         robots = by_robot(doc)
         assert robots[victim]["outcome"] == "unreachable"
@@ -85,7 +78,7 @@ def test_every_robot_unreachable_is_exit_4(lab: Any, capsys: pytest.CaptureFixtu
     lab.link_down(a)
     lab.link_down(b)
     try:
-        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "-r", a, "-r", b, "--json")
+        code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "-r", a, "-r", b, "--json")
         assert code == 4
         assert [r["outcome"] for r in doc["robots"]] == ["unreachable", "unreachable"]
     finally:
@@ -97,7 +90,7 @@ def test_jump_host_one_connection_docker_included(lab: Any, capsys: pytest.Captu
     behind = lab.jump_robot
     assert behind is not None and behind.jump
     before = lab.sshd_accepts(behind.name)
-    code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "-r", behind.name, "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "-r", behind.name, "--json")
     assert code == 0, doc
     data = doc["robots"][0]["data"]
     assert data["driver_state"] == "running"
@@ -113,7 +106,7 @@ def test_doctor_finds_clock_offset_and_default_password(lab: Any, capsys: pytest
     lab.clock_offset(skewed, 30)
     lab.password_login(weak)
     try:
-        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "doctor", "-r", skewed, "-r", weak, "--json")
+        code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "doctor", "-r", skewed, "-r", weak, "--json")
         robots = by_robot(doc)
         checks = {n: {f["check"]: f for f in r["data"]["findings"]} for n, r in robots.items()}
         assert checks[skewed]["clock"]["state"] == "warn"
@@ -136,11 +129,11 @@ def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.Captur
         f"settings: {{known_hosts: {kh}}}\nrobots:\n  {robot.name}: {{host: {robot.ip}, port: 22, "
         f"identity_file: {lab.identity_path}}}\n"
     )
-    code, doc, _err = run_cli(capsys, "-i", str(inv), "status", "--json")
+    code, doc, _, _err = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 4 and "not in known_hosts" in doc["robots"][0]["message"]
     capsys.readouterr()
     assert main(["-i", str(inv), "trust", robot.name, "--yes"]) == 0
     out = capsys.readouterr().out
     assert lab.host_fingerprint(robot.name) in out
-    code, doc, _ = run_cli(capsys, "-i", str(inv), "status", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 0

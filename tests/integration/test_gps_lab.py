@@ -5,7 +5,6 @@ configured UDP port: a datagram sent to the robot shows up in its log."""
 
 from __future__ import annotations
 
-import json
 import socket
 import time
 from collections.abc import Iterator
@@ -13,50 +12,21 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, containers, robot_of, robots_put_back
 from tests.lab.nmea import burst
 from tests.lab.nmea_image import use_nmea_image
 
 pytestmark = pytest.mark.lab
 
-COMPOSE = "/home/husarion/compose.yaml"
 PARAMS = "/home/husarion/config/husarion_ugv_localization/config/nmea_navsat.yaml"
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, (json.loads(out) if out.strip().startswith("{") else {}), err
-
-
-def robot_of(lab: Any, version: str) -> str:
-    return next(r.name for r in lab.robots if version in r.image and not r.jump)
-
-
-def containers(lab: Any, name: str) -> dict[str, dict[str, Any]]:
-    ids = lab.docker(name, "ps", "-aq", check=True).stdout.split()
-    if not ids:
-        return {}
-    docs = json.loads(lab.docker(name, "inspect", *ids, check=True).stdout)
-    return {d["Name"].lstrip("/"): {"id": d["Id"], "state": d["State"]["Status"], "cmd": d["Config"]["Cmd"],
-                                    "image": d["Config"]["Image"]} for d in docs}
 
 
 @pytest.fixture
 def restored(lab: Any) -> Iterator[None]:
     """compose.yaml, ~/config, backups and the running stack of every robot put back."""
-    saved = {r.name: lab.read(r.name, COMPOSE) for r in lab.robots}
-    for r in lab.robots:
-        lab.sh(r.name, "rm -rf /tmp/gps-cfg && cp -a /home/husarion/config /tmp/gps-cfg 2>/dev/null; true")
-    yield
-    for r in lab.robots:
-        changed = lab.read(r.name, COMPOSE) != saved[r.name]
-        lab.write(r.name, COMPOSE, saved[r.name])
-        lab.sh(r.name, "rm -rf /home/husarion/config /home/husarion/.panther-ops; "
-                       "[ -d /tmp/gps-cfg ] && cp -a /tmp/gps-cfg /home/husarion/config; true")
-        if changed or "nmea-gps" in " ".join(containers(lab, r.name)):
-            lab.compose(r.name, "up", "-d", "--force-recreate", "--remove-orphans")
+    with robots_put_back(lab, lambda name, changed: changed or "nmea-gps" in " ".join(containers(lab, name))):
+        yield
 
 
 def udp_ports(lab: Any, name: str) -> set[int]:
@@ -73,7 +43,7 @@ def test_enable_twice_disable_on_three_stacks(lab: Any, restored: None, capsys: 
     running = {n: containers(lab, n) for n in names.values()}
     target = [a for n in names.values() for a in ("-r", n)]
 
-    code, doc, err = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
+    code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
     assert code == 0, (doc, err)
     by = {r["robot"]: r for r in doc["robots"]}
     assert {r["outcome"] for r in by.values()} == {"changed"}, by
@@ -102,10 +72,10 @@ def test_enable_twice_disable_on_three_stacks(lab: Any, restored: None, capsys: 
         assert word in ctr["cmd"] and ctr["state"] == "running" and ctr["id"] != running[n][driver]["id"]
         assert word in lab.read(n, COMPOSE)
 
-    code, doc, _ = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
     assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["ok"] * 3, doc
 
-    code, doc, err = run_cli(capsys, "-i", inv, "gps", "disable", *target, "--yes", "--settle", "1", "--json")
+    code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "disable", *target, "--yes", "--settle", "1", "--json")
     assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 3, (doc, err)
     for n in names.values():
         assert lab.read(n, COMPOSE) == before[n]
@@ -120,7 +90,7 @@ def test_other_port_on_22_and_204(lab: Any, restored: None, capsys: pytest.Captu
     ugv, old = robot_of(lab, "2.2.2"), robot_of(lab, "2.0.4")
     use_nmea_image(lab, old)
     before = {n: lab.read(n, COMPOSE) for n in (ugv, old)}
-    code, doc, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", ugv, "-r", old, "--port", "5003",
+    code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", ugv, "-r", old, "--port", "5003",
                              "--namespace", "rover", "--yes", "--settle", "1", "--json")
     assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 2, (doc, err)
     assert "    port: 5003\n" in lab.read(ugv, PARAMS)
@@ -130,7 +100,7 @@ def test_other_port_on_22_and_204(lab: Any, restored: None, capsys: pytest.Captu
     gps = next(c for k, c in containers(lab, old).items() if "nmea-gps" in k)
     assert gps["state"] == "running" and "port:=5003" in gps["cmd"] and "__ns:=/rover" in gps["cmd"]
     assert 5003 in udp_ports(lab, old)
-    code, doc, _ = run_cli(capsys, "-i", inv, "gps", "disable", "-r", ugv, "-r", old, "--yes", "--settle", "1",
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "gps", "disable", "-r", ugv, "-r", old, "--yes", "--settle", "1",
                            "--json")
     assert code == 0 and {n: lab.read(n, COMPOSE) for n in (ugv, old)} == before
     assert lab.sh(ugv, f"test -e {PARAMS}").returncode == 1
@@ -141,7 +111,7 @@ def test_bad_input_changes_nothing(lab: Any, capsys: pytest.CaptureFixture[str])
     n = robot_of(lab, "2.1.1")
     before = lab.read(n, COMPOSE)
     for argv in (["--port", "70000"], ["--namespace", "a b"], ["--port", "5001"]):
-        code, _doc, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", n, "--yes", *argv)
+        code, _doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", n, "--yes", *argv)
         assert code == 2 and err, argv
     assert lab.read(n, COMPOSE) == before
 
@@ -158,15 +128,15 @@ def test_apply_desired_gps_recreates_only_the_service(lab: Any, restored: None,
     before = lab.read(name, COMPOSE)
     running = containers(lab, name)
     try:
-        code, doc, err = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
+        code, doc, _, err = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
         assert code == 0 and doc["robots"][0]["outcome"] == "changed" and lab.read(name, COMPOSE) == before
-        code, doc, err = run_cli(capsys, "-i", str(inv), "apply", "-r", name, "--yes", "--settle", "1", "--json")
+        code, doc, _, err = run_cli(capsys, "-i", str(inv), "apply", "-r", name, "--yes", "--settle", "1", "--json")
         assert code == 0 and doc["robots"][0]["outcome"] == "changed", (doc, err)
         after = containers(lab, name)
         gps = [c for k, c in after.items() if "nmea-gps" in k]
         assert len(gps) == 1 and gps[0]["state"] == "running"
         assert {k: v["id"] for k, v in after.items() if "nmea-gps" not in k} == {k: v["id"] for k, v in running.items()}
-        code, doc, _ = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
+        code, doc, _, _ = run_cli(capsys, "-i", str(inv), "config", "diff", "-r", name, "--json")
         assert doc["robots"][0]["outcome"] == "ok"
         assert run_cli(capsys, "-i", str(inv), "gps", "disable", "-r", name, "--yes", "--settle", "1")[0] == 0
         assert lab.read(name, COMPOSE) == before

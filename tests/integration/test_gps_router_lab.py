@@ -5,7 +5,6 @@ the robot's UDP port."""
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import stat
@@ -15,7 +14,7 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
+from tests.clirun import run_cli
 from tests.lab._sys import wait_child
 from tests.lab.router import Router, add_router, renew_certificate
 
@@ -47,10 +46,8 @@ def env(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 
 
 def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, (json.loads(out) if out.strip().startswith("{") else {}), out + err
+    code, doc, out, err = run_cli(capsys, *argv)
+    return code, doc, out + err
 
 
 def arrives(lab: Any, port: int = 5000) -> str:

@@ -19,26 +19,14 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
 from panther_ops.core.manager_ops.bundle import build_bundle
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, robot_of
 from tests.lab.pyimage import restore_driver_image, use_python_image
 
 pytestmark = pytest.mark.lab
 
-COMPOSE = "/home/husarion/compose.yaml"
 SERVICE = "panther_ops_manager"
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, _err = capsys.readouterr()
-    doc = json.loads(out) if out.strip().startswith("{") else {}
-    return code, doc, out
-
-
-def robot_of(lab: Any, version: str) -> str:
-    return str(next(r.name for r in lab.robots if version in r.image and not r.jump))
 
 
 def inspect(lab: Any, name: str, container: str) -> dict[str, Any] | None:
@@ -82,7 +70,7 @@ def test_deploy_runs_the_manager_and_remove_restores_compose(lab: Any, python_ro
     flag = "disable_manager:=true" if robot.stack.ugv else "disable_manager:=True"
     before = lab.read_bytes(name, COMPOSE)
 
-    code, doc, _ = run_cli(capsys, "-i", inv, "manager", "deploy", "-r", name, "--sim", "--yes", "--settle", "2",
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "manager", "deploy", "-r", name, "--sim", "--yes", "--settle", "2",
                            "--json")
     assert code == 0, doc
     assert doc["robots"][0]["outcome"] == "changed", doc["robots"][0]["message"]
@@ -98,7 +86,7 @@ def test_deploy_runs_the_manager_and_remove_restores_compose(lab: Any, python_ro
 
     deadline = time.monotonic() + 30  # the first lines can take a while on a loaded machine
     while True:
-        code, _, out = run_cli(capsys, "-i", inv, "manager", "logs", "-r", name, "-n", "50")
+        code, _, out, _ = run_cli(capsys, "-i", inv, "manager", "logs", "-r", name, "-n", "50")
         if code != 0 or "call lights/set_animation" in out or time.monotonic() > deadline:
             break
         time.sleep(1)
@@ -106,17 +94,17 @@ def test_deploy_runs_the_manager_and_remove_restores_compose(lab: Any, python_ro
     assert f"panther_ops.manager {version}" in out and "Python 3.10." in out and "simulation mode" in out
     assert "call lights/set_animation" in out
 
-    code, doc, _ = run_cli(capsys, "-i", inv, "manager", "status", "-r", name, "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "manager", "status", "-r", name, "--json")
     r = doc["robots"][0]
     assert code == 0 and r["outcome"] == "ok", r
     assert r["data"]["state"] == "running" and r["data"]["version"] == version == r["data"]["running_version"]
     assert r["data"]["mode"] == "sim" and r["data"]["restart_count"] == 0
 
-    code, doc, _ = run_cli(capsys, "-i", inv, "manager", "deploy", "-r", name, "--sim", "--yes", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "manager", "deploy", "-r", name, "--sim", "--yes", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "ok"
     assert "already deployed" in doc["robots"][0]["message"]
 
-    code, doc, _ = run_cli(capsys, "-i", inv, "manager", "remove", "-r", name, "--yes", "--settle", "2", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "manager", "remove", "-r", name, "--yes", "--settle", "2", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "changed", doc["robots"][0]["message"]
     assert lab.read_bytes(name, COMPOSE) == before
     assert inspect(lab, name, SERVICE) is None
@@ -131,7 +119,7 @@ def test_deploy_without_python_in_the_image_rolls_back(lab: Any, capsys: pytest.
     robot = lab.robot(name)
     compose, backups = lab.read(name, COMPOSE), _backups(lab, name)
     try:
-        code, doc, _ = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", name, "--sim",
+        code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", name, "--sim",
                                "--yes", "--settle", "2", "--json")
         r = doc["robots"][0]
         assert code == 3 and r["outcome"] == "rolled-back", r
@@ -151,7 +139,7 @@ def test_dry_run_through_a_jump_host_writes_nothing(lab: Any, capsys: pytest.Cap
     hidden = lab.jump_robot
     assert hidden is not None
     before = lab.read_bytes(hidden.name, COMPOSE)
-    code, _, out = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", hidden.name,
+    code, _, out, _ = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", hidden.name,
                            "--sim", "--dry-run")
     assert code == 0
     assert f"+  {SERVICE}:" in out and "disable_manager:=True" in out
@@ -159,7 +147,7 @@ def test_dry_run_through_a_jump_host_writes_nothing(lab: Any, capsys: pytest.Cap
     assert lab.sh(hidden.name, "test -e /home/husarion/panther-ops").returncode != 0
     # ROS 2 mode: the busybox image has no ssh client, so the stock manager's SSH power-off of the
     # robot would be lost: refused (exit 2), through the jump host too, nothing written
-    code, _, out = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", hidden.name,
+    code, _, out, _ = run_cli(capsys, "-i", str(lab.inventory_path), "manager", "deploy", "-r", hidden.name,
                            "--ros2", "--dry-run")
     assert code == 2
     assert lab.read_bytes(hidden.name, COMPOSE) == before

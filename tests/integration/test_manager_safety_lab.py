@@ -22,28 +22,16 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
 from panther_ops.core.manager_ops.bundle import build_bundle
+from tests.clirun import run_cli
+from tests.integration.labtools import COMPOSE, robot_of
 from tests.lab.computers import ComputerSpec, is_silent
 from tests.lab.pyimage import restore_driver_image, use_python_image
 
 pytestmark = pytest.mark.lab
 
-COMPOSE = "/home/husarion/compose.yaml"
 HOSTS_22 = "/home/husarion/config/husarion_ugv_manager/config/shutdown_hosts.yaml"
 COMPUTER = "uc13"
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if out.strip().startswith("{") else {}
-    return code, doc, out, err
-
-
-def robot_of(lab: Any, version: str) -> str:
-    return str(next(r.name for r in lab.robots if version in r.image and not r.jump))
 
 
 @pytest.fixture

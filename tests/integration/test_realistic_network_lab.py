@@ -21,6 +21,7 @@ import pytest
 
 from panther_ops.cli.app import main
 from tests.lab.lab import RELAY
+from tests.ports import free_port
 
 COMPOSE = "/home/husarion/compose.yaml"
 RTT = 0.1
@@ -48,17 +49,11 @@ def _echo_server() -> tuple[socket.socket, int]:
     return server, server.getsockname()[1]
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture
 def relay() -> Any:
     """A relay with a 100 ms round trip and ± 20 ms jitter in front of a local echo server."""
     server, port = _echo_server()
-    listen = _free_port()
+    listen = free_port()
     p = subprocess.Popen([sys.executable, "-I", str(RELAY), "--listen", f"127.0.0.1:{listen}",
                           "--to", f"127.0.0.1:{port}", "--delay-ms", "50", "--jitter-ms", "20"],
                          stdout=subprocess.PIPE, text=True)

@@ -13,7 +13,7 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
+from tests.clirun import run_cli
 from tests.lab import Lab
 
 HOME = "/home/husarion"
@@ -28,9 +28,7 @@ def blab(lab_factory: Callable[..., Lab]) -> Lab:
 
 
 def run(capsys: pytest.CaptureFixture[str], lab: Lab, *argv: str) -> tuple[int, dict[str, Any]]:
-    capsys.readouterr()
-    code = main(["-i", str(lab.inventory_path), *argv])
-    out, _ = capsys.readouterr()
+    code, _, out, _ = run_cli(capsys, "-i", str(lab.inventory_path), *argv)
     return code, json.loads(out)
 
 

@@ -8,21 +8,20 @@ Marked `lab`: without root or losetup/sfdisk/mkfs.ext4/mount they skip, and fail
 
 from __future__ import annotations
 
+import contextlib
 import gzip
 import hashlib
-import json
 import lzma
 import os
 import shutil
 import subprocess
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
 from panther_ops.transport import blockdev
+from tests.clirun import run_cli
 from tests.conftest import skip_or_fail
 
 pytestmark = pytest.mark.lab
@@ -112,14 +111,6 @@ def images(loop_ready: None, tmp_path_factory: pytest.TempPathFactory) -> dict[s
     return out
 
 
-def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if "--json" in argv and out.strip() else {}
-    return code, doc, out, err
-
-
 def _device_bytes(dev: str, length: int, offset: int = 0) -> bytes:
     with open(dev, "rb") as fh:
         fh.seek(offset)
@@ -162,7 +153,7 @@ def test_flash_verifies_and_the_device_holds_the_image(
     image = images[name]
     dev = loop(300 * MIB)
     _mark(dev, (0, 200 * MIB))
-    code, doc, _, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--json")
     assert code == 0, err
     assert doc["ok"] is True and doc["verify"]["first_difference"] is None
     assert doc["image"]["bytes"] == IMAGE_BYTES and doc["write"]["bytes"] == IMAGE_BYTES
@@ -184,10 +175,10 @@ def test_a_byte_changed_after_writing_fails_verify_naming_the_offset(
 ) -> None:
     image = images["disk.xz"]
     dev = loop(300 * MIB)
-    code, _, out, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes")
+    code, _, out, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes")
     assert code == 0, err
     assert "verified:" in out
-    code, doc, _, err = cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
     assert code == 0 and doc["ok"] is True, err
     offset = 123 * MIB + 4567
     old = _device_bytes(dev, 1, offset)
@@ -197,11 +188,11 @@ def test_a_byte_changed_after_writing_fails_verify_naming_the_offset(
         os.fsync(fd)
     finally:
         os.close(fd)
-    code, doc, _, err = cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
     assert code == 3, err
     assert doc["ok"] is False and doc["verify"]["first_difference"] == offset
     assert doc["verify"]["device_sha256"] != doc["verify"]["image_sha256"]
-    code, _, out, _ = cli(capsys, "reimage", "verify", str(image), "--device", dev)
+    code, _, out, _ = run_cli(capsys, "reimage", "verify", str(image), "--device", dev)
     assert code == 3
     assert f"VERIFY FAILED: {dev}: differs from the image: first difference at byte {offset}" in out
 
@@ -231,8 +222,21 @@ def test_a_change_after_the_write_phase_fails_the_flash_itself(images: dict[str,
 # --- refusals: exit 2, nothing written ------------------------------------------------------------
 
 
+@contextlib.contextmanager
+def _mounted(loop: MakeLoop, dev: str, mnt: Path) -> Iterator[Path]:
+    """The ext4 file system on `dev` mounted at `mnt` during the block (the loop fixture unmounts it
+    too, should the test stop half way)."""
+    mnt.mkdir()
+    _sh("mount", "-t", "ext4", dev, str(mnt))
+    loop.mounts.append(mnt)  # type: ignore[attr-defined]
+    try:
+        yield mnt
+    finally:
+        _sh("umount", str(mnt))
+
+
 def _refused(capsys: pytest.CaptureFixture[str], image: Path, dev: str, *extra: str) -> str:
-    code, _, _, err = cli(capsys, "reimage", "flash", str(image), "--device", dev, *extra)
+    code, _, _, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, *extra)
     assert code == 2, err
     return " ".join(err.split())
 
@@ -243,15 +247,9 @@ def test_refuses_a_mounted_device(
     dev = loop(300 * MIB)
     _sh("mkfs.ext4", "-q", "-F", dev, "64M")
     marks = _mark(dev, (0, 128 * MIB))
-    mnt = tmp_path / "mnt"
-    mnt.mkdir()
-    _sh("mount", "-t", "ext4", dev, str(mnt))
-    loop.mounts.append(mnt)  # type: ignore[attr-defined]
-    try:
+    with _mounted(loop, dev, tmp_path / "mnt") as mnt:
         err = _refused(capsys, images["random"], dev, "--yes")
         assert f"{dev} is mounted at {mnt}" in err and "nothing was written" in err
-    finally:
-        _sh("umount", str(mnt))
     assert _unchanged(dev, marks)
 
 
@@ -289,15 +287,9 @@ def test_refuses_a_partition(images: dict[str, Path], loop: MakeLoop, tmp_path: 
     assert _unchanged(part, marks)
     # the whole device holding that partition is refused while the partition is mounted
     _sh("mkfs.ext4", "-q", "-F", part, "64M")
-    mnt = tmp_path / "mnt"
-    mnt.mkdir()
-    _sh("mount", "-t", "ext4", part, str(mnt))
-    loop.mounts.append(mnt)  # type: ignore[attr-defined]
-    try:
+    with _mounted(loop, part, tmp_path / "mnt") as mnt:
         err = _refused(capsys, images["random"], dev, "--yes")
         assert f"{dev}: {part} is mounted at {mnt}" in err
-    finally:
-        _sh("umount", str(mnt))
 
 
 def test_refuses_a_wrong_or_missing_checksum(

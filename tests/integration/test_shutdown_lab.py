@@ -20,6 +20,7 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
+from tests.clirun import run_cli
 from tests.lab import Lab, missing_requirements
 from tests.lab._sys import wait_for
 from tests.lab.computers import ComputerSpec, HttpService, is_silent, service_log, trust_on_robot
@@ -63,11 +64,7 @@ def slab() -> Iterator[Lab]:
 
 
 def cli(capsys: pytest.CaptureFixture[str], lab: Lab, *argv: str) -> tuple[int, dict[str, Any], str, str]:
-    capsys.readouterr()
-    code = main(["-i", str(lab.inventory_path), *argv])
-    out, err = capsys.readouterr()
-    doc = json.loads(out) if out.strip().startswith("{") else {}
-    return code, doc, out, err
+    return run_cli(capsys, "-i", str(lab.inventory_path), *argv)
 
 
 def ip(lab: Lab, name: str) -> str:

@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-import yaml
 
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
@@ -18,7 +17,8 @@ from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.errors import TransportError, UnreachableError
 from panther_ops.secret import Secret
 from panther_ops.transport.base import Command
-from tests.lab import Lab, missing_requirements
+from tests.integration.labtools import computers_lab, user_computer_inventory
+from tests.lab import Lab
 from tests.lab.computers import ComputerSpec
 
 pytestmark = pytest.mark.lab
@@ -28,32 +28,17 @@ U1_PASSWORD = "u1-lab-sudo-password"
 
 @pytest.fixture(scope="module")
 def ulab() -> Iterator[Lab]:
-    why = missing_requirements(docker=False)
-    if why:  # a lab test: a failure under CI=true
-        pytest.skip("simulated robot lab unavailable: " + "; ".join(why))
-    lab = Lab(2, docker=False, ephemeral=True).up()
-    try:
-        lab.add_computers([
-            ComputerSpec("u1", behind="r01", password=U1_PASSWORD, admin="group"),  # sudo asks for the password
-            ComputerSpec("u2", behind="r01", admin="nopasswd"),
-        ])
+    with computers_lab(
+        ComputerSpec("u1", behind="r01", password=U1_PASSWORD, admin="group"),  # sudo asks for the password
+        ComputerSpec("u2", behind="r01", admin="nopasswd"),
+    ) as lab:
         yield lab
-    finally:
-        lab.down()
 
 
 def inventory(lab: Lab, tmp: Path, computer: str, *, computer_keys: bool = True) -> Path:
     """The lab's inventory with r01's user_computer set (absolute paths)."""
-    doc = yaml.safe_load(lab.inventory_path.read_text())
-    doc["settings"]["known_hosts"] = [str(lab.known_hosts_path)] + (
-        [str(lab.computers_known_hosts_path)] if computer_keys else [])
-    doc["settings"]["ssh_config"] = str(lab.ssh_config_path)
-    doc["defaults"]["identity_file"] = str(lab.identity_file)
-    doc["robots"]["r01"]["user_computer"] = {"host": lab.computer(computer).ip, "user": "husarion",
-                                             "key": str(lab.identity_file)}
-    path = tmp / "inventory.yaml"
-    path.write_text(yaml.safe_dump(doc))
-    return path
+    return user_computer_inventory(lab, tmp / "inventory.yaml", {"r01": computer}, user="husarion",
+                                   computer_keys=computer_keys)
 
 
 def session(path: Path, password: str | None) -> tuple[Connections, Any]:

@@ -13,8 +13,9 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
-from tests.lab import Lab, missing_requirements
+from tests.clirun import run_cli
+from tests.integration.labtools import computers_lab, user_computer_inventory
+from tests.lab import Lab
 from tests.lab.computers import ComputerSpec
 
 pytestmark = pytest.mark.lab
@@ -25,33 +26,17 @@ STATE = "/var/lib/snapd-standin/husarion-webui.json"
 
 @pytest.fixture(scope="module")
 def wlab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Lab, Path]]:
-    why = missing_requirements(docker=False)
-    if why:  # a lab test: a failure under CI=true
-        pytest.skip("simulated robot lab unavailable: " + "; ".join(why))
-    lab = Lab(2, docker=False, ephemeral=True).up()
-    try:
-        lab.add_computers([
-            ComputerSpec("w1", behind="r01", password=W1_PASSWORD, admin="group", webui=True),  # sudo asks
-            ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
-        ])
-        doc = yaml.safe_load(lab.inventory_path.read_text())
-        doc["settings"]["known_hosts"] = [str(lab.known_hosts_path), str(lab.computers_known_hosts_path)]
-        doc["settings"]["ssh_config"] = str(lab.ssh_config_path)
-        doc["defaults"]["identity_file"] = str(lab.identity_file)
-        for robot, computer in (("r01", "w1"), ("r02", "w2")):
-            doc["robots"][robot]["user_computer"] = {"host": lab.computer(computer).ip, "key": str(lab.identity_file)}
+    with computers_lab(
+        ComputerSpec("w1", behind="r01", password=W1_PASSWORD, admin="group", webui=True),  # sudo asks
+        ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
+    ) as lab:
         path = tmp_path_factory.mktemp("webui") / "inventory.yaml"
-        path.write_text(yaml.safe_dump(doc))
-        yield lab, path
-    finally:
-        lab.down()
+        yield lab, user_computer_inventory(lab, path, {"r01": "w1", "r02": "w2"})
 
 
 def cli(capsys: pytest.CaptureFixture[str], inventory: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(["-i", str(inventory), *argv])
-    out, err = capsys.readouterr()
-    return code, json.loads(out) if out.strip().startswith("{") else {}, err
+    code, doc, _, err = run_cli(capsys, "-i", str(inventory), *argv)
+    return code, doc, err
 
 
 def ui_status(lab: Lab, robot: str, computer: str, port: int) -> str:
@@ -163,3 +148,71 @@ def test_install_refused_when_a_clock_is_5_s_off(wlab: tuple[Lab, Path], capsys:
         assert json.loads(lab.exec("w2", ["cat", STATE]).stdout)["channel"] != "humble/edge"
     finally:
         lab.clock_offset("w2", 0)
+
+
+def _inventory_with(inv: Path, tmp_path: Path, **robots: dict[str, Any]) -> Path:
+    """A copy of the lab inventory with each robot's entries replaced (None: removed)."""
+    doc = yaml.safe_load(inv.read_text())
+    for name, entries in robots.items():
+        for key, value in entries.items():
+            if value is None:
+                doc["robots"][name].pop(key, None)
+            else:
+                doc["robots"][name][key] = value
+    path = tmp_path / "inventory.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    return path
+
+
+def test_apply_converges_desired_webui_with_the_robots_namespace_then_changes_nothing(
+        wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    lab, base = wlab
+    assert cli(capsys, base, "webui", "install", "-r", "r02")[0] == 0
+    code, doc, err = cli(capsys, base, "webui", "start", "-r", "r02", "--json")
+    assert code == 0, err
+    # the snap without a namespace (as a fresh install leaves it), on its default port
+    lab.exec("w2", ["python3", "-c", "import json,sys; p=sys.argv[1]; d=json.load(open(p)); "
+                    "d['config'].get('ros', {}).pop('namespace', None); d['config'].setdefault('webui', {})"
+                    "['port']='8080'; json.dump(d, open(p, 'w'))", STATE])
+    lab.exec("w2", ["sh", "-c", "husarion-webui.stop; husarion-webui.start"])
+    inv = _inventory_with(base, tmp_path, r02={"desired": {"webui": {"transport": "rmw_cyclonedds_cpp",
+                                                                     "port": 8082, "layout": "panther"}}})
+    code, doc, err = cli(capsys, inv, "config", "diff", "-r", "r02", "--json")
+    assert code == 0, err
+    r = doc["robots"][0]
+    assert r["outcome"] == "changed" and r["data"]["action"] == "webui"
+    plan = {p["key"]: (p["current"], p["new"]) for p in r["data"]["webui"]["plan"]}
+    assert plan["ros.namespace"] == ("", "panther") and plan["webui.port"] == ("8080", "8082")
+    assert "ROBOT_NAMESPACE in compose.yaml" in r["data"]["webui"]["namespace"]
+    assert "ros.namespace: (unset) -> panther" in r["message"] and r["message"].endswith("and restart it")
+
+    before = snap_state(lab, "w2")
+    code, doc, err = cli(capsys, inv, "apply", "-r", "r02", "--dry-run", "--json")
+    assert code == 0 and doc["robots"][0]["message"].startswith("would set WebUI "), err
+    assert snap_state(lab, "w2") == before
+
+    code, doc, err = cli(capsys, inv, "apply", "-r", "r02", "--yes", "--json")
+    assert code == 0, err
+    r = doc["robots"][0]
+    assert r["outcome"] == "changed" and r["message"].endswith("; restarted it"), r
+    assert r["data"]["webui_after"]["settings"]["ros.namespace"] == "panther"
+    assert ui_status(lab, "r02", "w2", 8082) == "200" and ui_status(lab, "r02", "w2", 8080) == "000"
+
+    after = snap_state(lab, "w2")
+    for argv in (("apply", "-r", "r02", "--yes", "--json"), ("config", "diff", "-r", "r02", "--json")):
+        code, doc, err = cli(capsys, inv, *argv)  # a second run changes nothing
+        assert code == 0 and doc["robots"][0]["outcome"] == "ok", doc
+        assert doc["robots"][0]["message"] == "matches the inventory's desired state"
+    assert snap_state(lab, "w2") == after
+
+
+def test_apply_skips_desired_webui_without_a_user_computer_in_the_inventory(
+        wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    lab, base = wlab
+    inv = _inventory_with(base, tmp_path, r01={"user_computer": None, "desired": {"webui": {"port": 8083}}})
+    before = snap_state(lab, "w1")
+    code, doc, err = cli(capsys, inv, "apply", "-r", "r01", "--yes", "--json")
+    assert code == 0, err
+    r = doc["robots"][0]
+    assert r["outcome"] == "ok" and any("no user_computer: for r01" in w for w in r["warnings"]), r
+    assert snap_state(lab, "w1") == before

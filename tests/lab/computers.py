@@ -44,7 +44,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from . import files as F
-from ._sys import LabError, run, wait_child, wait_for
+from ._sys import LabError, run
 from .state import RobotState, base_lock
 
 if TYPE_CHECKING:
@@ -224,21 +224,11 @@ def _spec(lab: Lab, r: RobotState) -> ComputerSpec:
 
 def _ensure_lan(lab: Lab, robot: str) -> None:
     """The robot's own LAN bridge (as Lab.behind_jump creates it), once."""
-    from .lab import SUBNET_BASE, _free_subnet, _used_subnets
-
-    st = lab.st
     j = lab._rs(robot)
     if j.jump:
         raise LabError(f"{robot} is itself behind {j.jump}: computers go behind a directly reachable robot")
     with base_lock(lab.base), lab._lock:
-        if robot in st.jump_subnets:
-            return
-        w = _free_subnet(_used_subnets(lab.base))
-        st.jump_subnets[robot] = w
-        st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
-        st.save()
-        run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
-        lab._jump_bridge(j, w)
+        lab._jump_lan(j)
 
 
 def _standin(delay: float) -> str:
@@ -351,13 +341,5 @@ def _start_service(lab: Lab, r: RobotState, http: HttpService) -> None:
     log = d / "var/log/shutdown-service.log"
     before = log.read_text().count('"listening"') if log.exists() else 0
     argv = [*lab._nsenter(r), python, str(d / "shutdown-service.py"), r.ip, str(http.port), SECRET_PATH]
-    p = lab._spawn(argv, d / "shutdown-service.out")
-    lab._record(r, "http-nsenter", p.pid)
-    lab._record(r, "shutdown-http", wait_child(p.pid))
-
-    def listening() -> bool:
-        if p.poll() is not None:
-            raise LabError(f"{r.name}: shutdown service exited:\n{(d / 'shutdown-service.out').read_text()}")
-        return log.exists() and log.read_text().count('"listening"') > before
-
-    wait_for(listening, 10.0, f"shutdown service of {r.name}")
+    lab._start_until(r, argv, d / "shutdown-service.out", ("http-nsenter", "shutdown-http"), "shutdown service",
+                     lambda: log.exists() and log.read_text().count('"listening"') > before)

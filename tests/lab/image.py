@@ -55,22 +55,26 @@ def _is_static_elf(path: Path) -> bool:
     )
 
 
+def tar_dir(tar: tarfile.TarFile, name: str, mode: int = 0o755) -> None:
+    """Add a directory `name` to an image's root file system."""
+    ti = tarfile.TarInfo(name)
+    ti.type = tarfile.DIRTYPE
+    ti.mode = mode
+    tar.addfile(ti)
+
+
+def tar_file(tar: tarfile.TarFile, name: str, data: bytes, mode: int = 0o644) -> None:
+    """Add a file `name` holding `data` to an image's root file system."""
+    ti = tarfile.TarInfo(name)
+    ti.size = len(data)
+    ti.mode = mode
+    tar.addfile(ti, io.BytesIO(data))
+
+
 def build_rootfs(dest: Path) -> Path:
     """Write the image's root file system as a tarball to `dest` (~2 MB)."""
     busybox = find_static_busybox()
     applets = subprocess.run([str(busybox), "--list"], capture_output=True, text=True, check=True).stdout.split()
-
-    def add_dir(tar: tarfile.TarFile, name: str, mode: int = 0o755) -> None:
-        ti = tarfile.TarInfo(name)
-        ti.type = tarfile.DIRTYPE
-        ti.mode = mode
-        tar.addfile(ti)
-
-    def add_file(tar: tarfile.TarFile, name: str, data: bytes, mode: int = 0o644) -> None:
-        ti = tarfile.TarInfo(name)
-        ti.size = len(data)
-        ti.mode = mode
-        tar.addfile(ti, io.BytesIO(data))
 
     dest.parent.mkdir(parents=True, exist_ok=True)
     tmp = dest.with_suffix(".tmp")
@@ -97,10 +101,10 @@ def build_rootfs(dest: Path) -> Path:
             "root/.ssh",
             "config",
         ):
-            add_dir(tar, d)
-        add_dir(tar, "root", 0o700)
-        add_dir(tar, "tmp", 0o1777)
-        add_file(tar, "bin/busybox", busybox.read_bytes(), 0o755)
+            tar_dir(tar, d)
+        tar_dir(tar, "root", 0o700)
+        tar_dir(tar, "tmp", 0o1777)
+        tar_file(tar, "bin/busybox", busybox.read_bytes(), 0o755)
         for a in applets:
             if a == "busybox":
                 continue
@@ -108,10 +112,10 @@ def build_rootfs(dest: Path) -> Path:
             ti.type = tarfile.SYMTYPE
             ti.linkname = "busybox"
             tar.addfile(ti)
-        add_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
-        add_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
-        add_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")
-        add_file(tar, "etc/group", b"root:x:0:\n")
-        add_file(tar, "etc/lab-image", b"panther-ops test lab stand-in image (busybox, no ROS)\n")
+        tar_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
+        tar_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
+        tar_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")
+        tar_file(tar, "etc/group", b"root:x:0:\n")
+        tar_file(tar, "etc/lab-image", b"panther-ops test lab stand-in image (busybox, no ROS)\n")
     tmp.replace(dest)
     return dest

@@ -582,6 +582,19 @@ class Lab:
         return path.read_text().strip()
 
     # -- network -----------------------------------------------------------------------
+    def _jump_lan(self, jump: RobotState) -> None:
+        """A subnet of the robot's own behind its bridge, once; the host only has an `unreachable`
+        route to it. The caller holds the base lock and the lab's lock."""
+        st = self.st
+        if jump.name in st.jump_subnets:
+            return
+        w = _free_subnet(_used_subnets(self.base))
+        st.jump_subnets[jump.name] = w
+        st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
+        st.save()
+        run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
+        self._jump_bridge(jump, w)
+
     def _jump_bridge(self, jump: RobotState, w: int) -> None:
         cmds = (
             f"link add {JUMP_BRIDGE} type bridge\n"
@@ -629,6 +642,25 @@ class Lab:
         self._popen[p.pid] = p
         return p
 
+    def _start_until(self, r: RobotState, argv: list[str], out: Path, roles: tuple[str, ...], what: str,
+                     ready: Callable[[], bool], *, log: Path | None = None, timeout: float = 10.0) -> None:
+        """Start `argv` for robot `r` (its output to `out`) and wait until `ready()`.
+
+        ``roles``: the name the started process is recorded under, then, where it is an nsenter
+        or unshare that forks the program, the name of that child. A LabError naming `what` with
+        the end of `log` (default `out`) if the process ends first; on timeout, one naming it."""
+        p = self._spawn(argv, out)
+        self._record(r, roles[0], p.pid)
+        if len(roles) > 1:
+            self._record(r, roles[1], wait_child(p.pid))
+
+        def up() -> bool:
+            if p.poll() is not None:
+                raise LabError(f"{r.name}: {what} exited:\n{_tail(log or out)}")
+            return ready()
+
+        wait_for(up, timeout, f"{what} of {r.name}")
+
     def _nsenter(self, r: RobotState) -> list[str]:
         return ["nsenter", "-t", str(self._init_pid(r)), "-n", "-m", "-u", "-p", "--"]
 
@@ -650,16 +682,8 @@ class Lab:
             str(d),
             r.name,
         ]
-        p = self._spawn(argv, d / "init.log")
-        self._record(r, "unshare", p.pid)
-        self._record(r, "init", wait_child(p.pid))
-
-        def ready() -> bool:
-            if p.poll() is not None:
-                raise LabError(f"{r.name}: robot-init.sh failed:\n{_tail(d / 'init.log')}")
-            return (d / "ready").exists()
-
-        wait_for(ready, 10.0, f"{r.name} to boot")
+        self._start_until(r, argv, d / "init.log", ("unshare", "init"), "robot-init.sh",
+                          (d / "ready").exists)
 
     def _sshd_listening(self, r: RobotState) -> int:
         return _count(Path(r.dir) / "var/log/sshd.log", "Server listening on")
@@ -667,16 +691,8 @@ class Lab:
     def _start_sshd(self, r: RobotState) -> None:
         before = self._sshd_listening(r)
         argv = [*self._nsenter(r), SSHD, "-D", "-f", "/etc/ssh/sshd_config", "-E", "/var/log/sshd.log"]
-        p = self._spawn(argv, Path(r.dir) / "sshd.out")
-        self._record(r, "sshd-nsenter", p.pid)
-        self._record(r, "sshd", wait_child(p.pid))
-
-        def listening() -> bool:
-            if p.poll() is not None:
-                raise LabError(f"{r.name}: sshd exited:\n{_tail(Path(r.dir) / 'var/log/sshd.log')}")
-            return self._sshd_listening(r) > before
-
-        wait_for(listening, 10.0, f"sshd of {r.name}")
+        self._start_until(r, argv, Path(r.dir) / "sshd.out", ("sshd-nsenter", "sshd"), "sshd",
+                          lambda: self._sshd_listening(r) > before, log=Path(r.dir) / "var/log/sshd.log")
 
     def _start_relay(self, r: RobotState) -> None:
         """The delay relay on the robot's public address:22, in front of its inner sshd."""
@@ -686,15 +702,9 @@ class Lab:
                 "--delay-ms", f"{self.st.rtt_ms / 2:g}", "--jitter-ms", f"{self.st.jitter_ms:g}"]
         if self.relay_trace:  # one line per chunk: the round trips of each connection
             argv += ["--trace", str(Path(r.dir) / "relay.trace")]
-        p = self._spawn(argv, log)  # nsenter without a PID namespace execs the relay itself
-        self._record(r, "relay", p.pid)
-
-        def ready() -> bool:
-            if p.poll() is not None:
-                raise LabError(f"{r.name}: the delay relay exited:\n{_tail(log)}")
-            return "ready" in log.read_text(errors="replace")
-
-        wait_for(ready, 10.0, f"the delay relay of {r.name}")
+        # nsenter without a PID namespace execs the relay itself: one process
+        self._start_until(r, argv, log, ("relay",), "the delay relay",
+                          lambda: "ready" in log.read_text(errors="replace"))
 
     def _reload_sshd(self, r: RobotState) -> None:
         """SIGHUP: sshd re-executes itself (same PID) and reads its configuration again."""
@@ -752,14 +762,9 @@ class Lab:
             "--log-level",
             "warn",
         ]
-        p = self._spawn(argv, d / "var/log/dockerd.log")
-        self._record(r, "dockerd-nsenter", p.pid)
-        self._record(r, "dockerd", wait_child(p.pid))
         sock = d / "run" / "docker.sock"
 
         def ready() -> bool:
-            if p.poll() is not None:
-                raise LabError(f"{r.name}: dockerd exited:\n{_tail(d / 'var/log/dockerd.log')}")
             if not sock.exists():
                 return False
             try:
@@ -767,7 +772,8 @@ class Lab:
             except Exception:
                 return False
 
-        wait_for(ready, 30.0, f"dockerd of {r.name}")
+        self._start_until(r, argv, d / "var/log/dockerd.log", ("dockerd-nsenter", "dockerd"), "dockerd", ready,
+                          timeout=30.0)
 
     def docker_client(self, name: str, timeout: float = 30) -> Any:
         """docker SDK client for the robot's engine, through its socket from the host."""
@@ -1122,13 +1128,7 @@ class Lab:
         if j.jump or any(x.jump == name for x in st.robots.values()) or name == jump:
             raise LabError("a jump robot cannot be behind a jump robot itself")
         with base_lock(self.base), self._lock:
-            if jump not in st.jump_subnets:
-                w = _free_subnet(_used_subnets(self.base))
-                st.jump_subnets[jump] = w
-                st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
-                st.save()
-                run(["ip", "route", "add", "unreachable", f"{SUBNET_BASE}.{w}.0/24"])
-                self._jump_bridge(j, w)
+            self._jump_lan(j)
         w = st.jump_subnets[jump]
         # unwire: deleting eth0 in the robot deletes its peer too
         run(["ip", "-n", r.ns, "link", "del", "eth0"], check=False)

@@ -13,7 +13,6 @@ listener). Labelled `org.panther-ops.lab=nmea-stand-in`.
 from __future__ import annotations
 
 import hashlib
-import io
 import subprocess
 import tarfile
 from pathlib import Path
@@ -21,7 +20,7 @@ from typing import Any
 
 from ._sys import LabError
 from .files import DATA
-from .image import build_rootfs, find_static_busybox
+from .image import build_rootfs, find_static_busybox, tar_dir, tar_file
 
 NMEA_IMAGE = "husarion/nmea-gps:humble-2.0.1-20240617"
 LABEL = "org.panther-ops.lab"
@@ -65,18 +64,10 @@ def nmea_rootfs(cache: Path) -> Path:
             if member.name == "usr/bin/ros2":
                 continue
             tar.addfile(member, src.extractfile(member) if member.isfile() else None)
-
-        def add(name: str, data: bytes, mode: int) -> None:
-            ti = tarfile.TarInfo(name)
-            ti.size, ti.mode = len(data), mode
-            tar.addfile(ti, io.BytesIO(data))
-
-        add("usr/bin/ros2", ros2, 0o755)
-        add("usr/bin/nmea-listen", listener.read_bytes(), 0o755)
-        dirinfo = tarfile.TarInfo("husarion_utils")
-        dirinfo.type, dirinfo.mode = tarfile.DIRTYPE, 0o755
-        tar.addfile(dirinfo)
-        add("husarion_utils/nmea_navsat.launch.py", b"# stand-in: the lab's nmea-gps image has no ROS 2\n", 0o644)
+        tar_file(tar, "usr/bin/ros2", ros2, 0o755)
+        tar_file(tar, "usr/bin/nmea-listen", listener.read_bytes(), 0o755)
+        tar_dir(tar, "husarion_utils")
+        tar_file(tar, "husarion_utils/nmea_navsat.launch.py", b"# stand-in: the lab's nmea-gps image has no ROS 2\n")
     tmp.replace(dest)
     base.unlink(missing_ok=True)
     return dest

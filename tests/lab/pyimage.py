@@ -24,7 +24,6 @@ from __future__ import annotations
 import hashlib
 import importlib.metadata
 import importlib.util
-import io
 import os
 import re
 import shutil
@@ -36,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from ._sys import LabError
-from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox
+from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox, tar_dir, tar_file
 
 PYTHON_TAG = "panther-ops-lab/python:3.10"
 LABEL = "org.panther-ops.lab"
@@ -160,19 +159,19 @@ def _build(python: Path, dest: Path) -> None:
                         f"{PREFIX}/lib/python3.10", f"{PREFIX}/lib/python3.10/lib-dynload",
                         f"{PREFIX}/lib/python3.10/site-packages"])
             for lib in sorted(libs):
-                _file(tar, str(lib).lstrip("/"), lib.resolve().read_bytes(), 0o755)
+                tar_file(tar, str(lib).lstrip("/"), lib.resolve().read_bytes(), 0o755)
             if libpython and libpython.is_file():
-                _file(tar, f"{LIBDIR}/{facts['soname']}", _stripped(libpython), 0o755)
-            _file(tar, f"{PREFIX}/bin/python3.10", _stripped(python), 0o755)
+                tar_file(tar, f"{LIBDIR}/{facts['soname']}", _stripped(libpython), 0o755)
+            tar_file(tar, f"{PREFIX}/bin/python3.10", _stripped(python), 0o755)
             _link(tar, f"{PREFIX}/bin/python3", "python3.10")
             _link(tar, "usr/bin/python3", f"/{PREFIX}/bin/python3.10")
             for ext in exts:
-                _file(tar, f"{PREFIX}/lib/python3.10/lib-dynload/{ext.name}", _stripped(ext), 0o755)
+                tar_file(tar, f"{PREFIX}/lib/python3.10/lib-dynload/{ext.name}", _stripped(ext), 0o755)
             _stdlib(tar, stdlib)
             for module, _dist in PACKAGES:
                 for rel, path in _package_sources(module):
-                    _file(tar, f"{PREFIX}/lib/python3.10/site-packages/{rel}", path.read_bytes())
-            _file(tar, "etc/lab-image", b"panther-ops test lab stand-in image (busybox + Python 3.10, no ROS)\n")
+                    tar_file(tar, f"{PREFIX}/lib/python3.10/site-packages/{rel}", path.read_bytes())
+            tar_file(tar, "etc/lab-image", b"panther-ops test lab stand-in image (busybox + Python 3.10, no ROS)\n")
 
 
 def _stdlib(tar: tarfile.TarFile, stdlib: Path) -> None:
@@ -189,7 +188,7 @@ def _stdlib(tar: tarfile.TarFile, stdlib: Path) -> None:
                 if d not in made:
                     made.add(d)
                     _dirs(tar, [d])
-            _file(tar, f"{PREFIX}/lib/python3.10/{rel.as_posix()}", path.read_bytes())
+            tar_file(tar, f"{PREFIX}/lib/python3.10/{rel.as_posix()}", path.read_bytes())
 
 
 def _dirs(tar: tarfile.TarFile, names: Iterable[str]) -> None:
@@ -198,17 +197,7 @@ def _dirs(tar: tarfile.TarFile, names: Iterable[str]) -> None:
         if name in have:
             continue
         have.add(name)
-        ti = tarfile.TarInfo(name)
-        ti.type = tarfile.DIRTYPE
-        ti.mode = 0o755
-        tar.addfile(ti)
-
-
-def _file(tar: tarfile.TarFile, name: str, data: bytes, mode: int = 0o644) -> None:
-    ti = tarfile.TarInfo(name)
-    ti.size = len(data)
-    ti.mode = mode
-    tar.addfile(ti, io.BytesIO(data))
+        tar_dir(tar, name)
 
 
 def _link(tar: tarfile.TarFile, name: str, target: str) -> None:

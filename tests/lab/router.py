@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ._sys import LabError, wait_for
 from .computers import ComputerSpec, add_computers
 from .files import DATA
 from .nmea import wait_until
@@ -120,15 +119,9 @@ def _start(lab: Lab, r: Any, d: Path) -> None:
     # it (pynmea2, tests.lab.nmea), which a computer's own mount namespace may hide (its /tmp)
     argv = ["nsenter", "-t", str(lab._init_pid(r)), "-n", "--", sys.executable, str(DATA / "rutx11-standin.py"),
             str(d), str(REPO_ROOT), "443", ttl]
-    p = lab._spawn(argv, d / "rutx-standin.out")  # nsenter without a PID namespace execs it itself
-    lab._record(r, "rutx11", p.pid)
-
-    def listening() -> bool:
-        if p.poll() is not None:
-            raise LabError(f"{r.name}: RUTX11 stand-in exited:\n{(d / 'rutx-standin.out').read_text()}")
-        return log.exists() and log.read_text().count('"listening"') > before
-
-    wait_for(listening, 15.0, f"RUTX11 stand-in of {r.name}")
+    # nsenter without a PID namespace execs it itself: one process
+    lab._start_until(r, argv, d / "rutx-standin.out", ("rutx11",), "RUTX11 stand-in",
+                     lambda: log.exists() and log.read_text().count('"listening"') > before, timeout=15.0)
 
 
 __all__ = ["Router", "add_router", "renew_certificate", "wait_until"]

@@ -35,6 +35,14 @@ def run_ssh(lab: Lab, name: str, command: str, **kw: object) -> str:
         client.close()
 
 
+def openssh_hostname(lab: Lab, name: str) -> str:
+    """`hostname` on robot `name` with the OpenSSH client and the lab's ssh_config (batch mode)."""
+    cp = subprocess.run(["ssh", "-F", str(lab.ssh_config_path), "-o", "BatchMode=yes", name, "hostname"],
+                        capture_output=True, text=True, timeout=20, check=False)
+    assert cp.returncode == 0, cp.stderr
+    return cp.stdout.strip()
+
+
 def host_ping(ip: str) -> int:
     return subprocess.run(["ping", "-c", "1", "-W", "1", ip], capture_output=True, check=False).returncode
 
@@ -70,15 +78,7 @@ def test_inventory_ssh_config_and_known_hosts(lab: Lab) -> None:
     for r in lab.robots:
         assert inv["robots"][r.name]["host"] == r.ip
         assert any(line.startswith(f"{r.ip} ssh-ed25519 AAAA") for line in known)
-    cp = subprocess.run(
-        ["ssh", "-F", str(lab.ssh_config_path), "-o", "BatchMode=yes", "r01", "hostname"],
-        capture_output=True,
-        text=True,
-        timeout=20,
-        check=False,
-    )
-    assert cp.returncode == 0, cp.stderr
-    assert cp.stdout.strip() == "r01"
+    assert openssh_hostname(lab, "r01") == "r01"
 
 
 def test_hostname_over_paramiko_on_every_robot(lab: Lab) -> None:
@@ -209,15 +209,7 @@ def test_jump_robot_only_reachable_through_its_jump_host(lab: Lab) -> None:
     assert host_ping(lab.robot("r01").ip) == 0
     with pytest.raises(OSError), socket.create_connection((hidden.ip, 22), timeout=2):
         pass
-    cp = subprocess.run(
-        ["ssh", "-F", str(lab.ssh_config_path), "-o", "BatchMode=yes", "r05", "hostname"],
-        capture_output=True,
-        text=True,
-        timeout=20,
-        check=False,
-    )
-    assert cp.returncode == 0, cp.stderr
-    assert cp.stdout.strip() == "r05"
+    assert openssh_hostname(lab, "r05") == "r05"
     assert run_ssh(lab, "r05", "hostname").strip() == "r05"  # paramiko over direct-tcpip
 
 

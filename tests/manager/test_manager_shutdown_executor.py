@@ -7,7 +7,6 @@ import hashlib
 import hmac
 import http.server
 import shutil
-import socket
 import subprocess
 import threading
 import time
@@ -27,6 +26,7 @@ from panther_ops.manager.nodes.shutdown import ShutdownHostsFromFile, ShutdownSi
 from panther_ops.manager.shutdown_executor import (
     HostState,
     HttpShutdown,
+    OpenSshShutdown,
     ParamikoShutdown,
     ShutdownBackends,
     ShutdownExecutor,
@@ -41,14 +41,9 @@ from panther_ops.manager.shutdown_executor import (
 )
 from panther_ops.manager.trees.safety import build_shutdown_tree
 from tests.manager.doubles import FakeLocalRunner, FakeRobotIO, fake_backends, tick
+from tests.ports import free_port
 
 SECRET = "husarion"
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 class ShutdownServer(http.server.BaseHTTPRequestHandler):
@@ -259,21 +254,39 @@ def loopback_sshd(tmp_path: Path) -> Iterator[dict[str, Any]]:
     process.wait(timeout=5)
 
 
-def test_ssh_refuses_an_unknown_host_key_and_runs_with_a_known_one(
-        loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
+def loopback_host(loopback_sshd: dict[str, Any], command: str) -> ShutdownHost:
+    """The loopback sshd as a host to shut down, by this user, running `command`."""
     import getpass
 
-    host = ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
-                        command="echo harmless-test-command", timeout=5.0)
+    return ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
+                        command=command, timeout=5.0)
+
+
+def empty_known_hosts(tmp_path: Path) -> Path:
     known_hosts = tmp_path / "known_hosts"
     known_hosts.write_text("")
-    strict = ParamikoShutdown(known_hosts, key_filename=loopback_sshd["client_key"])
+    return known_hosts
+
+
+@pytest.mark.parametrize(("backend", "command", "output", "refusal"), [
+    (ParamikoShutdown, "echo harmless-test-command", "harmless-test-command", ("known_hosts",)),
+    # the backend the deployed manager uses where paramiko is missing: the real ssh client
+    (OpenSshShutdown, "echo harmless-test-command 'two words'", "harmless-test-command two words",
+     ("SSH error", "verification failed")),
+])
+def test_ssh_refuses_an_unknown_host_key_and_runs_with_a_known_one(
+        loopback_sshd: dict[str, Any], tmp_path: Path, backend: type[ParamikoShutdown | OpenSshShutdown],
+        command: str, output: str, refusal: tuple[str, ...]) -> None:
+    host = loopback_host(loopback_sshd, command)
+    known_hosts = empty_known_hosts(tmp_path)
+    strict = backend(known_hosts, key_filename=loopback_sshd["client_key"])
     refused = strict.request(host)
-    assert not refused.ok and "known_hosts" in refused.error
+    assert not refused.ok and all(word in refused.error for word in refusal), refused.error
+    assert known_hosts.read_text() == ""  # nothing was added
     known_hosts.write_text(loopback_sshd["known_line"])
     accepted = strict.request(host)
     assert accepted.ok, accepted.error
-    assert accepted.output.strip() == "harmless-test-command"
+    assert accepted.output.strip() == output
 
 
 def test_local_commands_run_without_a_shell() -> None:
@@ -283,31 +296,18 @@ def test_local_commands_run_without_a_shell() -> None:
     assert "No such file" in runner.run("/nonexistent/binary", 5).error
 
 
-def test_openssh_backend_refuses_an_unknown_host_key_and_runs_with_a_known_one(
+def test_openssh_backend_strict_batch_argv_failing_command_and_wrong_key(
         loopback_sshd: dict[str, Any], tmp_path: Path) -> None:
-    """The backend the deployed manager uses where paramiko is missing: the real ssh client, a real sshd."""
-    import getpass
-
-    from panther_ops.manager.shutdown_executor import OpenSshShutdown
-
-    host = ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
-                        command="echo harmless-test-command 'two words'", timeout=5.0)
+    """The real ssh client against a real sshd: its options, a failing command, a key sshd does not know."""
+    host = loopback_host(loopback_sshd, "echo harmless-test-command 'two words'")
     known_hosts = tmp_path / "known_hosts"
-    known_hosts.write_text("")
+    known_hosts.write_text(loopback_sshd["known_line"])
     strict = OpenSshShutdown(known_hosts, key_filename=loopback_sshd["client_key"])
     argv = strict.argv(host)
     assert argv[-3:] == ["--", "127.0.0.1", host.command]  # the command is one argument, no local shell
     assert {"BatchMode=yes", "StrictHostKeyChecking=yes", f"UserKnownHostsFile={known_hosts}",
             "GlobalKnownHostsFile=/dev/null"} <= set(argv)
-    refused = strict.request(host)
-    assert not refused.ok and "SSH error" in refused.error and "verification failed" in refused.error
-    assert known_hosts.read_text() == ""  # nothing was added
-    known_hosts.write_text(loopback_sshd["known_line"])
-    accepted = strict.request(host)
-    assert accepted.ok, accepted.error
-    assert accepted.output.strip() == "harmless-test-command two words"
-    failing = strict.request(ShutdownHost(ip="127.0.0.1", username=getpass.getuser(), port=loopback_sshd["port"],
-                                          command="exit 3", timeout=5.0))
+    failing = strict.request(loopback_host(loopback_sshd, "exit 3"))
     assert not failing.ok and failing.error.startswith("command exited with 3")
     other_key = tmp_path / "other_key"
     subprocess.run(["ssh-keygen", "-q", "-t", "ed25519", "-N", "", "-f", str(other_key)], check=True)

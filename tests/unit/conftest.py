@@ -14,6 +14,14 @@ from panther_ops.core.fleet.runner import Connections
 
 
 @pytest.fixture
+def demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A fresh demo fleet in ``tmp_path/demo`` (local robot roots), with its own cache directory."""
+    monkeypatch.setenv("PANTHER_OPS_CACHE_DIR", str(tmp_path / "cache"))
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    return tmp_path / "demo"
+
+
+@pytest.fixture
 def demo_connections(tmp_path: Path) -> Iterator[tuple[Inventory, Connections]]:
     """A fresh demo fleet (local robot roots) and its connections, closed afterwards."""
     assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0

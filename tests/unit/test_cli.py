@@ -10,12 +10,6 @@ import pytest
 from panther_ops.cli.app import main
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
 def test_status_json_on_demo_fleet(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     capsys.readouterr()
     assert main(["-i", str(demo), "status", "--all", "--json"]) == 0

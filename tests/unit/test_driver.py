@@ -4,7 +4,6 @@ real-shaped compose files of templates/compose/ (the demo fleet: robots that are
 from __future__ import annotations
 
 import json
-import socket
 import threading
 from collections.abc import Iterator
 from datetime import datetime, timezone
@@ -14,7 +13,6 @@ from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
 from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.containers.logs import prefix_lines
 from panther_ops.core.containers.times import human_duration, parse_timestamp
@@ -36,11 +34,20 @@ from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.errors import RemoteStateError, UsageError
+from tests.clirun import run_cli
+from tests.ports import free_port
+
 
 # A Docker Hub answer in the shape of GET /v2/namespaces/husarion/repositories/husarion-ugv/tags
 # (fields as in Docker Hub's published tag schema; tag names from panther-stack.md §0/§2.2, plus
 # the kinds of tags the filter must drop). Not fetched here: there is no network, and tests
 # must never contact Docker Hub.
+def _tag(name: str, last_updated: str, full_size: int, digest: str) -> dict[str, Any]:
+    """A tag as Docker Hub lists it, the fields the client reads only (digest: one hex digit, repeated)."""
+    return {"name": name, "last_updated": last_updated, "full_size": full_size, "tag_status": "active",
+            "digest": "sha256:" + digest * 64}
+
+
 HUB_PAGE_1: dict[str, Any] = {
     "count": 9,
     "next": "{base}/v2/namespaces/husarion/repositories/husarion-ugv/tags?page=2&page_size=100",
@@ -62,14 +69,10 @@ HUB_PAGE_1: dict[str, Any] = {
          "tag_last_pulled": "2025-11-03T17:01:02Z", "tag_last_pushed": "2025-07-02T10:58:12Z",
          "media_type": "application/vnd.oci.image.index.v1+json", "content_type": "image",
          "digest": "sha256:" + "2" * 64},
-        {"name": "humble-2.2.2-20250702-stable", "last_updated": "2025-07-10T09:00:00.000000Z",
-         "full_size": 1593835520, "tag_status": "active", "digest": "sha256:" + "2" * 64},
-        {"name": "humble", "last_updated": "2025-07-10T09:00:00.000000Z", "full_size": 1593835520,
-         "tag_status": "active", "digest": "sha256:" + "2" * 64},
-        {"name": "humble-nightly", "last_updated": "2025-11-01T02:00:00.000000Z", "full_size": 1600000000,
-         "tag_status": "active", "digest": "sha256:" + "3" * 64},
-        {"name": "latest", "last_updated": "2025-07-02T11:20:33.104845Z", "full_size": 1610612736,
-         "tag_status": "active", "digest": "sha256:" + "1" * 64},
+        _tag("humble-2.2.2-20250702-stable", "2025-07-10T09:00:00.000000Z", 1593835520, "2"),
+        _tag("humble", "2025-07-10T09:00:00.000000Z", 1593835520, "2"),
+        _tag("humble-nightly", "2025-11-01T02:00:00.000000Z", 1600000000, "3"),
+        _tag("latest", "2025-07-02T11:20:33.104845Z", 1610612736, "1"),
     ],
 }
 HUB_PAGE_2: dict[str, Any] = {
@@ -77,12 +80,9 @@ HUB_PAGE_2: dict[str, Any] = {
     "next": None,
     "previous": "{base}/v2/namespaces/husarion/repositories/husarion-ugv/tags?page=1&page_size=100",
     "results": [
-        {"name": "humble-2.2.1-20250331", "last_updated": "2025-03-31T12:00:00.000000Z", "full_size": 1580000000,
-         "tag_status": "active", "digest": "sha256:" + "4" * 64},
-        {"name": "humble-2.2.0-20240227", "last_updated": "2025-03-13T12:00:00.000000Z", "full_size": 1570000000,
-         "tag_status": "active", "digest": "sha256:" + "5" * 64},
-        {"name": "humble-2.2.0-rc1", "last_updated": "2025-02-01T12:00:00.000000Z", "full_size": 1570000000,
-         "tag_status": "active", "digest": "sha256:" + "6" * 64},
+        _tag("humble-2.2.1-20250331", "2025-03-31T12:00:00.000000Z", 1580000000, "4"),
+        _tag("humble-2.2.0-20240227", "2025-03-13T12:00:00.000000Z", 1570000000, "5"),
+        _tag("humble-2.2.0-rc1", "2025-02-01T12:00:00.000000Z", 1570000000, "6"),
     ],
 }
 
@@ -353,16 +353,8 @@ def test_fetch_follows_pages_and_sorts(fake_hub: tuple[str, list[str]]) -> None:
                      "/v2/namespaces/husarion/repositories/husarion-ugv/tags?page=2&page_size=100"]
 
 
-def closed_port() -> int:
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = int(s.getsockname()[1])
-    s.close()
-    return port
-
-
 def test_fetch_unreachable_is_a_clean_error() -> None:
-    url = f"http://127.0.0.1:{closed_port()}/v2/namespaces/husarion/repositories/{{repo}}/tags"
+    url = f"http://127.0.0.1:{free_port()}/v2/namespaces/husarion/repositories/{{repo}}/tags"
     with pytest.raises(RegistryError) as exc:
         fetch_hub_tags("husarion/panther", url_template=url, timeout=2)
     assert str(exc.value).startswith("registry unreachable: ")
@@ -387,25 +379,12 @@ def test_newer_tags_stay_in_the_robots_repository() -> None:
 # ------------------------------------------------------------------ plans on the demo fleet
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
 def compose_of(demo: Path, robot: str) -> Path:
     return demo / "robots" / robot / "home" / "husarion" / "compose.yaml"
 
 
 def all_files(demo: Path) -> dict[str, bytes]:
     return {str(p.relative_to(demo)): p.read_bytes() for p in sorted(demo.rglob("*")) if p.is_file()}
-
-
-def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, (json.loads(out) if out.strip().startswith("{") else {}), err
 
 
 def with_ctx(demo: Path, name: str, fn: Any) -> Any:
@@ -491,42 +470,42 @@ def test_update_with_no_tag_uses_the_desired_image(demo: Path) -> None:
 
 def test_cli_bad_tags_exit_2_and_touch_nothing(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     before = all_files(demo)
-    code, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "--all", "--yes")
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "--all", "--yes")
     assert code == 2 and "ROS 2 Jazzy" in err
-    code, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.2.2-20250702", "--all", "--yes")
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.2.2-20250702", "--all", "--yes")
     assert code == 2 and "reinstall" in err and "nothing was changed on any robot" in err
     assert all_files(demo) == before
 
 
 def test_cli_update_applies_and_is_recorded(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.1.2-20241125", "-r", "panther-01",
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.1.2-20241125", "-r", "panther-01",
                            "--yes", "--json")
     assert code == 0, doc
     (r,) = doc["robots"]
     assert r["outcome"] == "changed" and r["data"]["backup"]
     assert "image: husarion/panther:humble-2.1.2-20241125" in compose_of(demo, "panther-01").read_text()
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "config", "history", "-r", "panther-01", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "config", "history", "-r", "panther-01", "--json")
     (entry,) = doc["robots"][0]["data"]["history"]
     assert entry["command"] == "driver update humble-2.1.2-20241125" and entry["status"].startswith("applied")
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.1.2-20241125", "-r", "panther-01",
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.1.2-20241125", "-r", "panther-01",
                            "--yes", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "ok"
 
 
 def test_cli_read_only_commands_skip_demo_robots(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     for argv in (["driver", "status"], ["driver", "versions"], ["driver", "logs"]):
-        code, doc, _ = run_cli(capsys, "-i", str(demo), *argv, "--all", "--json")
+        code, doc, _, _ = run_cli(capsys, "-i", str(demo), *argv, "--all", "--json")
         assert code == 0, (argv, doc)
         assert {r["outcome"] for r in doc["robots"]} == {"skipped"}
         assert {r["message"] for r in doc["robots"]} == {"demo robot: no docker engine"}
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "status", "-r", "panther-03", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "status", "-r", "panther-03", "--json")
     assert doc["robots"][0]["data"]["compose_image"] == "husarion/husarion-ugv:humble-2.2.2-20250702"
 
 
 def test_cli_versions_remote_unreachable_is_a_note(demo: Path, capsys: pytest.CaptureFixture[str],
                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{closed_port()}/{{repo}}")
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "versions", "--all", "--remote", "--json")
+    monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", f"http://127.0.0.1:{free_port()}/{{repo}}")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "versions", "--all", "--remote", "--json")
     assert code == 0
     assert set(doc["data"]["remote"]) == {"husarion/panther", "husarion/husarion-ugv"}
     assert all(v["error"].startswith("registry unreachable") for v in doc["data"]["remote"].values())
@@ -536,7 +515,7 @@ def test_cli_versions_remote_unreachable_is_a_note(demo: Path, capsys: pytest.Ca
 def test_cli_versions_remote_lists_newer(demo: Path, capsys: pytest.CaptureFixture[str],
                                          monkeypatch: pytest.MonkeyPatch, fake_hub: tuple[str, list[str]]) -> None:
     monkeypatch.setenv("PANTHER_OPS_DOCKERHUB_URL", fake_hub[0])
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "versions", "--all", "--remote", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "versions", "--all", "--remote", "--json")
     assert code == 0 and doc["notes"] == []
     newer = {r["robot"]: r["data"]["newer"] for r in doc["robots"]}
     assert newer == {"panther-01": ["husarion/panther:humble-2.1.2-20241125"],
@@ -545,19 +524,19 @@ def test_cli_versions_remote_lists_newer(demo: Path, capsys: pytest.CaptureFixtu
 
 
 def test_cli_restart_needs_yes_and_skips_demo_robots(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = run_cli(capsys, "-i", str(demo), "driver", "restart", "--all")
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "restart", "--all")
     assert code == 2 and "pass --yes" in err
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "restart", "--all", "--dry-run", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "restart", "--all", "--dry-run", "--json")
     assert code == 0 and doc["robots"][0]["message"] == (
         "would recreate panther_ros (husarion/panther:humble-2.1.1-20240828)")
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "driver", "restart", "--all", "--yes", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "restart", "--all", "--yes", "--json")
     assert code == 0 and {r["outcome"] for r in doc["robots"]} == {"skipped"}
 
 
 def test_cli_logs_follow_needs_one_robot(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = run_cli(capsys, "-i", str(demo), "driver", "logs", "--all", "-f")
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "logs", "--all", "-f")
     assert code == 2 and "one robot" in err
-    code, _, err = run_cli(capsys, "-i", str(demo), "driver", "logs", "--all", "--since", "soon")
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "logs", "--all", "--since", "soon")
     assert code == 2 and "not a duration" in err
 
 
@@ -568,7 +547,7 @@ def test_restore_defaults_21_undoes_config_push(demo: Path, tmp_path: Path,
     mine = tmp_path / "my_controller.yaml"
     mine.write_text("/**:\n  drive_controller:\n    ros__parameters:\n      linear:\n        x:\n"
                     "          max_velocity: 0.8\n")
-    code, _, _ = run_cli(capsys, "-i", str(demo), "config", "push", str(mine), "--as", "controller", "-r",
+    code, _, _, _ = run_cli(capsys, "-i", str(demo), "config", "push", str(mine), "--as", "controller", "-r",
                          "panther-01", "--yes")
     assert code == 0 and compose_of(demo, "panther-01").read_bytes() != template
     plan = with_ctx(demo, "panther-01", plan_restore_defaults)
@@ -577,11 +556,11 @@ def test_restore_defaults_21_undoes_config_push(demo: Path, tmp_path: Path,
         "/home/husarion/config/panther_controller/config/my_controller.yaml:"
         "/config/panther_controller/config/my_controller.yaml:ro"]
     assert plan.verify[0].cmd_lacks == ("controller_config_path:=/config/panther_controller/config/my_controller.yaml",)
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-01", "--yes", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-01", "--yes", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "changed"
     assert compose_of(demo, "panther-01").read_bytes() == template
     assert (demo / "robots/panther-01/home/husarion/config/panther_controller/config/my_controller.yaml").exists()
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-01", "--json")
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-01", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "ok"
     assert doc["robots"][0]["message"].startswith("nothing panther-ops added")
 
@@ -609,11 +588,11 @@ def test_restore_defaults_22_is_an_archive_then_the_image_script(demo: Path,
     # the driver's robot_config.env goes along, so the image's scripts see ROBOT_MODEL_NAME
     assert plan.data["env_mounts"] == ["/run/husarion/robot_config.env:/run/husarion/robot_config.env:ro"]
     before = all_files(demo)
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-03", "--dry-run",
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-03", "--dry-run",
                            "--json")
     assert code == 0 and doc["robots"][0]["message"].startswith("would back up /home/husarion/config and run "
                                                                  "update_config_directory from husarion/husarion-ugv")
-    code, doc, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-03", "--yes",
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "config", "restore-defaults", "-r", "panther-03", "--yes",
                            "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "skipped"
     assert all_files(demo) == before

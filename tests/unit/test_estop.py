@@ -80,7 +80,8 @@ def test_robot_command_quotes_everything_and_refuses_unknown_actions() -> None:
     cmd = command("panther; rm -rf /", ("status", "publishers"))
     words = shlex.split(cmd.render(reveal=True))
     assert words[:2] == ["sh", "-c"]
-    assert words[5:] == ["husarion_ugv_ros", "panther_ros"]
+    assert words[5:] == ["husarion_ugv_ros", "/run/husarion/robot_config.env", "panther_ros",
+                         "/run/husarion/panther_config.env"]
     # the exec's JSON: the container script and its arguments as one argv (no shell in between)
     assert json.loads(words[4]) == {"AttachStdout": True, "AttachStderr": True, "Cmd": [
         "/ros_entrypoint.sh", "sh", "-c", CONTAINER_SCRIPT, "sh", "10", "panther; rm -rf /", "status", "publishers"]}
@@ -136,3 +137,80 @@ def test_demo_recording_missing_is_a_failure_with_the_fix(tmp_path: Path, capsys
     code, doc = _cli(capsys, "-i", str(demo), "estop", "status", "-r", "panther-01", "--json")
     assert code == 3 and doc["robots"][0]["outcome"] == "failed"
     assert "demo init --force" in doc["robots"][0]["data"]["hint"]
+
+
+FAKE_CURL = r"""#!/bin/sh
+# curl as the docker engine answers on its socket: $FAKE/exec_<container> (the exec's JSON or
+# the engine's error), $FAKE/svc_<service> (the running containers of that compose service)
+echo "curl $*" >> "$FAKE/log"
+[ -e "$FAKE/down" ] && { echo "curl: (7) Couldn't connect to server" >&2; exit 7; }
+svc=
+for a in "$@"; do
+    case $a in
+        *com.docker.compose.service=*) svc=${a#*service=}; svc=${svc%%\"*} ;;
+        http://docker/containers/json) cat "$FAKE/svc_$svc" 2>/dev/null || echo '[]' ;;
+        http://docker/containers/*/exec)
+            c=${a#http://docker/containers/}; c=${c%/exec}
+            cat "$FAKE/exec_$c" 2>/dev/null || echo "{\"message\":\"No such container: $c\"}" ;;
+        http://docker/exec/*/start) id=${a#http://docker/exec/}; echo "started ${id%/start}" ;;
+    esac
+done
+"""
+
+
+def _robot_script(tmp_path: Path, stack: str = "2.2", **engine: str) -> tuple[int, str, str, list[str]]:
+    """ROBOT_SCRIPT run by sh against a stand-in of curl and the engine's answers, on a robot
+    whose OS wrote the environment file of ``stack`` (2.2: robot_config.env, 2.1: panther_config.env)."""
+    import os
+    import subprocess
+
+    from panther_ops.core.remote.estop.calls import ROBOT_SCRIPT
+
+    fake = tmp_path / "engine"
+    (fake / "bin").mkdir(parents=True, exist_ok=True)
+    (fake / "bin" / "curl").write_text(FAKE_CURL)
+    (fake / "bin" / "curl").chmod(0o755)
+    (fake / ("robot_config.env" if stack == "2.2" else "panther_config.env")).write_text("")
+    for name, answer in engine.items():
+        (fake / name).write_text(answer + "\n")
+    pairs = ["husarion_ugv_ros", str(fake / "robot_config.env"), "panther_ros", str(fake / "panther_config.env")]
+    cp = subprocess.run(["sh", "-c", ROBOT_SCRIPT, "sh", '{"Cmd":["true"]}', *pairs],
+                        check=False, capture_output=True, text=True, timeout=10,
+                        env={**os.environ, "FAKE": str(fake), "PATH": f"{fake / 'bin'}:{os.environ['PATH']}"})
+    log = (fake / "log").read_text().splitlines() if (fake / "log").exists() else []
+    return cp.returncode, cp.stdout, cp.stderr, log
+
+
+def test_robot_script_asks_for_the_stacks_own_driver_name_first(tmp_path: Path) -> None:
+    """Two curl per robot (the exec made, then started), the name of the robot's stack asked
+    for first: the other name is never looked up (no miss in the engine's log)."""
+    code, out, err, log = _robot_script(tmp_path / "a", "2.1", exec_panther_ros='{"Id":"abc123"}')
+    assert (code, out.strip(), err.strip()) == (0, "started abc123", "@@container panther_ros")
+    assert len(log) == 2 and "/containers/panther_ros/exec" in log[0] and "husarion_ugv_ros" not in " ".join(log)
+
+    code, out, err, log = _robot_script(tmp_path / "b", "2.2", exec_husarion_ugv_ros='{"Id":"def456"}')
+    assert (code, out.strip(), err.strip()) == (0, "started def456", "@@container husarion_ugv_ros")
+    assert len(log) == 2 and "panther_ros" not in " ".join(log)
+
+    # the OS's file says 2.2 but the driver is still panther_ros: one more curl
+    code, out, err, log = _robot_script(tmp_path / "c", "2.2", exec_panther_ros='{"Id":"0ld"}')
+    assert (code, out.strip(), err.strip()) == (0, "started 0ld", "@@container panther_ros")
+    assert len(log) == 3
+
+
+def test_robot_script_compose_service_then_errors(tmp_path: Path) -> None:
+    # neither name: the container of the compose service
+    code, out, err, log = _robot_script(tmp_path / "a", svc_panther_ros='[{"Id":"c0ffee","Names":["/x"]}]',
+                                        exec_c0ffee='{"Id":"e1"}')
+    assert (code, out.strip(), err.strip()) == (0, "started e1", "@@container c0ffee")
+    assert len(log) == 6  # each name, each service looked up, the exec, its start
+    # a stopped driver: the engine's words, exit 3
+    code, out, err, _ = _robot_script(tmp_path / "b", "2.1",
+                                      exec_panther_ros='{"message":"Container 0a1b is not running"}')
+    assert code == 3 and out == ""
+    assert "no running driver container" in err and "Container 0a1b is not running" in err
+    # no engine to talk to
+    (tmp_path / "c" / "engine").mkdir(parents=True)
+    (tmp_path / "c" / "engine" / "down").write_text("")
+    code, _, err, _ = _robot_script(tmp_path / "c")
+    assert code == 4 and "Couldn't connect" in err

@@ -13,24 +13,10 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
 from tests.badinput.test_file_kinds import LIGHTS_PROJ, UNKNOWN_NODE, WH01, _anim
+from tests.clirun import run
 
 CTRL_DIR = "robots/panther-01/home/husarion/config/panther_controller/config"
-
-
-@pytest.fixture
-def demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.setenv("PANTHER_OPS_CACHE_DIR", str(tmp_path / "cache"))
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def flat(text: str) -> str:

@@ -12,26 +12,12 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.cli.app import main
 from tests.badinput.test_file_kinds import JOY2TWIST
+from tests.clirun import run
 
 HOME = "home/husarion"
 PUSHED = "config/joy2twist/config/pad.yaml"
 TREE = "config/husarion_ugv_bringup/config/joy2twist_panther.yaml"
-
-
-@pytest.fixture
-def demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.setenv("PANTHER_OPS_CACHE_DIR", str(tmp_path / "cache"))
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def home(demo: Path, robot: str) -> Path:
@@ -221,3 +207,64 @@ def test_the_input_form_is_checked_too(text: str, named: str) -> None:
 
     with pytest.raises(FileKindError, match=re.escape(named)):
         check_file(FileKind.JOY2TWIST, "pad.yaml", text.encode())
+
+
+def _as_ugv(demo: Path, version: str, gamepad_service: bool) -> Path:
+    """panther-03 on husarion_ugv ``version``: with 2.2.0's gamepad_controller service (its
+    docker/demo/compose.hardware.yaml: ~/config/common/joy2twist.yaml at /joy2twist.yaml), or without."""
+    compose = home(demo, "panther-03") / "compose.yaml"
+    doc = yaml.safe_load(compose.read_text())
+    driver = doc["services"]["husarion_ugv_ros"]
+    driver["image"] = f"husarion/husarion-ugv:humble-{version}-20250331"
+    driver["command"] = "ros2 launch husarion_ugv_bringup bringup.launch.py common_dir_path:=/config"
+    if gamepad_service:
+        doc["services"]["gamepad_controller"] = {
+            "image": "husarion/joy2twist:humble-1.0.0-20250131", "container_name": "gamepad_controller",
+            "volumes": ["/home/husarion/config/common/joy2twist.yaml:/joy2twist.yaml"],
+            "command": "ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:=/joy2twist.yaml"}
+    compose.write_text(yaml.safe_dump(doc))
+    return compose
+
+
+def test_on_2_2_0_and_2_2_1_the_gamepad_service_reads_its_mounted_file(
+        demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    compose = _as_ugv(demo, "2.2.1", gamepad_service=True)
+    before = compose.read_bytes()
+    code, out, err = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                         "-r", "panther-03", "--yes", "--json")
+    assert code == 0, out + err
+    r = json.loads(out)["robots"][0]
+    assert r["data"]["robot_path"] == "/home/husarion/config/common/joy2twist.yaml"
+    assert (home(demo, "panther-03") / "config/common/joy2twist.yaml").read_text() == JOY2TWIST
+    assert compose.read_bytes() == before  # the service already reads that file
+    assert not (home(demo, "panther-03") / TREE).exists()
+    code, out, err = run(capsys, "-i", str(demo), "config", "pull", "joy2twist", "-r", "panther-03")
+    assert code == 0 and out == JOY2TWIST and "mounted into gamepad_controller" in err
+
+
+def test_on_2_2_1_without_a_gamepad_service_the_driver_does_not_launch_one(
+        demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    _as_ugv(demo, "2.2.1", gamepad_service=False)
+    before = snapshot(demo)
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                       "-r", "panther-03", "--yes")
+    assert code == 2
+    text = " ".join(err.split())
+    assert "launch_gamepad came with husarion_ugv 2.2.2" in text and "gamepad_controller" in text
+    assert snapshot(demo) == before
+    code, _, err = run(capsys, "-i", str(demo), "config", "set", "launch_gamepad", "true", "-r", "panther-03",
+                       "--yes")
+    assert code == 2 and "gamepad_controller" in err
+
+
+def test_on_2_2_2_a_joy2twist_params_file_on_bringup_is_said_to_do_nothing(
+        demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    compose = home(demo, "panther-03") / "compose.yaml"
+    compose.write_text(compose.read_text().replace("launch_gamepad:=true",
+                                                   "launch_gamepad:=true joy2twist_params_file:=/x.yaml"))
+    code, out, err = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                         "-r", "panther-03", "--yes", "--json")
+    assert code == 0, out + err
+    r = json.loads(out)["robots"][0]
+    assert any("has no effect" in w for w in r["warnings"]), r
+    assert (home(demo, "panther-03") / TREE).read_text() == JOY2TWIST

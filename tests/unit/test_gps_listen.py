@@ -12,15 +12,10 @@ import pytest
 from panther_ops.cli.app import main
 from panther_ops.core.gps.nmea import NmeaDecoder
 from tests.lab import nmea
+from tests.ports import free_port
 
 LAT, LON = 53.1978123, -18.3732456
 WHEN = dt.datetime(2026, 11, 24, 3, 4, 5, tzinfo=dt.timezone.utc)
-
-
-def free_udp_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def test_decoder_gga_rmc_exact() -> None:
@@ -68,7 +63,7 @@ def test_no_fix_epoch_has_no_position() -> None:
 
 
 def test_listen_json_from_a_real_udp_sender(capsys: pytest.CaptureFixture[str]) -> None:
-    port = free_udp_port()
+    port = free_port(socket.SOCK_DGRAM)
     junk = b"$GPGGA,garbage*00\r\nnot nmea at all\r\n"
     sender = nmea.Sender(lambda: ("127.0.0.1", port), LAT, LON, period=0.05,
                          payload=lambda: junk + nmea.burst(LAT, LON)).start()
@@ -89,7 +84,7 @@ def test_listen_json_from_a_real_udp_sender(capsys: pytest.CaptureFixture[str]) 
 
 
 def test_listen_human_lines(capsys: pytest.CaptureFixture[str]) -> None:
-    port = free_udp_port()
+    port = free_port(socket.SOCK_DGRAM)
     sender = nmea.Sender(lambda: ("127.0.0.1", port), LAT, LON, period=0.05).start()
     try:
         code = main(["gps", "listen", "--udp", f"127.0.0.1:{port}", "-n", "2", "--timeout", "20"])
@@ -102,7 +97,7 @@ def test_listen_human_lines(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_listen_timeout_without_data_is_exit_3(capsys: pytest.CaptureFixture[str]) -> None:
-    port = free_udp_port()
+    port = free_port(socket.SOCK_DGRAM)
     code = main(["gps", "listen", "--udp", f"127.0.0.1:{port}", "--count", "1", "--timeout", "0.3", "--json"])
     doc = json.loads(capsys.readouterr().out)
     assert code == 3 and doc["fixes"] == [] and doc["counts"]["datagrams"] == 0

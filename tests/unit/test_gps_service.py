@@ -3,29 +3,19 @@ exact diffs, idempotence, byte-identical disable, bad input refused with nothing
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from panther_ops.cli.app import main
+from tests.clirun import run_cli
 
 ROBOT_ROOT = "robots/{}/home/husarion"
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    dest = tmp_path / "demo"
-    assert main(["demo", "init", "--dest", str(dest)]) == 0
-    return dest
-
-
 def run(capsys: pytest.CaptureFixture[str], demo: Path, *argv: str) -> tuple[int, dict[str, Any], str]:
-    capsys.readouterr()
-    code = main(["-i", str(demo), *argv])
-    out, err = capsys.readouterr()
-    return code, (json.loads(out) if out.strip().startswith("{") else {}), err
+    code, doc, _, err = run_cli(capsys, "-i", str(demo), *argv)
+    return code, doc, err
 
 
 def snapshot(demo: Path) -> dict[str, bytes]:

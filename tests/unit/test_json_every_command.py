@@ -84,6 +84,16 @@ VALID: dict[str, list[str]] = {
 or SSH: some commands report that per robot, in their JSON document)."""
 
 
+LOCAL_FILE: list[tuple[str, list[str]]] = [
+    ("config history", ["--file", "{tmp}/local/hosts.yaml"]),
+    ("config rollback", ["--file", "{tmp}/local/hosts.yaml", "--dry-run"]),
+    ("config rollback", ["--file", "{tmp}/local/hosts.yaml", "--yes"]),
+    ("shutdown hosts add", ["{tmp}/local/hosts.yaml", "--ip", "10.15.20.9", "--user", "pi", "--dry-run"]),
+    ("shutdown hosts remove", ["{tmp}/local/hosts.yaml", "--ip", "10.15.20.3", "--dry-run"]),
+]
+"""The forms on a local hosts file (its backups beside it, in the fixture's local/): each prints
+one JSON document too."""
+
 ON_A_DEVICE = {
     "reimage flash": "tests/integration/test_reimage_flash_lab.py",
     "reimage verify": "tests/integration/test_reimage_flash_lab.py",
@@ -111,7 +121,9 @@ def test_every_json_command_has_valid_arguments() -> None:
     for command, test in ELSEWHERE.items():  # that test runs it with --json and parses it
         text = (Path(__file__).resolve().parents[2] / test).read_text()
         words = ", ".join(f'"{w}"' for w in command.split())
-        assert words in text and '"--json"' in text and "json.loads" in text, (command, test)
+        # json.loads there, or tests.clirun.run_cli, which parses a --json run's output with it
+        parses = "json.loads" in text or "from tests.clirun import run_cli" in text
+        assert words in text and '"--json"' in text and parses, (command, test)
 
 
 @pytest.fixture(scope="module")
@@ -122,17 +134,36 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Path:
                  str(tmp / "controller.yaml")]) == 0
     (tmp / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
     (tmp / "world.sdf").write_text(WORLD)
+    (tmp / "local").mkdir()
+    (tmp / "local" / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
+    assert main(["shutdown", "hosts", "add", str(tmp / "local" / "hosts.yaml"), "--ip", "10.15.20.4", "--user", "pi",
+                 "--yes"]) == 0  # a backup to list and roll back to
     return tmp
 
 
 @pytest.mark.parametrize("command", JSON_COMMANDS)
 def test_one_json_document(command: str, fleet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                            monkeypatch: pytest.MonkeyPatch) -> None:
+    _one_document(command, VALID[command], fleet, tmp_path, capsys, monkeypatch)
+
+
+@pytest.mark.parametrize(("command", "args"), LOCAL_FILE, ids=[f"{c} {' '.join(a[2:])}" for c, a in LOCAL_FILE])
+def test_one_json_document_on_a_local_file(command: str, args: list[str], fleet: Path, tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str],
+                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    local = tmp_path / "local"  # its own copy of the file and its backups
+    shutil.copytree(fleet / "local", local)
+    _one_document(command, [a.replace("{tmp}/local", str(local)) for a in args], fleet, tmp_path, capsys,
+                  monkeypatch)
+
+
+def _one_document(command: str, args: list[str], fleet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                  monkeypatch: pytest.MonkeyPatch) -> None:
     demo = tmp_path / "demo"  # each command on its own copy: --dry-run or not, nothing leaks
     shutil.copytree(fleet / "demo", demo, symlinks=True)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr("sys.stdin", io.StringIO(""))
-    argv = ["-i", str(demo), *command.split(), *(a.format(tmp=fleet) for a in VALID[command]), "--json"]
+    argv = ["-i", str(demo), *command.split(), *(a.format(tmp=fleet) for a in args), "--json"]
     capsys.readouterr()
     code = main(argv)
     out, err = capsys.readouterr()

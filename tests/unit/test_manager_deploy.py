@@ -222,10 +222,16 @@ def test_remove_after_deploy_is_byte_identical(ctxs: Any, template: str) -> None
     assert list(rfile(tmp, name, f"{HOME}/.panther-ops/backups").iterdir())  # both changes left a backup
 
 
+def with_disable_manager(tmp: Path, value: str) -> Path:
+    """r21's compose.yaml, its driver launched with disable_manager:=`value` already."""
+    compose = rfile(tmp, "r21", f"{HOME}/compose.yaml")
+    compose.write_text(compose.read_text().replace("bringup.launch.py\n", f"bringup.launch.py disable_manager:={value}\n"))
+    return compose
+
+
 def test_disable_manager_set_before_is_restored(ctxs: Any) -> None:
     tmp, cs = ctxs
-    compose = rfile(tmp, "r21", f"{HOME}/compose.yaml")
-    compose.write_text(compose.read_text().replace("bringup.launch.py\n", "bringup.launch.py disable_manager:=False\n"))
+    compose = with_disable_manager(tmp, "False")
     before = compose.read_bytes()
     plan = plan_deploy(cs["r21"])
     assert "disable_manager:=True" in plan.edits[0].after.decode()  # type: ignore[union-attr]
@@ -238,8 +244,7 @@ def test_disable_manager_set_before_is_restored(ctxs: Any) -> None:
 
 def test_already_disabled_driver_is_not_recreated(ctxs: Any) -> None:
     tmp, cs = ctxs
-    compose = rfile(tmp, "r21", f"{HOME}/compose.yaml")
-    compose.write_text(compose.read_text().replace("bringup.launch.py\n", "bringup.launch.py disable_manager:=True\n"))
+    compose = with_disable_manager(tmp, "True")
     before = compose.read_bytes()
     plan = plan_deploy(cs["r21"])
     assert plan.recreate == (SERVICE,)

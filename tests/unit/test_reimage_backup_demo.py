@@ -16,12 +16,6 @@ from panther_ops.cli.app import main
 from panther_ops.core.fleet.inventory_file import load_inventory
 
 
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
-
-
 def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, Any], str]:
     capsys.readouterr()
     code = main(list(argv))

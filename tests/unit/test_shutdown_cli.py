@@ -175,7 +175,7 @@ def test_local_file_edits_go_through_the_pipeline_with_a_backup(tmp_path: Path,
     bdir = tmp_path / ".panther-ops" / "backups" / backup_id
     assert (bdir / "files" / "0").read_text() == GOOD  # the previous content, beside the file
     manifest = json.loads((bdir / "manifest.json").read_text())
-    assert manifest["command"] == "shutdown hosts add"
+    assert manifest["command"] == "shutdown hosts add pi@192.0.2.7"
     assert manifest["files"][0]["path"] == str(path.resolve()) and "+  - ip: 192.0.2.7" in manifest["files"][0]["diff"]
     assert (bdir / "status").read_text().strip() == "applied"
     assert "192.0.2.7" in path.read_text()
@@ -208,12 +208,6 @@ def test_a_local_file_changed_since_it_was_read_is_not_written(tmp_path: Path) -
         transport.close()
     assert res.outcome is Outcome.FAILED and "changed on the robot since it was read" in res.message
     assert path.read_text() == GOOD + "# edited meanwhile\n"
-
-
-@pytest.fixture
-def demo(tmp_path: Path) -> Path:
-    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
-    return tmp_path / "demo"
 
 
 def test_robot_file_through_the_pipeline_on_the_demo_fleet(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:

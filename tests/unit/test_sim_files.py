@@ -10,18 +10,12 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.fleet.templates import template_path
+from tests.clirun import run
 from tests.sim_world import WORLD
 
 COMPONENTS = template_path("config", "panther-2.1", "panther_description", "config", "components.yaml")
 BATTERY_21 = template_path("config", "panther-2.1", "panther_gazebo", "config", "battery_plugin_config.yaml")
 BATTERY_20 = template_path("config", "panther-2.0", "panther_gazebo", "config", "battery_plugin_config.yaml")
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_gps_add_the_manuals_entry(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

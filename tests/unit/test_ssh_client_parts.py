@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import getpass
-import os
 import socket
 import threading
 from pathlib import Path
@@ -12,7 +11,6 @@ import paramiko
 import pytest
 
 from panther_ops.transport import ssh_config
-from panther_ops.transport.ssh import _client_type
 from panther_ops.transport.tcp import QuickSocket, connect_tcp
 
 
@@ -50,63 +48,6 @@ def test_connect_tcp_refused_is_an_oserror() -> None:
     probe.close()  # nothing listens there now
     with pytest.raises(OSError):
         connect_tcp("127.0.0.1", port, 2.0)
-
-
-# -- private keys: parsed once per version of the file ----------------------------------
-def _write_key(path: Path) -> paramiko.PKey:
-    from cryptography.hazmat.primitives import serialization
-    from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
-
-    raw = Ed25519PrivateKey.generate().private_bytes(
-        serialization.Encoding.PEM, serialization.PrivateFormat.OpenSSH, serialization.NoEncryption()
-    )
-    path.write_bytes(raw)
-    return paramiko.Ed25519Key.from_private_key_file(str(path))
-
-
-def test_a_key_file_is_parsed_once_and_again_when_it_changes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    key_path = tmp_path / "id_ed25519"
-    first = _write_key(key_path)
-    calls: list[str] = []
-    real = paramiko.Ed25519Key.from_private_key_file.__func__  # type: ignore[attr-defined]
-
-    def counting(cls: type, filename: str, password: object = None) -> paramiko.PKey:
-        calls.append(filename)
-        return real(cls, filename, password)  # type: ignore[no-any-return]
-
-    monkeypatch.setattr(paramiko.Ed25519Key, "from_private_key_file", classmethod(counting))
-    a, b = _client_type()(), _client_type()()
-    for c in (a, b):
-        c._log = lambda *args: None  # no transport here to log through
-    got1 = a._key_from_filepath(str(key_path), paramiko.Ed25519Key, None)
-    got2 = b._key_from_filepath(str(key_path), paramiko.Ed25519Key, None)
-    assert got1 is got2 and got1.get_fingerprint() == first.get_fingerprint()
-    assert calls == [str(key_path)]
-
-    second = _write_key(key_path)  # a new key in the same file: a new mtime
-    os.utime(key_path, ns=(1, 1))
-    calls.clear()
-    got3 = a._key_from_filepath(str(key_path), paramiko.Ed25519Key, None)
-    assert got3.get_fingerprint() == second.get_fingerprint() != first.get_fingerprint()
-    assert calls == [str(key_path)]
-
-
-def test_a_format_that_does_not_fit_fails_every_time_with_a_fresh_error(tmp_path: Path) -> None:
-    key_path = tmp_path / "id_ed25519"
-    _write_key(key_path)
-    client = _client_type()()
-    errors = []
-    for _ in range(2):
-        with pytest.raises(paramiko.SSHException) as info:
-            client._key_from_filepath(str(key_path), paramiko.RSAKey, None)
-        errors.append(info.value)
-    assert errors[0] is not errors[1]
-    assert type(errors[0]) is type(errors[1]) and errors[0].args == errors[1].args
-
-
-def test_a_missing_key_file_is_reported_as_paramiko_does(tmp_path: Path) -> None:
-    with pytest.raises(OSError):
-        _client_type()()._key_from_filepath(str(tmp_path / "nope"), paramiko.Ed25519Key, None)
 
 
 # -- ssh_config: no user-database lookup per block that has no Match ----------------------

@@ -99,7 +99,7 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"shutdown setup ", "sets a computer up over the robot's LAN (the lab's shutdown tests)"),
     (r"--remote|--pull\b", "asks Docker Hub (network)"),
     (r" -f\b| --follow\b", "follows a live container log (docker on the robot)"),
-    (r"config rollback .*--to \d", "needs a backup id from that robot's `config history`"),
+    (r"config rollback (?!--file ).*--to \d", "needs a backup id from that robot's `config history`"),
     (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
     (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
     (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
@@ -120,6 +120,7 @@ EXPECTED_EXIT = {
     "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
     "panther-ops sim world set w.sdf --latitude 91 --yes": 2,
     "panther-ops sim battery check bad_battery.yaml": 2,
+    "panther-ops config rollback --file hosts.yaml --to 20261124T0538 --yes": 2,
     "panther-ops -i demo-fleet config push bad_pad.yaml --as joy2twist --all --yes": 2,
     "panther-ops -i demo-fleet config set controller.cmd_vel_timeout 0 -r panther-01 --yes": 2,
 }

@@ -46,7 +46,7 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "bad_animations.yaml").write_text(BAD_ANIMATIONS)
     (tmp_path / "bad.yaml").write_text(BAD_HOSTS)
     (tmp_path / "my_hosts.yaml").write_text(GOOD_HOSTS)
-    (tmp_path / "hosts.yaml").write_text(GOOD_HOSTS)
+    (tmp_path / "hosts.yaml").write_text(GOOD_HOSTS + "  - ip: 10.15.20.9\n    username: pi\n")
     (tmp_path / "bad_hosts.yaml").write_text(BAD_PUSHED_HOSTS)
     config = ROOT / "templates" / "config" / "panther-2.1"  # a simulation workspace's files (docs/gps.md)
     shutil.copy(config / "panther_description" / "config" / "components.yaml", tmp_path / "components.yaml")
@@ -63,6 +63,9 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.setenv("NUC_SECRET", "a-long-shared-secret-for-the-nuc")
     assert main(["-i", "demo-fleet", "config", "pull", "controller", "-r", "panther-01", "-o",
                  "my_controller.yaml"]) == 0
+    # hosts.yaml (GOOD_HOSTS) with a backup beside it, for `config history|rollback --file hosts.yaml`
+    assert main(["shutdown", "hosts", "remove", "hosts.yaml", "--ip", "10.15.20.9", "--yes"]) == 0
+    assert (tmp_path / "hosts.yaml").read_text() == GOOD_HOSTS
     return tmp_path
 
 

@@ -7,19 +7,12 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.cli.app import main
 from panther_ops.core.fleet.templates import template_path
+from tests.clirun import run
 
 from .termrun import piped
 
 Capsys = pytest.CaptureFixture[str]
-
-
-def run(capsys: Capsys, *args: str) -> tuple[int, str, str]:
-    capsys.readouterr()
-    code = main(list(args))
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 # -- finding 2: read-only commands and dry runs ------------------------------------------------

@@ -9,7 +9,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, Force, NoRestart, Settle, Yes, mutate
-from panther_ops.cli.options import All, Canary, Forks, Groups, Json, MaxFail, Robots
+from panther_ops.cli.options import All, AskPassword, Canary, Forks, Groups, Json, MaxFail, Robots, sudo_password
 
 app = typer.Typer(
     help="The robot's configuration: launch arguments, controller limits, config files, history.",
@@ -19,6 +19,11 @@ app = typer.Typer(
 PLANNERS = ("panther_ops.core.config.plans",)
 """What planning a change imports: loaded in the background while the robots connect."""
 
+LocalFile = Annotated[
+    Optional[Path],  # noqa: UP045
+    typer.Option("--file", help="A local hosts file (`shutdown hosts add|remove FILE`): its backups, kept "
+                 "beside it, instead of robots'.", show_default=False),
+]
 KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
 
 
@@ -162,8 +167,9 @@ def diff(
     json_out: Json = False,
     forks: Forks = None,
 ) -> int:
-    """Compare each robot with the inventory's desired: block (launch_args, controller, image):
-    `changed` means drift, with the diff that `panther-ops apply` would make.
+    """Compare each robot with the inventory's desired: block (launch_args, controller, image,
+    GPS, and desired.webui against the WebUI snap's keys on its User Computer): `changed` means
+    drift, with the diff (and WebUI keys, current -> new) that `panther-ops apply` would change.
 
     Example: panther-ops config diff --all
     """
@@ -180,13 +186,17 @@ def history(
     robot: Robots = None,
     group: Groups = None,
     all_: All = False,
+    file: LocalFile = None,
     json_out: Json = False,
     forks: Forks = None,
 ) -> int:
     """List the backups each change left on the robot (~/.panther-ops/backups): id, time,
-    command, what changed, and how the attempt ended (applied, rolled-back and why).
+    command, what changed, and how the attempt ended (applied, rolled-back and why). --file:
+    the backups of a local hosts file, kept beside it by `shutdown hosts add|remove FILE`.
 
-    Example: panther-ops config history -r panther-01
+    Examples:
+      panther-ops config history -r panther-01
+      panther-ops config history --file hosts.yaml
     """
     from panther_ops.cli.history_view import print_history
     from panther_ops.cli.render import finish
@@ -194,14 +204,26 @@ def history(
     from panther_ops.results import Outcome, RobotResult
 
     def task(c: Any) -> RobotResult:
-        entries = list_history(c)
+        entries = list_history(c, only=str(file.resolve()) if file is not None else None)
         for e in entries:
             e.pop("robot", None)
         return RobotResult(c.robot.name, Outcome.OK, f"{len(entries)} backups", data={"history": entries})
 
-    inv, chosen = context.targets(ctx, robot, group, all_, read_only=True)
+    inv, chosen = _local(file, robot, group, all_) if file is not None else \
+        context.targets(ctx, robot, group, all_, read_only=True)
     return finish(context.run("config history", inv, chosen, task, forks=forks, json_out=json_out), json_out,
                   print_history)
+
+
+def _local(file: Path, robot: list[str] | None, group: list[str] | None, all_: bool) -> tuple[Any, list[Any]]:
+    """--file: the local hosts file's directory as the one target (see core/shutdown/localfile.py)."""
+    from panther_ops.core.shutdown.localfile import local_target
+    from panther_ops.errors import UsageError
+
+    if robot or group or all_:
+        raise UsageError("give either --file FILE (a local hosts file) or robots (-r/-g/--all), not both")
+    inv, target = local_target(file, "--file")
+    return inv, [target]
 
 
 @app.command("rollback")
@@ -214,6 +236,7 @@ def rollback(
     robot: Robots = None,
     group: Groups = None,
     all_: All = False,
+    file: LocalFile = None,
     yes: Yes = False,
     dry_run: DryRun = False,
     no_restart: NoRestart = False,
@@ -222,9 +245,12 @@ def rollback(
     forks: Forks = None,
 ) -> int:
     """Restore the files as they were before a change (a backup from `config history`), through
-    the same pipeline: diff, confirm, backup, atomic write, recreate, verify.
+    the same pipeline: diff, confirm, backup, atomic write, recreate, verify. --file: a local
+    hosts file from its own backups (nothing recreated).
 
-    Example: panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
+    Examples:
+      panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
+      panther-ops config rollback --file hosts.yaml --dry-run
     """
     import re
 
@@ -234,6 +260,12 @@ def rollback(
     if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
         raise UsageError(f"--to {to!r} is not a backup id",
                          hint="an id (or a prefix) from `panther-ops config history`, e.g. 20261122T101500Z")
+    if file is not None:
+        from panther_ops.core.shutdown.localfile import plan_local_rollback
+
+        inv, chosen = _local(file, robot, group, all_)
+        return mutate("config rollback", inv, chosen, lambda c: plan_local_rollback(c, file, to), yes=yes,
+                      dry_run=dry_run, restart=False, json_out=json_out, verb="Write")
     inv, chosen = context.targets(ctx, robot, group, all_)
     return mutate("config rollback", inv, chosen, lambda c: plan_rollback(c, to), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks)
@@ -351,19 +383,23 @@ def apply(
     forks: Forks = None,
     canary: Canary = 0,
     max_fail: MaxFail = None,
+    ask_sudo_password: AskPassword = False,
 ) -> int:
     """Converge robots to the inventory's desired: block (launch_args, controller limits, driver
-    image) through the same plan / diff / confirm / backup / recreate / verify / roll back pipeline.
+    image, GPS) through the same plan / diff / confirm / backup / recreate / verify / roll back
+    pipeline, and desired.webui on each robot's User Computer (sudo snap set, the WebUI
+    restarted when it was running; ros.namespace defaults to the robot's namespace).
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.apply.desired import plan_desired
+    from panther_ops.core.apply.desired import desired_applier, plan_desired
 
     inv, chosen = context.targets(ctx, robot, group, all_)
     label = "apply --force" if force else "apply"
+    password = sudo_password(ask_sudo_password) if any(r.desired.get("webui") for r in chosen) else None
     return mutate(label, inv, chosen, lambda c: plan_desired(c, force=force), yes=yes, dry_run=dry_run,
                   restart=not no_restart, settle=settle, json_out=json_out, forks=forks, canary=canary,
-                  max_fail=max_fail)
+                  max_fail=max_fail, applier=desired_applier(password), applier_for_actions=True)
 
 
 def register(root: typer.Typer) -> None:

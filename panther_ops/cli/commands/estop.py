@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 app = typer.Typer(help="The E-stop: see it, trigger it (all targeted robots at once), reset it.",
                   no_args_is_help=True)
 
-_PRELOAD = ("panther_ops.core.remote.estop.calls", "panther_ops.core.config.robot")
+_PRELOAD = ("panther_ops.core.remote.estop.calls",)
 
 
 @app.command("status")
@@ -35,7 +35,7 @@ def status(
     from panther_ops.cli.render import finish
     from panther_ops.core.remote.estop.calls import status_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
+    inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD, tables=not json_out)
     fleet = context.run("estop status", inv, chosen, status_task, forks=len(chosen) or None, json_out=json_out)
     return finish(fleet, json_out, _print_state)
 
@@ -57,7 +57,7 @@ def trigger(
     from panther_ops.cli.render import finish, print_results
     from panther_ops.core.remote.estop.calls import trigger_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
+    inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD, tables=not json_out)
     # every robot at once; no progress bar (json_out=True only turns it off)
     fleet = context.run("estop trigger", inv, chosen, trigger_task, forks=len(chosen) or None, json_out=True)
     return finish(fleet, json_out, print_results)
@@ -85,7 +85,7 @@ def reset(
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.remote.estop.calls import reset_check_task, reset_task
 
-    inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
+    inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD, tables=not json_out)
     opts = RunOptions(forks=max(1, len(chosen)))
     with Connections(inv) as conns:
         checked = run_fleet("estop reset", inv, chosen, reset_check_task, opts, connections=conns)

@@ -9,7 +9,7 @@ import typer
 
 from panther_ops.cli import context
 from panther_ops.cli.mutate import DryRun, NoRestart, Settle, Yes
-from panther_ops.cli.options import All, Forks, Groups, Json, Robots
+from panther_ops.cli.options import All, Forks, Groups, Json, Robots, sudo_password
 
 app = typer.Typer(help="OS reimage: write and verify a robot's card on this machine.", no_args_is_help=True)
 
@@ -179,7 +179,7 @@ def restore(
     """
     from panther_ops.cli.mutate import mutate
     from panther_ops.cli.status_view import print_doctor
-    from panther_ops.core.apply.desired import plan_desired
+    from panther_ops.core.apply.desired import desired_applier, plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError
@@ -211,7 +211,8 @@ def restore(
         return code
     if target.desired:
         code = mutate("apply", inv, [target], plan_desired, yes=yes, dry_run=False,
-                      restart=not no_restart, settle=settle)
+                      restart=not no_restart, settle=settle, applier=desired_applier(sudo_password(False)),
+                      applier_for_actions=True)
     summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
     print_doctor(summary)
     return code

@@ -258,7 +258,7 @@ def hosts_add(
             secret_value = sec.reveal() if sec else None
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
         return _edit_local(file, lambda text: add_host(text, entry, str(file)), yes, dry_run, json_out,
-                           "shutdown hosts add")
+                           f"shutdown hosts add {f'{user}@{ip}' if user else f'http://{ip}'}")
     sec = secret_from(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
@@ -302,7 +302,7 @@ def hosts_remove(
         if not file.exists():
             raise usage_error(f"{file} does not exist")
         return _edit_local(file, lambda text: remove_host(text, ip, user, port, str(file)), yes, dry_run,
-                           json_out, "shutdown hosts remove")
+                           json_out, f"shutdown hosts remove {ip}")
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
     inv, chosen = context.targets(ctx, robot, group, all_)

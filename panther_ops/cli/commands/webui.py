@@ -3,38 +3,19 @@ User Computer, reached through the robot."""
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Optional
+from typing import Annotated, Optional
 
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.options import All, Groups, Json, Robots
-
-if TYPE_CHECKING:
-    from panther_ops.secret import Secret
+from panther_ops.cli.options import All, AskPassword, Groups, Json, Robots, sudo_password
 
 app = typer.Typer(help="The husarion-webui snap on the robots' User Computers (through the robots).",
                   no_args_is_help=True)
 
-PASSWORD_ENV = "PANTHER_OPS_SUDO_PASSWORD"
-AskPassword = Annotated[bool, typer.Option(
-    "--ask-sudo-password", help=f"Ask once for the User Computers' sudo password (else ${PASSWORD_ENV}, else "
-    "sudo must not ask).")]
 _PRELOAD = ("panther_ops.core.remote.webui.remote", "fabric")
-
-
-def _password(ask: bool) -> Secret | None:
-    from panther_ops.secret import Secret
-
-    if ask:
-        import getpass
-
-        return Secret(getpass.getpass("sudo password of the User Computers: "))
-    value = os.environ.get(PASSWORD_ENV)
-    return Secret(value) if value else None
 
 
 def _run(ctx: typer.Context, command: str, task_of: object, robot: list[str] | None, group: list[str] | None,
@@ -56,7 +37,7 @@ def status(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return _run(ctx, "webui status", status_task(_password(ask_sudo_password)), robot, group, all_, json_out)
+    return _run(ctx, "webui status", status_task(sudo_password(ask_sudo_password)), robot, group, all_, json_out)
 
 
 @app.command("get")
@@ -79,13 +60,13 @@ def install(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_
     Example: panther-ops webui install -r panther-01 --ask-sudo-password
     """
     from panther_ops.core.kinds.webui_settings import PROFILE
-    from panther_ops.core.remote.webui.remote import install_task
+    from panther_ops.core.remote.webui.install import install_task
 
     if not PROFILE.match(channel.replace("/", "_")):
         from panther_ops.errors import UsageError
 
         raise UsageError(f"--channel {channel!r} is not a snap channel", hint="e.g. humble or humble/edge")
-    return _run(ctx, "webui install", install_task(channel, _password(ask_sudo_password)), robot, group, all_,
+    return _run(ctx, "webui install", install_task(channel, sudo_password(ask_sudo_password)), robot, group, all_,
                 json_out)
 
 
@@ -98,7 +79,7 @@ def start(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_: 
     """
     from panther_ops.core.remote.webui.remote import start_stop_task
 
-    return _run(ctx, "webui start", start_stop_task(True, _password(ask_sudo_password)), robot, group, all_,
+    return _run(ctx, "webui start", start_stop_task(True, sudo_password(ask_sudo_password)), robot, group, all_,
                 json_out)
 
 
@@ -111,7 +92,7 @@ def stop(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_: A
     """
     from panther_ops.core.remote.webui.remote import start_stop_task
 
-    return _run(ctx, "webui stop", start_stop_task(False, _password(ask_sudo_password)), robot, group, all_,
+    return _run(ctx, "webui stop", start_stop_task(False, sudo_password(ask_sudo_password)), robot, group, all_,
                 json_out)
 
 
@@ -124,7 +105,7 @@ def url(ctx: typer.Context, robot: Robots = None, group: Groups = None, all_: Al
     """
     from panther_ops.core.remote.webui.remote import url_task
 
-    return _run(ctx, "webui url", url_task(_password(ask_sudo_password)), robot, group, all_, json_out)
+    return _run(ctx, "webui url", url_task(sudo_password(ask_sudo_password)), robot, group, all_, json_out)
 
 
 @app.command("set")
@@ -151,7 +132,7 @@ def set_(
     from panther_ops.core.remote.webui.remote import set_apply_task, set_plan_task
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
-    password = _password(ask_sudo_password)
+    password = sudo_password(ask_sudo_password)
     inv, chosen = context.targets(ctx, robot, group, all_, preload=_PRELOAD)
     with Connections(inv) as conns:
         plan_wanted = dict(wanted)

@@ -1,17 +1,21 @@
 """The planner of `panther-ops apply` and `config diff`: the inventory's desired state
-(launch arguments, controller, image, GPS) converged in one plan per robot.
+(launch arguments, controller, image, GPS, the WebUI on the User Computer) converged in one
+plan per robot. The WebUI's change is the plan's action after the robot's files (see
+`desired.py`).
 
-Pure: a function of compose.yaml as read, the files it asks for (:class:`Reads`) and the
-robot's ``desired:`` block; the reads are `reading.py`'s (:func:`read_desired`)."""
+Pure: a function of compose.yaml as read, the files and facts it asks for (:class:`Reads`;
+the WebUI's state is fact ``webui``) and the robot's ``desired:`` block; the reads are
+`desired.py`'s."""
 
 from __future__ import annotations
 
 from typing import Any
 
 from panther_ops.core.config.planners import _args_summary, compose_plan, controller_edits, edit_args
-from panther_ops.core.config.robot_config import ComposeRead, parse_config
+from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.remote.webui.plan_desired import WebuiPlan
 
 
 def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, force: bool = False) -> RobotPlan:
@@ -68,7 +72,8 @@ def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, for
     arg_summary = _args_summary(cfg, old_args)
     if arg_summary != "no change":
         parts.insert(0, arg_summary)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps"})
+    webui = _plan_webui(reads, cfg, desired.get("webui"), warnings)
+    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps", "webui"})
     if unsupported:
         warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
     plan = compose_plan(reads.robot, cfg, "; ".join(parts) or "no change", warnings, verify,
@@ -78,4 +83,32 @@ def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, for
         plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
         if driver_same:
             plan.verify = [v for v in plan.verify if v.service in recreate]
+    _add_webui(plan, webui)
     return plan
+
+
+def _plan_webui(reads: Reads, cfg: RobotConfig, desired: dict[str, Any] | None,
+                warnings: list[str]) -> WebuiPlan | None:
+    """desired.webui's plan, with the robot's namespace as this plan leaves the compose file."""
+    if not desired:
+        return None
+    from panther_ops.core.remote.webui.defaults import robot_namespace_of
+    from panther_ops.core.remote.webui.plan_desired import plan_desired_webui
+
+    webui = plan_desired_webui(reads, desired, robot_namespace_of(reads, cfg))
+    warnings += webui.warnings or []
+    return webui
+
+
+def _add_webui(plan: RobotPlan, webui: WebuiPlan | None) -> None:
+    """The WebUI's change as the plan's action, after the files (see the module's text)."""
+    if webui is None or not webui.changes:
+        if webui is not None and webui.host:
+            plan.data["webui"] = webui.to_json()
+        return
+    from panther_ops.core.remote.webui.plan_desired import ACTION
+
+    plan.data.update(action=ACTION, webui={**webui.to_json(), "wanted": webui.wanted},
+                     files_summary=plan.summary if plan.edits else "")
+    plan.summary = f"change {plan.summary}; {webui.summary}" if plan.edits else webui.summary
+    plan.noop = None

@@ -274,7 +274,8 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("DEBUG", "INFO", "WARNING", "ERROR", "FATAL"),
         default="INFO",
     ),
-    ArgSpec("launch_gamepad", _BOOL, "start the gamepad (joy2twist) nodes", since=_V2_2, default="false"),
+    # since 2.2.2: husarion_ugv_bringup CHANGELOG 2.2.2 "Add joy2twist dependency (#581)" (see config/gamepad.py)
+    ArgSpec("launch_gamepad", _BOOL, "start the gamepad (joy2twist) nodes", since=_v("2.2.2"), default="false"),
     ArgSpec(
         "robot_model",
         ArgType.CHOICE,

@@ -1,12 +1,30 @@
 """The gamepad's parameters file (``config push --as joy2twist``), per stack version.
 
-Up to 2.1 the gamepad is its own compose service (``gamepad_controller``, image
-husarion/joy2twist) launched with ``joy2twist_params_file:=<file>``: the file goes to
-``~/config/joy2twist/config/<name>``, is mounted into that service at
-``/config/joy2twist/config/<name>`` and the argument points at it; the gamepad service is
-recreated. On 2.2 the driver launches the gamepad (``launch_gamepad:=true``) with the config
-tree's ``husarion_ugv_bringup/config/joy2twist_<model>.yaml`` (read through
-``common_dir_path``): the tree's file is overwritten and the driver recreated.
+Where the gamepad runs decides where its parameters go (evidence below):
+
+* its own compose service (``gamepad_controller``, image husarion/joy2twist), launched with
+  ``ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:=<file>``: panther_ros
+  2.0-2.1 (panther-docker demo/compose.minimal-setup.yaml) and husarion_ugv 2.2.0/2.2.1 (their
+  docker/demo/compose.hardware.yaml mounts ``/home/husarion/config/common/joy2twist.yaml`` at
+  ``/joy2twist.yaml``). The file goes to ``~/config/joy2twist/config/<name>``, is mounted at
+  ``/config/joy2twist/config/<name>`` and the argument points at it; where the argument
+  already names a mounted file on 2.2 (that 2.2.0 layout), that file is replaced in place. The
+  gamepad service is recreated.
+* the driver (husarion_ugv 2.2.2+, ``launch_gamepad:=true``): 2.2.2's
+  ``husarion_ugv_bringup/launch/bringup.launch.py`` declares ``launch_gamepad`` and includes
+  joy2twist's ``gamepad_controller.launch.py`` with ``joy2twist_params_file`` computed as
+  ``<common_dir_path>/husarion_ugv_bringup/config/joy2twist_<ROBOT_MODEL_NAME>.yaml`` (the
+  package share's when common_dir_path is empty). Bringup does not declare
+  ``joy2twist_params_file`` and the include sets it, so passing it to bringup changes nothing:
+  the config tree's file is the one to write (``~/config/husarion_ugv_bringup/config/
+  joy2twist_<model>.yaml``, mounted at /config), and the driver is recreated.
+
+Evidence: husarion_ugv_bringup's CHANGELOG.rst (ros2-gbp/husarion_ugv_ros-release) lists
+"[Backport humble-devel] Add joy2twist dependency (#581)" under 2.2.2 (2025-07-09) and nothing
+of the gamepad under 2.2.1; husarion/husarion_ugv_ros#555 (ros2-devel) and #581 (humble) add
+``launch_gamepad`` and the include above to bringup.launch.py; husarion/husarion_ugv_ros
+docker/demo/compose.hardware.yaml for humble-2.2.0 (and jazzy-2.3.0) still runs
+``gamepad_controller`` with ``joy2twist_params_file:=/joy2twist.yaml``. docs/remote.md cites them.
 """
 
 from __future__ import annotations
@@ -15,6 +33,7 @@ import posixpath
 
 from panther_ops.core.config.compose import image_repo
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
+from panther_ops.core.config.namespace import dotenv_value
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
@@ -25,19 +44,41 @@ ARG = "joy2twist_params_file"
 PACKAGE = "joy2twist"
 
 
-def gamepad_service(cfg: RobotConfig) -> str:
-    """The compose service of the gamepad (<= 2.1), or exit 2 naming what is there."""
+def find_gamepad_service(cfg: RobotConfig) -> str | None:
+    """The compose service of the gamepad (gamepad_controller, or an image husarion/joy2twist)."""
     for name in cfg.compose.services():
         image = cfg.compose.service(name).get("image")
         if name == "gamepad_controller" or (isinstance(image, str) and image_repo(image) == "husarion/joy2twist"):
             return name
+    return None
+
+
+def gamepad_service(cfg: RobotConfig) -> str:
+    """The compose service of the gamepad (<= 2.1), or exit 2 naming what is there."""
+    found = find_gamepad_service(cfg)
+    if found is not None:
+        return found
     raise UsageError(f"{cfg.compose_path} has no gamepad service (gamepad_controller, image husarion/joy2twist)",
                      hint=f"on {cfg.stack.label()} the gamepad runs as its own compose service: add it as the "
                           "manual's compose.yaml has it, then push the parameters again")
 
 
+LAUNCHED_BY_DRIVER = (2, 2, 2)
+"""The first version whose bringup launches the gamepad (``launch_gamepad``, see the module's text)."""
+
+
 def tree_path(cfg: RobotConfig, robot_model: str = "panther") -> str:
     return f"{ROBOT_CONFIG_DIR}/{cfg.stack.package_prefix}_bringup/config/joy2twist_{robot_model}.yaml"
+
+
+def robot_model(reads: Reads, cfg: RobotConfig) -> str:
+    """ROBOT_MODEL_NAME of the robot's env file (the bringup's name of the file), else panther."""
+    raw = reads.file(cfg.stack.robot_env_file)
+    if raw is None:
+        return "panther"
+    text = raw.decode(errors="replace")
+    model = dotenv_value(text, "ROBOT_MODEL_NAME") or "panther"
+    return model if model in ("panther", "lynx") else "panther"
 
 
 def _mounted(cfg: RobotConfig, service: str, container_path: str) -> str | None:
@@ -47,29 +88,64 @@ def _mounted(cfg: RobotConfig, service: str, container_path: str) -> str | None:
     return None
 
 
+def _mounted_file(cfg: RobotConfig, service: str, container_file: str) -> str | None:
+    """The host file bind-mounted at ``container_file`` (exactly) in ``service``, if any."""
+    for v in cfg.compose.list_volumes(service):
+        if v.source and v.target.rstrip("/") == container_file.rstrip("/"):
+            return cfg.resolve(v.source)
+    return None
+
+
+def _driver_target(reads: Reads, cfg: RobotConfig, warnings: list[str]) -> tuple[str, str]:
+    """husarion_ugv 2.2.2+ without a gamepad service: the driver's service and the tree's file."""
+    if cfg.stack.version < LAUNCHED_BY_DRIVER:
+        raise UsageError(f"{cfg.compose_path} has no gamepad service, and on {cfg.stack.label()} the driver does "
+                         "not launch the gamepad (launch_gamepad came with husarion_ugv 2.2.2)",
+                         hint="add the gamepad_controller service of husarion_ugv_ros 2.2.0's "
+                              "docker/demo/compose.hardware.yaml (husarion/joy2twist, "
+                              "joy2twist_params_file:=/joy2twist.yaml), or update the driver to 2.2.2")
+    if not cfg.tree_mounted:
+        raise UsageError(f"on {cfg.stack.label()} the driver reads the gamepad parameters from the config "
+                         f"tree, which {cfg.compose_path} does not mount (~/config at /config)",
+                         hint="the 2.2 layout mounts /home/husarion/config at /config with "
+                              "common_dir_path:=/config")
+    if cfg.compose.args.get("launch_gamepad", "false").lower() != "true":
+        warnings.append("launch_gamepad is not true: the driver does not start the gamepad "
+                        "(panther-ops config set launch_gamepad true)")
+    if ARG in cfg.compose.args:
+        warnings.append(f"{ARG}:= on the driver's command has no effect on {cfg.stack.label()}: bringup passes "
+                        f"its own (the config tree's joy2twist_<model>.yaml), which is the file written")
+    return cfg.service, tree_path(cfg, robot_model(reads, cfg))
+
+
+def _service_target(cfg: RobotConfig, service: str, name: str) -> tuple[str, tuple[str, ...]]:
+    """The gamepad's own service: the file it is given (``joy2twist_params_file:=``) and the
+    words its command must hold; the mount and argument are added to ``cfg.compose``."""
+    current = cfg.compose.command(service).args.get(ARG)
+    if current and cfg.stack.family is Family.HUSARION_UGV:  # 2.2.0/2.2.1: ~/config/common/joy2twist.yaml
+        host = _mounted_file(cfg, service, current)
+        if host is not None:
+            return host, (f"{ARG}:={current}",)
+    path = f"{ROBOT_CONFIG_DIR}/{PACKAGE}/config/{name}"
+    container = f"{CONTAINER_CONFIG_DIR}/{PACKAGE}/config/{name}"
+    if _mounted(cfg, service, container) != path:
+        cfg.compose.add_volume(path, container, ro=True, service=service)
+    cfg.compose.set_arg(ARG, container, service)
+    return path, (f"{ARG}:={container}",)
+
+
 def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warnings: list[str]) -> RobotPlan:
     """The plan of a checked joy2twist file ``name`` with content ``data`` for this robot."""
     edits: list[FileEdit] = []
-    if cfg.stack.family is Family.HUSARION_UGV:
-        if not cfg.tree_mounted:
-            raise UsageError(f"on {cfg.stack.label()} the driver reads the gamepad parameters from the config "
-                             f"tree, which {cfg.compose_path} does not mount (~/config at /config)",
-                             hint="the 2.2 layout mounts /home/husarion/config at /config with "
-                                  "common_dir_path:=/config")
-        service = cfg.service
-        if cfg.compose.args.get("launch_gamepad", "false").lower() != "true":
-            warnings.append("launch_gamepad is not true: the driver does not start the gamepad "
-                            "(panther-ops config set launch_gamepad true)")
-        path = tree_path(cfg)
-        contains: tuple[str, ...] = ()
+    service = find_gamepad_service(cfg)
+    contains: tuple[str, ...] = ()
+    if service is not None:
+        path, contains = _service_target(cfg, service, name)
+    elif cfg.stack.family is Family.HUSARION_UGV:
+        service, path = _driver_target(reads, cfg, warnings)
     else:
-        service = gamepad_service(cfg)
-        path = f"{ROBOT_CONFIG_DIR}/{PACKAGE}/config/{name}"
-        container = f"{CONTAINER_CONFIG_DIR}/{PACKAGE}/config/{name}"
-        if _mounted(cfg, service, container) != path:
-            cfg.compose.add_volume(path, container, ro=True, service=service)
-        cfg.compose.set_arg(ARG, container, service)
-        contains = (f"{ARG}:={container}",)
+        service = gamepad_service(cfg)  # refused, naming what is there
+        path = ""
     before = reads.file(path)
     if before != data:
         edits.append(FileEdit(path, before, data))
@@ -86,9 +162,10 @@ def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warni
 
 
 def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str]:
-    """The gamepad parameters in use: the mounted file (<= 2.1) or the tree's (2.2)."""
-    if cfg.stack.family is Family.HUSARION_UGV:
-        path = tree_path(cfg)
+    """The gamepad parameters in use: the file mounted into the gamepad's service, or the
+    config tree's (husarion_ugv 2.2.2+, the driver launching the gamepad)."""
+    if cfg.stack.family is Family.HUSARION_UGV and find_gamepad_service(cfg) is None:
+        path = tree_path(cfg, robot_model(reads, cfg))
         if cfg.tree_mounted and (data := reads.file(path)) is not None:
             return data, f"{path} (config tree)"
         raise UsageError(f"{path} not found: the driver uses its image's default gamepad parameters",

@@ -54,5 +54,11 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     for n in (name, *s.all_names()):
         if n in args:
             return {"key": key, "name": n, "value": args[n], "source": "compose.yaml", "stack": cfg.stack.label()}
+    if key == "namespace":  # the launch files' default: ROBOT_NAMESPACE of the compose environment or env_file
+        from panther_ops.core.config.namespace import driver_namespace
+
+        value, source = read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))
+        if source != "default":
+            return {"key": key, "name": name, "value": value, "source": source, "stack": cfg.stack.label()}
     return {"key": key, "name": name, "value": s.default_for(cfg.stack), "source": "default",
             "stack": cfg.stack.label()}

@@ -52,6 +52,10 @@ groups:
         wheel_type: WH02
   field:
     description: outdoor robots
+    desired:
+      webui:                    # the WebUI snap on the User Computer (apply, config diff)
+        layout: panther
+        transport: rmw_cyclonedds_cpp
 robots:
 {robots}
 # A real robot (reached by its Husarnet hostname; every Panther is 10.15.20.2 inside):

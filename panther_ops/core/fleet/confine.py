@@ -4,14 +4,18 @@ A robot's ``compose_file`` (inventory) names a file on the robot: no ``..`` comp
 would name another directory than the one written), no control character; on a local
 (demo) robot it must also stay inside the robot's directory once links are resolved. A
 backup id (``config rollback --to``) names a directory under ``~/.panther-ops/backups``.
-Anything else is refused with exit 2 naming the path. (The compose file's check, which needs
-the robot's transport for the demo case, is `core/config/robot.py`'s ``compose_file``.)
+A local file's backup (``config rollback --file FILE``) restores that one file and nothing
+else, whatever its manifest names. Anything else is refused with exit 2 naming the path.
+(The compose file's check, which needs the robot's transport for the demo case, is
+`core/config/robot.py`'s ``compose_file``.)
 """
 
 from __future__ import annotations
 
 import posixpath
 import re
+from collections.abc import Mapping
+from typing import Any
 
 from panther_ops.errors import UsageError
 
@@ -44,3 +48,33 @@ def backup_entry_ok(entry_id: object, files: object) -> bool:
         if not (p.startswith("/") or p.startswith("~/")) or ".." in p.split("/") or posixpath.normpath(p) in ("/", "~"):
             return False
     return True
+
+
+def backup_of_file(entry: Mapping[str, Any], path: str) -> bool:
+    """A backup of the local file ``path``, read from the file's own directory: a well-formed
+    manifest of one file of that name, kept as ``files/0`` (or none: the change created the
+    file). The name, not the directory, counts (a directory moved or copied keeps its
+    history); a rollback writes ``path`` itself, never the path the manifest names."""
+    files = entry.get("files")
+    if not backup_entry_ok(entry.get("id"), files) or not isinstance(files, list) or len(files) != 1:
+        return False
+    named = posixpath.basename(files[0]["path"])
+    return bool(named == posixpath.basename(path) and files[0].get("backup") in (None, "files/0"))
+
+
+def local_file(file: str, option: str = "--file") -> str:
+    """A local file named by the operator (``--file``): a file path (it may be gone) in an
+    existing directory, no control character. UsageError otherwise, naming what is allowed."""
+    import os
+
+    allowed = "the path of a local hosts file (the FILE of `shutdown hosts add|remove FILE`)"
+    if not file or any(ord(c) < 32 or c == "\x7f" for c in file):
+        raise UsageError(f"{option} {file!r} is empty or holds a control character", hint=allowed)
+    if os.path.isdir(file):
+        raise UsageError(f"{option} {file} is a directory", hint=allowed)
+    parent = os.path.dirname(os.path.abspath(file))
+    if not os.path.isdir(parent):
+        raise UsageError(f"{option} {file}: directory {parent} does not exist", hint=allowed)
+    if os.path.exists(file) and not os.path.isfile(file):
+        raise UsageError(f"{option} {file} is not a regular file", hint=allowed)
+    return os.path.realpath(file)

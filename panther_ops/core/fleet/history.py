@@ -4,6 +4,11 @@ Each change writes ``~/.panther-ops/backups/<id>/`` before touching anything: th
 they were (``files/N``), a ``manifest.json`` (command, summary, per-file diff and hashes)
 and, once the attempt ended, a ``status`` line (``applied`` or ``rolled-back: why``).
 A rollback restores one backup through the same pipeline, so it is itself backed up.
+
+A local file (``shutdown hosts add|remove FILE``) keeps its backups the same way in its own
+directory (the local target's home, ``<dir>/.panther-ops/backups/``): ``only`` narrows the
+history and the rollback to the backups of that one file, which is all such a rollback
+writes (see :func:`confine.backup_of_file`); it recreates nothing.
 """
 
 from __future__ import annotations
@@ -12,17 +17,19 @@ import json
 from typing import Any
 
 from panther_ops.core.fleet import plan_rollback as planner
+from panther_ops.core.fleet.confine import backup_of_file
 from panther_ops.core.fleet.pipeline import BACKUP_ROOT
-from panther_ops.core.fleet.plan import RobotPlan
-from panther_ops.core.fleet.reading import read_and_plan
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.reading import FactReader, read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.transport import scripts_backup
 from panther_ops.transport.base import Command
 
 
-def list_history(ctx: RobotContext) -> list[dict[str, Any]]:
-    """Every backup on the robot, oldest first (ids sort by time)."""
+def list_history(ctx: RobotContext, only: str | None = None) -> list[dict[str, Any]]:
+    """Every backup on the robot, oldest first; ``only``: the backups of
+    that one (absolute) file and of nothing else."""
     res = ctx.transport.run(Command.sh(scripts_backup.LIST, BACKUP_ROOT))
     if not res.ok:
         raise TransportError(ctx.robot.name, f"cannot list backups: {res.stderr.strip()}")
@@ -36,8 +43,10 @@ def list_history(ctx: RobotContext) -> list[dict[str, Any]]:
         except ValueError:
             continue
         doc["status"] = status.strip() or "interrupted (no status recorded)"
-        entries.append(doc)
-    entries.sort(key=lambda d: str(d.get("id", "")))
+        if only is None or backup_of_file(doc, only):
+            entries.append(doc)
+    # ids sort by time to the second; within one, the time of creation (to the millisecond) orders them
+    entries.sort(key=lambda d: (str(d.get("id", ""))[:16], str(d.get("created", "")), str(d.get("id", ""))))
     return entries
 
 
@@ -50,8 +59,13 @@ def read_backup(ctx: RobotContext, key: str) -> bytes:
     return res.raw_stdout
 
 
-def plan_rollback(ctx: RobotContext, to: str | None) -> RobotPlan:
+ROLLBACK_FACTS: dict[str, FactReader] = {planner.HISTORY: lambda c, _key: list_history(c),
+                                         planner.BACKUP: read_backup}
+"""How the facts the rollback planner asks for are read."""
+
+
+def plan_rollback(ctx: RobotContext, to: str | None, *, only: str | None = None,
+                  edit: planner.MakeEdit = FileEdit) -> RobotPlan:
     """Restore the files of backup ``to`` (default: the newest): read the backups the planner
-    (`plan_rollback.py`, pure) asks for, and the files as they are now."""
-    return read_and_plan(ctx, lambda reads: planner.plan_rollback(reads, to),
-                         {planner.HISTORY: lambda c, _key: list_history(c), planner.BACKUP: read_backup})
+    (`plan_rollback.py`, pure; ``only`` and ``edit`` are its) asks for, and the files as they are now."""
+    return read_and_plan(ctx, lambda reads: planner.plan_rollback(reads, to, only=only, edit=edit), ROLLBACK_FACTS)

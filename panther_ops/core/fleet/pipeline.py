@@ -102,10 +102,11 @@ def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, go: bool 
     """
     go = go and opts.on_staged is None
     ctx.phase("write")
-    backup_id = new_backup_id()
+    now = datetime.now(timezone.utc)
+    backup_id = new_backup_id(now)
     manifest = {
         "id": backup_id,
-        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "created": now.isoformat(timespec="milliseconds"),  # orders backups of the same second
         "robot": ctx.robot.name,
         "command": opts.command,
         "summary": plan.summary,

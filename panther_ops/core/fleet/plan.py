@@ -39,12 +39,23 @@ def mask_secrets(text: str) -> str:
 @dataclass(frozen=True)
 class MaskedFileEdit(FileEdit):
     """A FileEdit whose diff shows ``secret: ****`` (the file itself keeps the value: a
-    shutdown hosts file's HMAC secret)."""
+    shutdown hosts file's HMAC secret). When a value gives way to another, each is marked
+    ``**** (old value)`` / ``**** (new value)``, so a changed secret still shows as a changed
+    line (a rollback may change nothing else)."""
 
     def diff(self) -> Diff:
         plain = super().diff()
-        old = mask_secrets((self.before or b"").decode(errors="replace"))
-        new = mask_secrets((self.after or b"").decode(errors="replace"))
+        before = (self.before or b"").decode(errors="replace")
+        after = (self.after or b"").decode(errors="replace")
+        old_values = {m.group(2) for m in _SECRET_LINE.finditer(before)}
+        new_values = {m.group(2) for m in _SECRET_LINE.finditer(after)}
+        replaced = bool(old_values - new_values) and bool(new_values - old_values)
+        kept = old_values & new_values if replaced else old_values | new_values
+
+        def mask(text: str, note: str) -> str:
+            return _SECRET_LINE.sub(lambda m: f"{m.group(1)}****{'' if m.group(2) in kept else note}{m.group(3)}", text)
+
+        old, new = mask(before, " (old value)"), mask(after, " (new value)")
         return Diff(plain.path, unified_diff(old, new, self.path))
 
 

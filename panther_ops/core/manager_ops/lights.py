@@ -12,17 +12,15 @@ under: the inventory's ``namespace:``, else the driver's ``namespace:=`` argumen
 from __future__ import annotations
 
 import json
-import posixpath
-import re
 
+from panther_ops.core.config.namespace import driver_namespace
 from panther_ops.core.config.robot import read_config
 from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError
 from panther_ops.manager.adapters.interfaces import RosInterfaces, interfaces_for
 from panther_ops.results import Outcome, RobotResult
-
-_DEFAULTED = re.compile(r"^\$\{[A-Za-z_][A-Za-z0-9_]*:?-([^}]*)\}$")
 
 
 def service_call_argv(ros: RosInterfaces, namespace: str, anim_id: int, param: str, repeating: bool) -> list[str]:
@@ -33,45 +31,10 @@ def service_call_argv(ros: RosInterfaces, namespace: str, anim_id: int, param: s
             ros.set_led_animation_type, request]
 
 
-def _plain(value: str | None) -> str | None:
-    """A compose value as the container sees it: ``${VAR:-default}`` -> default (no variables here)."""
-    if value is None:
-        return None
-    value = value.strip().strip("'\"")
-    m = _DEFAULTED.match(value)
-    return m.group(1) if m else value
-
-
-def _dotenv(text: str, key: str) -> str | None:
-    found = None
-    for raw in text.splitlines():
-        line = raw.strip()
-        line = line[7:].lstrip() if line.startswith("export ") else line
-        if line.startswith(f"{key}="):
-            found = _plain(line.split("=", 1)[1].split(" #", 1)[0])
-    return found
-
-
 def robot_namespace(ctx: RobotContext, cfg: RobotConfig) -> str:
-    """The ROS namespace the robot's driver runs under ("" = none)."""
-    if ctx.robot.namespace:
-        return ctx.robot.namespace
-    arg = cfg.compose.args.get("namespace")
-    if arg:
-        return arg
-    env = _plain(cfg.compose.environment(cfg.service).get("ROBOT_NAMESPACE"))
-    if env is not None:
-        return env
-    found = None
-    for name in cfg.compose.env_files(cfg.service):  # later files win, as in compose
-        path = name.replace("~", cfg.home, 1) if name.startswith("~/") else name
-        path = path if path.startswith("/") else posixpath.join(posixpath.dirname(cfg.compose_path), path)
-        try:
-            text = ctx.transport.read_file(path).decode(errors="replace")
-        except FileNotFoundError:
-            continue
-        found = _dotenv(text, "ROBOT_NAMESPACE") or found
-    return found or ""
+    """The ROS namespace the robot's driver runs under ("" = none): the inventory's, else the
+    one its compose file and config give (`panther_ops.core.config.namespace.driver_namespace`)."""
+    return ctx.robot.namespace or read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))[0]
 
 
 def set_animation(ctx: RobotContext, anim_id: int, param: str, repeating: bool) -> RobotResult:

@@ -7,6 +7,13 @@ hosts file kind's one validator, and carries a masked exact diff; the pipeline t
 the old content up in ``<directory>/.panther-ops/backups/<id>/`` (``files/0`` and a
 ``manifest.json``), stages the new file beside it and renames it into place only if the file
 is still what was read. Nothing is recreated.
+
+``config history --file FILE`` lists those backups (``history.list_history`` with ``only``:
+the ones of that file; a directory may hold several hosts files) and ``config rollback --file
+FILE`` restores one through the same planner and pipeline as a robot's rollback
+(`plan_rollback.py`, through `plan_hosts.py`'s ``plan_local_restore``): masked exact diff,
+backup of the current file first, staged write renamed only if the file is unchanged; the
+content restored goes through the hosts file validator as every write of the file does.
 """
 
 from __future__ import annotations
@@ -14,17 +21,20 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+from panther_ops.core.fleet.confine import local_file
+from panther_ops.core.fleet.history import ROLLBACK_FACTS
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import Edit
-from panther_ops.core.shutdown.plan_hosts import plan_local_edit
+from panther_ops.core.shutdown.plan_hosts import plan_local_edit, plan_local_restore
 
 
-def local_target(file: Path) -> tuple[Inventory, Robot]:
-    """The file's directory as a one-target inventory (named as the operator gave the file)."""
-    full = file.resolve()
+def local_target(file: Path, option: str | None = None) -> tuple[Inventory, Robot]:
+    """The file's directory as a one-target inventory (named as the operator gave the file);
+    ``option``: the file was given with it (``--file``) and is checked first (exit 2)."""
+    full = Path(local_file(str(file), option)) if option else file.resolve()
     robot = Robot(name=str(file), host="localhost", transport="local", root=Path("/"), home=str(full.parent),
                   source=str(file))
     return Inventory(path=full, origin=str(file), robots={robot.name: robot}, groups={}, forks=1), robot
@@ -33,3 +43,8 @@ def local_target(file: Path) -> tuple[Inventory, Robot]:
 def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str], Edit]) -> RobotPlan:
     """The plan of one change to a local hosts file (``change`` maps its text to the new one)."""
     return read_and_plan(ctx, lambda reads: plan_local_edit(reads, file, change))
+
+
+def plan_local_rollback(ctx: RobotContext, file: Path, to: str | None) -> RobotPlan:
+    """The plan restoring the local file as it was before backup ``to`` (default: the newest)."""
+    return read_and_plan(ctx, lambda reads: plan_local_restore(reads, file, to), ROLLBACK_FACTS)

@@ -27,6 +27,7 @@ from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.planners import compose_plan
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, FileKindError, check_file
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, parse_hosts
@@ -141,6 +142,23 @@ def plan_local_edit(reads: Reads, file: Path, change: Callable[[str], Edit]) -> 
     edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
     return RobotPlan(reads.robot, edit.message, edits, warnings=warnings, home=home,
                      data={"hosts_file": where})
+
+
+def plan_local_restore(reads: Reads, file: Path, to: str | None) -> RobotPlan:
+    """The plan restoring a local hosts file as it was before backup ``to`` (default: the
+    newest): masked diff, the content restored checked as every write of the file is."""
+    warnings: list[str] = []
+
+    def edit(path: str, now: bytes | None, old: bytes | None) -> FileEdit:
+        if old is not None:
+            warnings.extend(check_file(FileKind.SHUTDOWN_HOSTS, str(file), old, local=file))
+        return MaskedFileEdit(path, now, old, None if now is not None else 0o600)
+
+    plan = plan_rollback(reads, to, only=str(file.resolve()), edit=edit)
+    plan.warnings += warnings
+    plan.home = str(file.resolve().parent)
+    plan.data["hosts_file"] = str(file)
+    return plan
 
 
 @dataclass

@@ -351,11 +351,7 @@ class YamlDocument(YamlNodes):
         try:
             root = self._compose(new_text)
         except DocumentError as exc:
-            raise DocumentError(
-                f"internal: editing {format_path(parts)} would make the file invalid YAML ({exc.message})",
-                path=self.path,
-                line=self.line_of(parts),
-            ) from exc
+            raise self._refused(parts, f"would make the file invalid YAML ({exc.message})") from exc
         probe = object.__new__(YamlDocument)
         probe._text = new_text
         probe._root = root
@@ -363,24 +359,20 @@ class YamlDocument(YamlNodes):
         try:
             probe._index()
         except DocumentError as exc:
-            raise DocumentError(
-                f"internal: editing {format_path(parts)} would make the file invalid ({exc.message})",
-                path=self.path,
-                line=self.line_of(parts),
-            ) from exc
+            raise self._refused(parts, f"would make the file invalid ({exc.message})") from exc
         got = probe._unresolved(root)
         if got is None and expected == {}:
             got = {}
         if not same_value(normalise(got), normalise(expected)):
-            raise DocumentError(
-                f"internal: editing {format_path(parts)} would change more than that value; "
-                "the file was left as it was",
-                path=self.path,
-                line=self.line_of(parts),
-            )
+            raise self._refused(parts, "would change more than that value; the file was left as it was")
         self._text = new_text
         self._root = root
         self._alias_slots, self._anchors, self._indent = probe._alias_slots, probe._anchors, probe._indent
+
+    def _refused(self, parts: Sequence[PathPart], what: str) -> DocumentError:
+        """The error for an edit at ``parts`` that the commit check turned down."""
+        return DocumentError(f"internal: editing {format_path(parts)} {what}",
+                             path=self.path, line=self.line_of(parts))
 
     def _splice(self, start: int, end: int, new: str) -> str:
         return self._text[:start] + new + self._text[end:]
@@ -399,12 +391,7 @@ class YamlDocument(YamlNodes):
             slot = self._slot(node, part)
             if slot is not None:
                 if (id(node), slot) in self._alias_slots:
-                    if rest:
-                        full = copy.deepcopy(self.get(here))
-                        self._py_set_checked(full, rest, value, here)
-                    else:
-                        full = value
-                    self._materialize(here, full)
+                    self._materialize_set(here, rest, value)
                     return
                 if not rest:
                     self._replace_slot(parts, node, slot, value)
@@ -420,15 +407,19 @@ class YamlDocument(YamlNodes):
                 raise self._path_error(here, f"index out of range (the sequence has {len(node.value)} items)")
             inherited = self._merged_lookup(cast("MappingNode", node), part)
             if inherited is not None:
-                if rest:
-                    full = copy.deepcopy(self.get(here))
-                    self._py_set_checked(full, rest, value, here)
-                else:
-                    full = value
-                self._materialize(here, full)
+                self._materialize_set(here, rest, value)
                 return
             self._insert_entry(here[:-1], cast("MappingNode", node), part, nest(rest, value), parts)
             return
+
+    def _materialize_set(self, here: Sequence[PathPart], rest: Sequence[PathPart], value: Any) -> None:
+        """Write out the value at ``here`` (an alias or a merged key) with ``rest`` set to ``value``."""
+        if rest:
+            full = copy.deepcopy(self.get(here))
+            self._py_set_checked(full, rest, value, here)
+        else:
+            full = value
+        self._materialize(here, full)
 
     def _py_set_checked(self, tree: Any, rest: Sequence[PathPart], value: Any, here: Sequence[PathPart]) -> None:
         if not rest:
@@ -437,6 +428,14 @@ class YamlDocument(YamlNodes):
             py_set(tree, rest, value, allow_create=True)
         except (KeyError, IndexError, TypeError) as exc:
             raise self._path_error((*here, *rest), f"cannot be set ({exc})") from exc
+
+    def _copy_with(self, here: Sequence[PathPart], rest: Sequence[PathPart], value: Any) -> Any:
+        """A copy of the value at ``here`` with ``rest`` inside it set to ``value`` (``value`` when no rest)."""
+        if not rest:
+            return value
+        sub = copy.deepcopy(self.get(here))
+        py_set(sub, rest, value)
+        return sub
 
     def _materialize(self, parts: Sequence[PathPart], full: Any) -> None:
         """Write ``full`` as an explicit value at ``parts`` (inherited or aliased before)."""
@@ -450,12 +449,7 @@ class YamlDocument(YamlNodes):
             if slot is None:
                 anchor = self._merged_lookup(cast("MappingNode", node), part)
                 source = anchor[1] if anchor else "?"
-                sub = copy.deepcopy(self.get(here))
-                rest = parts[depth + 1 :]
-                if rest:
-                    py_set(sub, rest, full)
-                else:
-                    sub = full
+                sub = self._copy_with(here, parts[depth + 1 :], full)
                 self.notes.append(
                     f"{format_path(here)} was inherited from &{source} through '<<': "
                     f"wrote an explicit override in {format_path(here[:-1]) or 'the document'}; "
@@ -464,12 +458,7 @@ class YamlDocument(YamlNodes):
                 self._insert_entry(here[:-1], cast("MappingNode", node), part, sub, here)
                 return
             if (id(node), slot) in self._alias_slots:
-                sub = copy.deepcopy(self.get(here))
-                rest = parts[depth + 1 :]
-                if rest:
-                    py_set(sub, rest, full)
-                else:
-                    sub = full
+                sub = self._copy_with(here, parts[depth + 1 :], full)
                 anchor_name = (node.value[slot][1] if isinstance(node, MappingNode) else node.value[slot]).anchor
                 self.notes.append(
                     f"{format_path(here)} was an alias of &{anchor_name}: replaced it with an "

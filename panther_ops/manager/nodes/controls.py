@@ -10,11 +10,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from collections.abc import Sequence as SequenceOf
+from typing import ClassVar
 
 import py_trees
 from py_trees.common import Status
 
 from panther_ops.manager.nodes.base import Outcome, TickGen, finish, halt, tick_child
+
+Children = SequenceOf[py_trees.behaviour.Behaviour] | None
 
 
 class BtComposite(py_trees.composites.Composite):
@@ -23,6 +26,14 @@ class BtComposite(py_trees.composites.Composite):
     The concrete classes also derive from py_trees' Sequence / Selector, so py_trees' display
     and dot rendering draw them with the right symbols; their tick is this one.
     """
+
+    MEMORY: ClassVar[bool]
+    """Resume from a running child (py_trees' ``memory``), or start from the first each tick."""
+
+    def __init__(self, name: str, children: Children = None) -> None:
+        # the next class in the MRO is py_trees' Sequence or Selector, which take `memory`
+        super().__init__(name, memory=self.MEMORY, children=children)  # type: ignore[call-arg]
+        self._bt_init()
 
     def _bt_init(self) -> None:
         self.skipped = False
@@ -47,99 +58,81 @@ class BtComposite(py_trees.composites.Composite):
                 halt(child)
 
 
-Children = SequenceOf[py_trees.behaviour.Behaviour] | None
+class ResumingComposite(BtComposite):
+    """Children in order, resuming from a running child (Sequence, Fallback).
+
+    `passes` is the child outcome that moves on to the next child; any other ends the tick
+    with `decides`. When every child passed, the composite returns `passes` itself.
+    """
+
+    MEMORY = True
+    passes: ClassVar[Status]
+    decides: ClassVar[Status]
+
+    def run_children(self) -> TickGen:
+        while self.index < len(self.children):
+            child = self.children[self.index]
+            self.current_child = child
+            outcome = yield from tick_child(child)
+            if outcome is None:
+                self.skipped_count += 1
+            elif outcome == Status.RUNNING:
+                return Status.RUNNING
+            elif outcome != self.passes:
+                self.index = 0
+                return self.decides
+            self.index += 1
+        all_skipped = self.skipped_count == len(self.children)
+        self.index = 0
+        return None if all_skipped else self.passes
 
 
-class Sequence(BtComposite, py_trees.composites.Sequence):
+class ReactiveComposite(BtComposite):
+    """Every tick from the first child; a child that does not pass halts the others.
+
+    `passes` and `decides` as in `ResumingComposite`.
+    """
+
+    MEMORY = False
+    passes: ClassVar[Status]
+    decides: ClassVar[Status]
+
+    def run_children(self) -> TickGen:
+        all_skipped = True
+        for child in self.children:
+            self.current_child = child
+            outcome = yield from tick_child(child)
+            if outcome is None:
+                continue
+            all_skipped = False
+            if outcome != self.passes:
+                self.halt_others(child)
+                return Status.RUNNING if outcome == Status.RUNNING else self.decides
+        return None if all_skipped else self.passes
+
+
+class Sequence(ResumingComposite, py_trees.composites.Sequence):
     """BT.CPP Sequence: children in order; resumes from a running child; fails at once."""
 
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Sequence.__init__(self, name, memory=True, children=children)
-        self._bt_init()
-
-    def run_children(self) -> TickGen:
-        while self.index < len(self.children):
-            child = self.children[self.index]
-            self.current_child = child
-            outcome = yield from tick_child(child)
-            if outcome is None:
-                self.skipped_count += 1
-            elif outcome == Status.RUNNING:
-                return Status.RUNNING
-            elif outcome != Status.SUCCESS:
-                self.index = 0
-                return Status.FAILURE
-            self.index += 1
-        all_skipped = self.skipped_count == len(self.children)
-        self.index = 0
-        return None if all_skipped else Status.SUCCESS
+    passes, decides = Status.SUCCESS, Status.FAILURE
 
 
-class Fallback(BtComposite, py_trees.composites.Selector):
+class Fallback(ResumingComposite, py_trees.composites.Selector):
     """BT.CPP Fallback: the first child that does not fail decides; resumes a running one."""
 
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Selector.__init__(self, name, memory=True, children=children)
-        self._bt_init()
-
-    def run_children(self) -> TickGen:
-        while self.index < len(self.children):
-            child = self.children[self.index]
-            self.current_child = child
-            outcome = yield from tick_child(child)
-            if outcome is None:
-                self.skipped_count += 1
-            elif outcome == Status.RUNNING:
-                return Status.RUNNING
-            elif outcome == Status.SUCCESS:
-                self.index = 0
-                return Status.SUCCESS
-            self.index += 1
-        all_skipped = self.skipped_count == len(self.children)
-        self.index = 0
-        return None if all_skipped else Status.FAILURE
+    passes, decides = Status.FAILURE, Status.SUCCESS
 
 
-class ReactiveSequence(BtComposite, py_trees.composites.Sequence):
+class ReactiveSequence(ReactiveComposite, py_trees.composites.Sequence):
     """BT.CPP ReactiveSequence: every tick from the first child; conditions are re-checked."""
 
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Sequence.__init__(self, name, memory=False, children=children)
-        self._bt_init()
-
-    def run_children(self) -> TickGen:
-        all_skipped = True
-        for child in self.children:
-            self.current_child = child
-            outcome = yield from tick_child(child)
-            if outcome is None:
-                continue
-            all_skipped = False
-            if outcome != Status.SUCCESS:
-                self.halt_others(child)
-                return Status.RUNNING if outcome == Status.RUNNING else Status.FAILURE
-        return None if all_skipped else Status.SUCCESS
+    passes, decides = Status.SUCCESS, Status.FAILURE
 
 
-class ReactiveFallback(BtComposite, py_trees.composites.Selector):
+class ReactiveFallback(ReactiveComposite, py_trees.composites.Selector):
     """BT.CPP ReactiveFallback: every tick from the first child; a success ends it."""
 
-    def __init__(self, name: str, children: Children = None) -> None:
-        py_trees.composites.Selector.__init__(self, name, memory=False, children=children)
-        self._bt_init()
-
-    def run_children(self) -> TickGen:
-        all_skipped = True
-        for child in self.children:
-            self.current_child = child
-            outcome = yield from tick_child(child)
-            if outcome is None:
-                continue
-            all_skipped = False
-            if outcome != Status.FAILURE:
-                self.halt_others(child)
-                return Status.RUNNING if outcome == Status.RUNNING else Status.SUCCESS
-        return None if all_skipped else Status.FAILURE
+    passes, decides = Status.FAILURE, Status.SUCCESS
 
 
 def run_outcome(node: py_trees.behaviour.Behaviour) -> Outcome:

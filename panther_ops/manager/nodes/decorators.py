@@ -199,47 +199,48 @@ class Inverter(BtDecorator):
         return outcome
 
 
-class Repeat(BtDecorator):
+class _Loop(BtDecorator):
+    """Tick the child again while it ends with `again`, at most the port's count of times
+    (-1: forever), one round per tick; any other outcome of the child ends the loop with it."""
+
+    PORT: ClassVar[str]
+    PORTS: ClassVar[dict[str, PortSpec]]
+    again: ClassVar[Status]
+
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, limit: Any) -> None:
+        super().__init__(name=name, child=child)
+        self.limit = int(Ports(name, self.PORTS, {self.PORT: limit}).values[self.PORT])
+        self.count = 0
+
+    def initialise(self) -> None:
+        self.count = 0
+
+    def decide(self) -> TickGen:
+        outcome = yield from tick_child(self.decorated)
+        if outcome != self.again:
+            return outcome
+        self.count += 1
+        return Status.RUNNING if self.limit < 0 or self.count < self.limit else self.again
+
+
+class Repeat(_Loop):
     """Run the child `num_cycles` times while it succeeds (-1: forever), one cycle per tick."""
 
-    PORTS: ClassVar[dict[str, PortSpec]] = {"num_cycles": PortSpec("int")}
+    PORT, again = "num_cycles", Status.SUCCESS
+    PORTS: ClassVar[dict[str, PortSpec]] = {PORT: PortSpec("int")}
 
     def __init__(self, name: str, child: py_trees.behaviour.Behaviour, num_cycles: Any) -> None:
-        super().__init__(name=name, child=child)
-        self.cycles = int(Ports(name, self.PORTS, {"num_cycles": num_cycles}).values["num_cycles"])
-        self.count = 0
-
-    def initialise(self) -> None:
-        self.count = 0
-
-    def decide(self) -> TickGen:
-        outcome = yield from tick_child(self.decorated)
-        if outcome != Status.SUCCESS:
-            return outcome
-        self.count += 1
-        return Status.RUNNING if self.cycles < 0 or self.count < self.cycles else Status.SUCCESS
+        super().__init__(name, child, num_cycles)
 
 
-class RetryUntilSuccessful(BtDecorator):
+class RetryUntilSuccessful(_Loop):
     """Retry a failing child up to `num_attempts` times (-1: forever), one attempt per tick."""
 
-    PORTS: ClassVar[dict[str, PortSpec]] = {"num_attempts": PortSpec("int")}
+    PORT, again = "num_attempts", Status.FAILURE
+    PORTS: ClassVar[dict[str, PortSpec]] = {PORT: PortSpec("int")}
 
     def __init__(self, name: str, child: py_trees.behaviour.Behaviour, num_attempts: Any) -> None:
-        super().__init__(name=name, child=child)
-        self.attempts = int(Ports(name, self.PORTS, {"num_attempts": num_attempts})
-                            .values["num_attempts"])
-        self.count = 0
-
-    def initialise(self) -> None:
-        self.count = 0
-
-    def decide(self) -> TickGen:
-        outcome = yield from tick_child(self.decorated)
-        if outcome != Status.FAILURE:
-            return outcome
-        self.count += 1
-        return Status.RUNNING if self.attempts < 0 or self.count < self.attempts else Status.FAILURE
+        super().__init__(name, child, num_attempts)
 
 
 class Precondition(BtDecorator):

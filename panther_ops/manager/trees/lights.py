@@ -16,7 +16,7 @@ from typing import Any
 import py_trees
 
 from panther_ops.manager.constants import SET_ANIMATION_SERVICE
-from panther_ops.manager.nodes.base import NodeContext, Ref
+from panther_ops.manager.nodes.base import NodeContext, PyProgram, Ref
 from panther_ops.manager.nodes.controls import Sequence
 from panther_ops.manager.nodes.decorators import Guard, TickAfterTimeout
 from panther_ops.manager.nodes.services import CallSetLedAnimationService
@@ -29,6 +29,12 @@ def _anim(ctx: NodeContext, name: str, anim_id: str, *, repeating: bool,
           param: Any = "") -> CallSetLedAnimationService:
     return CallSetLedAnimationService(name, ctx, id=Ref(anim_id), param=param,
                                       repeating=repeating, service_name=SET_ANIMATION_SERVICE)
+
+
+def _status_not(reason: str, *statuses: str) -> PyProgram:
+    """Skip (saying `reason`) while battery_status is none of `statuses` (constants' names)."""
+    return check(reason, " ".join(("battery_status", *statuses)),
+                 lambda v: v.battery_status not in tuple(getattr(v, s) for s in statuses))
 
 
 def _charging(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
@@ -66,10 +72,8 @@ def _charging(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
     )
     return Guard(
         Sequence("ChargingSequence", [error, display]), ctx,
-        skip_if=check("charger not connected",
-                      "battery_status POWER_SUPPLY_STATUS_CHARGING POWER_SUPPLY_STATUS_FULL",
-                      lambda v: v.battery_status not in (v.POWER_SUPPLY_STATUS_CHARGING,
-                                                         v.POWER_SUPPLY_STATUS_FULL)),
+        skip_if=_status_not("charger not connected",
+                            "POWER_SUPPLY_STATUS_CHARGING", "POWER_SUPPLY_STATUS_FULL"),
     )
 
 
@@ -108,11 +112,8 @@ def _discharging(ctx: NodeContext) -> py_trees.behaviour.Behaviour:
     return Guard(
         Sequence("DischargingSequence",
                  [ready, e_stop, Sequence("BatteryAnimationSequence", [low, critical])]), ctx,
-        skip_if=check("not discharging",
-                      "battery_status POWER_SUPPLY_STATUS_DISCHARGING "
-                      "POWER_SUPPLY_STATUS_NOT_CHARGING",
-                      lambda v: v.battery_status not in (v.POWER_SUPPLY_STATUS_DISCHARGING,
-                                                         v.POWER_SUPPLY_STATUS_NOT_CHARGING)),
+        skip_if=_status_not("not discharging",
+                            "POWER_SUPPLY_STATUS_DISCHARGING", "POWER_SUPPLY_STATUS_NOT_CHARGING"),
     )
 
 

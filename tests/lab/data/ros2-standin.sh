@@ -86,12 +86,12 @@ respond() {
 driver_ns
 case "${1:-}" in
     topic)
+        topic=  # the first absolute name: the topic
+        for a in "$@"; do
+            case "$a" in /*) topic=$a; break ;; esac
+        done
         case "${2:-}" in
             echo)
-                topic=
-                for a in "$@"; do
-                    case "$a" in /*) topic=$a; break ;; esac
-                done
                 if [ "$topic" = "$P/hardware/e_stop" ]; then
                     echo "data: $(e_stop_state)"
                     echo "---"
@@ -101,10 +101,6 @@ case "${1:-}" in
                 exit 0
                 ;;
             info)
-                topic=
-                for a in "$@"; do
-                    case "$a" in /*) topic=$a; break ;; esac
-                done
                 if [ "$topic" != "$P/cmd_vel" ]; then
                     echo "Unknown topic '$topic'" >&2
                     exit 1
@@ -129,10 +125,6 @@ case "${1:-}" in
                 exit 0
                 ;;
             pub)
-                topic=
-                for a in "$@"; do
-                    case "$a" in /*) topic=$a; break ;; esac
-                done
                 if [ "$topic" = "$P/cmd_vel" ]; then
                     mkdir -p "$STATE/cmd_vel"
                     node="_ros2cli_$$"

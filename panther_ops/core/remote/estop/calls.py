@@ -26,6 +26,7 @@ from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop import answers
+from panther_ops.core.stack import DRIVER_ENV_FILES, DRIVER_SERVICES
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
@@ -39,39 +40,54 @@ ROS_TIMEOUT_S = 10
 DEMO_RECORDING = "/var/lib/panther-ops-demo/ros.json"
 """Where a demo robot keeps the recorded answers of its driver (inside its directory)."""
 
-DRIVER_SERVICES = ("husarion_ugv_ros", "panther_ros")
-"""The driver's container and compose service names (2.2+, up to 2.1), as compose.yaml's."""
+DRIVERS = tuple(zip(DRIVER_SERVICES, DRIVER_ENV_FILES, strict=True))
+"""The driver's container and compose service name (as compose.yaml's) and the environment
+file the Built-in Computer's OS writes for that stack (2.2+, up to 2.1)."""
 
 #: On the robot: an exec in the running driver container (named husarion_ugv_ros or
 #: panther_ros, else the container of that compose service), made with the docker engine's
 #: API on its socket (what `docker exec` sends, without starting the docker CLI twice per
-#: robot). $1 the exec's JSON (the container script and its arguments), then the names.
-#: The output is the engine's multiplexed stream (8-byte frame headers), or its error.
+#: robot). $1 the exec's JSON (the container script and its arguments), then pairs of a
+#: name and its stack's environment file (:data:`DRIVERS`).
+#: Few processes (the shell, then curl twice: the exec made, then started in its place): the
+#: name whose environment file exists is asked for first (the other only when it has no
+#: container: one more curl, and the engine logs the miss), the answers are read with the
+#: shell's own expansions; only when neither name has a running container is the compose
+#: service looked up. The output is the engine's multiplexed stream (8-byte frame headers),
+#: or its error.
 ROBOT_SCRIPT = r"""body=$1; shift
 sock=/var/run/docker.sock
 case "${DOCKER_HOST:-}" in unix://*) sock=${DOCKER_HOST#unix://} ;; esac
-api() { curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' "$@"; }
+likely= other=
+while [ $# -ge 2 ]; do
+    if [ -e "$2" ]; then likely="$likely $1"; else other="$other $1"; fi
+    shift 2
+done
 id= why=
-for c in "$@"; do
-    out=$(api -d "$body" "http://docker/containers/$c/exec") || exit 4
-    id=$(printf '%s' "$out" | sed -n 's/.*"Id":"\([0-9a-f]*\)".*/\1/p')
-    [ -n "$id" ] && break
-    case "$out" in *"No such container"*) ;; *) why="$why $out" ;; esac
+exec_in() {  # $1 a container: id set when the engine made the exec, else its words kept in why
+    out=$(curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' -d "$body" \
+        "http://docker/containers/$1/exec") || exit 4
+    case $out in
+        *'"Id":"'*) id=${out#*'"Id":"'}; id=${id%%'"'*} ;;
+        *"No such container"*) return 1 ;;
+        *) why="$why $out"; return 1 ;;
+    esac
+}
+for c in $likely $other; do
+    exec_in "$c" && break
 done
 if [ -z "$id" ]; then
-    for svc in "$@"; do
-        out=$(api -G --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
+    for svc in $likely $other; do
+        out=$(curl -sS --unix-socket "$sock" -G \
+            --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
             http://docker/containers/json) || exit 4
-        c=$(printf '%s' "$out" | sed -n 's/^\[{"Id":"\([0-9a-f]*\)".*/\1/p')
-        [ -n "$c" ] || continue
-        out=$(api -d "$body" "http://docker/containers/$c/exec") || exit 4
-        id=$(printf '%s' "$out" | sed -n 's/.*"Id":"\([0-9a-f]*\)".*/\1/p')
-        [ -n "$id" ] && break
-        why="$why $out"
+        case $out in '[{"Id":"'*) ;; *) continue ;; esac
+        c=${out#'[{"Id":"'}; c=${c%%'"'*}
+        exec_in "$c" && break
     done
 fi
 if [ -z "$id" ]; then
-    echo "no running driver container (named or a compose service $*)${why:+:$why}" >&2
+    echo "no running driver container (named or a compose service$likely$other)${why:+:$why}" >&2
     exit 3
 fi
 echo "@@container $c" >&2
@@ -117,7 +133,7 @@ def command(namespace: str, actions: tuple[str, ...], timeout: int = ROS_TIMEOUT
         raise ValueError(f"unknown E-stop actions {unknown}")
     argv = ["/ros_entrypoint.sh", "sh", "-c", CONTAINER_SCRIPT, "sh", str(timeout), namespace, *actions]
     body = json.dumps({"AttachStdout": True, "AttachStderr": True, "Cmd": argv}, separators=(",", ":"))
-    return Command.sh(ROBOT_SCRIPT, body, *DRIVER_SERVICES)
+    return Command.sh(ROBOT_SCRIPT, body, *(word for pair in DRIVERS for word in pair))
 
 
 def is_demo(ctx: RobotContext) -> bool:

@@ -10,25 +10,26 @@ answers is asked from the robot (curl there), i.e. through the robot's connectio
 from __future__ import annotations
 
 import json
-import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, validate
 from panther_ops.core.remote.user_computer.access import open_session
-from panther_ops.core.remote.webui.state import WebuiState, parse_state, plan_changes
+from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
+from panther_ops.core.remote.webui.defaults import (
+    RobotNamespace,
+    robot_namespace_of,
+    unknown_namespace,
+    with_robot_namespace,
+)
+from panther_ops.core.remote.webui.state import WebuiState, parse_state, plan_changes, plan_text
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.secret import Secret
 from panther_ops.transport.base import Command
 from panther_ops.transport.user_computer import UserComputerSession
-
-DEFAULT_CHANNEL = "humble"
-CLOCK_LIMIT_S = 1.0
-CLOCK_FIX = ("synchronize the clocks first (the manual: time synchronization before installing anything on the "
-             "User Computer): e.g. on the User Computer `sudo chronyc makestep` with the robot as its time "
-             "server, or `sudo timedatectl set-ntp true`")
 
 READ = r"""for part in list get services profiles; do
     echo "@@$part"
@@ -60,11 +61,11 @@ def ui_answers(ctx: RobotContext, url: str, timeout: float = 3.0) -> int | None:
     return int(code) if code.isdigit() and code != "000" else None
 
 
-def _session(ctx: RobotContext, password: Secret | None) -> UserComputerSession:
+def open_webui_session(ctx: RobotContext, password: Secret | None) -> UserComputerSession:
     return open_session(ctx, password)
 
 
-def _sudo(session: UserComputerSession, *argv: str) -> None:
+def sudo(session: UserComputerSession, *argv: str) -> None:
     res = session.sudo(Command.of(*argv), timeout=120)
     if not res.ok:
         why = (res.stderr.strip() or res.stdout.strip())[-400:]
@@ -77,11 +78,23 @@ def _sudo(session: UserComputerSession, *argv: str) -> None:
 Task = Callable[[RobotContext], RobotResult]
 
 
+def robot_namespace(ctx: RobotContext) -> RobotNamespace:
+    """The driver's namespace as the WebUI's default (`defaults`), read from the robot."""
+    from panther_ops.core.config.robot import read_config
+    from panther_ops.core.fleet.reading import read_and_plan
+
+    try:
+        cfg = read_config(ctx)
+    except OpsError as exc:
+        return unknown_namespace(exc)
+    return read_and_plan(ctx, lambda reads: robot_namespace_of(reads, cfg))
+
+
 def status_task(password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
             return _demo_status(ctx)
-        session = _session(ctx, password)
+        session = open_webui_session(ctx, password)
         try:
             state = read_state(session)
         finally:
@@ -111,21 +124,21 @@ def _recording(ctx: RobotContext) -> dict[str, Any] | None:
     return rec if isinstance(rec, dict) else None
 
 
-def _read(ctx: RobotContext, password: Secret | None) -> tuple[WebuiState, str]:
+def read_webui(ctx: RobotContext, password: Secret | None) -> tuple[WebuiState, str]:
     """The snap's state and the User Computer's address: read there, or a demo robot's recording."""
     if ctx.robot.transport == "local":
         rec = _recording(ctx)
         if rec is None:
             raise RemoteStateError("no User Computer recorded (demo robot)")
         return parse_state(str(rec.get("state", ""))), str(rec.get("host", "10.15.20.3"))
-    session = _session(ctx, password)
+    session = open_webui_session(ctx, password)
     try:
         return read_state(session), session.address.host
     finally:
         session.close()
 
 
-def _demo_skip(ctx: RobotContext, what: str) -> RobotResult:
+def demo_skip(ctx: RobotContext, what: str) -> RobotResult:
     """A change a demo robot cannot make: reported, nothing pretended."""
     return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"demo robot: no User Computer to {what}")
 
@@ -146,58 +159,84 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
 
 
 def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
-    """Phase 1 of `webui set`: read, check custom profiles, plan current -> new."""
+    """Phase 1 of `webui set`: read, check custom profiles, plan current -> new (with
+    ``ros.namespace`` defaulting to the robot's, see `defaults`)."""
     def task(ctx: RobotContext) -> RobotResult:
-        state, _ = _read(ctx, password)
+        state, _ = read_webui(ctx, password)
         if not state.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
                                data={"hint": "panther-ops webui install"})
+        full, note = with_robot_namespace(wanted, state.value(NS_KEY), robot_namespace(ctx))
         try:
-            validate(wanted, state.profiles)
+            validate(full, state.profiles)
         except SettingError as exc:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"refused before sending: {exc}",
                                data={"refused": str(exc)})
-        plan = plan_changes(state, wanted)
+        plan = plan_changes(state, full)
         data: dict[str, Any] = {"plan": [{"key": k, "current": c, "new": n} for k, c, n in plan],
-                                "running": state.running, "ready": bool(plan)}
+                                "running": state.running, "ready": bool(plan), "namespace": note}
         if not plan:
             return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data)
-        text = ", ".join(f"{k}: {c or '(unset)'} -> {n}" for k, c, n in plan)
-        return RobotResult(ctx.robot.name, Outcome.OK, f"plan: {text}", data=data)
+        return RobotResult(ctx.robot.name, Outcome.OK, f"plan: {plan_text(plan, note)}", data=data)
     return task
 
 
+@dataclass
+class Applied:
+    """What `apply_settings` did: the state before and after, the changes, a restart."""
+
+    before: WebuiState
+    after: WebuiState
+    wanted: dict[str, str]
+    changes: list[tuple[str, str, str]]
+    restarted: bool
+
+    @property
+    def wrong(self) -> list[str]:
+        """Keys that did not read back as set."""
+        return [k for k in self.wanted if self.after.value(k) != self.wanted[k]]
+
+
+def apply_settings(session: UserComputerSession, wanted: dict[str, str], robot: RobotNamespace,
+                   dds: tuple[str, bytes] | None = None) -> Applied:
+    """Upload the DDS profile, `sudo snap set` what differs (``ros.namespace`` defaulting to the
+    robot's), restart the WebUI when it was running, read back: one path for `webui set` and
+    `apply`."""
+    before = read_state(session)
+    wanted, _ = with_robot_namespace(wanted, before.value(NS_KEY), robot)
+    if dds is not None:
+        name, data = dds
+        _upload(session, f"{COMMON_DIR}/{name}.xml", data)
+    plan = plan_changes(before, wanted)
+    if plan:
+        sudo(session, "snap", "set", SNAP, *(f"{k}={v}" for k, _, v in plan))
+    restarted = False
+    if plan and before.running:
+        sudo(session, f"{SNAP}.stop")
+        sudo(session, f"{SNAP}.start")
+        restarted = True
+    return Applied(before, read_state(session), wanted, plan, restarted)
+
+
 def set_apply_task(wanted: dict[str, str], password: Secret | None, dds: tuple[str, bytes] | None = None) -> Task:
-    """Phase 2 of `webui set`: upload the DDS profile, snap set, restart when running, verify."""
+    """Phase 2 of `webui set`: `apply_settings` on the robot's User Computer."""
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
-            return _demo_skip(ctx, "set")
-        session = _session(ctx, password)
+            return demo_skip(ctx, "set")
+        robot = robot_namespace(ctx)
+        session = open_webui_session(ctx, password)
         try:
-            before = read_state(session)
-            if dds is not None:
-                name, data = dds
-                _upload(session, f"{COMMON_DIR}/{name}.xml", data)
-            plan = plan_changes(before, wanted)
-            if plan:
-                _sudo(session, "snap", "set", SNAP, *(f"{k}={v}" for k, _, v in plan))
-            restarted = False
-            if plan and before.running:
-                _sudo(session, f"{SNAP}.stop")
-                _sudo(session, f"{SNAP}.start")
-                restarted = True
-            after = read_state(session)
+            done = apply_settings(session, wanted, robot, dds)
         finally:
             session.close()
-        wrong = [k for k in wanted if after.value(k) != wanted[k]]
-        data_out: dict[str, Any] = {**after.to_json(), "restarted": restarted}
-        if wrong:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(wrong)} not as set",
+        data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
+        if done.wrong:
+            return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
                                data=data_out)
-        if not plan and dds is None:
+        if not done.changes and dds is None:
             return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
-        done = ", ".join(f"{k}={v}" for k, _, v in plan) or "DDS profile uploaded"
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {done}" + ("; restarted" if restarted else ""),
+        text = ", ".join(f"{k}={v}" for k, _, v in done.changes) or "DDS profile uploaded"
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {text}" + ("; restarted" if done.restarted else ""),
                            data=data_out)
     return task
 
@@ -207,78 +246,23 @@ def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
     import base64
 
     encoded = base64.b64encode(data).decode()
-    _sudo(session, "sh", "-c", 'printf %s "$1" | base64 -d > "$2.tmp" && chmod 644 "$2.tmp" && mv "$2.tmp" "$2"',
+    sudo(session, "sh", "-c", 'printf %s "$1" | base64 -d > "$2.tmp" && chmod 644 "$2.tmp" && mv "$2.tmp" "$2"',
           "sh", encoded, target)
-
-
-def install_task(channel: str, password: Secret | None) -> Task:
-    def task(ctx: RobotContext) -> RobotResult:
-        if ctx.robot.transport == "local":
-            return _demo_install(ctx, channel)
-        session = _session(ctx, password)
-        try:
-            offsets = clock_offsets(ctx, session)
-            worst = max(offsets.values(), key=abs)
-            if abs(worst) > CLOCK_LIMIT_S:
-                shown = ", ".join(f"{k} {v:+.1f} s" for k, v in offsets.items())
-                return RobotResult(ctx.robot.name, Outcome.FAILED, f"refused: clocks differ ({shown}; limit "
-                                   f"{CLOCK_LIMIT_S:g} s)", data={"clock_offsets": offsets, "hint": CLOCK_FIX})
-            state = read_state(session)
-            want = channel if "/" in channel else f"{channel}/stable"
-            if state.installed and state.channel == want:
-                return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed",
-                                   data={"clock_offsets": offsets, **state.to_json()})
-            _sudo(session, "snap", "install", SNAP, f"--channel={channel}")
-            after = read_state(session)
-        finally:
-            session.close()
-        if not after.installed:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} not installed after snap install")
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"installed {SNAP} {after.channel} rev {after.revision}",
-                           data={"clock_offsets": offsets, **after.to_json()})
-    return task
-
-
-def _demo_install(ctx: RobotContext, channel: str) -> RobotResult:
-    state, _ = _read(ctx, None)
-    want = channel if "/" in channel else f"{channel}/stable"
-    if state.installed and state.channel == want:
-        return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed (recorded: demo robot)",
-                           data=state.to_json())
-    return _demo_skip(ctx, "install on")
-
-
-def clock_offsets(ctx: RobotContext, session: UserComputerSession) -> dict[str, float]:
-    """Seconds each clock is ahead: the User Computer and the robot against this machine,
-    and the User Computer against the robot (round trips halved)."""
-    def remote(run: Callable[[], str]) -> float:
-        before = time.time()
-        text = run()
-        after = time.time()
-        try:
-            return float(text.strip().splitlines()[-1]) - (before + after) / 2
-        except (ValueError, IndexError):
-            raise RemoteStateError(f"cannot read the clock: {text.strip()[-200:]!r}") from None
-
-    uc = remote(lambda: session.run(Command.of("date", "+%s.%N")).stdout)
-    robot = remote(lambda: ctx.transport.run(Command.of("date", "+%s.%N")).stdout)
-    return {"user computer vs this machine": round(uc, 3), "robot vs this machine": round(robot, 3),
-            "user computer vs robot": round(uc - robot, 3)}
 
 
 def start_stop_task(start: bool, password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
-            state, _ = _read(ctx, password)
+            state, _ = read_webui(ctx, password)
             done = _start_stop_needless(ctx, state, start)
-            return done or _demo_skip(ctx, "start" if start else "stop")
-        session = _session(ctx, password)
+            return done or demo_skip(ctx, "start" if start else "stop")
+        session = open_webui_session(ctx, password)
         try:
             state = read_state(session)
             done = _start_stop_needless(ctx, state, start)
             if done is not None:
                 return done
-            _sudo(session, f"{SNAP}.{'start' if start else 'stop'}")
+            sudo(session, f"{SNAP}.{'start' if start else 'stop'}")
             after = read_state(session)
         finally:
             session.close()
@@ -302,7 +286,7 @@ def _start_stop_needless(ctx: RobotContext, state: WebuiState, start: bool) -> R
 
 def url_task(password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
-        state, host = _read(ctx, password)
+        state, host = read_webui(ctx, password)
         port = state.value("webui.port")
         lan = ui_url(host, port)
         husarnet = ui_url("<husarnet-hostname>", port)
@@ -323,7 +307,7 @@ def status_column(ctx: RobotContext) -> dict[str, Any] | None:
     if ctx.robot.user_computer is None:
         return None
     try:
-        session = _session(ctx, None)
+        session = open_webui_session(ctx, None)
         try:
             state = read_state(session)
         finally:

@@ -9,6 +9,7 @@ from typing import Any
 
 from panther_ops.core.kinds.webui_settings import DEFAULTS, SNAP
 from panther_ops.core.remote.estop.answers import split
+from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 
 
 @dataclass
@@ -62,3 +63,14 @@ def parse_state(output: str) -> WebuiState:
 def plan_changes(state: WebuiState, wanted: dict[str, str]) -> list[tuple[str, str, str]]:
     """(key, current, new) for every key whose value changes (pure)."""
     return [(k, state.value(k), v) for k, v in wanted.items() if state.value(k) != v]
+
+
+def plan_text(plan: list[tuple[str, str, str]], note: str) -> str:
+    """``key: current -> new, ...``; a ``ros.namespace`` that is the robot's default says so."""
+    defaulted = note.startswith(f"{NS_KEY} ") and ": " in note
+
+    def item(k: str, c: str, n: str) -> str:
+        why = f" ({note.split(': ', 1)[1]})" if k == NS_KEY and defaulted else ""
+        return f"{k}: {c or '(unset)'} -> {n}{why}"
+
+    return ", ".join(item(k, c, n) for k, c, n in plan)
