@@ -39,7 +39,8 @@ def router_show(fleet: Fleet, address: Address = "10.15.20.1") -> int:
     Example: PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
     """
     from panther_ops.cli.views.gps import print_router
-    from panther_ops.core.gps.router import check_address, show_task
+    from panther_ops.core.gps.router import show_task
+    from panther_ops.core.gps.router_plan import check_address
 
     check_address(address)
     return fleet.run("gps router show", show_task(address, credentials()), print_router)
@@ -63,13 +64,8 @@ def router_set(
 
     Example: panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
-    from panther_ops.core.gps.router import (
-        RouterRequest,
-        apply_router,
-        check_address,
-        parse_sentences,
-        plan_router,
-    )
+    from panther_ops.core.gps.router import apply_router, plan_router
+    from panther_ops.core.gps.router_plan import RouterRequest, check_address, parse_sentences
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))

@@ -23,7 +23,7 @@ from typer.models import ArgumentInfo
 from panther_ops.cli.context import Fleet
 
 if TYPE_CHECKING:
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
 
 def finite(value: float | None) -> float | None:
@@ -100,7 +100,7 @@ def sudo_password(ask: bool) -> Secret | None:
     environment's, else None (sudo must not ask). Never stored or printed."""
     import os
 
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
     if ask:
         import getpass

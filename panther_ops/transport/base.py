@@ -11,26 +11,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
+from panther_ops.secret import Secret
+
 if TYPE_CHECKING:
     from docker import DockerClient
-
-
-class Secret:
-    """A value that must reach the robot but never a log, a table or a diff."""
-
-    __slots__ = ("_value",)
-
-    def __init__(self, value: str) -> None:
-        self._value = value
-
-    def reveal(self) -> str:
-        return self._value
-
-    def __repr__(self) -> str:
-        return "Secret('****')"
-
-    def __str__(self) -> str:
-        return "****"
 
 
 Arg = str | Secret

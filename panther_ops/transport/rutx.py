@@ -18,7 +18,7 @@ from collections.abc import Callable
 from typing import Any
 
 from panther_ops.errors import OpsError, TransportError, UsageError
-from panther_ops.transport.base import Secret
+from panther_ops.secret import Secret
 
 Opener = Callable[[], socket.socket]
 

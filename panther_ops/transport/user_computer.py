@@ -17,7 +17,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from panther_ops.errors import TransportError, UnreachableError
-from panther_ops.transport.base import Command, CommandResult, Secret
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command, CommandResult
 
 if TYPE_CHECKING:
     import paramiko

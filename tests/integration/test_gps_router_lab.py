@@ -151,8 +151,8 @@ def test_expired_token_logs_in_again(router_lab: tuple[Any, Router], env: Path) 
 
     from panther_ops.core.fleet.inventory_file import load_inventory
     from panther_ops.core.fleet.runner import Connections
+    from panther_ops.secret import Secret
     from panther_ops.transport import pins
-    from panther_ops.transport.base import Secret
     from panther_ops.transport.rutx import RouterClient
     from panther_ops.transport.tunnel import open_tcp
 

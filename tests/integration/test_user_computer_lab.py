@@ -15,7 +15,8 @@ from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.errors import TransportError, UnreachableError
-from panther_ops.transport.base import Command, Secret
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command
 from tests.integration.labtools import computers_lab, user_computer_inventory
 from tests.lab import Lab
 from tests.lab.computers import ComputerSpec

@@ -17,11 +17,11 @@ from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.containers.logs import prefix_lines
 from panther_ops.core.containers.times import human_duration, parse_timestamp
 from panther_ops.core.driver.containers import argv_matches, describe_container, last_line, parse_duration
+from panther_ops.core.driver.hub import fetch_hub_tags
 from panther_ops.core.driver.images import (
     HUB_TAG,
     HubTag,
     RegistryError,
-    fetch_hub_tags,
     local_images,
     newer_tags,
     parse_hub_page,

@@ -10,7 +10,7 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.kinds.webui_settings import SettingError, dds_profile
-from panther_ops.core.remote.webui.remote import parse_state, plan_changes
+from panther_ops.core.remote.webui.state import parse_state, plan_changes
 
 STATE = """@@list
 Name            Version  Rev  Tracking       Publisher  Notes

@@ -111,7 +111,8 @@ def versions(
     """
     from panther_ops.cli.views.driver import print_versions
     from panther_ops.core.driver.containers import versions_task
-    from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError, fetch_hub_tags
+    from panther_ops.core.driver.hub import fetch_hub_tags
+    from panther_ops.core.driver.images import DRIVER_REPOS, HUB_URL, HubTag, RegistryError
 
     tags: dict[str, list[HubTag]] | None = None
     remote_data: dict[str, Any] = {}

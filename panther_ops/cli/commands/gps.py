@@ -106,8 +106,9 @@ def enable(
       panther-ops gps enable -r panther-01 --yes
       panther-ops gps enable -r panther-01 --router --yes
     """
-    from panther_ops.core.gps.router import check_address
-    from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+    from panther_ops.core.gps.plan import GpsOptions
+    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.service import apply_gps, plan_enable
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
@@ -157,7 +158,7 @@ def status(
       panther-ops gps status -r panther-01 --router --json
     """
     from panther_ops.cli.views.gps import print_status
-    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.router_plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
 
     check_address(address)
@@ -189,7 +190,7 @@ def watch(
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.gps import watch_display
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.gps.router import check_address
+    from panther_ops.core.gps.router_plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
     from panther_ops.errors import UsageError
 

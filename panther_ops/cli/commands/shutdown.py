@@ -168,7 +168,7 @@ def setup(
 
     from panther_ops.core.kinds.hostsfile import check_entry, new_entry
     from panther_ops.core.shutdown.setup import SetupRequest, run_setup
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
     errors = [f for f in check_entry(new_entry(host, username=user or "husarion", port=port, timeout=timeout))
               if f.level == "error"]
@@ -223,7 +223,8 @@ def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     Example: panther-ops shutdown robot -r panther-01 --yes
     """
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.shutdown.run import RobotShutdownPlan, plan_robot_shutdown, shutdown_robot
+    from panther_ops.core.shutdown.plan_hosts import RobotShutdownPlan
+    from panther_ops.core.shutdown.run import plan_robot_shutdown, shutdown_robot
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult
 

@@ -11,7 +11,7 @@ import typer
 from panther_ops.cli.options import OptPath, OptStr, finite
 
 if TYPE_CHECKING:
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
 FileArg = Annotated[
     Optional[Path],  # noqa: UP045 - typer needs Optional on Python 3.10
@@ -47,7 +47,7 @@ def secret_from(env: str | None, file: Path | None, ask: bool) -> Secret | None:
     import getpass
     import os
 
-    from panther_ops.transport.base import Secret
+    from panther_ops.secret import Secret
 
     given = [x for x in (env, file, ask or None) if x]
     if len(given) > 1:

@@ -26,7 +26,7 @@ def trust(
 
     Example: panther-ops trust panther-07
     """
-    from panther_ops.core.fleet.trust import plan_trust
+    from panther_ops.core.fleet.trust import plan_trust, record
     from panther_ops.errors import ExitCode, HostKeyError
 
     inv = context.load(ctx)
@@ -49,7 +49,7 @@ def trust(
             return int(ExitCode.USAGE)
         if not typer.confirm(f"Record this key in {plan.known_hosts_file}?", default=False):
             return int(ExitCode.USAGE)
-    plan.record()
+    record(plan)
     typer.echo(f"recorded in {plan.known_hosts_file}")
     return 0
 

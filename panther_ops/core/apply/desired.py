@@ -1,131 +1,46 @@
 """`panther-ops apply` and `config diff`: the inventory's desired state (launch arguments,
 controller, image, GPS, the WebUI on the User Computer) converged in one plan per robot.
 
-The robot's files go through the pipeline (backup, recreate, verify, roll back); the WebUI's
-settings are an action after them (`desired_applier`): `sudo snap set` on the User Computer
-through the robot's connection, the WebUI restarted when it was running, read back.
+Reading here: compose.yaml (kept for the write when there is a desired state to converge),
+the files the planner (`plan_desired.py`, pure) asks for, and the WebUI's state on the User
+Computer when it asks for it. The robot's files go through the pipeline (backup, recreate,
+verify, roll back); the WebUI's settings are an action after them (`desired_applier`):
+`sudo snap set` on the User Computer through the robot's connection, the WebUI restarted when
+it was running, read back.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from panther_ops.core.config.plans import _args_summary, compose_plan, controller_edits, edit_args
-from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.apply import plan_desired as planner
+from panther_ops.core.config.robot import read_compose
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import OpsError
 from panther_ops.results import Outcome, RobotResult
-from panther_ops.transport.base import Secret
-
-if TYPE_CHECKING:
-    from panther_ops.core.remote.webui.desired import WebuiPlan
+from panther_ops.secret import Secret
 
 
 def plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
-    """Converge the robot to the inventory's ``desired:`` launch_args, controller and image."""
+    """Converge the robot to the inventory's ``desired:`` launch_args, controller, image, GPS and WebUI."""
+    from panther_ops.core.remote.webui.desired import read_desired_webui
+    from panther_ops.core.remote.webui.plan_desired import FACT
+
     desired = ctx.robot.desired
-    if not desired:
-        cfg = read_config(ctx)
-        return compose_plan(ctx, cfg, "no change", [], [], "no desired: block for this robot")
-    cfg = read_config(ctx, keep=True)
-    old_args = dict(cfg.compose.args)
-    driver_before = cfg.compose.service(cfg.service)
-    warnings: list[str] = []
-    verify: list[Verify] = []
-    edits: list[FileEdit] = []
-    parts: list[str] = []
-    image = desired.get("image")
-    if image and image != cfg.compose.driver_image:
-        cfg.compose.set_image(image)
-        parts.append(f"image -> {image}")
-    migrated = None
-    if desired.get("launch_args"):
-        largs = dict(desired["launch_args"])
-        if "wheel_type" in largs:
-            from panther_ops.core.config.wheel_change import migrate, point_at
-
-            migrated = migrate(ctx, cfg, str(largs["wheel_type"]))
-            if migrated is not None:
-                largs.update(point_at(cfg, migrated))
-                warnings += migrated.warnings
-                parts.append(migrated.summary)
-        w, v = edit_args(cfg, largs, [], force)
-        warnings += w
-        verify.append(v)
-    if desired.get("controller"):
-        e, w, v, s = controller_edits(ctx, cfg, desired["controller"], force, migrated)
-        if migrated is not None:
-            migrated.edits = []  # the controller edit below carries the migrated file
-        if e:
-            edits += e
-            parts.append(s)
-        warnings += w
-        verify.append(v)
-    if migrated is not None:
-        edits += migrated.edits
-    recreate: tuple[str, ...] = ()
-    driver_files = bool(edits)
-    if desired.get("gps") is not None:
-        from panther_ops.core.gps.desired import desired_gps
-
-        gps = desired_gps(ctx, cfg, desired["gps"])
-        edits += gps.extra
-        warnings += gps.warnings
-        verify += gps.verify
-        parts += gps.parts
-        recreate = gps.recreate
-    arg_summary = _args_summary(cfg, old_args)
-    if arg_summary != "no change":
-        parts.insert(0, arg_summary)
-    webui = _plan_webui(ctx, cfg, desired.get("webui"), warnings)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps", "webui"})
-    if unsupported:
-        warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
-    plan = compose_plan(ctx, cfg, "; ".join(parts) or "no change", warnings, verify,
-                        "matches the inventory's desired state", extra=edits)
-    if plan.edits and recreate:  # desired.gps: the nmea-gps service alone when the driver is as it was
-        driver_same = not driver_files and cfg.compose.service(cfg.service) == driver_before
-        plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
-        if driver_same:
-            plan.verify = [v for v in plan.verify if v.service in recreate]
-    _add_webui(plan, webui)
-    return plan
-
-
-def _plan_webui(ctx: RobotContext, cfg: RobotConfig, desired: dict[str, Any] | None,
-                warnings: list[str]) -> WebuiPlan | None:
-    """desired.webui's plan, with the robot's namespace as this plan leaves the compose file."""
-    if not desired:
-        return None
-    from panther_ops.core.remote.webui.defaults import robot_namespace
-    from panther_ops.core.remote.webui.desired import plan_desired_webui
-
-    webui = plan_desired_webui(ctx, desired, robot_namespace(ctx, cfg))
-    warnings += webui.warnings or []
-    return webui
-
-
-def _add_webui(plan: RobotPlan, webui: WebuiPlan | None) -> None:
-    """The WebUI's change as the plan's action, after the files (see the module's text)."""
-    if webui is None or not webui.changes:
-        if webui is not None and webui.host:
-            plan.data["webui"] = webui.to_json()
-        return
-    from panther_ops.core.remote.webui.desired import ACTION
-
-    plan.data.update(action=ACTION, webui={**webui.to_json(), "wanted": webui.wanted},
-                     files_summary=plan.summary if plan.edits else "")
-    plan.summary = f"change {plan.summary}; {webui.summary}" if plan.edits else webui.summary
-    plan.noop = None
+    raw = read_compose(ctx, keep=bool(desired))
+    return read_and_plan(ctx, lambda reads: planner.plan_desired(raw, reads, desired, force=force),
+                         {FACT: read_desired_webui})
 
 
 def desired_applier(password: Secret | None) -> Any:
     """Carry out `plan_desired`'s plans: the files through the pipeline, then the WebUI's
     settings (files that failed or rolled back leave the WebUI untouched)."""
     def apply(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-        from panther_ops.core.remote.webui.desired import ACTION, apply_desired_webui
+        from panther_ops.core.remote.webui.desired import apply_desired_webui
+        from panther_ops.core.remote.webui.plan_desired import ACTION
 
         result = apply_plan(ctx, plan, opts)
         if plan.data.get("action") != ACTION or opts.dry_run:

@@ -34,9 +34,9 @@ import posixpath
 from panther_ops.core.config.compose import image_repo
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
 from panther_ops.core.config.namespace import dotenv_value
-from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.stack import Family
 from panther_ops.errors import UsageError
 
@@ -71,12 +71,12 @@ def tree_path(cfg: RobotConfig, robot_model: str = "panther") -> str:
     return f"{ROBOT_CONFIG_DIR}/{cfg.stack.package_prefix}_bringup/config/joy2twist_{robot_model}.yaml"
 
 
-def robot_model(ctx: RobotContext, cfg: RobotConfig) -> str:
+def robot_model(reads: Reads, cfg: RobotConfig) -> str:
     """ROBOT_MODEL_NAME of the robot's env file (the bringup's name of the file), else panther."""
-    try:
-        text = ctx.transport.read_file(cfg.stack.robot_env_file).decode(errors="replace")
-    except FileNotFoundError:
+    raw = reads.file(cfg.stack.robot_env_file)
+    if raw is None:
         return "panther"
+    text = raw.decode(errors="replace")
     model = dotenv_value(text, "ROBOT_MODEL_NAME") or "panther"
     return model if model in ("panther", "lynx") else "panther"
 
@@ -96,14 +96,7 @@ def _mounted_file(cfg: RobotConfig, service: str, container_file: str) -> str | 
     return None
 
 
-def _read(ctx: RobotContext, path: str) -> bytes | None:
-    try:
-        return ctx.transport.read_file(path)
-    except FileNotFoundError:
-        return None
-
-
-def _driver_target(ctx: RobotContext, cfg: RobotConfig, warnings: list[str]) -> tuple[str, str]:
+def _driver_target(reads: Reads, cfg: RobotConfig, warnings: list[str]) -> tuple[str, str]:
     """husarion_ugv 2.2.2+ without a gamepad service: the driver's service and the tree's file."""
     if cfg.stack.version < LAUNCHED_BY_DRIVER:
         raise UsageError(f"{cfg.compose_path} has no gamepad service, and on {cfg.stack.label()} the driver does "
@@ -122,7 +115,7 @@ def _driver_target(ctx: RobotContext, cfg: RobotConfig, warnings: list[str]) -> 
     if ARG in cfg.compose.args:
         warnings.append(f"{ARG}:= on the driver's command has no effect on {cfg.stack.label()}: bringup passes "
                         f"its own (the config tree's joy2twist_<model>.yaml), which is the file written")
-    return cfg.service, tree_path(cfg, robot_model(ctx, cfg))
+    return cfg.service, tree_path(cfg, robot_model(reads, cfg))
 
 
 def _service_target(cfg: RobotConfig, service: str, name: str) -> tuple[str, tuple[str, ...]]:
@@ -141,7 +134,7 @@ def _service_target(cfg: RobotConfig, service: str, name: str) -> tuple[str, tup
     return path, (f"{ARG}:={container}",)
 
 
-def plan_joy2twist(ctx: RobotContext, cfg: RobotConfig, name: str, data: bytes, warnings: list[str]) -> RobotPlan:
+def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warnings: list[str]) -> RobotPlan:
     """The plan of a checked joy2twist file ``name`` with content ``data`` for this robot."""
     edits: list[FileEdit] = []
     service = find_gamepad_service(cfg)
@@ -149,18 +142,18 @@ def plan_joy2twist(ctx: RobotContext, cfg: RobotConfig, name: str, data: bytes, 
     if service is not None:
         path, contains = _service_target(cfg, service, name)
     elif cfg.stack.family is Family.HUSARION_UGV:
-        service, path = _driver_target(ctx, cfg, warnings)
+        service, path = _driver_target(reads, cfg, warnings)
     else:
         service = gamepad_service(cfg)  # refused, naming what is there
         path = ""
-    before = _read(ctx, path)
+    before = reads.file(path)
     if before != data:
         edits.append(FileEdit(path, before, data))
     after = cfg.compose.text().encode()
     if after != cfg.before:
         edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
     summary = f"joy2twist: {name} -> {path}" + (f" ({contains[0]} in {service})" if contains else "")
-    plan = RobotPlan(ctx.robot.name, summary, edits, (service,), cfg.compose_path, [Verify(service, contains)],
+    plan = RobotPlan(reads.robot, summary, edits, (service,), cfg.compose_path, [Verify(service, contains)],
                      None if edits else f"{path} already has this content", [*warnings, *cfg.compose.notes])
     plan.data["stack"] = cfg.stack.label()
     plan.data["robot_path"] = path
@@ -168,12 +161,12 @@ def plan_joy2twist(ctx: RobotContext, cfg: RobotConfig, name: str, data: bytes, 
     return plan
 
 
-def pull_joy2twist(ctx: RobotContext, cfg: RobotConfig) -> tuple[bytes, str]:
+def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str]:
     """The gamepad parameters in use: the file mounted into the gamepad's service, or the
     config tree's (husarion_ugv 2.2.2+, the driver launching the gamepad)."""
     if cfg.stack.family is Family.HUSARION_UGV and find_gamepad_service(cfg) is None:
-        path = tree_path(cfg, robot_model(ctx, cfg))
-        if cfg.tree_mounted and (data := _read(ctx, path)) is not None:
+        path = tree_path(cfg, robot_model(reads, cfg))
+        if cfg.tree_mounted and (data := reads.file(path)) is not None:
             return data, f"{path} (config tree)"
         raise UsageError(f"{path} not found: the driver uses its image's default gamepad parameters",
                          hint="panther-ops has no template of the joy2twist file")
@@ -184,7 +177,7 @@ def pull_joy2twist(ctx: RobotContext, cfg: RobotConfig) -> tuple[bytes, str]:
             target = v.target.rstrip("/")
             if v.source and (current == target or current.startswith(target + "/")):
                 host = posixpath.normpath(cfg.resolve(v.source) + current[len(target):])
-                if (data := _read(ctx, host)) is not None:
+                if (data := reads.file(host)) is not None:
                     return data, f"{host} (mounted into {service}, {ARG}:={current})"
     raise UsageError(f"{service} uses {ARG}:={current or '(none)'}: the image's default, not a file on the robot",
                      hint="panther-ops has no template of the joy2twist file")

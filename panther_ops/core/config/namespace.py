@@ -7,6 +7,8 @@ of its ``env_file`` (2.2: ``/home/husarion/config/common/.env``, read on the rob
 bringup's default (the empty namespace). Each launch file declares ``namespace`` with the
 default ``EnvironmentVariable("ROBOT_NAMESPACE", default_value="")`` (panther_ros 2.0.2+ and
 husarion_ugv_ros 2.2: ``*_bringup/launch/bringup.launch.py``), hence this order.
+
+Pure: a function of compose.yaml as read and the env files it asks for (:class:`Reads`).
 """
 
 from __future__ import annotations
@@ -14,8 +16,8 @@ from __future__ import annotations
 import posixpath
 import re
 
-from panther_ops.core.config.robot import RobotConfig
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.reads import Reads
 
 ENV_KEY = "ROBOT_NAMESPACE"
 _DEFAULTED = re.compile(r"^\$\{[A-Za-z_][A-Za-z0-9_]*:?-([^}]*)\}$")
@@ -41,7 +43,7 @@ def dotenv_value(text: str, key: str) -> str | None:
     return found
 
 
-def driver_namespace(ctx: RobotContext, cfg: RobotConfig) -> tuple[str, str]:
+def driver_namespace(reads: Reads, cfg: RobotConfig) -> tuple[str, str]:
     """The driver's namespace ("" = none) and where it came from."""
     arg = cfg.compose.args.get("namespace")
     if arg:
@@ -53,11 +55,10 @@ def driver_namespace(ctx: RobotContext, cfg: RobotConfig) -> tuple[str, str]:
     for name in cfg.compose.env_files(cfg.service):  # later files win, as in compose
         path = name.replace("~", cfg.home, 1) if name.startswith("~/") else name
         path = path if path.startswith("/") else posixpath.join(posixpath.dirname(cfg.compose_path), path)
-        try:
-            text = ctx.transport.read_file(path).decode(errors="replace")
-        except FileNotFoundError:
+        raw = reads.file(path)
+        if raw is None:
             continue
-        value = dotenv_value(text, ENV_KEY)
+        value = dotenv_value(raw.decode(errors="replace"), ENV_KEY)
         if value:
             found = (value, f"{ENV_KEY} in {name}")
     return found or ("", "default")

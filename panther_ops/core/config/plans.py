@@ -1,230 +1,33 @@
-"""Planners for `panther-ops config`: launch arguments, controller limits, the desired state.
-
-Each planner reads through the robot's transport (compose.yaml, at most one config file)
-and returns a :class:`RobotPlan` with exact file edits; nothing is written here.
-"""
+"""Readers for `panther-ops config set/unset/get`: read what the planners
+(`planners.py`, pure) need over the robot's one connection, then plan."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.arg_edits import set_launch_args, unset_launch_arg
+from panther_ops.core.config import planners
 from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.namespace_follow import follow_in_compose, follow_in_env_file
-from panther_ops.core.config.robot import ComposeRead, RobotConfig, parse_config, read_compose, read_config
-from panther_ops.core.fleet.memo import Memo
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.config.robot import read_compose, read_config
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import UsageError
-
-
-def _value_text(value: Any) -> str:
-    if isinstance(value, bool):
-        return "True" if value else "False"
-    return str(value)
-
-
-def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], force: bool) -> tuple[list[str], Verify]:
-    """Apply argument changes to ``cfg.compose`` (in memory); returns warnings and the check."""
-    warnings: list[str] = []
-    contains: list[str] = []
-    lacks: list[str] = []
-    if sets:
-        change = set_launch_args(cfg.compose, {k: _value_text(v) for k, v in sets.items()}, force=force)
-        warnings.extend(change.warnings)
-        contains.extend(f"{a.name}:={a.value}" for a in change.args)
-    for key in unsets:
-        unset_launch_arg(cfg.compose, key)
-        lacks.append(key)
-    cmd = cfg.compose.command()
-    lacks = [f"{name}:={cmd.args[name]}" for name in lacks if name in cmd.args]
-    return warnings, Verify(cfg.service, tuple(contains), tuple(lacks))
-
-
-@dataclass(frozen=True)
-class _ArgsOutcome:
-    """What a launch-argument change does to one compose.yaml (the same for every robot with it)."""
-
-    after: bytes
-    summary: str
-    warnings: tuple[str, ...]
-    verify: Verify
-    service: str
-    stack: str
-    also_recreate: tuple[str, ...] = ()
-    """Other services changed with the driver (``config set namespace --everywhere``)."""
-    env_files: tuple[str, ...] = ()
-    """The driver's env files, when the namespace changes (they may carry ROBOT_NAMESPACE)."""
-
-
-_ARGS: Memo[_ArgsOutcome] = Memo()
 
 
 def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
               everywhere: bool = False) -> RobotPlan:
-    """``config set/unset``: launch arguments in the driver's command.
-
-    Planned once per distinct compose.yaml (and stack setting) of the fleet; the robots
-    that share one get the same edit. A new ``namespace`` warns of the places that keep
-    the old one (``everywhere``: changes them in the same plan, see namespace_follow).
-    """
+    """``config set/unset``: read compose.yaml (kept for the write) and what the plan needs; plan."""
     raw = read_compose(ctx, keep=True)
-    if "wheel_type" in sets or "wheel_type" in unsets:
-        from panther_ops.core.config.wheel_change import needs_migration
-
-        cfg = parse_config(raw, ctx.robot.stack)
-        new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack)
-        if needs_migration(cfg, new_wheel):
-            return _plan_wheel_change(ctx, cfg, new_wheel, sets, unsets, force)
-    key = (raw, ctx.robot.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force,
-           everywhere)
-    out = _ARGS.get(key, lambda: _edit_args_of(raw, ctx.robot.stack, sets, unsets, force, everywhere))
-    edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
-    warnings, summary = list(out.warnings), out.summary
-    for path in out.env_files:
-        data = _read(ctx, path)
-        if data is None:
-            continue
-        env = follow_in_env_file(path, data, _value_text(sets["namespace"]), everywhere=everywhere)
-        warnings += env.warnings
-        if env.after is not None and edits:
-            edits.append(FileEdit(path, data, env.after))
-            summary += "; also " + ", ".join(env.changed)
-    plan = RobotPlan(ctx.robot.name, summary, edits, (out.service, *out.also_recreate), raw.path, [out.verify],
-                     None if edits else _noop_args(sets, unsets), warnings)
-    plan.data["stack"] = out.stack
-    plan.home = raw.home
-    return plan
+    return read_and_plan(ctx, lambda reads: planners.plan_args(raw, reads, sets, unsets, force=force,
+                                                               everywhere=everywhere))
 
 
-def _plan_wheel_change(ctx: RobotContext, cfg: RobotConfig, new_wheel: str, sets: Mapping[str, Any],
-                       unsets: list[str], force: bool) -> RobotPlan:
-    """A wheel type change (set, or unset back to the stack's default) that migrates the custom
-    controller file in the same plan."""
-    from panther_ops.core.config.wheel_change import migrate, point_at
-
-    change = migrate(ctx, cfg, new_wheel)
-    assert change is not None
-    old_args = dict(cfg.compose.args)
-    warnings, verify = edit_args(cfg, {**sets, **point_at(cfg, change)}, unsets, force)
-    summary = f"{_args_summary(cfg, old_args)}; {change.summary}"
-    return compose_plan(ctx, cfg, summary, [*change.warnings, *warnings], [verify],
-                        _noop_args(sets, unsets), extra=change.edits)
-
-
-def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any], unsets: list[str],
-                  force: bool, everywhere: bool = False) -> _ArgsOutcome:
-    cfg = parse_config(raw, stack_setting)
-    old_args = dict(cfg.compose.args)
-    warnings, verify = edit_args(cfg, sets, unsets, force)
-    summary = _args_summary(cfg, old_args)
-    also: tuple[str, ...] = ()
-    env_files: tuple[str, ...] = ()
-    if "namespace" in sets and cfg.compose.args.get("namespace") != old_args.get("namespace"):
-        follow = follow_in_compose(cfg.compose, cfg.service, _value_text(sets["namespace"]), everywhere=everywhere)
-        warnings += follow.warnings
-        also = tuple(follow.services)
-        env_files = tuple(cfg.compose.env_files(cfg.service))
-        if follow.changed:
-            summary += "; also " + ", ".join(follow.changed)
-    return _ArgsOutcome(cfg.compose.text().encode(), summary, (*warnings, *cfg.compose.notes), verify, cfg.service,
-                        cfg.stack.label(), also, env_files)
-
-
-def _read(ctx: RobotContext, path: str) -> bytes | None:
-    try:
-        return ctx.transport.read_file(path)
-    except FileNotFoundError:
-        return None
-
-
-def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:
-    new = cfg.compose.args
-    parts = [f"{k}: {old[k]} -> {new[k]}" if k in old else f"{k}:={new[k]}" for k in new if old.get(k) != new[k]]
-    parts += [f"unset {k}" for k in old if k not in new]
-    return "; ".join(parts) or "no change"
-
-
-def _noop_args(sets: Mapping[str, Any], unsets: list[str]) -> str:
-    bits = [f"{k} already {_value_text(v)}" for k, v in sets.items()] + [f"{k} not set" for k in unsets]
-    return ", ".join(bits) or "nothing asked"
-
-
-def compose_plan(ctx: RobotContext, cfg: RobotConfig, summary: str, warnings: list[str], verify: list[Verify],
-                  noop: str, extra: list[FileEdit] | None = None) -> RobotPlan:
-    edits = list(extra or [])
-    after = cfg.compose.text().encode()
-    if after != cfg.before:
-        edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
-    warnings = [*warnings, *cfg.compose.notes]
-    plan = RobotPlan(ctx.robot.name, summary, edits, (cfg.service,), cfg.compose_path, verify,
-                     None if edits else noop, warnings)
-    plan.data["stack"] = cfg.stack.label()
-    plan.home = cfg.home
-    return plan
-
-
-def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False,
-                    cfg: RobotConfig | None = None) -> RobotPlan:
-    """``config set controller.<key> VALUE``: the robot's custom controller file."""
-    cfg = cfg or read_config(ctx, keep=True)
-    edits, warnings, verify, summary = controller_edits(ctx, cfg, limits, force)
-    noop = ", ".join(f"controller {k} already {v}" for k, v in limits.items())
-    return compose_plan(ctx, cfg, summary, warnings, [verify], noop, extra=edits)
-
-
-def controller_edits(ctx: RobotContext, cfg: RobotConfig, limits: Mapping[str, Any],
-                     force: bool, migrated: Any = None) -> tuple[list[FileEdit], list[str], Verify, str]:
-    """Edit (or create from the wheel type's default) the custom controller file; ``migrated``
-    (a `wheel_change.WheelChange` of the same plan) is the file to edit when the wheel type changes."""
-    args = cfg.compose.args
-    wheel = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
-    if wheel == "custom" and "controller_config_path" not in args:
-        raise UsageError("wheel_type custom needs controller_config_path (and wheel_config_path)")
-    warnings: list[str] = []
-    cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
-    container_path = args.get("controller_config_path")
-    host_path = cfg.host_path_of(container_path) if container_path else None
-    if container_path and host_path is None:
-        raise UsageError(
-            f"controller_config_path:={container_path} is not a file mounted from the robot",
-            hint="push a controller file first: panther-ops config push FILE --as controller",
-        )
-    if host_path is None and cfg.tree_mounted:  # 2.2: the tree's file is the one in use
-        host_path, container_path = cf.robot_path, None
-    if host_path is None:
-        host_path, container_path = cf.robot_path, cf.container_path
-    try:
-        before: bytes | None = ctx.transport.read_file(host_path)
-    except FileNotFoundError:
-        before = None
-    if migrated is not None and migrated.host_path == host_path:
-        ctrl = migrated.controller
-    elif before is not None:
-        ctrl = ControllerConfig.parse(before.decode(), cfg.stack, wheel, path=host_path, force=force)
-    else:
-        ctrl = ControllerConfig.default(cfg.stack, wheel if wheel != "custom" else "WH01")
-    changes = []
-    for key, value in limits.items():
-        change = ctrl.set(key, value, force=force)
-        changes.append(change)
-        warnings.extend(change.warnings)
-    warnings.extend(ctrl.doc.notes)
-    after = ctrl.text().encode()
-    edits = [] if after == before else [FileEdit(host_path, before, after)]
-    contains: tuple[str, ...] = ()
-    if container_path:
-        if not cfg.host_path_of(container_path):
-            cfg.compose.add_volume(host_path, container_path, ro=True)
-        w, v = edit_args(cfg, {"controller_config_path": container_path}, [], force)
-        warnings.extend(w)
-        contains = v.cmd_contains
-    summary = "; ".join(f"{k} = {v}" for k, v in limits.items()) + f" in {host_path}"
-    return edits, warnings, Verify(cfg.service, contains), summary
+def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False) -> RobotPlan:
+    """``config set controller.<key> VALUE``: read compose.yaml and the controller file; plan."""
+    raw = read_compose(ctx, keep=True)
+    return read_and_plan(ctx, lambda reads: planners.plan_controller(raw, reads, limits, force=force))
 
 
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
@@ -254,7 +57,7 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     if key == "namespace":  # the launch files' default: ROBOT_NAMESPACE of the compose environment or env_file
         from panther_ops.core.config.namespace import driver_namespace
 
-        value, source = driver_namespace(ctx, cfg)
+        value, source = read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))
         if source != "default":
             return {"key": key, "name": name, "value": value, "source": source, "stack": cfg.stack.label()}
     return {"key": key, "name": name, "value": s.default_for(cfg.stack), "source": "default",

@@ -14,43 +14,20 @@ robot's own image, else panther-ops' template for that version.
 
 from __future__ import annotations
 
-import posixpath
 import re
-from dataclasses import dataclass, field
 from pathlib import Path
 
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
+from panther_ops.core.config import plan_push as planner
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plans import compose_plan, edit_args
-from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.fleet.memo import Memo
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.config.plan_push import BT_ARGS, BT_TEMPLATES, KINDS, Bundle, wheel_of
+from panther_ops.core.config.robot import read_compose, read_config
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds import PUSHABLE, FileKind, Target, check_file
+from panther_ops.core.kinds import PUSHABLE, FileKind, check_file
 from panther_ops.errors import InputError, UsageError
-
-_KINDS = {
-    FileKind.CONTROLLER: ConfigKind.CONTROLLER,
-    FileKind.WHEEL: ConfigKind.WHEEL,
-    FileKind.COMPONENTS: ConfigKind.COMPONENTS,
-    FileKind.LED: ConfigKind.ANIMATIONS,
-    FileKind.USER_ANIMATIONS: ConfigKind.USER_ANIMATIONS,
-    FileKind.SHUTDOWN_HOSTS: ConfigKind.SHUTDOWN_HOSTS,
-    FileKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
-}
-_BT_ARGS = {FileKind.BT_LIGHTS: "lights_bt_project_path", FileKind.BT_SAFETY: "safety_bt_project_path"}
-_BT_TEMPLATES = {FileKind.BT_LIGHTS: "PantherLightsBT.btproj", FileKind.BT_SAFETY: "PantherSafetyBT.btproj"}
-
-
-@dataclass
-class Bundle:
-    """The local files of a push: the main file and what it brings along."""
-
-    main: Path
-    data: bytes
-    extra: dict[str, bytes] = field(default_factory=dict)
-    """name (relative to the main file's robot directory) -> content"""
-
 
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
 
@@ -81,7 +58,7 @@ def read_bundle(kind: FileKind, path: Path, *, force: bool = False) -> Bundle:
         raise InputError(f"the file name {path.name!r} becomes a path in the driver's command: use letters, "
                          "digits and _ . + - only", path=str(path))
     bundle = Bundle(path, data)
-    if kind in _BT_ARGS:
+    if kind in BT_ARGS:
         if path.suffix != ".btproj":
             raise InputError("a BT project is pushed by its .btproj file", path=str(path))
         from panther_ops.core.kinds.bt import project_files
@@ -119,21 +96,6 @@ def _animation_images(bundle: Bundle) -> None:
             raise InputError(f"image {ref} not found next to the file", path=str(bundle.main))
 
 
-def _rewrite_images(text: str, target_dir: str) -> str:
-    def sub(m: re.Match[str]) -> str:
-        ref = m.group(3).strip()
-        if ref.startswith("$(find"):
-            return m.group(0)
-        return f"{m.group(1)}{m.group(2)}{target_dir}/animations/{posixpath.basename(ref)}{m.group(2)}{m.group(4)}"
-
-    return _IMAGE.sub(sub, text)
-
-
-def _wheel(cfg: RobotConfig) -> str:
-    wheel = cfg.compose.args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
-    return "WH01" if wheel == "custom" else wheel
-
-
 def _read(ctx: RobotContext, path: str) -> bytes | None:
     try:
         return ctx.transport.read_file(path)
@@ -141,80 +103,10 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
         return None
 
 
-_CHECKED: Memo[list[str]] = Memo()
-
-
 def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
-    cfg = read_config(ctx)
-    target = Target(cfg.stack, _wheel(cfg))
-    warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
-                                 lambda: check_file(kind, str(bundle.main), bundle.data,
-                                                    local=bundle.main, target=target, force=force)))
-    if kind is FileKind.JOY2TWIST:
-        from panther_ops.core.config.gamepad import plan_joy2twist
-
-        return plan_joy2twist(ctx, cfg, bundle.main.name, bundle.data, warnings)
-    forced = [w for w in warnings if w.endswith("(forced)")]
-    if kind in _BT_ARGS:
-        pkg = f"{cfg.stack.package_prefix}_manager"
-        robot_dir = f"{ROBOT_CONFIG_DIR}/{pkg}/behavior_trees"
-        container_dir = f"{CONTAINER_CONFIG_DIR}/{pkg}/behavior_trees"
-        arg = _BT_ARGS[kind]
-        name = bundle.main.name
-        main_data = bundle.data
-        extra = bundle.extra
-    else:
-        cf = config_file(cfg.stack, _KINDS[kind], wheel_type=_wheel(cfg))
-        arg = cf.launch_arg or ""
-        robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
-        name = bundle.main.name
-        if cfg.tree_mounted and _read(ctx, cf.robot_path) is not None:
-            name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
-            arg = ""
-        main_data = bundle.data
-        extra = {}
-        if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack
-            from panther_ops.core.config.animation_types import for_stack
-
-            text, translated = for_stack(main_data.decode(), cfg.stack)
-            main_data = text.encode()
-            warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
-        if kind is FileKind.USER_ANIMATIONS and bundle.extra:
-            main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
-            extra = {f"../{k}": v for k, v in bundle.extra.items()}
-    edits: list[FileEdit] = []
-    files = {name: main_data, **extra}
-    inside = posixpath.dirname(robot_dir) if kind is FileKind.USER_ANIMATIONS else robot_dir
-    for rel, content in files.items():
-        path = posixpath.normpath(posixpath.join(robot_dir, rel))
-        if not path.startswith(inside + "/"):
-            raise InputError(f"{rel} would be written to {path}, outside {inside}", path=str(bundle.main),
-                             hint="the files a push brings stay in the robot's config directory")
-        before = _read(ctx, path)
-        if before != content:
-            edits.append(FileEdit(path, before, content))
-    main_container = f"{container_dir}/{name}"
-    contains: tuple[str, ...] = ()
-    if not cfg.tree_mounted:
-        mount_src = robot_dir if (extra or kind in _BT_ARGS) else f"{robot_dir}/{name}"
-        mount_dst = container_dir if (extra or kind in _BT_ARGS) else main_container
-        if kind is FileKind.USER_ANIMATIONS and extra:
-            mount_src, mount_dst = posixpath.dirname(robot_dir), posixpath.dirname(container_dir)
-        if cfg.host_path_of(mount_dst) != mount_src:
-            cfg.compose.add_volume(mount_src, mount_dst, ro=True)
-    if arg:
-        w, v = edit_args(cfg, {arg: main_container}, [], force)
-        warnings += w
-        contains = v.cmd_contains
-    from panther_ops.core.fleet.plan import Verify
-
-    summary = f"{kind.value}: {bundle.main.name} -> {robot_dir}/{name}" + (f" ({arg}:={main_container})" if arg else "")
-    if forced:
-        summary += " [--force: " + "; ".join(forced) + "]"
-    plan = compose_plan(ctx, cfg, summary, warnings, [Verify(cfg.service, contains)],
-                         f"{robot_dir}/{name} already has this content", extra=edits)
-    plan.data["robot_path"] = f"{robot_dir}/{name}"
-    return plan
+    """Read compose.yaml and the files the push would replace; plan (`plan_push.py`)."""
+    raw = read_compose(ctx)
+    return read_and_plan(ctx, lambda reads: planner.plan_push(raw, reads, kind, bundle, force=force))
 
 
 def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
@@ -223,19 +115,19 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     if kind is FileKind.JOY2TWIST:
         from panther_ops.core.config.gamepad import pull_joy2twist
 
-        return pull_joy2twist(ctx, cfg)
-    if kind in _BT_ARGS:
-        arg = _BT_ARGS[kind]
+        return read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
+    if kind in BT_ARGS:
+        arg = BT_ARGS[kind]
         current = cfg.compose.args.get(arg)
         host = cfg.host_path_of(current) if current else None
         if host and (data := _read(ctx, host)) is not None:
             return data, f"{host} (mounted, {arg})"
         from panther_ops.core.fleet.templates import template_file
 
-        project = template_file("behavior_trees", _BT_TEMPLATES[kind])
-        return project.read_bytes(), (f"panther-ops' template {_BT_TEMPLATES[kind]} (templates/behavior_trees/): "
+        project = template_file("behavior_trees", BT_TEMPLATES[kind])
+        return project.read_bytes(), (f"panther-ops' template {BT_TEMPLATES[kind]} (templates/behavior_trees/): "
                                       f"no custom project is mounted, the robot runs its image's default")
-    cf = config_file(cfg.stack, _KINDS[kind], wheel_type=_wheel(cfg))
+    cf = config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(cfg))
     if cf.launch_arg:
         name = spec(cf.launch_arg).name_for(cfg.stack)
         current = cfg.compose.args.get(name)

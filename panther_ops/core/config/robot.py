@@ -1,77 +1,39 @@
-"""A robot's configuration as read from it: compose.yaml, its stack, and mounted files.
+"""Reading a robot's configuration: one read of compose.yaml (and its user's home) per command.
 
-Readers only: one read of compose.yaml per command, then pure lookups (which host file a
-container path comes from, which file a launch argument points at).
+What was read, parsed, is `robot_config.py`'s (pure; planners import that one).
 """
 
 from __future__ import annotations
 
 import posixpath
 import secrets
-from dataclasses import dataclass
 
-from panther_ops.core.config.compose import ComposeFile
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
+from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.stack import Stack, stack_from_version
-from panther_ops.errors import RemoteStateError, TransportError
+from panther_ops.errors import OpsError, RemoteStateError, TransportError, UsageError
 from panther_ops.transport import scripts, scripts_apply
 from panther_ops.transport.base import Command
 
 
-@dataclass
-class RobotConfig:
-    """compose.yaml as it is on the robot, parsed."""
-
-    home: str
-    compose_path: str
-    before: bytes
-    compose: ComposeFile
-    stack: Stack
-    mode: int | None = None
-    """compose.yaml's permission bits, where the read learnt them (a kept read does)."""
-
-    @property
-    def service(self) -> str:
-        return self.compose.driver_service()
-
-    def host_path_of(self, container_path: str) -> str | None:
-        """The robot file a container path comes from (a bind mount of the driver), or None."""
-        best: tuple[int, str] | None = None
-        for v in self.compose.list_volumes(self.service):
-            if v.source is None or not v.source.startswith(("/", "~", ".")):
-                continue
-            target = v.target.rstrip("/")
-            if container_path == target or container_path.startswith(target + "/"):
-                src = self.resolve(v.source)
-                path = src + container_path[len(target):]
-                if best is None or len(target) > best[0]:
-                    best = (len(target), path)
-        return best[1] if best else None
-
-    def resolve(self, host_path: str) -> str:
-        """A compose host path (``~/x``, ``./x``, ``/x``) as an absolute robot path."""
-        if host_path.startswith("~/"):
-            return posixpath.join(self.home, host_path[2:])
-        if host_path.startswith("/"):
-            return posixpath.normpath(host_path)
-        return posixpath.normpath(posixpath.join(posixpath.dirname(self.compose_path), host_path))
-
-    @property
-    def tree_mounted(self) -> bool:
-        """The 2.2 config tree (``~/config`` at ``/config``) is mounted into the driver."""
-        return self.host_path_of(CONTAINER_CONFIG_DIR) == ROBOT_CONFIG_DIR
-
-
-@dataclass(frozen=True)
-class ComposeRead:
-    """compose.yaml as read from the robot, not yet parsed."""
-
-    home: str
-    path: str
-    before: bytes
-    mode: int | None = None
-    """The file's permission bits, where the read learnt them."""
+def compose_file(ctx: RobotContext) -> str:
+    """The robot's compose file as the inventory names it, once checked (UsageError otherwise)."""
+    path = ctx.robot.compose_file
+    if not path or any(ord(c) < 32 or c == "\x7f" for c in path):
+        raise UsageError(f"compose_file {path!r} is empty or holds a control character",
+                         hint="compose_file: the path of the compose file on the robot, e.g. ~/compose.yaml")
+    if not (path.startswith("/") or path.startswith("~/")):
+        raise UsageError(f"compose_file {path} must be absolute or start with ~/",
+                         hint="e.g. ~/compose.yaml or /home/husarion/compose.yaml")
+    if ".." in path.split("/"):
+        raise UsageError(f"compose_file {path} holds '..': it would leave its directory",
+                         hint="name the file directly, e.g. ~/compose.yaml")
+    local_path = getattr(ctx.transport, "local_path", None)
+    if local_path is not None:  # a demo robot: the file must be inside the robot's directory, links resolved
+        try:
+            local_path(path)
+        except OpsError as exc:
+            raise UsageError(f"compose_file {path} leaves the robot's directory ({exc.message})") from None
+    return path
 
 
 def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
@@ -80,8 +42,6 @@ def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
     ``keep``: the read's session stays open on the robot, waiting to carry this command's
     write (the pipeline resumes it), so a change costs the robot one session, not two.
     """
-    from panther_ops.core.fleet.confine import compose_file
-
     path = compose_file(ctx)
     if keep:
         mark = f"@@panther-ops-{secrets.token_hex(8)}@@"
@@ -103,13 +63,6 @@ def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
     except ValueError as exc:
         raise TransportError(ctx.robot.name, f"cannot read {path}: {exc}") from None
     return ComposeRead(home.decode(), path, got.data, got.mode)
-
-
-def parse_config(raw: ComposeRead, stack_setting: str) -> RobotConfig:
-    """Parse what :func:`read_compose` read; ``stack_setting`` is the inventory's ``stack:``."""
-    compose = ComposeFile.parse(raw.before.decode(), raw.path)
-    stack = stack_from_version(stack_setting) if stack_setting != "auto" else compose.stack()
-    return RobotConfig(raw.home, raw.path, raw.before, compose, stack, raw.mode)
 
 
 def read_config(ctx: RobotContext, *, keep: bool = False) -> RobotConfig:

@@ -17,9 +17,9 @@ from dataclasses import dataclass, field
 from panther_ops.core.config.controller import ControllerConfig
 from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds.controller_limits import parse_limit_key, validate_limit
 from panther_ops.errors import UsageError
 
@@ -44,14 +44,7 @@ def needs_migration(cfg: RobotConfig, new_wheel: str) -> bool:
     return changes and bool(args.get("controller_config_path") or args.get("wheel_config_path"))
 
 
-def _read(ctx: RobotContext, path: str) -> bytes | None:
-    try:
-        return ctx.transport.read_file(path)
-    except FileNotFoundError:
-        return None
-
-
-def migrate(ctx: RobotContext, cfg: RobotConfig, new_wheel: str) -> WheelChange | None:
+def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | None:
     """Plan the migration for ``wheel_type`` -> ``new_wheel`` (None: nothing to migrate).
 
     Raises:
@@ -72,7 +65,7 @@ def migrate(ctx: RobotContext, cfg: RobotConfig, new_wheel: str) -> WheelChange 
         )
     cpath = args["controller_config_path"]
     host = cfg.host_path_of(cpath)
-    before = _read(ctx, host) if host else None
+    before = reads.file(host) if host else None
     if before is None:
         raise UsageError(
             f"controller_config_path:={cpath} is not a file mounted from the robot: it cannot be migrated to "
@@ -108,7 +101,7 @@ def migrate(ctx: RobotContext, cfg: RobotConfig, new_wheel: str) -> WheelChange 
         new.set(key, value)
         kept.append(f"{key}={value}")
     after = new.text().encode()
-    target_before = _read(ctx, cf.robot_path)
+    target_before = reads.file(cf.robot_path)
     edits = [] if after == target_before else [FileEdit(cf.robot_path, target_before, after)]
     summary = (f"controller file migrated {old} -> {new_wheel}: {cf.robot_path} (the {new_wheel} default"
                + (f", your limits kept: {', '.join(kept)})" if kept else ")"))

@@ -9,6 +9,6 @@ to compose.yaml go through the apply pipeline (`pipeline.apply_plan`); `apply_up
 `apply_restore` add the steps the pipeline has no slot for (pull before recreating, removing
 the container of a renamed service, the 2.2 config tree reset) and roll back the same way.
 
-The one operator-side effect is `images.fetch_hub_tags`: an HTTPS GET to Docker Hub from this
+The one operator-side effect is `hub.fetch_hub_tags`: an HTTPS GET to Docker Hub from this
 machine (robots usually have no route to the internet, ``transport.http_json``), with a short timeout.
 """

@@ -9,13 +9,15 @@ from dataclasses import dataclass, field
 from datetime import datetime
 from typing import Any
 
-from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.config.robot import read_config
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.containers.engine import NoEngineError, engine
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.driver.images import HubTag, local_images, newer_tags
+from panther_ops.core.driver.planners import compose_argv
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import OpsError, RemoteStateError, UsageError
+from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
 
 _DURATION_PART = re.compile(r"(\d+(?:\.\d+)?)([smhd])")
@@ -131,13 +133,6 @@ def driver_container(client: Any, cfg: RobotConfig) -> Any | None:
     try:
         return client.containers.get(str(name))
     except docker.errors.NotFound:
-        return None
-
-
-def compose_argv(cfg: RobotConfig) -> list[str] | None:
-    try:
-        return list(cfg.compose.command().argv)
-    except OpsError:
         return None
 
 

@@ -2,26 +2,20 @@
 
 from __future__ import annotations
 
-from panther_ops.core.config.robot import read_config
+from panther_ops.core.config.robot import read_compose
 from panther_ops.core.containers.engine import engine
-from panther_ops.core.driver.containers import compose_argv, service_containers
+from panther_ops.core.driver import planners
+from panther_ops.core.driver.containers import service_containers
 from panther_ops.core.fleet.pipeline import ApplyOptions, recreate_and_verify
-from panther_ops.core.fleet.plan import RobotPlan, Verify
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.stack import Family
 from panther_ops.results import Outcome, RobotResult
-
-DEFAULT_SERVICE = {Family.PANTHER_ROS: "panther_ros", Family.HUSARION_UGV: "husarion_ugv_ros"}
 
 
 def plan_restart(ctx: RobotContext) -> RobotPlan:
     """`driver restart`: what will be recreated (reads compose.yaml only)."""
-    cfg = read_config(ctx)
-    words = tuple(f"{k}:={v}" for k, v in cfg.compose.args.items()) if compose_argv(cfg) else ()
-    plan = RobotPlan(ctx.robot.name, f"recreate {cfg.service} ({cfg.compose.driver_image})", [], (cfg.service,),
-                     cfg.compose_path, [Verify(cfg.service, words)])
-    plan.data.update(action="recreate", service=cfg.service, image=cfg.compose.driver_image)
-    return plan
+    return planners.plan_restart(read_compose(ctx), Reads(ctx.robot.name, ctx.robot.stack))
 
 
 def apply_restart(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import json
-import posixpath
 import re
 from datetime import datetime, timezone
 
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
-from panther_ops.core.config.plans import compose_plan
-from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.config.robot import read_compose
 from panther_ops.core.containers.engine import engine
+from panther_ops.core.driver import planners
 from panther_ops.core.driver.containers import last_line
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
@@ -20,9 +19,10 @@ from panther_ops.core.fleet.pipeline import (
     new_backup_id,
     recreate_and_verify,
 )
-from panther_ops.core.fleet.plan import RobotPlan, Verify
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import OpsError, RemoteStateError, TransportError
+from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
 
@@ -51,66 +51,16 @@ CLEAN_TREE = (
 """``--hard``: everything in the config directory but ``common/`` goes (it is in the archive)."""
 
 
-def _under(path: str, root: str) -> bool:
-    root = root.rstrip("/")
-    return path == root or path.startswith(root + "/")
-
-
-def _check_tree(tree: str, cfg: RobotConfig) -> None:
-    """The config tree is replaced wholesale on a failed reset: it must be a directory of its own."""
-    tree = posixpath.normpath(tree)
-    protected = (cfg.compose_path, posixpath.join(cfg.home, ".panther-ops"), posixpath.join(cfg.home, ".ssh"))
-    if not _under(tree, cfg.home) or tree == posixpath.normpath(cfg.home) or any(_under(p, tree) for p in protected):
-        raise RemoteStateError(
-            f"the config tree mounted at /config is {tree}: not a directory of its own under {cfg.home}; "
-            "refusing to reset it", hint="mount ~/config at /config, as husarion_ugv_ros does")
+def no_engine(ctx: RobotContext, _key: str) -> str | None:
+    """Why the robot's docker engine cannot be asked (None: it can)."""
+    return engine(ctx)[1]
 
 
 def plan_restore_defaults(ctx: RobotContext, *, hard: bool = False) -> RobotPlan:
-    """`config restore-defaults`: the 2.2 config tree reset, or (2.0/2.1) panther-ops' mounts removed."""
-    cfg = read_config(ctx)
-    config_dir = posixpath.join(cfg.home, "config")
-    if cfg.stack.has_config_tree:
-        tree = cfg.host_path_of(CONTAINER_CONFIG_DIR) or config_dir
-        _check_tree(tree, cfg)
-        image = cfg.compose.driver_image
-        warnings: list[str] = []
-        if not cfg.tree_mounted:
-            warnings.append(f"{tree} is not mounted at /config in compose.yaml: the driver does not read it")
-        if engine(ctx)[0] is None:
-            warnings.append(f"{engine(ctx)[1]}: update_config_directory cannot run here (it would be skipped)")
-        mounts = [f"{cfg.resolve(v.source)}:{v.target}:ro" for v in cfg.compose.list_volumes(cfg.service)
-                  if v.source and v.target.startswith("/run/husarion/") and v.target.endswith(".env")]
-        summary = (f"back up {tree} and run update_config_directory from {image}"
-                   + (" after removing everything but common/ (--hard)" if hard else ""))
-        plan = RobotPlan(ctx.robot.name, summary, [], (cfg.service,), cfg.compose_path, [Verify(cfg.service)],
-                         None, warnings)
-        plan.data.update(action="update_config_directory", image=image, config_dir=tree, env_mounts=mounts,
-                         hard=hard, stack=cfg.stack.label())
-        return plan
-    service = cfg.service
-    removed = [v for v in cfg.compose.list_volumes(service)
-               if v.source and v.source.startswith(("/", "~", ".")) and _under(cfg.resolve(v.source), config_dir)]
-    args = cfg.compose.args
-    drop = [k for k, v in args.items() if _PATH_ARG.search(k)
-            and (_under(v, CONTAINER_CONFIG_DIR) or any(_under(v, vol.target) for vol in removed))]
-    warnings = []
-    if args.get("wheel_type") == "custom" and {"controller_config_path", "wheel_config_path"} & set(drop):
-        drop.append("wheel_type")
-        warnings.append("wheel_type:=custom needs the controller/wheel files being removed: wheel_type is unset too "
-                        "(the stack's default, WH01, applies; set yours with panther-ops config set wheel_type)")
-    for v in sorted(removed, key=lambda v: -v.index):
-        cfg.compose.remove_volume(v.target, service)
-    for k in drop:
-        cfg.compose.unset_arg(k, service)
-    lacks = tuple(f"{k}:={args[k]}" for k in drop)
-    parts = [f"unmount {v.target}" for v in removed] + [f"unset {k}" for k in drop]
-    summary = "; ".join(parts) + (f" (files stay in {config_dir})" if removed else "")
-    plan = compose_plan(ctx, cfg, summary, warnings, [Verify(service, (), lacks)],
-                        f"nothing panther-ops added: no mounts from {config_dir}, no arguments into /config")
-    plan.data["removed_mounts"] = [v.spec() for v in removed]
-    plan.data["unset_args"] = drop
-    return plan
+    """`config restore-defaults`: read compose.yaml (and whether there is an engine); plan."""
+    raw = read_compose(ctx)
+    return read_and_plan(ctx, lambda reads: planners.plan_restore_defaults(raw, reads, hard=hard),
+                         {planners.ENGINE: no_engine})
 
 
 def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:

@@ -6,6 +6,8 @@ would name another directory than the one written), no control character; on a l
 backup id (``config rollback --to``) names a directory under ``~/.panther-ops/backups``.
 A local file's backup (``config rollback --file FILE``) restores that one file and nothing
 else, whatever its manifest names. Anything else is refused with exit 2 naming the path.
+(The compose file's check, which needs the robot's transport for the demo case, is
+`core/config/robot.py`'s ``compose_file``.)
 """
 
 from __future__ import annotations
@@ -15,33 +17,11 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import OpsError, UsageError
+from panther_ops.errors import UsageError
 
 BACKUP_ID = re.compile(r"^[0-9]{8}T[0-9]{6}Z-[0-9a-f]{4}$")
 BACKUP_PREFIX = re.compile(r"^[0-9A-Za-z-]{1,40}$")
 BACKUP_FILE = re.compile(r"^files/[0-9]+$")
-
-
-def compose_file(ctx: RobotContext) -> str:
-    """The robot's compose file as the inventory names it, once checked (UsageError otherwise)."""
-    path = ctx.robot.compose_file
-    if not path or any(ord(c) < 32 or c == "\x7f" for c in path):
-        raise UsageError(f"compose_file {path!r} is empty or holds a control character",
-                         hint="compose_file: the path of the compose file on the robot, e.g. ~/compose.yaml")
-    if not (path.startswith("/") or path.startswith("~/")):
-        raise UsageError(f"compose_file {path} must be absolute or start with ~/",
-                         hint="e.g. ~/compose.yaml or /home/husarion/compose.yaml")
-    if ".." in path.split("/"):
-        raise UsageError(f"compose_file {path} holds '..': it would leave its directory",
-                         hint="name the file directly, e.g. ~/compose.yaml")
-    local_path = getattr(ctx.transport, "local_path", None)
-    if local_path is not None:  # a demo robot: the file must be inside the robot's directory, links resolved
-        try:
-            local_path(path)
-        except OpsError as exc:
-            raise UsageError(f"compose_file {path} leaves the robot's directory ({exc.message})") from None
-    return path
 
 
 def backup_ref(to: str | None) -> str | None:

@@ -14,14 +14,15 @@ writes (see :func:`confine.backup_of_file`); it recreates nothing.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
 from typing import Any
 
-from panther_ops.core.fleet.confine import backup_entry_ok, backup_of_file, backup_ref
+from panther_ops.core.fleet import plan_rollback as planner
+from panther_ops.core.fleet.confine import backup_of_file
 from panther_ops.core.fleet.pipeline import BACKUP_ROOT
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.reading import FactReader, read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import RemoteStateError, TransportError, UsageError
+from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.transport import scripts_backup
 from panther_ops.transport.base import Command
 
@@ -49,69 +50,22 @@ def list_history(ctx: RobotContext, only: str | None = None) -> list[dict[str, A
     return entries
 
 
+def read_backup(ctx: RobotContext, key: str) -> bytes:
+    """A file of a backup (``key``: ``<id>/<name in the backup>``) as it was saved."""
+    backup_id, _, name = key.partition("/")
+    res = ctx.transport.run(Command.sh(scripts_backup.READ_BACKUP, f"{BACKUP_ROOT}/{backup_id}", name))
+    if not res.ok:
+        raise RemoteStateError(f"backup {backup_id} is incomplete: {name} missing")
+    return res.raw_stdout
+
+
+ROLLBACK_FACTS: dict[str, FactReader] = {planner.HISTORY: lambda c, _key: list_history(c),
+                                         planner.BACKUP: read_backup}
+"""How the facts the rollback planner asks for are read."""
+
+
 def plan_rollback(ctx: RobotContext, to: str | None, *, only: str | None = None,
-                  edit: Callable[[str, bytes | None, bytes | None], FileEdit] = FileEdit) -> RobotPlan:
-    """Restore the files of backup ``to`` (default: the newest) as they were before that change.
-
-    ``only``: a local file's backups (see the module's text); ``edit`` makes each file's edit
-    from its path, its content now and the one to restore (e.g. one whose diff masks secrets).
-    """
-    backup_ref(to)
-    entries = [e for e in list_history(ctx) if backup_entry_ok(e.get("id"), e.get("files", []))]
-    others = entries
-    if only is not None:
-        entries = [e for e in entries if backup_of_file(e, only)]
-    if to is not None:
-        entry = _pick(ctx, entries, others, to, only)
-    elif entries:
-        entry = entries[-1]
-    elif only is not None:
-        raise UsageError(f"no backups of {ctx.robot.name}: nothing to roll back to",
-                         hint="`shutdown hosts add|remove FILE` keep the file's backups beside it, in "
-                         ".panther-ops/backups/")
-    else:
-        raise RemoteStateError("no backups on this robot: nothing to roll back to")
-    bdir = f"{BACKUP_ROOT}/{entry['id']}"
-    edits: list[FileEdit] = []
-    for f in entry.get("files", []):
-        path = str(f["path"]) if only is None else only
-        try:
-            now: bytes | None = ctx.transport.read_file(path)
-        except FileNotFoundError:
-            now = None
-        if f.get("backup"):
-            res = ctx.transport.run(Command.sh(scripts_backup.READ_BACKUP, bdir, str(f["backup"])))
-            if not res.ok:
-                raise RemoteStateError(f"backup {entry['id']} is incomplete: {f['backup']} missing")
-            old: bytes | None = res.raw_stdout
-        else:
-            old = None
-        if now != old:
-            edits.append(edit(path, now, old))
-    services = tuple(entry.get("recreate", ())) if only is None else ()
-    compose = str(entry.get("compose_file", "~/compose.yaml")) if only is None else "~/compose.yaml"
-    plan = RobotPlan(ctx.robot.name, f"restore backup {entry['id']} (before: {entry.get('command') or '?'})",
-                     edits, services, compose,
-                     [Verify(s) for s in services],
-                     noop=f"already as before {entry['id']}")
-    plan.data["backup_restored"] = entry["id"]
-    return plan
-
-
-def _pick(ctx: RobotContext, entries: list[dict[str, Any]], others: list[dict[str, Any]], to: str,
-          only: str | None) -> dict[str, Any]:
-    """The one backup whose id starts with ``to`` (UsageError naming the ids there are)."""
-    hits = [e for e in entries if str(e.get("id", "")).startswith(to)]
-    if len(hits) == 1:
-        return hits[0]
-    known = ", ".join(str(e.get("id")) for e in entries[-5:]) or "none"
-    elsewhere = [e for e in others if e not in entries and str(e.get("id", "")).startswith(to)]
-    if not hits and elsewhere:
-        files = ", ".join(str(f.get("path")) for f in elsewhere[0].get("files", []))
-        raise UsageError(f"backup {elsewhere[0]['id']} is not a backup of {ctx.robot.name} (it holds {files})",
-                         hint=f"backups of {ctx.robot.name}: {known} (panther-ops config history --file "
-                         f"{ctx.robot.name})")
-    listed = f"config history --file {ctx.robot.name}" if only is not None else "config history"
-    raise UsageError(f"backup {to!r} {'is ambiguous' if hits else 'not found'} "
-                     f"{'for' if only is not None else 'on'} {ctx.robot.name}",
-                     hint=f"newest backups: {known} (panther-ops {listed})")
+                  edit: planner.MakeEdit = FileEdit) -> RobotPlan:
+    """Restore the files of backup ``to`` (default: the newest): read the backups the planner
+    (`plan_rollback.py`, pure; ``only`` and ``edit`` are its) asks for, and the files as they are now."""
+    return read_and_plan(ctx, lambda reads: planner.plan_rollback(reads, to, only=only, edit=edit), ROLLBACK_FACTS)

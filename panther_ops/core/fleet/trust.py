@@ -1,11 +1,10 @@
-"""`panther-ops trust ROBOT`: show a robot's host key and record it on request."""
+"""`panther-ops trust ROBOT`: read the host key a robot offers and the known ones, plan
+(`plan_trust.py`, pure), and record the key on request."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any
-
 from panther_ops.core.fleet.inventory import Inventory, Robot
+from panther_ops.core.fleet.plan_trust import TrustPlan, trust_state
 from panther_ops.errors import UsageError
 from panther_ops.transport.hostkeys import (
     append_known_host,
@@ -15,25 +14,12 @@ from panther_ops.transport.hostkeys import (
 )
 
 
-@dataclass(frozen=True)
-class TrustPlan:
-    robot: str
-    address: str
-    key_type: str
-    fingerprint: str
-    state: str  # "known" | "new" | "changed"
-    known_fingerprints: tuple[str, ...]
-    known_hosts_file: str
-    hostname: str
-    port: int
-    key: Any
-
-    def record(self) -> None:
-        """Record the offered key (replacing the old one when it changed)."""
-        if self.state == "changed":
-            replace_known_host(self.known_hosts_file, self.hostname, self.port, self.key)
-        else:
-            append_known_host(self.known_hosts_file, self.hostname, self.port, self.key)
+def record(plan: TrustPlan) -> None:
+    """Record the offered key (replacing the old one when it changed)."""
+    if plan.state == "changed":
+        replace_known_host(plan.known_hosts_file, plan.hostname, plan.port, plan.key)
+    else:
+        append_known_host(plan.known_hosts_file, plan.hostname, plan.port, plan.key)
 
 
 def plan_trust(inventory: Inventory, robot: Robot) -> TrustPlan:
@@ -45,13 +31,7 @@ def plan_trust(inventory: Inventory, robot: Robot) -> TrustPlan:
     known = known_keys(hop)
     fp = fingerprint(key)
     known_fps = tuple(fingerprint(k) for k in known)
-    same_type = [k for k in known if k.get_name() == key.get_name()]
-    if any(fingerprint(k) == fp for k in known):
-        state = "known"
-    elif same_type:
-        state = "changed"
-    else:
-        state = "new"
+    state = trust_state(key.get_name(), fp, [(k.get_name(), f) for k, f in zip(known, known_fps, strict=True)])
     return TrustPlan(
         robot=robot.name, address=known_hosts_name(hop.hostname, hop.port), key_type=key.get_name(),
         fingerprint=fp, state=state, known_fingerprints=known_fps,

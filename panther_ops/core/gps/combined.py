@@ -13,8 +13,10 @@ from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.credentials import Credentials
-from panther_ops.core.gps.router import RouterRequest, changes, describe, open_router, read_state, summary_of
-from panther_ops.core.gps.service import GpsOptions, apply_gps, plan_enable
+from panther_ops.core.gps.plan import GpsOptions
+from panther_ops.core.gps.router import open_router, read_state
+from panther_ops.core.gps.router_plan import RouterRequest, changes, describe, summary_of, with_router
+from panther_ops.core.gps.service import apply_gps, plan_enable
 from panther_ops.results import Outcome, RobotResult
 
 
@@ -25,20 +27,7 @@ def router_request(opts: GpsOptions) -> RouterRequest:
 def plan_enable_with_router(ctx: RobotContext, opts: GpsOptions, address: str, creds: Credentials) -> RobotPlan:
     plan = plan_enable(ctx, opts)
     api = open_router(ctx, address, creds)
-    state = read_state(api)
-    puts = changes(state, router_request(opts))
-    plan.data.update({"router": address, "router_before": summary_of(state)})
-    if api.pinned_now:
-        plan.warnings.append(f"router certificate pinned on first use: {api.fingerprint}")
-    if puts:
-        text = f"router {address}: {describe(state, puts)}"
-        plan.data["router_puts"] = puts
-        plan.data["action"] = "router"
-        plan.summary = f"{plan.summary}; {text}" if plan.edits else text
-        plan.noop = None
-    elif plan.noop:
-        plan.noop += f"; router {address} already forwards to {opts.ip}:{opts.port}"
-    return plan
+    return with_router(plan, address, read_state(api), router_request(opts), api.fingerprint, api.pinned_now)
 
 
 def enable_applier(address: str, creds: Credentials, opts: GpsOptions) -> Any:

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.errors import InputError, UsageError
-from panther_ops.transport.base import Secret
+from panther_ops.secret import Secret
 
 ENV_PASSWORD = "PANTHER_OPS_ROUTER_PASSWORD"
 ENV_USER = "PANTHER_OPS_ROUTER_USER"

@@ -12,11 +12,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.config.plans import edit_args
-from panther_ops.core.config.robot import RobotConfig
+from panther_ops.core.config.planners import edit_args
+from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, Verify
-from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.gps.service import DEFAULT_IP, DEFAULT_PORT, SERVICE, GpsOptions, enable_change
+from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.gps.plan import DEFAULT_IP, DEFAULT_PORT, SERVICE, GpsOptions, enable_change
 from panther_ops.errors import UsageError
 
 KEYS = ("enabled", "port", "ip", "namespace", "container", "router")
@@ -45,7 +45,7 @@ def _options(value: dict[str, Any]) -> GpsOptions:
                       container=bool(value.get("container", False)))
 
 
-def desired_gps(ctx: RobotContext, cfg: RobotConfig, value: Any) -> DesiredGps:
+def desired_gps(reads: Reads, cfg: RobotConfig, value: Any) -> DesiredGps:
     """Edit ``cfg.compose`` toward ``desired.gps``; UsageError for a bad block."""
     if not isinstance(value, dict):
         raise UsageError("desired.gps must be a mapping", hint="keys: " + ", ".join(KEYS))
@@ -61,7 +61,7 @@ def desired_gps(ctx: RobotContext, cfg: RobotConfig, value: Any) -> DesiredGps:
                             "not by apply")
     if enabled is True:
         before = cfg.compose.text()
-        change = enable_change(ctx, cfg, _options(value))
+        change = enable_change(reads, cfg, _options(value))
         out.warnings += change.warnings
         out.verify += change.verify
         if cfg.compose.text() != before or change.extra:

@@ -24,7 +24,7 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.templates import read_template
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.nmea import Fix, NmeaDecoder
-from panther_ops.core.gps.service import SERVICE
+from panther_ops.core.gps.plan import SERVICE
 from panther_ops.errors import OpsError, TransportError, UsageError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
@@ -85,8 +85,8 @@ class StatusOptions:
         """Bad input refused before any robot is contacted (exit 2)."""
         import math
 
-        from panther_ops.core.gps.listen import check_port
-        from panther_ops.core.gps.router import check_address
+        from panther_ops.core.gps.router_plan import check_address
+        from panther_ops.core.gps.udp_address import check_port
 
         check_port(self.port, "--port")
         if not (math.isfinite(self.window_s) and self.window_s > 0):
@@ -170,7 +170,8 @@ def status_task(opts: StatusOptions) -> Any:
         router = None
         warnings: list[str] = []
         if opts.router is not None and opts.credentials is not None:
-            from panther_ops.core.gps.router import open_router, read_state, summary_of
+            from panther_ops.core.gps.router import open_router, read_state
+            from panther_ops.core.gps.router_plan import summary_of
 
             api = open_router(ctx, opts.router, opts.credentials)
             router = summary_of(read_state(api))

@@ -83,7 +83,8 @@ def check_safety_project(source: str, data: bytes, local: Path | None, target: T
 
 
 def _check(source: str, data: bytes, local: Path | None, trees: tuple[str, ...], kind: str) -> list[str]:
-    from panther_ops.manager import load_bt_project, validate_bt_project
+    from panther_ops.manager.bt.project import load_bt_project
+    from panther_ops.manager.bt.validate import validate_bt_project
 
     text_of(source, data, WHAT)
     if local is not None:

@@ -34,8 +34,8 @@ from typing import Any
 
 from panther_ops.core.yaml.document import DocumentError, Flow, YamlDocument
 from panther_ops.errors import InputError, UsageError
-from panther_ops.manager.shutdown_executor import ShutdownHost
-from panther_ops.transport.base import Secret
+from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
+from panther_ops.secret import Secret
 
 DEFAULT_COMMAND = "sudo shutdown now"
 DEFAULT_TIMEOUT = 5.0

@@ -34,7 +34,7 @@ def on_disk(source: str, data: bytes, local: Path | None, check: Callable[[Path]
 
 
 def _animations(source: str, data: bytes, local: Path | None, what: str, key: str, hint: str) -> list[str]:
-    from panther_ops.manager import validate_animations
+    from panther_ops.manager.lights.validate import validate_animations
 
     doc = load_mapping(source, data, what)
     if key not in doc:

@@ -11,7 +11,7 @@ driver's own image and needs, there:
   would no longer be shut down;
 * for the robot's own power-off: the program its command starts (``ssh`` or ``dbus-send``).
 
-`probe_image` asks the image once, over the robot's existing connection (``docker exec`` in the
+`image_probe.probe_image` asks the image once, over the robot's existing connection (``docker exec`` in the
 running driver container, which runs that image; else a throw-away container of the image
 without network), what it has, and reads the hosts file where only the image has it
 (``$(find pkg)/...`` resolved in ``AMENT_PREFIX_PATH`` by the image's entrypoint). `losses` lists
@@ -23,14 +23,15 @@ from __future__ import annotations
 
 import shlex
 from dataclasses import dataclass, field
-from typing import Any
 
-from panther_ops.core.config.robot import RobotConfig
-from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import RemoteStateError, UsageError
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.reads import Reads
+from panther_ops.errors import UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 
 _HOSTS_MARK = "--- panther-ops hosts file ---"
+IMAGE_PROBE = "image-probe"
+"""Fact: what the driver image offers (:class:`ImageFacts`, None: no engine), by hosts file."""
 #: $1 = the hosts file as manager.yaml names it (container path or $(find pkg)/rest)
 PROBE = r"""
 for c in ssh dbus-send python3; do command -v "$c" >/dev/null 2>&1 && echo "has $c"; done
@@ -76,34 +77,6 @@ def parse_probe(image: str, output: str) -> ImageFacts:
     return ImageFacts(image, programs, hosts if sep else None)
 
 
-def _run_probe(client: Any, cfg: RobotConfig, hosts_file: str) -> str:
-    argv = ["sh", "-c", PROBE, "probe", hosts_file]
-    image = cfg.compose.driver_image
-    for ctr in client.containers.list(filters={"label": f"com.docker.compose.service={cfg.service}"}):
-        tags = getattr(ctr.image, "tags", []) or []
-        if image in tags:
-            code, out = ctr.exec_run(["/ros_entrypoint.sh", *argv], demux=False)
-            if code in (126, 127):  # no entrypoint script in this image: run the probe directly
-                code, out = ctr.exec_run(argv, demux=False)
-            if code == 0:
-                return str((out or b"").decode(errors="replace"))
-    out = client.containers.run(image, argv, remove=True, network_mode="none", stdout=True, stderr=False)
-    return str((out or b"").decode(errors="replace"))
-
-
-def probe_image(ctx: RobotContext, cfg: RobotConfig, hosts_file: str) -> ImageFacts | None:
-    """The image's programs and hosts file (None: no docker engine, e.g. a demo robot)."""
-    client = ctx.transport.docker()
-    if client is None:
-        return None
-    try:
-        output = _run_probe(client, cfg, hosts_file)
-    except Exception as exc:  # docker SDK errors: the check could not run, so nothing is deployed
-        raise RemoteStateError(f"cannot check the driver image {cfg.compose.driver_image} on {ctx.robot.name}: "
-                               f"{exc}", hint="is the image on the robot? panther-ops driver status") from None
-    return parse_probe(cfg.compose.driver_image, output)
-
-
 def ssh_hosts(hosts_text: str | None, source: str) -> list[ShutdownHost]:
     """Every SSH entry of a hosts file's text (HTTP entries need nothing more)."""
     if not hosts_text:
@@ -145,29 +118,25 @@ def losses(facts: ImageFacts, hosts: list[ShutdownHost], hosts_source: str, loca
     return lost
 
 
-def check_safety(ctx: RobotContext, cfg: RobotConfig, hosts_file: str, hosts_source: str,
+def check_safety(reads: Reads, cfg: RobotConfig, hosts_file: str, hosts_source: str,
                  localhost_command: str) -> tuple[list[str], str | None]:
     """Refuse (UsageError) when the deployed manager would lose a stock safety behaviour.
 
     Returns (warnings, how SSH hosts will be shut down: ``paramiko``/``openssh``/None).
     """
-    facts = probe_image(ctx, cfg, hosts_file)
+    facts: ImageFacts | None = reads.fact(IMAGE_PROBE, hosts_file)
     if facts is None:
         return (["not checked whether the image can shut the User Computers and the robot down: "
                  "no docker engine on this robot"], None)
     text = facts.hosts_text
     if hosts_source.startswith("/") and " " not in hosts_source:  # a file on the robot, mounted
-        try:
-            text = ctx.transport.read_file(hosts_source).decode(errors="replace")
-        except FileNotFoundError:
-            text = None
+        data = reads.file(hosts_source)
+        text = data.decode(errors="replace") if data is not None else None
     hosts = ssh_hosts(text, hosts_source)
     unknown: list[ShutdownHost] = []
     if hosts:
-        try:
-            known_text = ctx.transport.read_file(f"{cfg.home}/.ssh/known_hosts").decode(errors="replace")
-        except FileNotFoundError:
-            known_text = ""
+        known = reads.file(f"{cfg.home}/.ssh/known_hosts")
+        known_text = known.decode(errors="replace") if known is not None else ""
         unknown = unknown_host_keys(known_text, hosts)
     lost = losses(facts, hosts, hosts_source, localhost_command, unknown)
     if lost:

@@ -11,7 +11,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan
-from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME
 from panther_ops.core.manager_ops.settings import CONTAINER_DIR, ROBOT_DIR, STATE_FILE
 from panther_ops.results import Diff
@@ -50,16 +49,13 @@ class Layout:
         return posixpath.join(CONTAINER_DIR, "config", *parts)
 
 
-def _read(ctx: RobotContext, path: str) -> bytes | None:
-    try:
-        return ctx.transport.read_file(path)
-    except FileNotFoundError:
-        return None
+def state_path(home: str) -> str:
+    """``deployed.json`` on the robot."""
+    return f"{home}/{ROBOT_DIR}/{STATE_FILE}"
 
 
-def read_state(ctx: RobotContext, home: str) -> dict[str, Any] | None:
-    """``deployed.json`` of the robot (None: nothing deployed, or unreadable)."""
-    data = _read(ctx, f"{home}/{ROBOT_DIR}/{STATE_FILE}")
+def parse_state(data: bytes | None) -> dict[str, Any] | None:
+    """``deployed.json`` as read (None: nothing deployed, or unreadable)."""
     if data is None:
         return None
     try:

@@ -14,7 +14,9 @@ from __future__ import annotations
 import json
 
 from panther_ops.core.config.namespace import driver_namespace
-from panther_ops.core.config.robot import RobotConfig, read_config
+from panther_ops.core.config.robot import read_config
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError
 from panther_ops.manager.adapters.interfaces import RosInterfaces, interfaces_for
@@ -32,7 +34,7 @@ def service_call_argv(ros: RosInterfaces, namespace: str, anim_id: int, param: s
 def robot_namespace(ctx: RobotContext, cfg: RobotConfig) -> str:
     """The ROS namespace the robot's driver runs under ("" = none): the inventory's, else the
     one its compose file and config give (`panther_ops.core.config.namespace.driver_namespace`)."""
-    return ctx.robot.namespace or driver_namespace(ctx, cfg)[0]
+    return ctx.robot.namespace or read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))[0]
 
 
 def set_animation(ctx: RobotContext, anim_id: int, param: str, repeating: bool) -> RobotResult:

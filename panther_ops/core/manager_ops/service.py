@@ -10,8 +10,8 @@ from typing import Any
 
 from panther_ops.core.config.compose import Volume
 from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.robot import RobotConfig
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.manager_ops.layout import Layout
 from panther_ops.core.manager_ops.settings import (
     _SHARED_TARGETS,
@@ -27,6 +27,8 @@ from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 
+EXISTS = "exists"
+"""Fact: whether a path exists on the robot."""
 _ANCHOR = re.compile(r"<<:\s*\*([^\s,\]]+)")
 
 
@@ -68,7 +70,7 @@ class ServiceSpec:
     localhost_command: str
 
 
-def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: ManagerSettings) -> ServiceSpec:
+def service_spec(reads: Reads, cfg: RobotConfig, lay: Layout, settings: ManagerSettings) -> ServiceSpec:
     """The ``panther_ops_manager`` service for this robot's compose.yaml."""
     driver = cfg.compose.service(cfg.service)
     volumes: dict[str, str] = {CONTAINER_DIR: f"{lay.root}:{CONTAINER_DIR}:ro"}
@@ -78,9 +80,9 @@ def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: Man
         elif vol.source and vol.target == DBUS_SOCKET:
             volumes[vol.target] = vol.spec()  # a socket: clients need to write to it
     known_hosts = f"{cfg.home}/.ssh/known_hosts"
-    if ctx.transport.exists(known_hosts):
+    if reads.fact(EXISTS, known_hosts):
         volumes["/root/.ssh/known_hosts"] = f"{known_hosts}:/root/.ssh/known_hosts:ro"
-    hosts_file, hosts_source = _hosts_file(ctx, cfg, settings, volumes)
+    hosts_file, hosts_source = _hosts_file(reads, cfg, settings, volumes)
     ugv_dbus = cfg.stack.family is Family.HUSARION_UGV and DBUS_SOCKET in volumes
     command = DBUS_POWEROFF if ugv_dbus else SSH_POWEROFF
     argv = [f"python3 {lay.container_archive}",
@@ -88,7 +90,7 @@ def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: Man
             f"--lights-bt {lay.container_config('behavior_trees', 'PantherLightsBT.btproj')}",
             f"--safety-bt {lay.container_config('behavior_trees', 'PantherSafetyBT.btproj')}",
             f"--stack {cfg.stack.version_str}"]  # message package, topics and services of this stack
-    namespace = ctx.robot.namespace or cfg.compose.args.get("namespace")
+    namespace = reads.namespace or cfg.compose.args.get("namespace")
     if namespace:
         argv.append(f"--namespace {namespace}")
     if settings.mode == "sim":
@@ -106,18 +108,18 @@ def service_spec(ctx: RobotContext, cfg: RobotConfig, lay: Layout, settings: Man
     return ServiceSpec(mapping, merge, hosts_file, hosts_source, command)
 
 
-def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
+def _hosts_file(reads: Reads, cfg: RobotConfig, settings: ManagerSettings,
                 volumes: dict[str, str]) -> tuple[str, str]:
     """The shutdown hosts file the stock manager reads, made visible to ours: (path, where from)."""
     if settings.shutdown_hosts:
         if ".." in settings.shutdown_hosts.split("/"):
             raise UsageError(f"desired.manager.shutdown_hosts: {settings.shutdown_hosts} holds '..': name the file "
                              "directly")
-        if not ctx.transport.exists(settings.shutdown_hosts):
+        if not reads.fact(EXISTS, settings.shutdown_hosts):
             raise UsageError(f"desired.manager.shutdown_hosts: {settings.shutdown_hosts} does not exist on "
-                             f"{ctx.robot.name}",
+                             f"{reads.robot}",
                              hint="push it first: panther-ops config push FILE --as shutdown-hosts")
-        _check_hosts(ctx, cfg, settings.shutdown_hosts)
+        _check_hosts(reads, cfg, settings.shutdown_hosts)
         volumes[HOSTS_TARGET] = f"{settings.shutdown_hosts}:{HOSTS_TARGET}:ro"
         return HOSTS_TARGET, settings.shutdown_hosts
     cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
@@ -130,19 +132,18 @@ def _hosts_file(ctx: RobotContext, cfg: RobotConfig, settings: ManagerSettings,
             volumes[vol.target] = _ro(vol)
             host = cfg.host_path_of(current)
             if host is not None:
-                _check_hosts(ctx, cfg, host)
+                _check_hosts(reads, cfg, host)
             return current, host or current
         return current, f"{current} (inside the image)"
     return cf.package_path, f"{cf.package_path} (the image's default)"
 
 
-def _check_hosts(ctx: RobotContext, cfg: RobotConfig, path: str) -> None:
+def _check_hosts(reads: Reads, cfg: RobotConfig, path: str) -> None:
     """The hosts file the deployed manager will read, through the one hosts file validator."""
     from panther_ops.core.kinds import FileKind, Target, check_file
 
-    try:
-        data = ctx.transport.read_file(path)
-    except FileNotFoundError:
+    data = reads.file(path)
+    if data is None:
         return
     check_file(FileKind.SHUTDOWN_HOSTS, path, data, target=Target(cfg.stack))
 

@@ -15,9 +15,10 @@ from typing import Any
 from panther_ops.core.config.robot import read_config
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
+from panther_ops.core.fleet.reading import read_file
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.manager_ops.apply_step import service_containers
-from panther_ops.core.manager_ops.layout import read_state
+from panther_ops.core.manager_ops.layout import parse_state, state_path
 from panther_ops.core.manager_ops.settings import DISABLE_ARG, SERVICE
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
@@ -62,7 +63,7 @@ def status_task(ctx: RobotContext) -> RobotResult:
     """`manager status` on one robot."""
     name = ctx.robot.name
     cfg = read_config(ctx)
-    state = read_state(ctx, cfg.home)
+    state = parse_state(read_file(ctx, state_path(cfg.home)))
     in_compose = SERVICE in cfg.compose.services()
     disable = cfg.compose.args.get(DISABLE_ARG)
     data: dict[str, Any] = {

@@ -10,10 +10,10 @@ is still what was read. Nothing is recreated.
 
 ``config history --file FILE`` lists those backups (``history.list_history`` with ``only``:
 the ones of that file; a directory may hold several hosts files) and ``config rollback --file
-FILE`` restores one through the same plan and pipeline as a robot's rollback
-(``history.plan_rollback``): masked exact diff, backup of the current file first, staged
-write renamed only if the file is unchanged; the content restored goes through the hosts
-file validator as every write of the file does.
+FILE`` restores one through the same planner and pipeline as a robot's rollback
+(`plan_rollback.py`, through `plan_hosts.py`'s ``plan_local_restore``): masked exact diff,
+backup of the current file first, staged write renamed only if the file is unchanged; the
+content restored goes through the hosts file validator as every write of the file does.
 """
 
 from __future__ import annotations
@@ -22,13 +22,13 @@ from collections.abc import Callable
 from pathlib import Path
 
 from panther_ops.core.fleet.confine import local_file
-from panther_ops.core.fleet.history import plan_rollback
+from panther_ops.core.fleet.history import ROLLBACK_FACTS
 from panther_ops.core.fleet.inventory import Inventory, Robot
-from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan
+from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds import FileKind, check_file
 from panther_ops.core.kinds.hostsfile import Edit
-from panther_ops.errors import UsageError
+from panther_ops.core.shutdown.plan_hosts import plan_local_edit, plan_local_restore
 
 
 def local_target(file: Path, option: str | None = None) -> tuple[Inventory, Robot]:
@@ -42,41 +42,9 @@ def local_target(file: Path, option: str | None = None) -> tuple[Inventory, Robo
 
 def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str], Edit]) -> RobotPlan:
     """The plan of one change to a local hosts file (``change`` maps its text to the new one)."""
-    path = str(file.resolve())
-    where = str(file)
-    try:
-        before: bytes | None = ctx.transport.read_file(path)
-    except FileNotFoundError:
-        before = None
-    try:
-        text = (before or b"").decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise UsageError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start})",
-                         hint="nothing was changed") from exc
-    edit = change(text)
-    after = edit.text.encode()
-    warnings = check_file(FileKind.SHUTDOWN_HOSTS, where, after, local=file)
-    home = str(Path(path).parent)
-    if not edit.changed or after == before:
-        return RobotPlan(ctx.robot.name, edit.message, noop=edit.message, warnings=warnings, home=home)
-    # a new file may hold a secret (--ask-secret): only its owner reads it
-    edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
-    return RobotPlan(ctx.robot.name, edit.message, edits, warnings=warnings, home=home,
-                     data={"hosts_file": where})
+    return read_and_plan(ctx, lambda reads: plan_local_edit(reads, file, change))
 
 
 def plan_local_rollback(ctx: RobotContext, file: Path, to: str | None) -> RobotPlan:
     """The plan restoring the local file as it was before backup ``to`` (default: the newest)."""
-
-    warnings: list[str] = []
-
-    def edit(path: str, now: bytes | None, old: bytes | None) -> FileEdit:
-        if old is not None:
-            warnings.extend(check_file(FileKind.SHUTDOWN_HOSTS, str(file), old, local=file))
-        return MaskedFileEdit(path, now, old, None if now is not None else 0o600)
-
-    plan = plan_rollback(ctx, to, only=str(file.resolve()), edit=edit)
-    plan.warnings += warnings
-    plan.home = str(file.resolve().parent)
-    plan.data["hosts_file"] = str(file)
-    return plan
+    return read_and_plan(ctx, lambda reads: plan_local_restore(reads, file, to), ROLLBACK_FACTS)

@@ -33,7 +33,8 @@ from panther_ops.manager.shutdown_executor import (
     ThreadDispatcher,
     shutdown_path,
 )
-from panther_ops.transport.base import Command, CommandResult, Secret, Transport
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command, CommandResult, Transport
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 
 if TYPE_CHECKING:

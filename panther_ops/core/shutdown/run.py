@@ -16,13 +16,13 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
 
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, HostsFile
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
+from panther_ops.core.shutdown.plan_hosts import RobotShutdownPlan, shutdown_plan
 from panther_ops.core.shutdown.remote import RobotLink, backends_via
-from panther_ops.core.shutdown.robotfile import RobotHostsFile, read_robot_hosts
-from panther_ops.errors import OpsError, UsageError
+from panther_ops.core.shutdown.robotfile import read_robot_hosts
+from panther_ops.errors import OpsError
 from panther_ops.manager.clock import Clock, MonotonicClock
 from panther_ops.manager.shutdown_executor import (
     HostResult,
@@ -91,24 +91,9 @@ def summary(fleet: FleetResult) -> str:
 # ---------------------------------------------------------------------------------------------
 # shutdown robot
 # ---------------------------------------------------------------------------------------------
-@dataclass
-class RobotShutdownPlan:
-    robot: str
-    hosts_file: RobotHostsFile
-    parsed: HostsFile
-    hosts: list[ShutdownHost]
-
-
 def plan_robot_shutdown(ctx: RobotContext, power_budget: float = POWER_BUDGET_S) -> RobotShutdownPlan:
     """Read and validate the robot's hosts file (UsageError when it has errors)."""
-    rf = read_robot_hosts(ctx)
-    parsed = rf.parse(power_budget)
-    if parsed.errors:
-        raise UsageError(f"its hosts file ({rf.source}) has errors: "
-                         + "; ".join(str(f) for f in parsed.errors),
-                         hint=f"fix it first (panther-ops shutdown hosts validate -r {ctx.robot.name}); nothing was "
-                         "shut down")
-    return RobotShutdownPlan(ctx.robot.name, rf, parsed, parsed.hosts())
+    return shutdown_plan(ctx.robot.name, read_robot_hosts(ctx), power_budget)
 
 
 def shutdown_robot(ctx: RobotContext, plan: RobotShutdownPlan, *,

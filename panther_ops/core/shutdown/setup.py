@@ -41,7 +41,8 @@ from panther_ops.core.stack import Stack
 from panther_ops.errors import OpsError
 from panther_ops.manager.shutdown_executor import ShutdownHost
 from panther_ops.results import Diff, Outcome, RobotResult
-from panther_ops.transport.base import Command, Secret
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 
 if TYPE_CHECKING:

@@ -14,7 +14,7 @@ import os
 from panther_ops.core.fleet.inventory import UserComputer
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError
-from panther_ops.transport.base import Secret
+from panther_ops.secret import Secret
 from panther_ops.transport.user_computer import ComputerAddress, UserComputerSession
 
 DEFAULT_KNOWN_HOSTS = "~/.ssh/known_hosts"

@@ -6,8 +6,11 @@
 * `remote`: the snap's state read on the User Computer (or a demo robot's recording),
   `webui set|status|start|stop|url`, and `apply_settings`, the one path that changes keys.
 * `install`: `webui install` (clocks checked first).
-* `defaults`: ``ros.namespace`` defaults to the robot's namespace.
-* `desired`: the inventory's ``desired.webui`` for `apply` and `config diff`.
+* `state`: the snap's state as read and the plan of `webui set` (pure).
+* `defaults`: ``ros.namespace`` defaults to the robot's namespace (pure; `remote.robot_namespace`
+  reads it).
+* `plan_desired` (pure) and `desired` (its reads, and the change): the inventory's
+  ``desired.webui`` for `apply` and `config diff`.
 """
 
 from __future__ import annotations

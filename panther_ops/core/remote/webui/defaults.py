@@ -6,6 +6,9 @@ show nothing. So when `webui install`, `webui set` or `apply` (``desired.webui``
 ``ros.namespace`` and the snap has none, the robot's namespace is set, read from its compose
 file and config as `config get namespace` reads it (``namespace:=``, else ``ROBOT_NAMESPACE``
 of the compose environment or env_file). A namespace set on the snap is kept as it is.
+
+Pure: the robot's namespace is a function of compose.yaml as read and the files it asks for
+(:class:`Reads`); `remote.robot_namespace` reads them.
 """
 
 from __future__ import annotations
@@ -13,8 +16,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from panther_ops.core.config.namespace import driver_namespace
-from panther_ops.core.config.robot import RobotConfig, read_config
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds.webui_settings import NAMESPACE
 from panther_ops.errors import OpsError
 
@@ -29,13 +32,17 @@ class RobotNamespace:
     note: str
 
 
-def robot_namespace(ctx: RobotContext, cfg: RobotConfig | None = None) -> RobotNamespace:
-    """The driver's namespace as the WebUI's default, from the robot's compose file and config
-    (``cfg``: as a plan leaves it, else read)."""
+def unknown_namespace(exc: OpsError) -> RobotNamespace:
+    return RobotNamespace(None, f"the robot's namespace is unknown ({exc.message}): ros.namespace left as is")
+
+
+def robot_namespace_of(reads: Reads, cfg: RobotConfig) -> RobotNamespace:
+    """The driver's namespace as the WebUI's default, from the robot's compose file (``cfg``:
+    as read, or as a plan leaves it) and config."""
     try:
-        value, source = driver_namespace(ctx, cfg or read_config(ctx))
+        value, source = driver_namespace(reads, cfg)
     except OpsError as exc:
-        return RobotNamespace(None, f"the robot's namespace is unknown ({exc.message}): ros.namespace left as is")
+        return unknown_namespace(exc)
     value = value.strip("/")
     if not value:
         return RobotNamespace(None, "the robot's driver runs without a namespace: ros.namespace left unset")

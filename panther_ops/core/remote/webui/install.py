@@ -9,7 +9,6 @@ from collections.abc import Callable
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.webui_settings import SNAP
-from panther_ops.core.remote.webui.defaults import robot_namespace
 from panther_ops.core.remote.webui.remote import (
     Task,
     apply_settings,
@@ -17,11 +16,13 @@ from panther_ops.core.remote.webui.remote import (
     open_webui_session,
     read_state,
     read_webui,
+    robot_namespace,
     sudo,
 )
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
-from panther_ops.transport.base import Command, Secret
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command
 from panther_ops.transport.user_computer import UserComputerSession
 
 DEFAULT_CHANNEL = "humble"

@@ -11,18 +11,24 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds.webui_settings import COMMON_DIR, DEFAULTS, SNAP, SettingError, validate
-from panther_ops.core.remote.estop.answers import split
+from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, validate
 from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
-from panther_ops.core.remote.webui.defaults import RobotNamespace, robot_namespace, with_robot_namespace
+from panther_ops.core.remote.webui.defaults import (
+    RobotNamespace,
+    robot_namespace_of,
+    unknown_namespace,
+    with_robot_namespace,
+)
+from panther_ops.core.remote.webui.state import WebuiState, parse_state, plan_changes, plan_text
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
-from panther_ops.transport.base import Command, Secret
+from panther_ops.secret import Secret
+from panther_ops.transport.base import Command
 from panther_ops.transport.user_computer import UserComputerSession
 
 READ = r"""for part in list get services profiles; do
@@ -39,62 +45,9 @@ done
 UI_CHECK = 'curl -s -o /dev/null -m "$2" -w "%{http_code}" "$1"; echo " $?"'
 
 
-@dataclass
-class WebuiState:
-    """What the User Computer said about the snap."""
-
-    installed: bool
-    channel: str | None = None
-    revision: str | None = None
-    settings: dict[str, str] = field(default_factory=dict)
-    running: bool = False
-    profiles: set[str] = field(default_factory=set)
-
-    def value(self, key: str) -> str:
-        return self.settings.get(key, DEFAULTS[key])
-
-    def to_json(self) -> dict[str, Any]:
-        return {"installed": self.installed, "channel": self.channel, "revision": self.revision,
-                "settings": {k: self.value(k) for k in DEFAULTS} if self.installed else {},
-                "running": self.running, "dds_profiles": sorted(self.profiles)}
-
-
-def parse_state(output: str) -> WebuiState:
-    got = split(output)
-    listed = got.get("list")
-    if listed is None or listed.status != 0:
-        return WebuiState(False)
-    state = WebuiState(True)
-    for line in listed.text.splitlines()[1:]:
-        cols = line.split()
-        if cols and cols[0] == SNAP and len(cols) >= 4:
-            state.revision, state.channel = cols[2], cols[3]
-    getd = got.get("get")
-    if getd is not None and getd.status == 0:
-        try:
-            doc = json.loads(getd.text or "{}")
-        except ValueError:
-            doc = {}
-        for section, values in doc.items() if isinstance(doc, dict) else ():
-            for name, value in values.items() if isinstance(values, dict) else ():
-                state.settings[f"{section}.{name}"] = str(value)
-    services = got.get("services")
-    state.running = services is not None and any(
-        SNAP in line and " active" in f" {line}" and "inactive" not in line for line in services.text.splitlines())
-    profiles = got.get("profiles")
-    if profiles is not None:
-        state.profiles = {n[:-4] for n in profiles.text.split() if n.endswith(".xml")}
-    return state
-
-
 def read_state(session: UserComputerSession) -> WebuiState:
     res = session.run(Command.sh(READ, SNAP, COMMON_DIR))
     return parse_state(res.stdout)
-
-
-def plan_changes(state: WebuiState, wanted: dict[str, str]) -> list[tuple[str, str, str]]:
-    """(key, current, new) for every key whose value changes (pure)."""
-    return [(k, state.value(k), v) for k, v in wanted.items() if state.value(k) != v]
 
 
 def ui_url(host: str, port: str) -> str:
@@ -123,6 +76,18 @@ def sudo(session: UserComputerSession, *argv: str) -> None:
 
 
 Task = Callable[[RobotContext], RobotResult]
+
+
+def robot_namespace(ctx: RobotContext) -> RobotNamespace:
+    """The driver's namespace as the WebUI's default (`defaults`), read from the robot."""
+    from panther_ops.core.config.robot import read_config
+    from panther_ops.core.fleet.reading import read_and_plan
+
+    try:
+        cfg = read_config(ctx)
+    except OpsError as exc:
+        return unknown_namespace(exc)
+    return read_and_plan(ctx, lambda reads: robot_namespace_of(reads, cfg))
 
 
 def status_task(password: Secret | None) -> Task:
@@ -191,17 +156,6 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
     answered = f"{url} answers {code}" if code else f"{url} does not answer"
     return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {state.channel} rev {state.revision}, "
                        f"{'running' if state.running else 'stopped'}; {answered} (recorded: demo robot)", data=data)
-
-
-def plan_text(plan: list[tuple[str, str, str]], note: str) -> str:
-    """``key: current -> new, ...``; a ``ros.namespace`` that is the robot's default says so."""
-    defaulted = note.startswith(f"{NS_KEY} ") and ": " in note
-
-    def item(k: str, c: str, n: str) -> str:
-        why = f" ({note.split(': ', 1)[1]})" if k == NS_KEY and defaulted else ""
-        return f"{k}: {c or '(unset)'} -> {n}{why}"
-
-    return ", ".join(item(k, c, n) for k, c, n in plan)
 
 
 def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:

@@ -1,0 +1,138 @@
+"""The planner of `config push`: a checked file (and what it brings along) onto one robot.
+
+Pure: a function of compose.yaml as read (:class:`ComposeRead`), the robot files it asks
+for (:class:`Reads`) and the local bundle; the reads are `push.py`'s.
+"""
+
+from __future__ import annotations
+
+import posixpath
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
+from panther_ops.core.config.launch_args import spec
+from panther_ops.core.config.planners import compose_plan, edit_args
+from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
+from panther_ops.core.fleet.memo import Memo
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind, Target, check_file
+from panther_ops.errors import InputError
+
+KINDS = {
+    FileKind.CONTROLLER: ConfigKind.CONTROLLER,
+    FileKind.WHEEL: ConfigKind.WHEEL,
+    FileKind.COMPONENTS: ConfigKind.COMPONENTS,
+    FileKind.LED: ConfigKind.ANIMATIONS,
+    FileKind.USER_ANIMATIONS: ConfigKind.USER_ANIMATIONS,
+    FileKind.SHUTDOWN_HOSTS: ConfigKind.SHUTDOWN_HOSTS,
+    FileKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
+}
+BT_ARGS = {FileKind.BT_LIGHTS: "lights_bt_project_path", FileKind.BT_SAFETY: "safety_bt_project_path"}
+BT_TEMPLATES = {FileKind.BT_LIGHTS: "PantherLightsBT.btproj", FileKind.BT_SAFETY: "PantherSafetyBT.btproj"}
+
+@dataclass
+class Bundle:
+    """The local files of a push: the main file and what it brings along."""
+
+    main: Path
+    data: bytes
+    extra: dict[str, bytes] = field(default_factory=dict)
+    """name (relative to the main file's robot directory) -> content"""
+
+
+
+_IMAGE = re.compile(r"^(\s*image:\s*)(['\"]?)([^'\"\n#]+?)\2(\s*(#.*)?)$", re.MULTILINE)
+
+
+def _rewrite_images(text: str, target_dir: str) -> str:
+    def sub(m: re.Match[str]) -> str:
+        ref = m.group(3).strip()
+        if ref.startswith("$(find"):
+            return m.group(0)
+        return f"{m.group(1)}{m.group(2)}{target_dir}/animations/{posixpath.basename(ref)}{m.group(2)}{m.group(4)}"
+
+    return _IMAGE.sub(sub, text)
+
+
+def wheel_of(cfg: RobotConfig) -> str:
+    wheel = cfg.compose.args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+    return "WH01" if wheel == "custom" else wheel
+
+
+_CHECKED: Memo[list[str]] = Memo()
+
+
+def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
+    """The plan of pushing ``bundle`` as ``kind`` to the robot whose compose.yaml is ``raw``."""
+    cfg = parse_config(raw, reads.stack)
+    target = Target(cfg.stack, wheel_of(cfg))
+    warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
+                                 lambda: check_file(kind, str(bundle.main), bundle.data,
+                                                    local=bundle.main, target=target, force=force)))
+    if kind is FileKind.JOY2TWIST:
+        from panther_ops.core.config.gamepad import plan_joy2twist
+
+        return plan_joy2twist(reads, cfg, bundle.main.name, bundle.data, warnings)
+    forced = [w for w in warnings if w.endswith("(forced)")]
+    if kind in BT_ARGS:
+        pkg = f"{cfg.stack.package_prefix}_manager"
+        robot_dir = f"{ROBOT_CONFIG_DIR}/{pkg}/behavior_trees"
+        container_dir = f"{CONTAINER_CONFIG_DIR}/{pkg}/behavior_trees"
+        arg = BT_ARGS[kind]
+        name = bundle.main.name
+        main_data = bundle.data
+        extra = bundle.extra
+    else:
+        cf = config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(cfg))
+        arg = cf.launch_arg or ""
+        robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
+        name = bundle.main.name
+        if cfg.tree_mounted and reads.file(cf.robot_path) is not None:
+            name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
+            arg = ""
+        main_data = bundle.data
+        extra = {}
+        if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack
+            from panther_ops.core.config.animation_types import for_stack
+
+            text, translated = for_stack(main_data.decode(), cfg.stack)
+            main_data = text.encode()
+            warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
+        if kind is FileKind.USER_ANIMATIONS and bundle.extra:
+            main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
+            extra = {f"../{k}": v for k, v in bundle.extra.items()}
+    edits: list[FileEdit] = []
+    files = {name: main_data, **extra}
+    inside = posixpath.dirname(robot_dir) if kind is FileKind.USER_ANIMATIONS else robot_dir
+    for rel, content in files.items():
+        path = posixpath.normpath(posixpath.join(robot_dir, rel))
+        if not path.startswith(inside + "/"):
+            raise InputError(f"{rel} would be written to {path}, outside {inside}", path=str(bundle.main),
+                             hint="the files a push brings stay in the robot's config directory")
+        before = reads.file(path)
+        if before != content:
+            edits.append(FileEdit(path, before, content))
+    main_container = f"{container_dir}/{name}"
+    contains: tuple[str, ...] = ()
+    if not cfg.tree_mounted:
+        mount_src = robot_dir if (extra or kind in BT_ARGS) else f"{robot_dir}/{name}"
+        mount_dst = container_dir if (extra or kind in BT_ARGS) else main_container
+        if kind is FileKind.USER_ANIMATIONS and extra:
+            mount_src, mount_dst = posixpath.dirname(robot_dir), posixpath.dirname(container_dir)
+        if cfg.host_path_of(mount_dst) != mount_src:
+            cfg.compose.add_volume(mount_src, mount_dst, ro=True)
+    if arg:
+        w, v = edit_args(cfg, {arg: main_container}, [], force)
+        warnings += w
+        contains = v.cmd_contains
+    summary = f"{kind.value}: {bundle.main.name} -> {robot_dir}/{name}" + (f" ({arg}:={main_container})" if arg else "")
+    if forced:
+        summary += " [--force: " + "; ".join(forced) + "]"
+    plan = compose_plan(reads.robot, cfg, summary, warnings, [Verify(cfg.service, contains)],
+                         f"{robot_dir}/{name} already has this content", extra=edits)
+    plan.data["robot_path"] = f"{robot_dir}/{name}"
+    return plan
+

@@ -1,0 +1,180 @@
+"""The robot's own shutdown hosts file: which file the manager reads, and plans that change it (pure).
+
+Where the file is (panther-stack.md §1.8): ``panther_bringup/config/shutdown_hosts.yaml``
+(2.0.0-2.1.0), ``panther_manager/config/shutdown_hosts_config.yaml`` (2.1.1+),
+``husarion_ugv_manager/config/shutdown_hosts.yaml`` (2.2). The file in use is, in order:
+the file ``shutdown_hosts_config_path`` points at when it is mounted from the robot; the 2.2
+config tree's file (``~/config/...``, read through ``common_dir_path``); else the default
+inside the driver image (or panther-ops' template of that version).
+
+Changes go through the configuration pipeline (diff, confirm, backup, atomic write,
+recreate, verify, roll back): a mounted file or the tree's file is edited in place; the
+image's default is copied to ``~/config/<package>/config/<file>``, edited, mounted and
+pointed at with ``shutdown_hosts_config_path`` (2.0/2.1), as `config push` does.
+
+Pure functions of compose.yaml as read and the files they ask for (:class:`Reads`); the
+reads (and the image's default, through `config pull`) are `robotfile.py`'s.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.launch_args import spec
+from panther_ops.core.config.planners import compose_plan
+from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan_rollback import plan_rollback
+from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind, FileKindError, check_file
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, parse_hosts
+from panther_ops.core.stack import Stack
+from panther_ops.errors import InputError, UsageError
+from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
+
+
+@dataclass
+class RobotHostsFile:
+    """The hosts file a robot's manager reads."""
+
+    text: str
+    path: str | None
+    """Robot path of the file in use; None while the robot uses the image's default."""
+    source: str
+    stack: Stack
+    cfg: RobotConfig
+
+    @property
+    def mode(self) -> Mode:
+        return Mode.HTTP if self.stack.shutdown_over_http else Mode.SSH
+
+    def parse(self, power_budget: float = POWER_BUDGET_S) -> HostsFile:
+        return parse_hosts(self.text, self.path or self.source, mode=self.mode, power_budget=power_budget,
+                           allow_refs=False)
+
+
+def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
+    """The mounted hosts file, else the 2.2 tree's (None: the robot uses its image's default)."""
+    cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
+    arg = spec("shutdown_hosts_config_path").name_for(cfg.stack)
+    current = cfg.compose.args.get(arg)
+    if current:
+        host = cfg.host_path_of(current)
+        if host is not None:
+            data = reads.file(host)
+            if data is None:
+                raise UsageError(f"{arg}:={current} is mounted from {host}, which does not exist on the robot",
+                                 hint="push a hosts file: panther-ops shutdown hosts add -r ROBOT ...")
+            return RobotHostsFile(data.decode(errors="replace"), host, f"{host} (mounted, {arg}:={current})",
+                                  cfg.stack, cfg)
+    if cfg.tree_mounted:
+        data = reads.file(cf.robot_path)
+        if data is not None:
+            return RobotHostsFile(data.decode(errors="replace"), cf.robot_path, f"{cf.robot_path} (config tree)",
+                                  cfg.stack, cfg)
+    return None
+
+
+Editor = Callable[[str, Mode], Edit]
+
+
+def hosts_edit(rf: RobotHostsFile, editor: Editor, power_budget: float = POWER_BUDGET_S) -> tuple[Edit, list[str]]:
+    """The edit of the robot's hosts file and its warnings (refused when the file would have errors)."""
+    where = rf.path or rf.source
+    try:
+        edit = editor(rf.text, rf.mode)
+    except InputError as exc:  # the editors name the text they were given: name the robot's file
+        if exc.path in (None, "<hosts>"):
+            raise InputError(exc.message.removeprefix(f"{exc.path}: ").replace("<hosts>", where), path=where,
+                             hint=exc.hint) from None
+        raise
+    after = parse_hosts(edit.text, where, mode=rf.mode, power_budget=power_budget, allow_refs=False)
+    if after.errors:  # the whole file as it would be written: an invalid entry already there is refused too
+        raise FileKindError(where, "shutdown hosts file", [str(f) for f in after.errors],
+                            hint="fix or remove the entries named (panther-ops shutdown hosts remove -r ROBOT "
+                            "--ip IP); nothing was changed")
+    return edit, [str(f) for f in after.warnings]
+
+
+def plan_in_place(robot: str, rf: RobotHostsFile, edit: Edit, warnings: list[str]) -> RobotPlan | None:
+    """The plan of an edit of the file in use (None: the image's default must be pushed instead)."""
+    summary = f"shutdown hosts: {edit.message}"
+    if not edit.changed:
+        plan = compose_plan(robot, rf.cfg, summary, warnings, [], edit.message)
+        plan.data["robot_path"] = rf.path
+        return plan
+    if rf.path is None:
+        return None
+    edits: list[FileEdit] = [MaskedFileEdit(rf.path, rf.text.encode(), edit.text.encode())]
+    plan = compose_plan(robot, rf.cfg, summary, warnings, [Verify(rf.cfg.service)], edit.message, extra=edits)
+    plan.data["robot_path"] = rf.path
+    return plan
+
+
+def as_hosts_push(plan: RobotPlan, edit: Edit, warnings: list[str]) -> RobotPlan:
+    """A `config push` plan of the edited default file, masked, summarised as a hosts change."""
+    plan.edits = [MaskedFileEdit(e.path, e.before, e.after, e.mode) for e in plan.edits]
+    plan.summary = f"shutdown hosts: {edit.message} ({plan.summary})"
+    plan.warnings[:0] = warnings
+    return plan
+
+
+def plan_local_edit(reads: Reads, file: Path, change: Callable[[str], Edit]) -> RobotPlan:
+    """The plan of one change to a local hosts file (``change`` maps its text to the new one)."""
+    path = str(file.resolve())
+    where = str(file)
+    before = reads.file(path)
+    try:
+        text = (before or b"").decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise UsageError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start})",
+                         hint="nothing was changed") from exc
+    edit = change(text)
+    after = edit.text.encode()
+    warnings = check_file(FileKind.SHUTDOWN_HOSTS, where, after, local=file)
+    home = str(Path(path).parent)
+    if not edit.changed or after == before:
+        return RobotPlan(reads.robot, edit.message, noop=edit.message, warnings=warnings, home=home)
+    # a new file may hold a secret (--ask-secret): only its owner reads it
+    edits: list[FileEdit] = [MaskedFileEdit(path, before, after, None if before is not None else 0o600)]
+    return RobotPlan(reads.robot, edit.message, edits, warnings=warnings, home=home,
+                     data={"hosts_file": where})
+
+
+def plan_local_restore(reads: Reads, file: Path, to: str | None) -> RobotPlan:
+    """The plan restoring a local hosts file as it was before backup ``to`` (default: the
+    newest): masked diff, the content restored checked as every write of the file is."""
+    warnings: list[str] = []
+
+    def edit(path: str, now: bytes | None, old: bytes | None) -> FileEdit:
+        if old is not None:
+            warnings.extend(check_file(FileKind.SHUTDOWN_HOSTS, str(file), old, local=file))
+        return MaskedFileEdit(path, now, old, None if now is not None else 0o600)
+
+    plan = plan_rollback(reads, to, only=str(file.resolve()), edit=edit)
+    plan.warnings += warnings
+    plan.home = str(file.resolve().parent)
+    plan.data["hosts_file"] = str(file)
+    return plan
+
+
+@dataclass
+class RobotShutdownPlan:
+    robot: str
+    hosts_file: RobotHostsFile
+    parsed: HostsFile
+    hosts: list[ShutdownHost]
+
+
+def shutdown_plan(robot: str, rf: RobotHostsFile, power_budget: float = POWER_BUDGET_S) -> RobotShutdownPlan:
+    """`shutdown robot`: the robot's hosts file, validated (UsageError when it has errors)."""
+    parsed = rf.parse(power_budget)
+    if parsed.errors:
+        raise UsageError(f"its hosts file ({rf.source}) has errors: "
+                         + "; ".join(str(f) for f in parsed.errors),
+                         hint=f"fix it first (panther-ops shutdown hosts validate -r {robot}); nothing was "
+                         "shut down")
+    return RobotShutdownPlan(robot, rf, parsed, parsed.hosts())
