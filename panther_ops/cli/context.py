@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING
 import typer
 
 if TYPE_CHECKING:
+    import threading
+
     from panther_ops.core.fleet.changes import Applier, Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.runner import Task
@@ -34,53 +36,58 @@ def info(message: str) -> None:
     sys.stderr.write(message + "\n")
 
 
-RICH = ("rich.console", "rich.table", "rich.text")
-"""What a table on the terminal needs (``--json`` needs none of it)."""
+def _import_paramiko() -> threading.Thread:
+    """Import paramiko (~0.1 s) in a background thread while this one reads the inventory.
 
-
-def _preload(modules: tuple[str, ...]) -> None:
-    """Import paramiko in the background while the inventory loads (it takes ~0.1 s), then
-    ``modules`` (what the command's robot tasks need, e.g. the planners and their YAML
-    editor: ~0.04 s; what the output needs, :data:`RICH`: ~0.03 s), all while the fleet's
-    handshakes run: a task then finds them loaded instead of importing them itself while
-    the other robots' tasks wait on the import lock. Only what the run will use: on a busy
-    machine the imports take the interpreter from the handshakes."""
+    Made safe by design: two threads importing modules of one package at the same time can
+    meet a half-initialised module (CPython breaks the lock cycle of a package and a
+    submodule imported from two threads by handing one of them the unfinished module: a
+    NameError inside PyYAML was seen). So the thread imports paramiko alone, a third-party
+    package that imports nothing of ours; the inventory's parser, PyYAML, which paramiko
+    also reaches (through invoke's vendored yaml), is imported here first; while the thread
+    runs, reading the inventory imports only single standard-library modules (held by
+    tests/unit/test_background_import.py); and the thread is joined before any robot's task
+    starts, so no task ever imports while it does. The robots' tasks import what else they
+    need themselves, all along the same path."""
     import importlib
     import threading
 
-    def load() -> None:
-        for name in ("paramiko", *modules):
-            importlib.import_module(name)
+    import yaml  # noqa: F401  # the inventory's parser, before the thread starts (see above)
 
     # not a daemon: an interpreter that exits normally (main() called in-process, then
-    # sys.exit) waits for the imports to end instead of tearing down a thread that is inside
-    # one (glibc: "FATAL: exception not rethrown", SIGABRT); the console script leaves with
-    # os._exit once its output is flushed, so it never waits for them
-    threading.Thread(target=load, name="preload", daemon=False).start()
+    # sys.exit) waits for the import to end instead of tearing down a thread that is inside
+    # one (glibc: "FATAL: exception not rethrown", SIGABRT)
+    thread = threading.Thread(target=importlib.import_module, args=("paramiko",), name="import-paramiko",
+                              daemon=False)
+    thread.start()
+    return thread
 
 
-def load(ctx: typer.Context, preload: tuple[str, ...] = (), tables: bool = True) -> Inventory:
-    """The inventory, the background imports started first (see :func:`_preload`);
-    ``tables``: the output will be rich tables (not ``--json``)."""
+def load(ctx: typer.Context, robots_next: bool = False) -> Inventory:
+    """The inventory; ``robots_next``: the command contacts robots next, so paramiko is
+    imported meanwhile (see :func:`_import_paramiko`)."""
     from panther_ops.core.fleet.inventory_file import load_inventory
 
-    _preload(preload + RICH if tables else preload)
-    inv = load_inventory(settings(ctx).inventory)
+    importing = _import_paramiko() if robots_next else None
+    try:
+        inv = load_inventory(settings(ctx).inventory)
+    finally:
+        if importing is not None:
+            importing.join()
     info(f"inventory: {inv.path} (from {inv.origin})")
     return inv
 
 
 def targets(
     ctx: typer.Context, robots: list[str] | None, groups: list[str] | None, all_: bool,
-    preload: tuple[str, ...] = (), read_only: bool = False, tables: bool = True,
+    read_only: bool = False,
 ) -> tuple[Inventory, list[Robot]]:
-    """The inventory and the robots chosen; ``preload``: modules the robots' tasks will import;
-    ``tables``: the output will be rich tables (False with ``--json``: rich is not preloaded).
+    """The inventory and the robots chosen.
 
     ``read_only``: a command that only reads answers, when no robot is chosen, for the
     inventory's ``settings.default_group``, else for every robot.
     """
-    inv = load(ctx, preload, tables)
+    inv = load(ctx, robots_next=True)
     if read_only and not (robots or groups or all_) and len(inv.robots) > 1:
         if inv.default_group is not None:
             info(f"no robot chosen: group {inv.default_group} (settings.default_group)")
@@ -130,17 +137,16 @@ class Fleet:
     canary: int = 0
     max_fail: float | None = None
 
-    def targets(self, preload: tuple[str, ...] = (), read_only: bool = False) -> tuple[Inventory, list[Robot]]:
-        """The inventory and the robots chosen (see :func:`targets`; rich is preloaded only for tables)."""
-        return targets(self.ctx, self.robot, self.group, self.all_, preload=preload, read_only=read_only,
-                       tables=not self.json_out)
+    def targets(self, read_only: bool = False) -> tuple[Inventory, list[Robot]]:
+        """The inventory and the robots chosen (see :func:`targets`)."""
+        return targets(self.ctx, self.robot, self.group, self.all_, read_only=read_only)
 
-    def results(self, command: str, task: Task, *, read_only: bool = False, preload: tuple[str, ...] = (),
+    def results(self, command: str, task: Task, *, read_only: bool = False,
                 at_once: bool = False, progress: bool = True,
                 on: tuple[Inventory, list[Robot]] | None = None) -> FleetResult:
         """``task`` run on the robots chosen (or ``on`` the targets given); ``at_once``: every
         robot at the same time (no fork limit); ``progress``: the live progress when it is wanted."""
-        inv, chosen = on or self.targets(preload, read_only)
+        inv, chosen = on or self.targets(read_only)
         forks = (len(chosen) or None) if at_once else self.forks
         return run(command, inv, chosen, task, forks=forks, canary=self.canary, max_fail=self.max_fail,
                    json_out=self.json_out or not progress)
@@ -152,14 +158,14 @@ class Fleet:
         return finish(fleet, self.json_out, view or print_results)
 
     def run(self, command: str, task: Task, view: Callable[[FleetResult], None] | None = None, *,
-            read_only: bool = False, preload: tuple[str, ...] = (), at_once: bool = False,
+            read_only: bool = False, at_once: bool = False,
             on: tuple[Inventory, list[Robot]] | None = None) -> int:
         """Select, run ``task``, render: a read or an action on each robot."""
-        return self.show(self.results(command, task, read_only=read_only, preload=preload, at_once=at_once, on=on),
+        return self.show(self.results(command, task, read_only=read_only, at_once=at_once, on=on),
                          view)
 
     def change(self, command: str, planner: Planner, *, applier: Applier | None = None, verb: str = "Apply to",
-               preload: tuple[str, ...] = (), read_only: bool = False,
+               read_only: bool = False,
                on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None,
                applier_for_actions: bool = False) -> int:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
@@ -167,7 +173,7 @@ class Fleet:
         ``applier_for_actions``: see :func:`~panther_ops.cli.mutate.mutate`."""
         from panther_ops.cli.mutate import mutate
 
-        inv, chosen = on or self.targets(preload, read_only)
+        inv, chosen = on or self.targets(read_only)
         return mutate(command, inv, chosen, planner, yes=self.yes and not read_only,
                       dry_run=self.dry_run or read_only, restart=not self.no_restart if restart is None else restart,
                       settle=self.settle, json_out=self.json_out, forks=self.forks, canary=self.canary,

@@ -89,8 +89,8 @@ def test_help_texts_are_complete(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_the_background_imports_end_before_the_interpreter(demo: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """main() called in-process, then a normal exit: the interpreter waits for the preload's
-    imports instead of tearing down a thread inside one (it aborted: "FATAL: exception not
+    """main() called in-process, then a normal exit: the interpreter waits for the background
+    import instead of tearing down a thread inside one (it aborted: "FATAL: exception not
     rethrown", exit -6)."""
     import threading
 
@@ -104,8 +104,8 @@ def test_the_background_imports_end_before_the_interpreter(demo: Path, monkeypat
             super().start()
 
     monkeypatch.setattr(threading, "Thread", Recorded)
-    context._preload(())
-    assert [t.name for t in started] == ["preload"] and not started[0].daemon
+    context._import_paramiko()
+    assert [t.name for t in started] == ["import-paramiko"] and not started[0].daemon
     started[0].join(timeout=30)
     monkeypatch.undo()
     code = ("from panther_ops.cli.app import main; import sys; "

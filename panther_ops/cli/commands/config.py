@@ -27,7 +27,6 @@ app = typer.Typer(
     no_args_is_help=True,
 )
 
-PLANNERS = ("panther_ops.core.config.plans",)
 """What planning a change imports: loaded in the background while the robots connect."""
 
 KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
@@ -106,7 +105,7 @@ def set_(
     label = (f"config set {key} {value}" + (" --everywhere" if everywhere else "")
              + (" --force" if force else ""))
     # the planners (and the YAML editor they bring) load while the robots connect
-    return fleet.change(label, planner, preload=PLANNERS)
+    return fleet.change(label, planner)
 
 
 @app.command("unset")
@@ -125,7 +124,7 @@ def unset(fleet: Fleet, key: KeyArg) -> int:
 
         return plan_args(c, {}, [key])
 
-    return fleet.change(f"config unset {key}", planner, preload=PLANNERS)
+    return fleet.change(f"config unset {key}", planner)
 
 
 @app.command("diff")

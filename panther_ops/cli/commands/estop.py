@@ -10,7 +10,6 @@ from panther_ops.cli.options import TARGETS, shared
 app = typer.Typer(help="The E-stop: see it, trigger it (all targeted robots at once), reset it.",
                   no_args_is_help=True)
 
-_PRELOAD = ("panther_ops.core.remote.estop.calls",)
 
 
 @app.command("status")
@@ -24,7 +23,7 @@ def status(fleet: Fleet) -> int:
     from panther_ops.cli.views.estop import print_state
     from panther_ops.core.remote.estop.calls import status_task
 
-    return fleet.run("estop status", status_task, print_state, preload=_PRELOAD, at_once=True)
+    return fleet.run("estop status", status_task, print_state, at_once=True)
 
 
 @app.command("trigger")
@@ -39,7 +38,7 @@ def trigger(fleet: Fleet) -> int:
     from panther_ops.core.remote.estop.calls import trigger_task
 
     # every robot at once; no progress bar
-    return fleet.show(fleet.results("estop trigger", trigger_task, preload=_PRELOAD, at_once=True, progress=False))
+    return fleet.show(fleet.results("estop trigger", trigger_task, at_once=True, progress=False))
 
 
 @app.command("reset")
@@ -59,7 +58,7 @@ def reset(fleet: Fleet) -> int:
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.remote.estop.calls import reset_check_task, reset_task
 
-    inv, chosen = fleet.targets(_PRELOAD)
+    inv, chosen = fleet.targets()
     opts = RunOptions(forks=max(1, len(chosen)))
     with Connections(inv) as conns:
         checked = run_fleet("estop reset", inv, chosen, reset_check_task, opts, connections=conns)

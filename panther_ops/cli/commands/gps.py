@@ -209,11 +209,11 @@ def watch(
             while count is None or len(rounds) < count:
                 if rounds:  # a refresh every --window seconds at most (demo robots answer at once)
                     time.sleep(max(0.0, window - (time.monotonic() - started)))
-                started = time.monotonic()
+                started, stamp = time.monotonic(), time.time()  # a round is stamped when it starts
                 result = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), None,
                                    conns)
                 code = int(result.exit_code)
-                rounds.append({"time": round(time.time(), 3), **result.to_json()})
+                rounds.append({"time": round(stamp, 3), **result.to_json()})
                 show(result, f"panther-ops gps watch ({time.strftime('%H:%M:%S')}, refresh {len(rounds)})")
     except KeyboardInterrupt:
         pass

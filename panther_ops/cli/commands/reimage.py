@@ -97,7 +97,6 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Jso
     return 0 if v.ok else int(ExitCode.PARTIAL)
 
 
-_PRELOAD = ("panther_ops.core.reimage.tasks",)
 
 
 @app.command("plan")
@@ -115,7 +114,7 @@ def plan(fleet: Fleet) -> int:
     from panther_ops.cli.views.reimage import print_carried
     from panther_ops.core.reimage.tasks import plan_task
 
-    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"), preload=_PRELOAD)
+    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"))
 
 
 @app.command("backup")
@@ -137,8 +136,7 @@ def backup(
     from panther_ops.core.reimage.tasks import backup_task
 
     directory = out_dir(out)
-    return fleet.run("reimage backup", backup_task(directory), lambda f: print_results(f, title="reimage backup"),
-                     preload=_PRELOAD)
+    return fleet.run("reimage backup", backup_task(directory), lambda f: print_results(f, title="reimage backup"))
 
 
 @app.command("restore")

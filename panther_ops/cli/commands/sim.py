@@ -24,12 +24,9 @@ File = Annotated[Path, typer.Argument(help="The file (on this machine).")]
 
 
 def _read(path: Path) -> str:
-    from panther_ops.errors import InputError
+    from panther_ops.core.sim.files import read_text
 
-    try:
-        return path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror}", path=str(path)) from None
+    return read_text(path)
 
 
 def _write(path: Path, before: str, after: str, what: str, command: str, *, yes: bool, dry_run: bool,
@@ -56,9 +53,9 @@ def _write(path: Path, before: str, after: str, what: str, command: str, *, yes:
             if not typer.confirm(f"Write {path}?", default=False):
                 sys.stderr.write("nothing was changed\n")
                 return 2
-        from panther_ops.transport.localfile import write_with_backup
+        from panther_ops.core.sim.files import write_text
 
-        res.data["backup"] = str(write_with_backup(path, after.encode()))
+        res.data["backup"] = str(write_text(path, after))
     if json_out:
         emit_json(fleet.to_json())
     else:

@@ -14,7 +14,6 @@ from panther_ops.cli.options import TARGETS, AskPassword, shared, sudo_password
 app = typer.Typer(help="The husarion-webui snap on the robots' User Computers (through the robots).",
                   no_args_is_help=True)
 
-_PRELOAD = ("panther_ops.core.remote.webui.remote", "fabric")
 
 
 @app.command("status")
@@ -27,7 +26,7 @@ def status(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)))
 
 
 @app.command("get")
@@ -39,7 +38,7 @@ def get(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)))
 
 
 @app.command("install")
@@ -58,7 +57,7 @@ def install(fleet: Fleet, channel: Annotated[str, typer.Option("--channel", help
         from panther_ops.errors import UsageError
 
         raise UsageError(f"--channel {channel!r} is not a snap channel", hint="e.g. humble or humble/edge")
-    return fleet.run("webui install", install_task(channel, sudo_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui install", install_task(channel, sudo_password(ask_sudo_password)))
 
 
 @app.command("start")
@@ -70,7 +69,7 @@ def start(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import start_stop_task
 
-    return fleet.run("webui start", start_stop_task(True, sudo_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui start", start_stop_task(True, sudo_password(ask_sudo_password)))
 
 
 @app.command("stop")
@@ -82,7 +81,7 @@ def stop(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import start_stop_task
 
-    return fleet.run("webui stop", start_stop_task(False, sudo_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui stop", start_stop_task(False, sudo_password(ask_sudo_password)))
 
 
 @app.command("url")
@@ -94,7 +93,7 @@ def url(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import url_task
 
-    return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)), preload=_PRELOAD)
+    return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)))
 
 
 @app.command("set")
@@ -121,7 +120,7 @@ def set_(
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
     password = sudo_password(ask_sudo_password)
-    inv, chosen = fleet.targets(_PRELOAD)
+    inv, chosen = fleet.targets()
     with Connections(inv) as conns:
         plan_wanted = dict(wanted)
         if dds is not None:  # the profile is uploaded before the set: its presence is not a refusal
