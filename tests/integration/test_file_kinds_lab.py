@@ -20,7 +20,7 @@ CONFIG = "/home/husarion/config/panther_controller/config"
 
 def test_wheel_type_change_migrates_the_custom_controller(lab: Any, pristine: None, tmp_path: Path,
                                                           capsys: pytest.CaptureFixture[str]) -> None:
-    name = robot_of(lab, "2.1.1").name
+    name = robot_of(lab, "2.1.1")
     inv = str(lab.inventory_path)
     mine = tmp_path / "my_controller.yaml"
     text = (TEMPLATES / "config/panther-2.1/panther_controller/config/WH01_controller.yaml").read_text()
@@ -53,7 +53,7 @@ def test_wheel_type_change_migrates_the_custom_controller(lab: Any, pristine: No
 
 def test_a_refused_push_leaves_the_robot_as_it_was(lab: Any, pristine: None, tmp_path: Path,
                                                     capsys: pytest.CaptureFixture[str]) -> None:
-    name = robot_of(lab, "2.1.1").name
+    name = robot_of(lab, "2.1.1")
     before = lab.read_bytes(name, COMPOSE)
     listing = lab.sh(name, "find /home/husarion -xdev | sort").stdout
     bad = tmp_path / "hosts.yaml"
