@@ -9,6 +9,7 @@ import posixpath
 import secrets
 
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
+from panther_ops.core.fleet.confine import compose_path_problem
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import OpsError, RemoteStateError, TransportError, UsageError
 from panther_ops.transport import scripts, scripts_apply
@@ -18,15 +19,9 @@ from panther_ops.transport.base import Command
 def compose_file(ctx: RobotContext) -> str:
     """The robot's compose file as the inventory names it, once checked (UsageError otherwise)."""
     path = ctx.robot.compose_file
-    if not path or any(ord(c) < 32 or c == "\x7f" for c in path):
-        raise UsageError(f"compose_file {path!r} is empty or holds a control character",
-                         hint="compose_file: the path of the compose file on the robot, e.g. ~/compose.yaml")
-    if not (path.startswith("/") or path.startswith("~/")):
-        raise UsageError(f"compose_file {path} must be absolute or start with ~/",
-                         hint="e.g. ~/compose.yaml or /home/husarion/compose.yaml")
-    if ".." in path.split("/"):
-        raise UsageError(f"compose_file {path} holds '..': it would leave its directory",
-                         hint="name the file directly, e.g. ~/compose.yaml")
+    problem = compose_path_problem(path)
+    if problem is not None:
+        raise UsageError(problem[0], hint=problem[1])
     local_path = getattr(ctx.transport, "local_path", None)
     if local_path is not None:  # a demo robot: the file must be inside the robot's directory, links resolved
         try:

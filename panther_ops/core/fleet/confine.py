@@ -24,6 +24,27 @@ BACKUP_PREFIX = re.compile(r"^[0-9A-Za-z-]{1,40}$")
 BACKUP_FILE = re.compile(r"^files/[0-9]+$")
 
 
+SERVICE_NAME = re.compile(r"^[a-zA-Z0-9][a-zA-Z0-9_.-]*$")
+"""A compose service's name (Docker Compose's own rule)."""
+
+
+def compose_path_problem(path: str) -> tuple[str, str] | None:
+    """Why ``path`` cannot name a robot's compose file (message, hint), or None when it can:
+    absolute or ``~/``, no control character, no ``..`` component. The inventory's
+    ``compose_file`` (`config/robot.py`) and a backup's manifest (`plan_rollback.py`) both
+    go through it."""
+    if not path or any(ord(c) < 32 or c == "\x7f" for c in path):
+        return (f"compose_file {path!r} is empty or holds a control character",
+                "compose_file: the path of the compose file on the robot, e.g. ~/compose.yaml")
+    if not (path.startswith("/") or path.startswith("~/")):
+        return (f"compose_file {path} must be absolute or start with ~/",
+                "e.g. ~/compose.yaml or /home/husarion/compose.yaml")
+    if ".." in path.split("/"):
+        return (f"compose_file {path} holds '..': it would leave its directory",
+                "name the file directly, e.g. ~/compose.yaml")
+    return None
+
+
 def backup_ref(to: str | None) -> str | None:
     """A backup id or unique prefix given by the operator (``--to``)."""
     if to is not None and not BACKUP_PREFIX.match(to):

@@ -19,7 +19,7 @@ from typing import Any
 from panther_ops.core.fleet import plan_rollback as planner
 from panther_ops.core.fleet.confine import backup_of_file
 from panther_ops.core.fleet.pipeline import BACKUP_ROOT
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+from panther_ops.core.fleet.plan import MaskedFileEdit, RobotPlan
 from panther_ops.core.fleet.reading import FactReader, read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.errors import RemoteStateError, TransportError
@@ -65,7 +65,7 @@ ROLLBACK_FACTS: dict[str, FactReader] = {planner.HISTORY: lambda c, _key: list_h
 
 
 def plan_rollback(ctx: RobotContext, to: str | None, *, only: str | None = None,
-                  edit: planner.MakeEdit = FileEdit) -> RobotPlan:
+                  edit: planner.MakeEdit = MaskedFileEdit) -> RobotPlan:
     """Restore the files of backup ``to`` (default: the newest): read the backups the planner
     (`plan_rollback.py`, pure; ``only`` and ``edit`` are its) asks for, and the files as they are now."""
     return read_and_plan(ctx, lambda reads: planner.plan_rollback(reads, to, only=only, edit=edit), ROLLBACK_FACTS)

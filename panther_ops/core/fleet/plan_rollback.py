@@ -11,8 +11,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from panther_ops.core.fleet.confine import backup_entry_ok, backup_of_file, backup_ref
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.confine import (
+    SERVICE_NAME,
+    backup_entry_ok,
+    backup_of_file,
+    backup_ref,
+    compose_path_problem,
+)
+from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.errors import RemoteStateError, UsageError
 
@@ -25,11 +31,12 @@ MakeEdit = Callable[[str, bytes | None, bytes | None], FileEdit]
 
 
 def plan_rollback(reads: Reads, to: str | None, *, only: str | None = None,
-                  edit: MakeEdit = FileEdit) -> RobotPlan:
+                  edit: MakeEdit = MaskedFileEdit) -> RobotPlan:
     """Restore the files of backup ``to`` (default: the newest) as they were before that change.
 
     ``only``: a local file's backups (see the module's text); ``edit`` makes each file's edit
-    from its path, its content now and the one to restore (e.g. one whose diff masks secrets).
+    from its path, its content now and the one to restore; by default one whose diff masks
+    ``secret:`` values (a restored shutdown hosts file may hold the HMAC secret).
     """
     backup_ref(to)
     entries = [e for e in reads.fact(HISTORY) if backup_entry_ok(e.get("id"), e.get("files", []))]
@@ -53,8 +60,13 @@ def plan_rollback(reads: Reads, to: str | None, *, only: str | None = None,
         old: bytes | None = reads.fact(BACKUP, f"{entry['id']}/{f['backup']}") if f.get("backup") else None
         if now != old:
             edits.append(edit(path, now, old))
-    services = tuple(entry.get("recreate", ())) if only is None else ()
+    services = tuple(str(s) for s in entry.get("recreate", ())) if only is None else ()
     compose = str(entry.get("compose_file", "~/compose.yaml")) if only is None else "~/compose.yaml"
+    bad = next((s for s in services if not SERVICE_NAME.match(s)), None)
+    problem = compose_path_problem(compose) or ((f"service {bad!r} is not a compose service name", "") if bad else None)
+    if problem is not None:  # the manifest was changed on the robot: nothing is recreated from it
+        raise RemoteStateError(f"backup {entry['id']}: its manifest is damaged: {problem[0]}; refused, nothing "
+                               "was changed")
     plan = RobotPlan(reads.robot, f"restore backup {entry['id']} (before: {entry.get('command') or '?'})",
                      edits, services, compose,
                      [Verify(s) for s in services],
