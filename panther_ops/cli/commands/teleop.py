@@ -37,8 +37,8 @@ def teleop(
     from panther_ops.cli.render import error
     from panther_ops.core.fleet.runner import Connections, RobotContext
     from panther_ops.core.remote.teleop.keyboard import prepare
+    from panther_ops.core.remote.teleop.session import drive
     from panther_ops.errors import ExitCode, RemoteStateError, UnreachableError, UsageError
-    from panther_ops.transport.interactive import run_interactive
 
     inv, chosen = context.targets(ctx, robot, None, False)
     if len(chosen) != 1:
@@ -55,12 +55,9 @@ def teleop(
             return int(ExitCode.PARTIAL)
         for w in plan.warnings:
             context.info(f"warning {chosen[0].name}: {w}")
-        client = getattr(rctx.transport, "client", None)
-        if client is None:
-            raise UsageError("teleop needs an SSH robot")
         context.info(f"{chosen[0].name}: teleop_twist_keyboard in {plan.container} on {plan.namespace.rstrip('/')}"
                      f"/cmd_vel at {rate:g} Hz; Ctrl-C ends")
-        return run_interactive(client, chosen[0].name, plan.command)
+        return drive(rctx, plan)
 
 
 def register(app: typer.Typer) -> None:
