@@ -129,3 +129,12 @@ def test_push_uses_the_same_validators(tmp_path: Path, capsys: pytest.CaptureFix
     code, _out, err = run(capsys, "-i", str(tmp_path / "demo"), "config", "push", str(battery), "--as", "battery",
                           "-r", "panther-01", "--dry-run")
     assert code == 2 and "initial_charge_percentage" in err
+
+
+def test_a_file_that_is_not_text_is_refused_naming_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "components.yaml"
+    bad.write_bytes(b"components:\n  - type: \xff\xfe\n")
+    code, _, err = run(capsys, "sim", "gps", "add", str(bad), "--yes")
+    assert code == 2 and str(bad) in err and "not UTF-8 text" in err
+    assert bad.read_bytes() == b"components:\n  - type: \xff\xfe\n"
+    assert not (tmp_path / "components.yaml.panther-ops.bak").exists()

@@ -199,6 +199,7 @@ def hosts_add(
     if not ip:
         raise usage_error("--ip is required")
     _local_or_robots(file, fleet)
+    label = f"shutdown hosts add {f'{user}@{ip}' if user else f'http://{ip}'}"
     if file is not None:
         secret_value: Any = None
         if secret_env:
@@ -209,14 +210,12 @@ def hosts_add(
             sec = secret_from(None, None, True)
             secret_value = sec.reveal() if sec else None
         entry = _entry(ip, user, port, command, timeout, no_ping, http, secret_value)
-        return _edit_local(fleet, file, lambda text: add_host(text, entry, str(file)),
-                           f"shutdown hosts add {f'{user}@{ip}' if user else f'http://{ip}'}")
+        return _edit_local(fleet, file, lambda text: add_host(text, entry, str(file)), label)
     sec = secret_from(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
     from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 
-    label = f"{user}@{ip}" if user else f"http://{ip}"
-    return fleet.change(f"shutdown hosts add {label}",
+    return fleet.change(label,
                         lambda c: plan_hosts_edit(c, lambda text, _mode: add_host(text, entry),
                                                   power_budget=power_budget))
 
