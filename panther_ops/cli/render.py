@@ -78,19 +78,26 @@ def print_plan_diffs(fleet: FleetResult, command: str) -> None:
 
 
 def print_diffs(fleet: FleetResult) -> None:
-    """Each distinct diff once, under the robots it belongs to (a fleet of one release
-    usually gets one diff for all its robots)."""
-    groups: dict[tuple[str, str], list[str]] = {}
+    """Every robot's diffs, each a real patch.
+
+    One robot: the paths are from its root (``--- a/home/husarion/compose.yaml``: ``patch -p1``
+    in a copy of its tree). Several robots: from the fleet's root, each robot a directory named
+    after it (``--- a/panther-01/home/husarion/compose.yaml``), so the whole output is one patch
+    for a tree holding one directory per robot (the demo fleet's ``robots/``). A diff the same as
+    an earlier robot's says so in its heading.
+    """
+    from panther_ops.cli.output import print_exact
+    from panther_ops.core.yaml.diff import under_directory
+
+    several = len(fleet.results) > 1
+    first: dict[tuple[str, str], str] = {}
+    out = _console()
     for r in fleet.results:
         for d in r.diffs:
-            groups.setdefault((d.path, d.unified), []).append(r.robot)
-    from panther_ops.cli.output import print_exact
-
-    out = _console()
-    for (path, unified), robots in groups.items():
-        who = robots[0] if len(robots) == 1 else f"{len(robots)} robots ({', '.join(robots)})"
-        out.print(f"[bold]{esc(who)}[/]: {esc(path)}", soft_wrap=True)
-        print_exact(styled_diff(unified))
+            same = first.setdefault((d.path, d.unified), r.robot)
+            note = f" (the same change as {same})" if same != r.robot else ""
+            out.print(f"[bold]{esc(r.robot)}[/]: {esc(d.path)}{esc(note)}", soft_wrap=True)
+            print_exact(styled_diff(under_directory(d.unified, r.robot) if several else d.unified))
 
 
 DIFF_STYLE = (("+++", "bold"), ("---", "bold"), ("@@", "cyan"), ("+", "green"), ("-", "red"))

@@ -39,17 +39,42 @@ def test_json_document() -> None:
     assert [r["outcome"] for r in doc["robots"]] == ["ok", "unreachable"]
 
 
-def test_identical_diffs_are_shown_once_under_their_robots(capsys: pytest.CaptureFixture[str]) -> None:
+def test_several_robots_diffs_are_one_patch_for_the_fleet_tree(capsys: pytest.CaptureFixture[str]) -> None:
+    """Each robot's own diff, its paths under a directory named after it (issue 16: the output of
+    a fleet is one real patch); a diff the same as an earlier robot's says so in its heading."""
     from panther_ops.cli.render import print_diffs
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
-    same = Diff("/home/husarion/compose.yaml", "--- a/x\n+++ b/x\n@@ -1 +1 @@\n-wheel_type:=WH01\n+wheel_type:=WH02\n")
-    other = Diff("/home/husarion/compose.yaml", "--- a/x\n+++ b/x\n@@ -1 +1 @@\n-wheel_type:=WH04\n+wheel_type:=WH02\n")
+    head = "--- a/home/husarion/compose.yaml\n+++ b/home/husarion/compose.yaml\n"
+    same = Diff("/home/husarion/compose.yaml", head + "@@ -1 +1 @@\n-wheel_type:=WH01\n+wheel_type:=WH02\n")
+    other = Diff("/home/husarion/compose.yaml", head + "@@ -1 +1 @@\n-wheel_type:=WH04\n+wheel_type:=WH02\n")
     fleet = FleetResult("t", [RobotResult(n, Outcome.CHANGED, "m", diffs=[d])
                               for n, d in (("r1", same), ("r2", other), ("r3", same))])
     print_diffs(fleet)
     out = capsys.readouterr().out
-    assert out.count("+wheel_type:=WH02") == 2
-    assert "2 robots (r1, r3): /home/husarion/compose.yaml" in out
-    assert "r2: /home/husarion/compose.yaml" in out
-    assert out.index("r1, r3") < out.index("r2:")
+    assert out.count("+wheel_type:=WH02") == 3
+    for robot in ("r1", "r2", "r3"):
+        assert f"--- a/{robot}/home/husarion/compose.yaml\n+++ b/{robot}/home/husarion/compose.yaml\n" in out
+    assert "r1: /home/husarion/compose.yaml\n" in out
+    assert "r3: /home/husarion/compose.yaml (the same change as r1)\n" in out
+    assert out.index("r1:") < out.index("r2:") < out.index("r3:")
+
+
+def test_one_robots_diff_keeps_the_paths_from_its_root(capsys: pytest.CaptureFixture[str]) -> None:
+    from panther_ops.cli.render import print_diffs
+    from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
+
+    unified = "--- a/home/husarion/compose.yaml\n+++ b/home/husarion/compose.yaml\n@@ -1 +1 @@\n-a\n+b\n"
+    print_diffs(FleetResult("t", [RobotResult("r1", Outcome.CHANGED, "m",
+                                              diffs=[Diff("/home/husarion/compose.yaml", unified)])]))
+    assert capsys.readouterr().out == "r1: /home/husarion/compose.yaml\n" + unified + "\n"  # a blank line after
+
+
+def test_under_directory_touches_only_the_file_headers() -> None:
+    from panther_ops.core.yaml.diff import under_directory, unified_diff
+
+    diff = unified_diff("-- a/x\n++ b/y\nkeep\n", "keep\n", "/etc/f.yaml")
+    moved = under_directory(diff, "r1")
+    assert moved.splitlines()[:2] == ["--- a/r1/etc/f.yaml", "+++ b/r1/etc/f.yaml"]
+    assert moved.splitlines()[2:] == diff.splitlines()[2:]  # "--- a/x" in the hunk is a removed line
+    assert "--- a/x" in moved.splitlines()[3:][0]

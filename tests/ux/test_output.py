@@ -80,16 +80,23 @@ def test_piped_dry_run_is_a_patch_each_robot_applies_from_its_root(demo: Path, t
         subprocess.run([patch, "-p1", "--quiet"], input=run.out, cwd=tree, text=True, check=True)
         after = (tree / "home/husarion/compose.yaml").read_text()
         assert after != before and "wheel_type:=WH02" in after
-    # --all: each robot's part of the one output applies to that robot's tree
+    # --all: the one output is one patch for the fleet's tree (a directory per robot: the demo
+    # fleet's robots/), every robot's file patched, no hunk fuzzed or shifted
     run = piped(["-i", str(demo), *SET_WHEEL, "--all", "--dry-run"])
-    blocks = _diff_blocks(run.out)
-    assert set(blocks) == {"panther-01", "panther-02", "panther-03"}
-    for robot, block in blocks.items():
-        tree = tmp_path / f"all-{robot}"
-        shutil.copytree(demo / "robots" / robot, tree)
-        check = subprocess.run([patch, "-p1", "--dry-run"], input=block, cwd=tree, capture_output=True,
-                               text=True, check=False)
-        assert check.returncode == 0, check.stdout
+    assert run.code == 0, run.err
+    fleet_tree = tmp_path / "copy-of-robots"
+    shutil.copytree(demo / "robots", fleet_tree)
+    check = subprocess.run([patch, "-p1", "--dry-run"], input=run.out, cwd=fleet_tree, capture_output=True,
+                           text=True, check=False)
+    assert check.returncode == 0, check.stdout + check.stderr
+    assert [line for line in check.stdout.splitlines() if line.startswith("checking file")] == [
+        f"checking file {robot}/home/husarion/compose.yaml" for robot in ("panther-01", "panther-02", "panther-03")]
+    assert "FAILED" not in check.stdout and "fuzz" not in check.stdout and "offset" not in check.stdout
+    subprocess.run([patch, "-p1", "--quiet"], input=run.out, cwd=fleet_tree, text=True, check=True)
+    for robot in ("panther-01", "panther-02", "panther-03"):
+        assert "wheel_type:=WH02" in (fleet_tree / robot / "home/husarion/compose.yaml").read_text()
+        untouched = (demo / "robots" / robot / "home/husarion/compose.yaml").read_text()
+        assert "wheel_type:=WH02" not in untouched  # a dry run wrote nothing
 
 
 def test_colour_follows_the_terminal_no_color_and_the_color_option(demo: Path) -> None:

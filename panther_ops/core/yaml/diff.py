@@ -43,3 +43,21 @@ def changed_lines(diff: str) -> list[str]:
         for line in diff.splitlines()
         if line[:1] in "+-" and not line.startswith(("--- ", "+++ "))
     ]
+
+
+def under_directory(diff: str, directory: str) -> str:
+    """The same diff for a tree one level up: its file headers gain ``directory/``.
+
+    ``--- a/home/husarion/compose.yaml`` becomes ``--- a/panther-01/home/husarion/compose.yaml``
+    (and ``+++ b/...`` alike), so the diffs of several robots make one patch that applies with
+    ``patch -p1`` in the directory that holds one directory per robot. Only the headers before the
+    first hunk are touched: a removed line that reads ``-- a/x`` stays what it is.
+    """
+    lines = diff.splitlines(keepends=True)
+    for i, line in enumerate(lines):
+        if line.startswith("@@"):
+            break
+        for marker in ("--- a/", "+++ b/"):
+            if line.startswith(marker):
+                lines[i] = f"{marker}{directory}/{line[len(marker):]}"
+    return "".join(lines)
