@@ -135,11 +135,27 @@ def test_inventory_show_of_a_demo_robot_has_no_ssh_address(demo: Path, capsys: C
     assert "transport: local" in out and "root: " in out
 
 
+NEWER_READ_ONLY = (["gps", "status"], ["estop", "status"], ["webui", "status"], ["webui", "get"], ["webui", "url"],
+                   ["reimage", "plan"], ["manager", "status"])
+"""The newer groups' read-only commands: they answer without a choice too (rule 10)."""
+
+
+@pytest.mark.parametrize("argv", NEWER_READ_ONLY, ids=" ".join)
+def test_newer_read_only_commands_answer_for_every_robot_when_none_is_chosen(argv: list[str], demo: Path,
+                                                                             capsys: Capsys) -> None:
+    code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
+    doc = json.loads(out)
+    assert [r["robot"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03"], err
+    assert "no robot chosen: reading all 3 (choose with -r, -g)" in err and "choose with --robot" not in err
+    assert doc["command"] == " ".join(argv)  # `webui get` says so (it said `webui status`)
+    assert code == 0
+
+
 def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) -> None:
     inventory = demo / "inventory.yaml"
     inventory.write_text(inventory.read_text().replace("defaults:", "settings:\n  default_group: field\ndefaults:", 1))
     for argv in (["config", "get", "wheel_type"], ["status"], ["driver", "status"], ["config", "diff"],
-                 ["doctor"], ["config", "history"], ["driver", "versions"]):
+                 ["doctor"], ["config", "history"], ["driver", "versions"], *NEWER_READ_ONLY):
         code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
         assert code == 0, (argv, err)
         assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-03"], argv

@@ -168,7 +168,7 @@ def status(fleet: Fleet) -> int:
     from panther_ops.cli.views.manager import print_status
     from panther_ops.core.manager_ops.status import status_task
 
-    return fleet.run("manager status", status_task, print_status)
+    return fleet.run("manager status", status_task, print_status, read_only=True)
 
 
 @app.command("logs")

@@ -114,7 +114,7 @@ def plan(fleet: Fleet) -> int:
     from panther_ops.cli.views.reimage import print_carried
     from panther_ops.core.reimage.tasks import plan_task
 
-    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"))
+    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"), read_only=True)
 
 
 @app.command("backup")
