@@ -163,3 +163,21 @@ def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) 
     inventory.write_text(inventory.read_text().replace("default_group: field", "default_group: nope"))
     code, _, err = run(capsys, "-i", str(demo), "status")
     assert code == 2 and "default_group 'nope' is not a group of the inventory" in err and "field" in err
+
+
+# -- finding 11: progress of reimage flash/verify like the fleet's --------------------------------
+@pytest.mark.parametrize(("json_out", "quiet", "shown"), [(False, False, True), (True, False, False),
+                                                           (False, True, False)])
+def test_reimage_progress_is_silent_with_json_or_quiet(json_out: bool, quiet: bool, shown: bool,
+                                                        capsys: Capsys) -> None:
+    from panther_ops.cli.output import configure
+    from panther_ops.cli.views.reimage import progress
+
+    configure(quiet=quiet)
+    try:
+        with progress(json_out) as step:  # stderr is not a terminal here: plain lines, when wanted
+            step("write", 1 << 20, 1 << 20)
+    finally:
+        configure()
+    err = capsys.readouterr().err
+    assert ("writing: 1.0 MiB of 1.0 MiB (100%)" in err) is shown, err
