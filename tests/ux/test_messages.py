@@ -181,3 +181,15 @@ def test_reimage_progress_is_silent_with_json_or_quiet(json_out: bool, quiet: bo
         configure()
     err = capsys.readouterr().err
     assert ("writing: 1.0 MiB of 1.0 MiB (100%)" in err) is shown, err
+
+
+# -- finding 6: demo robots handled one way -----------------------------------------------------------
+@pytest.mark.parametrize("argv", [["gps", "router", "show"], ["gps", "router", "set", "--enable", "--yes"],
+                                  ["gps", "router", "set", "--enable", "--dry-run"]], ids=" ".join)
+def test_the_router_of_a_demo_robot_is_skipped_by_show_and_set_alike(argv: list[str], demo: Path, capsys: Capsys,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
+    code, out, err = run(capsys, "-i", str(demo), *argv, "-r", "panther-01", "--json")
+    assert code == 0, err
+    (robot,) = json.loads(out)["robots"]
+    assert robot["outcome"] == "skipped" and robot["message"] == "demo robot: reached without SSH, no router behind it"

@@ -117,8 +117,8 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         elif writes and stage is not None:
             fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
         fp.plans[ctx.robot.name] = plan
-        outcome = Outcome.CHANGED if does_something(plan) else Outcome.OK
-        message = plan.summary if does_something(plan) else (plan.noop or "nothing to change")
+        outcome = Outcome.CHANGED if does_something(plan) else Outcome.SKIPPED if plan.skipped else Outcome.OK
+        message = plan.summary if does_something(plan) else (plan.skipped or plan.noop or "nothing to change")
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
