@@ -193,3 +193,11 @@ def test_the_router_of_a_demo_robot_is_skipped_by_show_and_set_alike(argv: list[
     assert code == 0, err
     (robot,) = json.loads(out)["robots"]
     assert robot["outcome"] == "skipped" and robot["message"] == "demo robot: reached without SSH, no router behind it"
+
+
+@pytest.mark.parametrize("group", ["driver", "manager"])
+def test_following_a_demo_robots_log_is_skipped_as_reading_it_is(group: str, demo: Path, capsys: Capsys) -> None:
+    for follow in ([], ["-f"]):
+        code, _, err = run(capsys, "-i", str(demo), group, "logs", "-r", "panther-01", *follow)
+        assert code == 0, (follow, err)
+        assert "panther-01: skipped: demo robot: no docker engine" in err and "error" not in err, follow
