@@ -23,6 +23,14 @@ def test_a_dry_run_summary_says_would_change(demo: Path, capsys: Capsys) -> None
     assert "dry run: nothing was written" in err
 
 
+def test_the_plan_shown_before_the_question_says_would_change(demo: Path, capsys: Capsys) -> None:
+    """Refused for want of --yes (stdin is no terminal here): nothing changed, and the plan says so."""
+    code, out, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all")
+    assert code == 2 and "changes need confirmation: pass --yes" in err
+    assert "3 robots: 3 would change in" in err and "3 changed" not in err
+    assert out.count("would change: wheel_type:=WH02") == 3 and "dry run" not in out + err
+
+
 def test_config_diff_does_not_speak_of_a_dry_run(demo: Path, capsys: Capsys) -> None:
     code, out, err = run(capsys, "-i", str(demo), "config", "diff", "--all")
     assert code == 0 and "+++ b/home/husarion/compose.yaml" in out

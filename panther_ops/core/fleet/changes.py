@@ -24,7 +24,7 @@ from __future__ import annotations
 import contextlib
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.memo import Memo
@@ -183,11 +183,13 @@ def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
     """The plan as a dry run's result: each change is what the robot ``would`` get (a plan
     with an action has a summary that starts with its verb: ``would remove manager ...``).
 
-    ``read_only``: the command never writes (``config diff``): no "dry run" note then.
+    ``read_only``: the command never writes (``config diff``, the plan shown before the
+    question): no "dry run" note then. The plan's own results are left as they are.
     """
     out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
+            r = replace(r, data=dict(r.data))
             action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
             r.message = f"would {r.message}" if action else f"would change: {r.message}"
             r.data["dry_run"] = True
