@@ -209,3 +209,12 @@ def test_following_a_demo_robots_log_is_skipped_as_reading_it_is(group: str, dem
         code, _, err = run(capsys, "-i", str(demo), group, "logs", "-r", "panther-01", *follow)
         assert code == 0, (follow, err)
         assert "panther-01: skipped: demo robot: no docker engine" in err and "error" not in err, follow
+
+
+def test_gps_status_router_on_a_demo_robot_says_it_was_not_read(demo: Path, capsys: Capsys,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
+    code, out, _ = run(capsys, "-i", str(demo), "gps", "status", "-r", "panther-01", "--router", "--json")
+    (robot,) = json.loads(out)["robots"]
+    assert code == 0 and robot["data"]["router"] is None
+    assert robot["warnings"] == ["router not read: demo robot, no router behind it (as `gps router show`)"]
