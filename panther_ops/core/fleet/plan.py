@@ -87,13 +87,13 @@ class RobotPlan:
     verify: list[Verify] = field(default_factory=list)
     noop: str | None = None
     """Why nothing needs to change (then ``edits`` is empty)."""
-    skipped: str | None = None
-    """Why this robot is skipped (a demo robot where the change needs a real one): nothing to do,
-    reported ``skipped`` (exit 0), as read-only siblings report it."""
     warnings: list[str] = field(default_factory=list)
     data: dict[str, Any] = field(default_factory=dict)
     home: str | None = None
     """The robot user's home, when the plan read it (``~/`` paths resolve against it)."""
+    skipped: str | None = None
+    """Why this robot is skipped (a demo robot where the change needs a real one): nothing to do,
+    reported ``skipped`` (exit 0), as read-only siblings report it."""
 
     @property
     def diffs(self) -> list[Diff]:
