@@ -189,10 +189,10 @@ def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
     out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
-            r = replace(r, data=dict(r.data))
             action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
-            r.message = f"would {r.message}" if action else f"would change: {r.message}"
-            r.data["dry_run"] = True
-        out.add(r)
+            out.add(replace(r, message=f"would {r.message}" if action else f"would change: {r.message}",
+                            data={**r.data, "dry_run": True}))
+        else:
+            out.add(r)
     out.duration_s = fp.results.duration_s
     return out
