@@ -211,6 +211,16 @@ def test_following_a_demo_robots_log_is_skipped_as_reading_it_is(group: str, dem
         assert "panther-01: skipped: demo robot: no docker engine" in err and "error" not in err, follow
 
 
+def test_gps_enable_router_on_a_demo_robot_plans_the_driver_and_says_the_router_is_left_out(
+        demo: Path, capsys: Capsys, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
+    code, out, err = run(capsys, "-i", str(demo), "gps", "enable", "-r", "panther-01", "--router", "--dry-run", "--json")
+    assert code == 0, err
+    (robot,) = json.loads(out)["robots"]
+    assert robot["message"] == "would change: launch_nmea_gps:=True on panther_ros"
+    assert robot["warnings"] == ["router not set: demo robot: reached without SSH, no router behind it"]
+
+
 def test_gps_status_router_on_a_demo_robot_says_it_was_not_read(demo: Path, capsys: Capsys,
                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
