@@ -144,7 +144,7 @@ def test_inventory_show_of_a_demo_robot_has_no_ssh_address(demo: Path, capsys: C
 
 
 NEWER_READ_ONLY = (["gps", "status"], ["estop", "status"], ["webui", "status"], ["webui", "get"], ["webui", "url"],
-                   ["reimage", "plan"], ["manager", "status"])
+                   ["reimage", "plan"], ["manager", "status"], ["manager", "logs"], ["driver", "logs"])
 """The newer groups' read-only commands: they answer without a choice too (rule 10)."""
 
 
@@ -201,6 +201,12 @@ def test_the_router_of_a_demo_robot_is_skipped_by_show_and_set_alike(argv: list[
     assert code == 0, err
     (robot,) = json.loads(out)["robots"]
     assert robot["outcome"] == "skipped" and robot["message"] == "demo robot: reached without SSH, no router behind it"
+
+
+@pytest.mark.parametrize("group", ["driver", "manager"])
+def test_following_a_log_still_needs_one_robot_chosen(group: str, demo: Path, capsys: Capsys) -> None:
+    code, _, err = run(capsys, "-i", str(demo), group, "logs", "-f")
+    assert code == 2 and "choose with --robot" in err
 
 
 @pytest.mark.parametrize("group", ["driver", "manager"])
