@@ -118,6 +118,14 @@ def run(
         return run_fleet(command, inv, chosen, task, opts, progress)
 
 
+_ROBOTS_ONLY = {
+    "no_restart": ("--no-restart", "no container is recreated for a local file"),
+    "settle": ("--settle", "no container is recreated, so none settles"),
+    "forks": ("--forks", "one local file, no robots worked on at once"),
+}
+"""The shared options a local file (``--file``, a FILE argument) gives no meaning: option, why."""
+
+
 @dataclass
 class Fleet:
     """What a fleet command was given of the shared options (cli/options.py), and the one way
@@ -136,6 +144,20 @@ class Fleet:
     forks: int | None = None
     canary: int = 0
     max_fail: float | None = None
+
+    def robots_only(self, what: str) -> None:
+        """``what`` (a local file) instead of robots: the shared options that mean something only
+        for robots, given on the command line, are a usage error naming each and why (exit 2)."""
+        given = [(option, why) for name, (option, why) in _ROBOTS_ONLY.items()
+                 if getattr(self.ctx.get_parameter_source(name), "name", "DEFAULT") in ("COMMANDLINE", "ENVIRONMENT")]
+        if given:
+            from panther_ops.errors import UsageError
+
+            one = len(given) == 1
+            raise UsageError(f"{', '.join(o for o, _ in given)} {'means' if one else 'mean'} nothing for {what} ("
+                             + "; ".join(f"{o}: {why}" for o, why in given) + ")",
+                             hint=f"leave {'it' if one else 'them'} out: {'it is' if one else 'they are'} for robots "
+                                  "(-r/-g/--all)")
 
     def targets(self, read_only: bool = False) -> tuple[Inventory, list[Robot]]:
         """The inventory and the robots chosen (see :func:`targets`)."""

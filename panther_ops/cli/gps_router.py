@@ -43,7 +43,7 @@ def router_show(fleet: Fleet, address: Address = "10.15.20.1") -> int:
     from panther_ops.core.gps.router_plan import check_address
 
     check_address(address)
-    return fleet.run("gps router show", show_task(address, credentials()), print_router)
+    return fleet.run("gps router show", show_task(address, credentials()), print_router, read_only=True)
 
 
 @router_app.command("set")

@@ -80,8 +80,8 @@ def mutate(
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)
-            else:
-                print_results(fp.results, title=f"plan: {command}")
+            else:  # before the question nothing has changed: each change is what the robot would get
+                print_results(dry_run_result(fp, read_only=True), title=f"plan: {command}")
         if not yes:
             if not sys.stdin.isatty():
                 error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")

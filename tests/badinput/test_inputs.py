@@ -301,6 +301,21 @@ LOCAL_FILES = [
     Case("local-rollback-invalid-content", ["config", "rollback", *LOCAL, "--yes"],
          ["hosts.yaml", "'10.15.20.3; reboot' is not an IP address"],
          files=backup(old="hosts:\n  - ip: '10.15.20.3; reboot'\n    username: pi\n")),
+    # options that mean something only for robots: named, with why (nothing is recreated for a file)
+    Case("local-rollback-robot-options", ["config", "rollback", *LOCAL, "--no-restart", "--settle", "9", "-f", "4",
+                                          "--yes"],
+         ["--no-restart, --settle, --forks mean nothing for --file {tmp}/hosts.yaml", "no container is recreated",
+          "leave them out"], files=backup()),
+    Case("local-rollback-settle", ["config", "rollback", *LOCAL, "--settle", "1", "--yes"],
+         ["--settle means nothing for --file", "leave it out"], files=backup()),
+    Case("local-history-forks", ["config", "history", *LOCAL, "--forks", "2"], ["--forks means nothing for --file"],
+         files=backup()),
+    Case("local-hosts-add-no-restart", ["shutdown", "hosts", "add", "{tmp}/hosts.yaml", "--ip", "10.15.20.9",
+                                        "--user", "pi", "--no-restart", "--yes"],
+         ["--no-restart means nothing for the local FILE {tmp}/hosts.yaml"], files={"hosts.yaml": HOSTS}),
+    Case("local-hosts-remove-forks", ["shutdown", "hosts", "remove", "{tmp}/hosts.yaml", "--ip", "10.15.20.3",
+                                      "-f", "3", "--yes"], ["--forks means nothing for the local FILE"],
+         files={"hosts.yaml": HOSTS}),
 ]
 
 CASES = (WEBUI + INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS

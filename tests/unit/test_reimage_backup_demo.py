@@ -221,3 +221,8 @@ def test_restore_onto_a_newer_release_keeps_its_image_and_reapplies_the_customis
     assert "husarion/panther:humble-2.1.2-20241108" in now and "humble-2.1.1" not in now
     assert "      - ~/maps:/maps:ro\n" in now
     assert "wheel_type:=WH02" in now  # then the inventory's desired: block (apply) on top
+
+
+def test_plan_counts_one_file_in_the_singular(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, doc, _ = run(capsys, "-i", str(demo), "reimage", "plan", "-r", "panther-01", "--json")
+    assert code == 0 and doc["robots"][0]["message"].startswith("1 file, ")  # panther-01 holds only compose.yaml

@@ -22,8 +22,11 @@ def test_gps_add_the_manuals_entry(tmp_path: Path, capsys: pytest.CaptureFixture
     f = tmp_path / "components.yaml"
     original = COMPONENTS.read_text()
     f.write_text(original)
-    code, out, _ = run(capsys, "sim", "gps", "add", str(f), "--dry-run")
-    assert code == 0 and "would change" in out and f.read_text() == original
+    code, out, err = run(capsys, "sim", "gps", "add", str(f), "--dry-run")
+    assert code == 0 and f.read_text() == original
+    # a dry run says "would change" once, as the fleet commands do (not "changed: would change (dry run)")
+    assert out.endswith(f"{f}: would change: ANT02 entry added\n") and "changed" not in out.splitlines()[-1]
+    assert "note dry run: nothing was written" in err
     code, out, _ = run(capsys, "sim", "gps", "add", str(f), "--yes")
     assert code == 0
     text = f.read_text()

@@ -1,5 +1,5 @@
 """`panther-ops teleop` without a lab: the command run in the driver container, the rate floor,
-exactly one robot, a demo robot refused."""
+exactly one robot, a demo robot skipped."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ def test_teleop_command_is_the_manuals_with_repeat_rate_on_the_robots_cmd_vel() 
     assert "cmd_vel:=/cmd_vel" in teleop_command("c", "/", 12.5).render(reveal=True)
 
 
-def test_rate_below_10_hz_one_robot_and_demo_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_rate_below_10_hz_one_robot_and_demo_skipped(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     demo = str(tmp_path / "demo")
     assert main(["demo", "init", "--dest", demo]) == 0
     capsys.readouterr()
@@ -32,5 +32,8 @@ def test_rate_below_10_hz_one_robot_and_demo_refused(tmp_path: Path, capsys: pyt
         assert bad in err and "--rate" in err and "inventory:" not in err
     assert main(["-i", demo, "teleop", "-r", "panther-0*"]) == 2
     assert "exactly one robot, 3 chosen" in capsys.readouterr().err
-    assert main(["-i", demo, "teleop", "-r", "panther-01"]) == 3
-    assert "a demo robot has no driver" in capsys.readouterr().err
+    # a demo robot is skipped with why (exit 0), as `estop trigger` and `driver logs` skip it
+    assert main(["-i", demo, "teleop", "-r", "panther-01"]) == 0
+    err = capsys.readouterr().err
+    assert "panther-01: skipped: demo robot: no driver to drive (teleop needs a real robot)" in err
+    assert "error" not in err

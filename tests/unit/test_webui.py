@@ -78,6 +78,7 @@ def test_demo_fleet_webui_status_as_recorded(demo: str, capsys: pytest.CaptureFi
     assert data["panther-02"] == {"recorded": True, "installed": False}
     assert data["panther-03"]["running"] is False and data["panther-03"]["ui_http"] is None
     assert all(d["recorded"] for d in data.values())
+    assert [r["outcome"] for r in doc["robots"]] == ["ok", "skipped", "ok"]
 
 
 def test_status_has_a_webui_column_from_the_recording(demo: str, capsys: pytest.CaptureFixture[str]) -> None:
@@ -94,7 +95,7 @@ def test_status_has_a_webui_column_from_the_recording(demo: str, capsys: pytest.
 def test_demo_fleet_changes_are_planned_on_the_recording_and_skipped(demo: str,
                                                                       capsys: pytest.CaptureFixture[str]) -> None:
     """url and set's plan read the recording; a change a demo robot would need is skipped, one it
-    does not need is ok, and a robot without a recorded User Computer fails (exit 3)."""
+    does not need is ok, and a robot without a recorded User Computer is skipped."""
     def run(*argv: str) -> tuple[int, dict[str, dict[str, object]]]:
         capsys.readouterr()
         code = main(["-i", demo, "webui", *argv, "--json"])
@@ -112,5 +113,19 @@ def test_demo_fleet_changes_are_planned_on_the_recording_and_skipped(demo: str,
     assert got["panther-03"]["outcome"] == "skipped"
     code, got = run("install", "-r", "panther-01")
     assert code == 0 and got["panther-01"]["outcome"] == "ok"
-    code, got = run("stop", "-r", "panther-02")
-    assert code == 3 and got["panther-02"]["message"] == "no User Computer recorded (demo robot)"
+    # a demo robot without a recorded User Computer: skipped with why by every webui command alike
+    # (as `apply` skips its WebUI), never a failure in one and ok or skipped in a sibling
+    for argv in (["status"], ["get"], ["url"], ["start"], ["stop"], ["install"], ["set", "webui.port=8081", "--yes"],
+                 ["set", "webui.port=8081", "--dry-run"]):
+        code, got = run(*argv, "-r", "panther-02")
+        assert code == 0 and got["panther-02"]["outcome"] == "skipped", argv
+        assert got["panther-02"]["message"] == "demo robot: no User Computer recorded (the WebUI runs on one)"
+
+
+def test_webui_set_says_nothing_to_change_only_when_nothing_failed(demo: str,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    capsys.readouterr()
+    assert main(["-i", demo, "webui", "set", "webui.port=8080", "-r", "panther-01", "--yes"]) == 0
+    assert "nothing to change" in capsys.readouterr().err
+    assert main(["-i", demo, "webui", "set", "webui.port=8081", "-r", "panther-02", "--yes"]) == 0
+    assert "nothing to change" not in capsys.readouterr().err  # beside a skip (or a failure) it is not said

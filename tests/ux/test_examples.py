@@ -139,7 +139,10 @@ READ_ONLY = (["status", "--all"], ["config", "get", "wheel_type", "--all"], ["dr
              ["config", "pull", "controller", "-r", "panther-01"], ["inventory", "show", "panther-01"],
              ["shutdown", "hosts", "list", "-r", "panther-01"], ["driver", "versions", "--all"],
              ["bt", "validate", "templates/behavior_trees/PantherSafetyBT.btproj"],
-             ["lights", "validate", "my_animations.yaml"], ["config", "history", "--all"])
+             ["lights", "validate", "my_animations.yaml"], ["config", "history", "--all"],
+             ["gps", "status", "--all"], ["estop", "status", "--all"], ["webui", "status", "--all"],
+             ["webui", "url", "--all"], ["reimage", "plan", "--all"], ["gps", "enable", "--all", "--dry-run"],
+             ["apply", "--all", "--dry-run"], ["manager", "logs", "--all"])
 
 
 @pytest.mark.parametrize("args", READ_ONLY, ids=[" ".join(a) for a in READ_ONLY])

@@ -23,6 +23,14 @@ def test_a_dry_run_summary_says_would_change(demo: Path, capsys: Capsys) -> None
     assert "dry run: nothing was written" in err
 
 
+def test_the_plan_shown_before_the_question_says_would_change(demo: Path, capsys: Capsys) -> None:
+    """Refused for want of --yes (stdin is no terminal here): nothing changed, and the plan says so."""
+    code, out, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all")
+    assert code == 2 and "changes need confirmation: pass --yes" in err
+    assert "3 robots: 3 would change in" in err and "3 changed" not in err
+    assert out.count("would change: wheel_type:=WH02") == 3 and "dry run" not in out + err
+
+
 def test_config_diff_does_not_speak_of_a_dry_run(demo: Path, capsys: Capsys) -> None:
     code, out, err = run(capsys, "-i", str(demo), "config", "diff", "--all")
     assert code == 0 and "+++ b/panther-01/home/husarion/compose.yaml" in out  # several robots: one patch
@@ -135,11 +143,27 @@ def test_inventory_show_of_a_demo_robot_has_no_ssh_address(demo: Path, capsys: C
     assert "transport: local" in out and "root: " in out
 
 
+NEWER_READ_ONLY = (["gps", "status"], ["estop", "status"], ["webui", "status"], ["webui", "get"], ["webui", "url"],
+                   ["reimage", "plan"], ["manager", "status"], ["manager", "logs"], ["driver", "logs"])
+"""The newer groups' read-only commands: they answer without a choice too (rule 10)."""
+
+
+@pytest.mark.parametrize("argv", NEWER_READ_ONLY, ids=" ".join)
+def test_newer_read_only_commands_answer_for_every_robot_when_none_is_chosen(argv: list[str], demo: Path,
+                                                                             capsys: Capsys) -> None:
+    code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
+    doc = json.loads(out)
+    assert [r["robot"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03"], err
+    assert "no robot chosen: reading all 3 (choose with -r, -g)" in err and "choose with --robot" not in err
+    assert doc["command"] == " ".join(argv)  # `webui get` says so (it said `webui status`)
+    assert code == 0
+
+
 def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) -> None:
     inventory = demo / "inventory.yaml"
     inventory.write_text(inventory.read_text().replace("defaults:", "settings:\n  default_group: field\ndefaults:", 1))
     for argv in (["config", "get", "wheel_type"], ["status"], ["driver", "status"], ["config", "diff"],
-                 ["doctor"], ["config", "history"], ["driver", "versions"]):
+                 ["doctor"], ["config", "history"], ["driver", "versions"], *NEWER_READ_ONLY):
         code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
         assert code == 0, (argv, err)
         assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-03"], argv
@@ -147,3 +171,66 @@ def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) 
     inventory.write_text(inventory.read_text().replace("default_group: field", "default_group: nope"))
     code, _, err = run(capsys, "-i", str(demo), "status")
     assert code == 2 and "default_group 'nope' is not a group of the inventory" in err and "field" in err
+
+
+# -- finding 11: progress of reimage flash/verify like the fleet's --------------------------------
+@pytest.mark.parametrize(("json_out", "quiet", "shown"), [(False, False, True), (True, False, False),
+                                                           (False, True, False)])
+def test_reimage_progress_is_silent_with_json_or_quiet(json_out: bool, quiet: bool, shown: bool,
+                                                        capsys: Capsys) -> None:
+    from panther_ops.cli.output import configure
+    from panther_ops.cli.views.reimage import progress
+
+    configure(quiet=quiet)
+    try:
+        with progress(json_out) as step:  # stderr is not a terminal here: plain lines, when wanted
+            step("write", 1 << 20, 1 << 20)
+    finally:
+        configure()
+    err = capsys.readouterr().err
+    assert ("writing: 1.0 MiB of 1.0 MiB (100%)" in err) is shown, err
+
+
+# -- finding 6: demo robots handled one way -----------------------------------------------------------
+@pytest.mark.parametrize("argv", [["gps", "router", "show"], ["gps", "router", "set", "--enable", "--yes"],
+                                  ["gps", "router", "set", "--enable", "--dry-run"]], ids=" ".join)
+def test_the_router_of_a_demo_robot_is_skipped_by_show_and_set_alike(argv: list[str], demo: Path, capsys: Capsys,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
+    code, out, err = run(capsys, "-i", str(demo), *argv, "-r", "panther-01", "--json")
+    assert code == 0, err
+    (robot,) = json.loads(out)["robots"]
+    assert robot["outcome"] == "skipped" and robot["message"] == "demo robot: reached without SSH, no router behind it"
+
+
+@pytest.mark.parametrize("group", ["driver", "manager"])
+def test_following_a_log_still_needs_one_robot_chosen(group: str, demo: Path, capsys: Capsys) -> None:
+    code, _, err = run(capsys, "-i", str(demo), group, "logs", "-f")
+    assert code == 2 and "choose with --robot" in err
+
+
+@pytest.mark.parametrize("group", ["driver", "manager"])
+def test_following_a_demo_robots_log_is_skipped_as_reading_it_is(group: str, demo: Path, capsys: Capsys) -> None:
+    for follow in ([], ["-f"]):
+        code, _, err = run(capsys, "-i", str(demo), group, "logs", "-r", "panther-01", *follow)
+        assert code == 0, (follow, err)
+        assert "panther-01: skipped: demo robot: no docker engine" in err and "error" not in err, follow
+
+
+def test_gps_enable_router_on_a_demo_robot_plans_the_driver_and_says_the_router_is_left_out(
+        demo: Path, capsys: Capsys, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
+    code, out, err = run(capsys, "-i", str(demo), "gps", "enable", "-r", "panther-01", "--router", "--dry-run", "--json")
+    assert code == 0, err
+    (robot,) = json.loads(out)["robots"]
+    assert robot["message"] == "would change: launch_nmea_gps:=True on panther_ros"
+    assert robot["warnings"] == ["router not set: demo robot: reached without SSH, no router behind it"]
+
+
+def test_gps_status_router_on_a_demo_robot_says_it_was_not_read(demo: Path, capsys: Capsys,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PANTHER_OPS_ROUTER_PASSWORD", "demo")
+    code, out, _ = run(capsys, "-i", str(demo), "gps", "status", "-r", "panther-01", "--router", "--json")
+    (robot,) = json.loads(out)["robots"]
+    assert code == 0 and robot["data"]["router"] is None
+    assert robot["warnings"] == ["router not read: demo robot, no router behind it (as `gps router show`)"]

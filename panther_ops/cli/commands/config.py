@@ -173,6 +173,7 @@ def _local(file: Path, fleet: Fleet) -> tuple[Any, list[Any]]:
 
     if fleet.robot or fleet.group or fleet.all_:
         raise UsageError("give either --file FILE (a local hosts file) or robots (-r/-g/--all), not both")
+    fleet.robots_only(f"--file {file}")
     inv, target = local_target(file, "--file")
     return inv, [target]
 

@@ -66,7 +66,7 @@ def logs(
     from panther_ops.core.driver.containers import open_logs, parse_duration
 
     since_s = parse_duration(since) if since is not None else None
-    inv, chosen = fleet.targets()
+    inv, chosen = fleet.targets(read_only=not follow)  # reading every robot; following one is chosen
     return show_logs("driver logs", inv, chosen, open_logs, lines=lines, since_s=since_s, timestamps=timestamps,
                      follow=follow, json_out=fleet.json_out, skip=(NoEngineError,))
 

@@ -23,7 +23,7 @@ def status(fleet: Fleet) -> int:
     from panther_ops.cli.views.estop import print_state
     from panther_ops.core.remote.estop.calls import status_task
 
-    return fleet.run("estop status", status_task, print_state, at_once=True)
+    return fleet.run("estop status", status_task, print_state, at_once=True, read_only=True)
 
 
 @app.command("trigger")

@@ -165,7 +165,7 @@ def status(
     StatusOptions(port=port, window_s=window)  # bad input refused before asking for credentials
     creds = _credentials() if router else None
     opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
-    return fleet.run("gps status", status_task(opts), print_status)
+    return fleet.run("gps status", status_task(opts), print_status, read_only=True)
 
 
 @app.command("watch")
@@ -200,7 +200,7 @@ def watch(
         raise UsageError("gps watch --json needs --count N (one JSON document at the end)")
     creds = _credentials() if router else None
     opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
-    inv, chosen = fleet.targets()
+    inv, chosen = fleet.targets(read_only=True)
     rounds: list[dict[str, Any]] = []
     code = 0
     try:

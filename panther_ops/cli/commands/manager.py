@@ -168,7 +168,7 @@ def status(fleet: Fleet) -> int:
     from panther_ops.cli.views.manager import print_status
     from panther_ops.core.manager_ops.status import status_task
 
-    return fleet.run("manager status", status_task, print_status)
+    return fleet.run("manager status", status_task, print_status, read_only=True)
 
 
 @app.command("logs")
@@ -190,6 +190,6 @@ def logs(
     from panther_ops.cli.views.logs import show_logs
     from panther_ops.core.manager_ops.status import open_logs
 
-    inv, chosen = fleet.targets()
+    inv, chosen = fleet.targets(read_only=not follow)  # reading every robot; following one is chosen
     return show_logs("manager logs", inv, chosen, open_logs, lines=lines, since_s=None, timestamps=timestamps,
                      follow=follow, json_out=fleet.json_out)

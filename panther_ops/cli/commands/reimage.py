@@ -44,7 +44,7 @@ def flash(
     from panther_ops.core.reimage.flash import check_sha256, eligible_device, flash, inspect_image
     from panther_ops.errors import ExitCode
 
-    with progress() as step:
+    with progress(json_out) as step:
         img = inspect_image(image, sha256, require_checksum=True, progress=step)
         facts = eligible_device(device, img)
         file_sha = check_sha256(img, step)
@@ -84,7 +84,7 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Jso
     from panther_ops.core.reimage.flash import check_sha256, inspect_image, verify
     from panther_ops.errors import ExitCode
 
-    with progress() as step:
+    with progress(json_out) as step:
         img = inspect_image(image, sha256, require_checksum=False, progress=step)
         if img.expected_sha256 is not None:
             check_sha256(img, step)
@@ -114,7 +114,7 @@ def plan(fleet: Fleet) -> int:
     from panther_ops.cli.views.reimage import print_carried
     from panther_ops.core.reimage.tasks import plan_task
 
-    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"))
+    return fleet.run("reimage plan", plan_task, lambda f: print_carried(f, title="reimage plan"), read_only=True)
 
 
 @app.command("backup")

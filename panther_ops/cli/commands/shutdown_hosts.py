@@ -34,6 +34,8 @@ if TYPE_CHECKING:
 def _local_or_robots(file: Path | None, fleet: Fleet) -> None:
     if file is not None and (fleet.robot or fleet.group or fleet.all_):
         raise usage_error("give either a local FILE or robots (-r/-g/--all), not both")
+    if file is not None:
+        fleet.robots_only(f"the local FILE {file}")
 
 
 @hosts_app.command("list")

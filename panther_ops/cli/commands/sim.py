@@ -32,15 +32,16 @@ def _read(path: Path) -> str:
 def _write(path: Path, before: str, after: str, what: str, command: str, *, yes: bool, dry_run: bool,
            json_out: bool) -> int:
     """Show the exact diff, confirm, then write atomically with a backup beside the file."""
-    from panther_ops.cli.render import emit_json, print_diffs
+    from panther_ops.cli.render import emit_json, print_diffs, print_warnings
     from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
 
     changed = after != before
-    res = RobotResult("local", Outcome.CHANGED if changed else Outcome.OK,
-                      ("would change (dry run): " if dry_run and changed else "") + what,
-                      diffs=[Diff(str(path), unified_diff(before, after, str(path)))] if changed else [])
-    fleet = FleetResult(command, [res])
+    planned = dry_run and changed  # said as the fleet commands' dry runs say it: would change
+    res = RobotResult("local", Outcome.CHANGED if changed else Outcome.OK, ("would change: " if planned else "") + what,
+                      diffs=[Diff(str(path), unified_diff(before, after, str(path)))] if changed else [],
+                      data={"dry_run": True} if planned else {})
+    fleet = FleetResult(command, [res], notes=["dry run: nothing was written"] if dry_run else [])
     if changed and not json_out:
         print_diffs(fleet)
     if changed and not dry_run:
@@ -59,7 +60,8 @@ def _write(path: Path, before: str, after: str, what: str, command: str, *, yes:
     if json_out:
         emit_json(fleet.to_json())
     else:
-        sys.stdout.write(f"{path}: {res.outcome.value}: {res.message}\n")
+        sys.stdout.write(f"{path}: {res.message}\n" if planned else f"{path}: {res.outcome.value}: {res.message}\n")
+        print_warnings(fleet)
     return 0
 
 

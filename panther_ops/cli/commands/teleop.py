@@ -36,7 +36,7 @@ def teleop(
     """
     from panther_ops.cli.render import error
     from panther_ops.core.fleet.runner import Connections, RobotContext
-    from panther_ops.core.remote.teleop.keyboard import prepare
+    from panther_ops.core.remote.teleop.keyboard import prepare, skipped
     from panther_ops.core.remote.teleop.session import drive
     from panther_ops.errors import ExitCode, RemoteStateError, UnreachableError, UsageError
 
@@ -46,6 +46,10 @@ def teleop(
     with Connections(inv) as conns:
         try:
             rctx = RobotContext(chosen[0], conns.get(chosen[0]), inv)
+            why = skipped(rctx)
+            if why is not None:
+                context.info(f"{chosen[0].name}: skipped: {why}")
+                return 0
             plan = prepare(rctx, rate)
         except UnreachableError as exc:
             error(str(exc))

@@ -26,7 +26,7 @@ def status(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)))
+    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), read_only=True)
 
 
 @app.command("get")
@@ -38,7 +38,7 @@ def get(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import status_task
 
-    return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)))
+    return fleet.run("webui get", status_task(sudo_password(ask_sudo_password)), read_only=True)
 
 
 @app.command("install")
@@ -93,7 +93,7 @@ def url(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """
     from panther_ops.core.remote.webui.remote import url_task
 
-    return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)))
+    return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)), read_only=True)
 
 
 @app.command("set")
@@ -138,7 +138,10 @@ def set_(
                              hint="nothing was sent to any robot")
         ready = [r for r in chosen if any(x.robot == r.name and x.data.get("ready") for x in planned.results)]
         if fleet.dry_run or not ready:
-            planned.notes.append("dry run: nothing was sent" if fleet.dry_run else "nothing to change")
+            if fleet.dry_run:
+                planned.notes.append("dry run: nothing was sent")
+            elif all(r.outcome.value == "ok" for r in planned.results):  # not beside a failure or a skip
+                planned.notes.append("nothing to change")
             return fleet.show(planned)
         if not fleet.json_out:
             print_results(planned, title="webui set: plan")

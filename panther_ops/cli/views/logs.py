@@ -37,7 +37,7 @@ def show_logs(command: str, inv: Inventory, chosen: list[Robot], open_logs: Open
         if json_out:
             raise UsageError("--follow prints the log as it comes; --json is for a finished answer")
         opts = LogOptions(tail=0 if lines is None else lines, since_s=since_s, follow=True, timestamps=timestamps)
-        return _follow(command, inv, chosen[0], open_logs, opts)
+        return _follow(command, inv, chosen[0], open_logs, opts, skip)
     opts = LogOptions(tail=100 if lines is None else lines, since_s=since_s, timestamps=timestamps)
     got: dict[str, bytes] = {}
 
@@ -67,8 +67,10 @@ def show_logs(command: str, inv: Inventory, chosen: list[Robot], open_logs: Open
     return int(fleet.exit_code)
 
 
-def _follow(command: str, inv: Inventory, robot: Robot, open_logs: OpenLogs, opts: LogOptions) -> int:
-    """Stream one robot's log in this thread until it ends or Ctrl-C."""
+def _follow(command: str, inv: Inventory, robot: Robot, open_logs: OpenLogs, opts: LogOptions,
+            skip: tuple[type[Exception], ...]) -> int:
+    """Stream one robot's log in this thread until it ends or Ctrl-C (a robot without a docker
+    engine is skipped, as without --follow)."""
     from panther_ops.cli.render import error
     from panther_ops.core.containers.logs import iter_chunks
     from panther_ops.core.fleet.runner import Connections, RobotContext, run_one
@@ -77,7 +79,10 @@ def _follow(command: str, inv: Inventory, robot: Robot, open_logs: OpenLogs, opt
     out = sys.stdout.buffer
 
     def task(c: RobotContext) -> RobotResult:
-        name, stream = open_logs(c, opts)
+        try:
+            name, stream = open_logs(c, opts)
+        except skip as exc:
+            return RobotResult(c.robot.name, Outcome.SKIPPED, str(exc))
         context.info(f"{c.robot.name}: following {name} (Ctrl-C to stop)")
         try:
             for chunk in iter_chunks(stream):
@@ -93,7 +98,9 @@ def _follow(command: str, inv: Inventory, robot: Robot, open_logs: OpenLogs, opt
             result = run_one(conns, robot, task)
         except KeyboardInterrupt:
             return 0
-    if result.outcome is not Outcome.OK:
+    if result.outcome is Outcome.SKIPPED:
+        context.info(f"{result.robot}: skipped: {result.message}")
+    elif result.outcome is not Outcome.OK:
         error(f"{result.robot}: {result.outcome.value}: {result.message}")
     else:
         context.info(f"{result.robot}: {result.message}")

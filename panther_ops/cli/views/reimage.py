@@ -24,8 +24,14 @@ def _rate(done: int, seconds: float) -> str:
 
 
 @contextlib.contextmanager
-def progress(*, plain_every: float = 2.0) -> Iterator[ProgressFn]:
-    """A progress callback for the core: bytes, throughput and ETA of each phase, on stderr."""
+def progress(json_out: bool, *, plain_every: float = 2.0) -> Iterator[ProgressFn]:
+    """A progress callback for the core: bytes, throughput and ETA of each phase, on stderr (a
+    bar on a terminal, plain lines otherwise); nothing with ``--json`` or ``--quiet``."""
+    from panther_ops.cli.output import quiet
+
+    if json_out or quiet():
+        yield lambda _phase, _done, _total: None
+        return
     if sys.stderr.isatty():
         with _bar() as fn:
             yield fn

@@ -24,7 +24,7 @@ from __future__ import annotations
 import contextlib
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.memo import Memo
@@ -117,8 +117,8 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         elif writes and stage is not None:
             fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
         fp.plans[ctx.robot.name] = plan
-        outcome = Outcome.CHANGED if does_something(plan) else Outcome.OK
-        message = plan.summary if does_something(plan) else (plan.noop or "nothing to change")
+        outcome = Outcome.CHANGED if does_something(plan) else Outcome.SKIPPED if plan.skipped else Outcome.OK
+        message = plan.summary if does_something(plan) else (plan.skipped or plan.noop or "nothing to change")
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
@@ -183,14 +183,16 @@ def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
     """The plan as a dry run's result: each change is what the robot ``would`` get (a plan
     with an action has a summary that starts with its verb: ``would remove manager ...``).
 
-    ``read_only``: the command never writes (``config diff``): no "dry run" note then.
+    ``read_only``: the command never writes (``config diff``, the plan shown before the
+    question): no "dry run" note then. The plan's own results are left as they are.
     """
     out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
             action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
-            r.message = f"would {r.message}" if action else f"would change: {r.message}"
-            r.data["dry_run"] = True
-        out.add(r)
+            out.add(replace(r, message=f"would {r.message}" if action else f"would change: {r.message}",
+                            data={**r.data, "dry_run": True}))
+        else:
+            out.add(r)
     out.duration_s = fp.results.duration_s
     return out

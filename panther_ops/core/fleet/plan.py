@@ -91,6 +91,9 @@ class RobotPlan:
     data: dict[str, Any] = field(default_factory=dict)
     home: str | None = None
     """The robot user's home, when the plan read it (``~/`` paths resolve against it)."""
+    skipped: str | None = None
+    """Why this robot is skipped (a demo robot where the change needs a real one): nothing to do,
+    reported ``skipped`` (exit 0), as read-only siblings report it."""
 
     @property
     def diffs(self) -> list[Diff]:

@@ -41,7 +41,7 @@ def open_router(ctx: RobotContext, address: str, creds: Credentials) -> Any:
 
     client = getattr(ctx.transport, "client", None)
     if client is None:
-        raise NoRouter(f"{ctx.robot.name} is reached without SSH (a demo robot): no router behind it")
+        raise NoRouter("demo robot: reached without SSH, no router behind it")
     key = f"{ctx.robot.name}/{address}"
     api = RouterClient(lambda: open_tcp(client, ctx.robot.name, address, 443), ctx.robot.name, address,
                        pinned=pins.pinned(key), pin=lambda fp: pins.pin(key, fp))
@@ -77,8 +77,12 @@ def show_task(address: str, creds: Credentials) -> Any:
 
 
 def plan_router(ctx: RobotContext, address: str, creds: Credentials, req: RouterRequest) -> RobotPlan:
-    """Read the router's state over the robot's connection; plan (`router_plan.py`)."""
-    api = open_router(ctx, address, creds)
+    """Read the router's state over the robot's connection; plan (`router_plan.py`). A demo
+    robot has no router: skipped, as `gps router show` skips it."""
+    try:
+        api = open_router(ctx, address, creds)
+    except NoRouter as exc:
+        return RobotPlan(ctx.robot.name, "", skipped=exc.message)
     return router_plan(ctx.robot.name, address, read_state(api), req, api.fingerprint, api.pinned_now)
 
 

@@ -166,7 +166,10 @@ def status_task(opts: StatusOptions) -> Any:
             data["recorded"] = True
             text = read_template("gps", "demo.nmea")
             recorded = dec.feed("".join(x + "\n" for x in text.splitlines() if not x.startswith("#")).encode())
-            return _result(ctx, opts, data, dec, recorded, 3.0, None, None)
+            result = _result(ctx, opts, data, dec, recorded, 3.0, None, None)
+            if opts.router is not None:  # --router asked: said, not silently left out
+                result.warnings.append("router not read: demo robot, no router behind it (as `gps router show`)")
+            return result
         router = None
         warnings: list[str] = []
         if opts.router is not None and opts.credentials is not None:

@@ -14,7 +14,8 @@ from panther_ops.results import Outcome, RobotResult
 
 def _summary(c: Carried) -> str:
     secrets = sum(f.secret for f in c.files)
-    text = f"{len(c.files)} files, {human_size(c.total_bytes)} ({secrets} secret)"
+    n = len(c.files)
+    text = f"{n} file{'' if n == 1 else 's'}, {human_size(c.total_bytes)} ({secrets} secret)"
     if c.missing:
         home = c.identity.get("home") or ""
         short = ["~" + m[len(home):] if home and m.startswith(home + "/") else m for m in c.missing]

@@ -36,13 +36,22 @@ def teleop_command(container: str, namespace: str, rate: float) -> Command:
                       "-r", f"cmd_vel:={topic}")
 
 
+DEMO_SKIP = "demo robot: no driver to drive (teleop needs a real robot)"
+"""Why a demo robot is skipped (exit 0), as `estop trigger` and `driver logs` skip it."""
+
+
+def skipped(ctx: RobotContext) -> str | None:
+    """Why teleop skips this robot (a demo robot), else None."""
+    return DEMO_SKIP if is_demo(ctx) else None
+
+
 def prepare(ctx: RobotContext, rate: float) -> TeleopPlan:
     """Check the robot (E-stop, other publishers) and build the command (raises when refused)."""
     if rate < MIN_RATE_HZ:
         raise UsageError(f"--rate {rate:g} is below {MIN_RATE_HZ:g} Hz",
                          hint="the robot stops when no velocity command arrived for 1 s; 10 Hz is the minimum")
     if is_demo(ctx):
-        raise RemoteStateError("a demo robot has no driver to drive")
+        raise RemoteStateError(DEMO_SKIP)
     got = ask(ctx, ("status", "publishers"))
     state = read_state(got)
     if state.problems:

@@ -13,6 +13,7 @@ from panther_ops.core.remote.webui.remote import (
     Task,
     apply_settings,
     demo_skip,
+    no_user_computer,
     open_webui_session,
     read_state,
     read_webui,
@@ -71,6 +72,8 @@ def install_task(channel: str, password: Secret | None) -> Task:
 
 
 def _demo_install(ctx: RobotContext, channel: str) -> RobotResult:
+    if (skipped := no_user_computer(ctx)) is not None:
+        return skipped
     state, _ = read_webui(ctx, None)
     want = channel if "/" in channel else f"{channel}/stable"
     if state.installed and state.channel == want:

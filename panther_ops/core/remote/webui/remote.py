@@ -138,6 +138,20 @@ def read_webui(ctx: RobotContext, password: Secret | None) -> tuple[WebuiState, 
         session.close()
 
 
+NO_DEMO_USER_COMPUTER = "demo robot: no User Computer recorded (the WebUI runs on one)"
+
+
+def no_user_computer(ctx: RobotContext) -> RobotResult | None:
+    """A demo robot without a recorded User Computer: skipped with why, by every `webui`
+    command alike (as `apply` skips its WebUI); None for any other robot."""
+    return _no_recording(ctx) if ctx.robot.transport == "local" and _recording(ctx) is None else None
+
+
+def _no_recording(ctx: RobotContext) -> RobotResult:
+    return RobotResult(ctx.robot.name, Outcome.SKIPPED, NO_DEMO_USER_COMPUTER,
+                       data={"recorded": True, "installed": False})
+
+
 def demo_skip(ctx: RobotContext, what: str) -> RobotResult:
     """A change a demo robot cannot make: reported, nothing pretended."""
     return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"demo robot: no User Computer to {what}")
@@ -147,8 +161,7 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
     """A demo robot: its User Computer's recorded answers."""
     rec = _recording(ctx)
     if rec is None:
-        return RobotResult(ctx.robot.name, Outcome.OK, "no User Computer recorded (demo robot)",
-                           data={"recorded": True, "installed": False})
+        return _no_recording(ctx)
     state = parse_state(str(rec.get("state", "")))
     code = rec.get("ui_http")
     url = ui_url(str(rec.get("host", "10.15.20.3")), state.value("webui.port"))
@@ -162,6 +175,8 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
     """Phase 1 of `webui set`: read, check custom profiles, plan current -> new (with
     ``ros.namespace`` defaulting to the robot's, see `defaults`)."""
     def task(ctx: RobotContext) -> RobotResult:
+        if (skipped := no_user_computer(ctx)) is not None:
+            return skipped
         state, _ = read_webui(ctx, password)
         if not state.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
@@ -253,6 +268,8 @@ def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
 def start_stop_task(start: bool, password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
+            if (skipped := no_user_computer(ctx)) is not None:
+                return skipped
             state, _ = read_webui(ctx, password)
             done = _start_stop_needless(ctx, state, start)
             return done or demo_skip(ctx, "start" if start else "stop")
@@ -286,6 +303,8 @@ def _start_stop_needless(ctx: RobotContext, state: WebuiState, start: bool) -> R
 
 def url_task(password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
+        if (skipped := no_user_computer(ctx)) is not None:
+            return skipped
         state, host = read_webui(ctx, password)
         port = state.value("webui.port")
         lan = ui_url(host, port)
