@@ -82,6 +82,9 @@ class FleetResult:
     notes: list[str] = field(default_factory=list)
     data: dict[str, Any] = field(default_factory=dict)
     duration_s: float = 0.0
+    subject: str = "robot"
+    """What each result is of, as the tables and the summary name it: ``robot``, or ``file`` for a
+    local file given to a command (``shutdown hosts add FILE``, ``config history --file``)."""
 
     def add(self, result: RobotResult) -> None:
         self.results.append(result)

@@ -86,7 +86,8 @@ def mutate(
             if not sys.stdin.isatty():
                 error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
                 return int(ExitCode.USAGE)
-            if not typer.confirm(f"{verb} {len(fp.to_change)} robot(s): {', '.join(fp.to_change)}?", default=False):
+            if not typer.confirm(f"{verb} {len(fp.to_change)} {inv.subject}(s): {', '.join(fp.to_change)}?",
+                                 default=False):
                 sys.stderr.write("nothing was changed\n")
                 return int(ExitCode.USAGE)
         with progress.live():

@@ -58,7 +58,7 @@ def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: b
 
     out = _console()
     table = Table(title=title, show_lines=False)
-    table.add_column("robot", style="bold")
+    table.add_column(fleet.subject, style="bold")
     table.add_column("result")
     table.add_column("message", overflow="fold")
     for r in fleet.results:
@@ -141,7 +141,7 @@ def print_summary(fleet: FleetResult) -> None:
     code = fleet.exit_code
     tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
     _console(stderr=True).print(
-        f"{len(fleet.results)} robot{'' if len(fleet.results) == 1 else 's'}: " + ", ".join(parts)
+        f"{len(fleet.results)} {fleet.subject}{'' if len(fleet.results) == 1 else 's'}: " + ", ".join(parts)
         + f" in {fleet.duration_s:.1f} s{tail}"
     )
 

@@ -234,3 +234,21 @@ def test_gps_status_router_on_a_demo_robot_says_it_was_not_read(demo: Path, caps
     (robot,) = json.loads(out)["robots"]
     assert code == 0 and robot["data"]["router"] is None
     assert robot["warnings"] == ["router not read: demo robot, no router behind it (as `gps router show`)"]
+
+
+def test_a_local_file_is_called_a_file_not_a_robot(tmp_path: Path, capsys: Capsys,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """`shutdown hosts add|remove FILE`, `config history|rollback --file FILE`: the table's first
+    column and the summary speak of the file (they said "robot" and "1 robot: 1 changed")."""
+    monkeypatch.chdir(tmp_path)
+    Path("hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
+                                  "  - ip: 10.15.20.9\n    username: pi\n")
+    for argv, summary in ((("shutdown", "hosts", "remove", "hosts.yaml", "--ip", "10.15.20.9", "--yes"),
+                           "1 file: 1 changed"),
+                          (("config", "history", "--file", "hosts.yaml"), "1 file: 1 ok"),
+                          (("config", "rollback", "--file", "hosts.yaml", "--dry-run"), "1 file: 1 would change")):
+        code, out, err = run(capsys, *argv)
+        assert code == 0, err
+        header = next(line for line in out.splitlines() if "hosts.yaml" not in line and "┃" in line)
+        assert header.split("┃")[1].strip() == "file" and "robot" not in header, header
+        assert summary in err and "robot" not in err, err

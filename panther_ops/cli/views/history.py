@@ -10,7 +10,7 @@ def print_history(fleet: FleetResult) -> None:
     from rich.table import Table
 
     table = Table(title="panther-ops config history")
-    for col in ("robot", "backup id", "created", "command", "changed", "ended"):
+    for col in (fleet.subject, "backup id", "created", "command", "changed", "ended"):
         table.add_column(col, overflow="fold")
     for r in fleet.results:
         if r.outcome is not Outcome.OK:

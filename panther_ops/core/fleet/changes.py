@@ -156,11 +156,11 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
         return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 
     applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
-        FleetResult(fp.command)
+        FleetResult(fp.command, subject=inventory.subject)
     unstage_fleet(fp, inventory, robots, connections, options)  # robots never started (canary, max-fail)
     for r in applied.results:
         by_name[r.robot] = r
-    out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes)
+    out = FleetResult(fp.command, [by_name[r.name] for r in robots], notes=applied.notes, subject=inventory.subject)
     out.duration_s = fp.results.duration_s + applied.duration_s
     return out
 
@@ -186,7 +186,8 @@ def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
     ``read_only``: the command never writes (``config diff``, the plan shown before the
     question): no "dry run" note then. The plan's own results are left as they are.
     """
-    out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"])
+    out = FleetResult(fp.command, notes=[] if read_only else ["dry run: nothing was written"],
+                      subject=fp.results.subject)
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
             action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")

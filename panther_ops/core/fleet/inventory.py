@@ -80,6 +80,8 @@ class Inventory:
     files: tuple[Path, ...] = ()
     default_group: str | None = None
     """settings.default_group: what read-only commands answer for when no robot is chosen."""
+    subject: str = "robot"
+    """What its targets are called in the output: ``file`` for a local file's one-target inventory."""
 
     def endpoint(self, robot: Robot, _seen: tuple[str, ...] = ()) -> Endpoint:
         """How to reach ``robot`` (its jump host resolved, recursively)."""

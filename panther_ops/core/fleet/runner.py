@@ -218,7 +218,7 @@ def run_fleet(
             return run_fleet(command, inventory, robots, task, options, progress, own)
     opts = options or RunOptions(forks=inventory.forks)
     start = time.monotonic()
-    fleet = FleetResult(command)
+    fleet = FleetResult(command, subject=inventory.subject)
     run = _Fleet(connections, task, opts, progress)
     budget = None if opts.max_fail_pct is None else int(len(robots) * opts.max_fail_pct / 100.0)
     canaries = robots[: opts.canary] if opts.canary > 0 else []

@@ -37,7 +37,8 @@ def local_target(file: Path, option: str | None = None) -> tuple[Inventory, Robo
     full = Path(local_file(str(file), option)) if option else file.resolve()
     robot = Robot(name=str(file), host="localhost", transport="local", root=Path("/"), home=str(full.parent),
                   source=str(file))
-    return Inventory(path=full, origin=str(file), robots={robot.name: robot}, groups={}, forks=1), robot
+    return Inventory(path=full, origin=str(file), robots={robot.name: robot}, groups={}, forks=1,
+                     subject="file"), robot
 
 
 def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str], Edit]) -> RobotPlan:
