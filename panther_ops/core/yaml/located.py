@@ -110,7 +110,10 @@ def load_yaml(text: str, path: str) -> Any:
         node = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml where built
     except yaml.MarkedYAMLError as exc:
         line = exc.problem_mark.line + 1 if exc.problem_mark else None
-        raise InputError(f"invalid YAML: {exc.problem}", path=path, line=line) from None
+        # the libyaml of PyYAML >= 6.0.4 stops at its own depth limit: the same refusal
+        # as the RecursionError below, in the same words
+        problem = "nested too deeply" if "nesting depth" in (exc.problem or "") else exc.problem
+        raise InputError(f"invalid YAML: {problem}", path=path, line=line) from None
     except yaml.YAMLError as exc:
         raise InputError(f"invalid YAML: {exc}", path=path) from None
     except RecursionError:
