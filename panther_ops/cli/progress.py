@@ -20,8 +20,8 @@ from collections.abc import Iterator
 from typing import Any
 
 from panther_ops.cli.output import console, is_terminal, quiet
-from panther_ops.cli.render import STYLE
-from panther_ops.results import Outcome, RobotResult
+from panther_ops.cli.render import STYLE, outcome_word, result_cell
+from panther_ops.results import RobotResult
 
 PHASE_STYLE = {"connect": "cyan", "plan": "blue", "write": "yellow", "recreate": "magenta", "verify": "green",
                "roll back": "red"}
@@ -40,7 +40,7 @@ class FleetProgress:
         self._lock = threading.Lock()
         self._current: dict[str, tuple[str, float]] = {}
         self._times: dict[str, dict[str, float]] = {r: {} for r in self.robots}
-        self._outcome: dict[str, Outcome] = {}
+        self._done: dict[str, RobotResult] = {}
         self._live: Any = None
 
     # -- the core's callbacks (worker threads) -----------------------------------------------
@@ -49,14 +49,14 @@ class FleetProgress:
         with self._lock:
             self._close_phase(robot, now)
             self._current[robot] = (name, now)
-            self._outcome.pop(robot, None)  # at work again (the plan's result came first)
+            self._done.pop(robot, None)  # at work again (the plan's result came first)
         self._refresh()
 
     def __call__(self, result: RobotResult) -> None:
         with self._lock:
             self._close_phase(result.robot, time.monotonic())
             self._current.pop(result.robot, None)
-            self._outcome[result.robot] = result.outcome
+            self._done[result.robot] = result
         self._refresh()
 
     def _close_phase(self, robot: str, now: float) -> None:
@@ -95,7 +95,7 @@ class FleetProgress:
         now = time.monotonic()
         with self._lock:
             current = [(r, *self._current[r]) for r in self.robots if r in self._current]
-            done = dict(self._outcome)
+            done = dict(self._done)
         grid = Table.grid(padding=(0, 2))
         grid.add_column(no_wrap=True)
         grid.add_column(no_wrap=True)
@@ -105,19 +105,20 @@ class FleetProgress:
             grid.add_row(robot, Text(name, style=PHASE_STYLE.get(name, "")), f"{now - since:4.1f} s")
         if len(current) > room:
             grid.add_row(f"... {len(current) - room} more", "", "")
-        counts: dict[Outcome, int] = {}
-        for o in done.values():
-            counts[o] = counts.get(o, 0) + 1
+        counts: dict[tuple[str, str], int] = {}
+        for r in done.values():
+            key = (outcome_word(r), STYLE[r.outcome])  # a dry run's change: "would change"
+            counts[key] = counts.get(key, 0) + 1
         summary = Text(f"{len(done)}/{len(self.robots)} robots done")
-        for o, n in counts.items():
-            summary.append(f"  {n} {o.value}", style=STYLE[o])
+        for (word, style), n in counts.items():
+            summary.append(f"  {n} {word}", style=style)
         from rich.console import Group
 
         return Group(grid, summary)
 
     def recap(self) -> None:
         """One line per robot: its result and the time of each phase (on a terminal only)."""
-        if not self.enabled or not self._outcome:
+        if not self.enabled or not self._done:
             return
         from rich.markup import escape
 
@@ -125,9 +126,10 @@ class FleetProgress:
         err.print("[bold]recap[/]")
         width = max(len(r) for r in self.robots)
         for robot in self.robots:
-            outcome = self._outcome.get(robot)
-            if outcome is None:
+            result = self._done.get(robot)
+            if result is None:
                 continue
             phases = "  ".join(f"{name} {seconds:.1f} s" for name, seconds in self._times.get(robot, {}).items())
-            err.print(f"{escape(robot):<{width}}  [{STYLE[outcome]}]{outcome.value:<11}[/] {phases}",
+            word = outcome_word(result)
+            err.print(f"{escape(robot):<{width}}  {result_cell(result)}{' ' * max(0, 12 - len(word))} {phases}",
                       soft_wrap=True)

@@ -9,7 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 from panther_ops.errors import ExitCode
-from panther_ops.results import FleetResult, Outcome
+from panther_ops.results import FleetResult, Outcome, RobotResult
 
 STYLE = {
     Outcome.OK: "green",
@@ -62,7 +62,7 @@ def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: b
     table.add_column("result")
     table.add_column("message", overflow="fold")
     for r in fleet.results:
-        table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message))
+        table.add_row(r.robot, result_cell(r), esc(r.message))
     out.print(table)
     if show_diffs:
         print_diffs(fleet)
@@ -130,12 +130,17 @@ def print_warnings(fleet: FleetResult) -> None:
         print_message(f"[yellow]note[/] {esc(n)}")
 
 
+def outcome_word(r: RobotResult) -> str:
+    """``changed``, or ``would change`` for a plan not applied (a dry run): nothing changed yet."""
+    return "would change" if r.outcome is Outcome.CHANGED and r.data.get("dry_run") else r.outcome.value
+
+
 def print_summary(fleet: FleetResult) -> None:
     """``3 robots: 2 changed, 1 ok in 0.4 s``; a plan not applied (a dry run) says ``would change``."""
     counts: dict[tuple[str, str], int] = {}
     for o in Outcome:
         for r in fleet.by_outcome(o):
-            word = "would change" if o is Outcome.CHANGED and r.data.get("dry_run") else o.value
+            word = outcome_word(r)
             counts[(word, STYLE[o])] = counts.get((word, STYLE[o]), 0) + 1
     parts = [f"[{style}]{n} {word}[/]" for (word, style), n in counts.items()]
     code = fleet.exit_code
@@ -162,8 +167,13 @@ def error(message: str) -> None:
 
 
 def outcome_cell(outcome: Outcome) -> str:
-    """A robot's outcome as a table cell, in its colour."""
+    """An outcome as a table cell, in its colour."""
     return f"[{STYLE[outcome]}]{outcome.value}[/]"
+
+
+def result_cell(r: RobotResult) -> str:
+    """A robot's result as a table cell, in its colour: a dry run's change says ``would change``."""
+    return f"[{STYLE[r.outcome]}]{outcome_word(r)}[/]"
 
 
 def new_table(title: str | None, columns: tuple[str, ...]) -> Any:

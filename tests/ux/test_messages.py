@@ -23,6 +23,31 @@ def test_a_dry_run_summary_says_would_change(demo: Path, capsys: Capsys) -> None
     assert "dry run: nothing was written" in err
 
 
+def test_a_dry_run_table_says_would_change_not_changed(demo: Path, capsys: Capsys) -> None:
+    """The result column as well as the summary: nothing changed in a dry run."""
+    code, out, _ = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all", "--dry-run")
+    assert code == 0
+    rows = [[c.strip() for c in line.split("│")[1:-1]] for line in out.splitlines() if line.startswith("│ panther-")]
+    assert [r[:2] for r in rows] == [[f"panther-0{i}", "would change"] for i in (1, 2, 3)], out
+
+
+def test_the_live_recap_of_a_dry_run_says_would_change() -> None:
+    """The progress view's count and recap (on a terminal) use the same words as the table."""
+    import io
+
+    from rich.console import Console
+
+    from panther_ops.cli import progress as progress_mod
+    from panther_ops.results import Outcome, RobotResult
+
+    progress = progress_mod.FleetProgress(["panther-01", "panther-02"], enabled=True)
+    progress.phase("panther-01", "plan")
+    progress(RobotResult("panther-01", Outcome.CHANGED, "would change: wheel_type:=WH02", data={"dry_run": True}))
+    progress.phase("panther-02", "plan")
+    progress(RobotResult("panther-02", Outcome.OK, "nothing to change"))
+    buf = io.StringIO()
+    Console(file=buf, width=100).print(progress._render(10))
+    assert "2/2 robots done  1 would change  1 ok" in buf.getvalue()
 def test_the_plan_shown_before_the_question_says_would_change(demo: Path, capsys: Capsys) -> None:
     """Refused for want of --yes (stdin is no terminal here): nothing changed, and the plan says so."""
     code, out, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all")

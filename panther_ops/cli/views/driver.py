@@ -7,10 +7,10 @@ from panther_ops.cli.render import (
     esc,
     human_bytes,
     new_table,
-    outcome_cell,
     print_summary,
     print_table,
     print_warnings,
+    result_cell,
 )
 from panther_ops.results import FleetResult
 
@@ -23,12 +23,12 @@ def print_status(fleet: FleetResult) -> None:
     for r in fleet.results:
         d = r.data
         if "state" not in d or d.get("state") == "missing":
-            table.add_row(r.robot, outcome_cell(r.outcome), esc(d.get("service", "")),
+            table.add_row(r.robot, result_cell(r), esc(d.get("service", "")),
                           esc(d.get("compose_image") or ""), esc(r.message), "", "", "", "", "")
             continue
         drift = d.get("command_drift")
         table.add_row(
-            r.robot, outcome_cell(r.outcome), esc(d["service"]), esc(d.get("image") or ""),
+            r.robot, result_cell(r), esc(d["service"]), esc(d.get("image") or ""),
             esc(d["state"]), human_duration(d.get("uptime_s")) if d.get("uptime_s") is not None else "-",
             str(d.get("restart_count", "")), str(d.get("exit_code", "")), esc(d.get("health") or "-"),
             "[yellow]differs from compose.yaml[/]" if drift else ("as compose.yaml" if drift is False else "?"),
@@ -41,11 +41,11 @@ def print_versions(fleet: FleetResult) -> None:
     for r in fleet.results:
         images = r.data.get("local")
         if not images:
-            table.add_row(r.robot, outcome_cell(r.outcome), esc(r.message), "", "", "")
+            table.add_row(r.robot, result_cell(r), esc(r.message), "", "", "")
             continue
         for i, e in enumerate(images):
             mark = ", ".join(m for m, on in (("in use", e["in_use"]), ("compose.yaml", e["in_compose"])) if on)
-            table.add_row(r.robot if i == 0 else "", outcome_cell(r.outcome) if i == 0 else "",
+            table.add_row(r.robot if i == 0 else "", result_cell(r) if i == 0 else "",
                           esc(e["image"]), f"[bold]{mark}[/]" if mark else "", e["id"].removeprefix("sha256:")[:12],
                           human_bytes(e.get("size")))
     out = console()

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from panther_ops.cli.render import esc, new_table, outcome_cell, print_table
+from panther_ops.cli.render import esc, new_table, print_table, result_cell
 from panther_ops.results import FleetResult
 
 
@@ -11,7 +11,7 @@ def print_state(fleet: FleetResult) -> None:
     for r in fleet.results:
         e_stop = r.data.get("e_stop")
         shown = ("[red]triggered[/]" if e_stop is True else "[green]released[/]" if e_stop is False
-                 else outcome_cell(r.outcome))
+                 else result_cell(r))
         pubs = r.data.get("cmd_vel_publishers")
         note = "recorded (demo robot)" if r.data.get("recorded") else ("" if e_stop is not None else r.message)
         table.add_row(r.robot, shown, esc(", ".join(pubs) if pubs else ("none" if pubs == [] else "-")),

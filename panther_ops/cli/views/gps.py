@@ -8,7 +8,7 @@ from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 from panther_ops.cli.output import console
-from panther_ops.cli.render import esc, new_table, outcome_cell, print_table
+from panther_ops.cli.render import esc, new_table, print_table, result_cell
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.listen import ListenResult
@@ -49,7 +49,7 @@ def status_table(fleet: FleetResult, title: str) -> Any:
         rate = d.get("sentences_per_s")
         age = d.get("age_s")
         table.add_row(
-            r.robot, outcome_cell(r.outcome), esc(d.get("verdict", "")),
+            r.robot, result_cell(r), esc(d.get("verdict", "")),
             "-" if rate is None else f"{rate:g}" + (" (recorded)" if d.get("recorded") else ""), pos,
             str(fix.get("satellites", "-")), str(fix.get("hdop", "-")), "-" if age is None else f"{age:.1f} s",
             esc((d.get("driver") or {}).get("mode", "")), esc(d.get("detail", r.message)),
@@ -63,9 +63,9 @@ def print_router(fleet: FleetResult) -> None:
     for r in fleet.results:
         d = r.data
         if "forwarding" not in d:
-            table.add_row(r.robot, outcome_cell(r.outcome), "", "", "", "", esc(r.message))
+            table.add_row(r.robot, result_cell(r), "", "", "", "", esc(r.message))
             continue
-        table.add_row(r.robot, outcome_cell(r.outcome), "on" if d["gps_enabled"] else "off",
+        table.add_row(r.robot, result_cell(r), "on" if d["gps_enabled"] else "off",
                       "on" if d["forwarding"] else "off", esc(f"{d['hostname']}:{d['port']}/{d['proto']}"),
                       esc(",".join(d["sentences"])), "")
     print_table(table, fleet)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from panther_ops.cli.render import STYLE, _console, esc, print_summary, print_warnings
+from panther_ops.cli.render import _console, esc, print_summary, print_warnings, result_cell
 from panther_ops.results import FleetResult, Outcome
 
 
@@ -14,7 +14,7 @@ def print_history(fleet: FleetResult) -> None:
         table.add_column(col, overflow="fold")
     for r in fleet.results:
         if r.outcome is not Outcome.OK:
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), "", "", "")
+            table.add_row(r.robot, result_cell(r), esc(r.message), "", "", "")
             continue
         entries = r.data.get("history", [])
         if not entries:

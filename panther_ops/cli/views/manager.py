@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from panther_ops.cli.render import esc, new_table, outcome_cell, print_table
+from panther_ops.cli.render import esc, new_table, print_table, result_cell
 from panther_ops.results import FleetResult
 
 
@@ -14,7 +14,7 @@ def print_status(fleet: FleetResult) -> None:
     for r in fleet.results:
         d = r.data
         uptime = human_duration(d["uptime_s"]) if d.get("uptime_s") is not None else "-"
-        table.add_row(r.robot, outcome_cell(r.outcome), esc(d.get("version") or "-"),
+        table.add_row(r.robot, result_cell(r), esc(d.get("version") or "-"),
                       esc(d.get("mode") or "-"), esc(d.get("state") or "-"), uptime,
                       str(d.get("restart_count", "-")), esc(d.get("disable_manager") or "not set"), esc(r.message))
     print_table(table, fleet)

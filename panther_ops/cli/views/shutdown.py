@@ -34,7 +34,7 @@ def print_plan(parsed: HostsFile, title: str) -> None:
 
 
 def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
-    from panther_ops.cli.render import STYLE, emit_json
+    from panther_ops.cli.render import emit_json, result_cell
     from panther_ops.core.shutdown.run import summary
 
     if json_out:
@@ -46,7 +46,7 @@ def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
     for col in ("host", "result", "message", "time"):
         table.add_column(col, overflow="fold")
     for r in fleet.results:
-        table.add_row(esc(r.robot), f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message),
+        table.add_row(esc(r.robot), result_cell(r), esc(r.message),
                       f"{r.duration_s:.1f} s")
     stdout().print(table)
     stderr().print(f"{len(fleet.results)} hosts: {summary(fleet)} in {fleet.duration_s:.1f} s"
@@ -76,7 +76,7 @@ def print_list(fleet: FleetResult) -> None:
     """`shutdown hosts list`: each file's hosts."""
     from rich.table import Table
 
-    from panther_ops.cli.render import STYLE, print_warnings
+    from panther_ops.cli.render import print_warnings, result_cell
 
     for r in fleet.results:
         title = f"{r.robot}: {r.data.get('hosts_file', '')}"
@@ -89,7 +89,7 @@ def print_list(fleet: FleetResult) -> None:
                           esc(h["secret"] if http else h["command"]), f"{h['timeout']:g} s",
                           "" if http else ("yes" if h["ping_for_success"] else "no"))
         if r.outcome.is_failure and not r.data.get("hosts"):
-            table.add_row(f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", "", "", "", esc(r.message), "", "")
+            table.add_row(result_cell(r), "", "", "", esc(r.message), "", "")
         stdout().print(table)
         for e in r.data.get("errors", []):
             stderr().print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
@@ -100,7 +100,7 @@ def print_steps(fleet: FleetResult) -> None:
     """`shutdown setup`: each robot's steps."""
     from rich.table import Table
 
-    from panther_ops.cli.render import STYLE, print_diffs, print_warnings
+    from panther_ops.cli.render import outcome_cell, print_diffs, print_warnings, result_cell
     from panther_ops.results import Outcome
 
     for r in fleet.results:
@@ -109,15 +109,15 @@ def print_steps(fleet: FleetResult) -> None:
             table.add_column(col, overflow="fold")
         for s in r.data.get("steps", []):
             outcome = Outcome(s["outcome"])
-            table.add_row(s["step"], f"[{STYLE[outcome]}]{outcome.value}[/]", esc(s["message"]))
+            table.add_row(s["step"], outcome_cell(outcome), esc(s["message"]))
         if not r.data.get("steps"):
-            table.add_row("-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message))
+            table.add_row("-", result_cell(r), esc(r.message))
         stdout().print(table)
     print_diffs(fleet)
     print_warnings(fleet)
     for r in fleet.results:  # the message once: a failure's is the table's failing step
         shown = r.data.get("steps") and not r.outcome.is_failure
-        stderr().print(f"{esc(r.robot)}: [{STYLE[r.outcome]}]{r.outcome.value}[/]"
+        stderr().print(f"{esc(r.robot)}: {result_cell(r)}"
                         + (f" {esc(r.message)}" if shown else ""))
 
 
@@ -137,13 +137,13 @@ def print_validated(fleet: FleetResult) -> None:
 
 def print_check(fleet: FleetResult) -> None:
     """`shutdown check`: each host of each robot, the step it stopped at and its fix."""
-    from panther_ops.cli.render import new_table, outcome_cell, print_warnings
+    from panther_ops.cli.render import new_table, print_warnings, result_cell
 
     table = new_table("panther-ops shutdown check", ("robot", "host", "result", "step", "message", "fix"))
     for r in fleet.results:
         rows = r.data.get("hosts", [])
         if not rows:
-            table.add_row(r.robot, "-", outcome_cell(r.outcome), "", esc(r.message), "")
+            table.add_row(r.robot, "-", result_cell(r), "", esc(r.message), "")
         for i, h in enumerate(rows):
             result = "[green]ok[/]" if h["ok"] else "[red]failed[/]"
             table.add_row(r.robot if i == 0 else "", esc(h["host"]), result, h["step"], esc(h["message"]),
@@ -154,7 +154,7 @@ def print_check(fleet: FleetResult) -> None:
 
 def print_robots_down(fleet: FleetResult) -> None:
     """`shutdown robot`: per robot its hosts, then its Built-in Computer."""
-    from panther_ops.cli.render import new_table, outcome_cell, print_summary, print_warnings
+    from panther_ops.cli.render import new_table, outcome_cell, print_summary, print_warnings, result_cell
     from panther_ops.results import Outcome
 
     for r in fleet.results:
@@ -162,7 +162,7 @@ def print_robots_down(fleet: FleetResult) -> None:
         for h in r.data.get("hosts", []):
             table.add_row(esc(h["robot"]), outcome_cell(Outcome(h["outcome"])), esc(h["message"]),
                           f"{h['duration_s']:.1f} s")
-        table.add_row(f"{esc(r.robot)} (Built-in Computer)", outcome_cell(r.outcome), esc(r.message),
+        table.add_row(f"{esc(r.robot)} (Built-in Computer)", result_cell(r), esc(r.message),
                       f"{r.duration_s:.1f} s")
         stdout().print(table)
     print_warnings(fleet)

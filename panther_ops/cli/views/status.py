@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-from panther_ops.cli.render import STYLE, _console, esc, human_bytes, print_summary, print_warnings
+from panther_ops.cli.render import (
+    _console,
+    esc,
+    human_bytes,
+    print_summary,
+    print_warnings,
+    result_cell,
+)
 from panther_ops.results import FleetResult, Outcome
 
 
@@ -16,7 +23,7 @@ def print_status(fleet: FleetResult) -> None:
     for r in fleet.results:
         d = r.data
         if r.outcome is not Outcome.OK:
-            table.add_row(r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), *[""] * 8)
+            table.add_row(r.robot, result_cell(r), esc(r.message), *[""] * 8)
             continue
         ctrs = d.get("containers")
         if ctrs is None:
@@ -35,7 +42,7 @@ def print_status(fleet: FleetResult) -> None:
             clock = f"[red]{clock}[/]"
         stack = f"{d.get('stack') or '?'} {d.get('stack_version') or ''}".strip()
         table.add_row(
-            r.robot, f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", d.get("hostname") or "-", model,
+            r.robot, result_cell(r), d.get("hostname") or "-", model,
             d.get("system_build_version") or "-", stack, d.get("driver_state") or "-", ctr_text,
             human_bytes(d.get("disk_free_bytes")), clock, _webui(d.get("webui")),
         )
@@ -65,7 +72,7 @@ def print_doctor(fleet: FleetResult) -> None:
     for r in fleet.results:
         findings = r.data.get("findings")
         if not findings:
-            table.add_row(r.robot, "-", f"[{STYLE[r.outcome]}]{r.outcome.value}[/]", esc(r.message), "")
+            table.add_row(r.robot, "-", result_cell(r), esc(r.message), "")
             continue
         for i, f in enumerate(findings):
             table.add_row(r.robot if i == 0 else "", f["check"], f"[{colour[f['state']]}]{f['state']}[/]",
