@@ -72,7 +72,7 @@ def mutate(
             unstage_fleet(fp, inv, chosen, conns, opts)
             for name, exc in fp.usage_errors.items():
                 error(f"{name}: {exc}")
-            sys.stderr.write("nothing was changed on any robot\n")
+            sys.stderr.write("nothing was changed" + (" on any robot" if inv.subject == "robot" else "") + "\n")
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
             return finish(dry_run_result(fp, read_only=read_only) if dry_run else fp.results, json_out,

@@ -142,3 +142,39 @@ def test_apply_desired_gps_recreates_only_the_service(lab: Any, restored: None,
         assert lab.read(name, COMPOSE) == before
     finally:
         inv.unlink()
+
+
+def test_a_failed_enable_rolls_back_without_a_trace_of_the_new_service(
+        lab: Any, restored: None, capsys: pytest.CaptureFixture[str]) -> None:
+    """2.0.4: the nmea-gps container crash-loops (its UDP port is held by another process in the
+    robot's network namespace): compose.yaml comes back, the new service's container is removed
+    (not left restarting as an orphan), and the rollback does not try to start a service the
+    restored file no longer has."""
+    import subprocess
+    import sys
+
+    inv = str(lab.inventory_path)
+    old = robot_of(lab, "2.0.4")
+    use_nmea_image(lab, old)
+    before = lab.read(old, COMPOSE)
+    running = containers(lab, old)
+    holder = subprocess.Popen(
+        ["ip", "netns", "exec", lab.robot(old).ns, sys.executable, "-c",
+         "import socket, sys, time\ns = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)\n"
+         "s.bind(('0.0.0.0', 5000))\nprint('bound', flush=True)\ntime.sleep(120)\n"],
+        stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "bound"
+        code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", old, "--yes", "--settle", "2", "--json")
+    finally:
+        holder.kill()
+        holder.wait()
+    assert code == 3, (doc, err)
+    result = doc["robots"][0]
+    assert result["outcome"] == "rolled-back", result
+    assert "after restore" not in result["message"], result
+    assert "nmea-gps log: " in result["message"] and "bind: Address already in use" in result["message"], result
+    assert lab.read(old, COMPOSE) == before
+    now = containers(lab, old)
+    assert not [k for k in now if "nmea-gps" in k], now
+    assert {k: v["id"] for k, v in now.items()} == {k: v["id"] for k, v in running.items()}

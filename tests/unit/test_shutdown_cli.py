@@ -258,5 +258,10 @@ def test_setup_check_and_robot_need_an_ssh_robot(demo: Path, capsys: pytest.Capt
     assert code == 0 and robot["outcome"] == "skipped" and robot["message"].startswith("demo robot: no LAN")
     code, out, err = run(capsys, "-i", inv, "shutdown", "robot", "-r", "panther-01", "--dry-run")
     assert code == 0 and "10.15.20.3" in out  # the plan names the hosts; nothing is contacted
+    row = next(line for line in out.splitlines() if line.startswith("│ panther-01"))  # a plan: "would"
+    assert [c.strip() for c in row.split("│")[1:-1]] == [
+        "panther-01", "would change", "would shut down 1 host(s) first (husarion@10.15.20.3:22), then the Built-in "
+        "Computer"], out
+    assert "1 robot: 1 would change in" in err, err
     code, _, err = run(capsys, "-i", inv, "shutdown", "robot", "-r", "panther-01")
     assert code == 2 and "panther-01" in err and "husarion@10.15.20.3:22" in err

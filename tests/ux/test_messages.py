@@ -31,6 +31,19 @@ def test_a_dry_run_table_says_would_change_not_changed(demo: Path, capsys: Capsy
     assert [r[:2] for r in rows] == [[f"panther-0{i}", "would change"] for i in (1, 2, 3)], out
 
 
+def test_webui_set_dry_run_says_would_change(demo: Path, capsys: Capsys) -> None:
+    """The snap keys' plan (current -> new) is a change not yet made, as every other plan."""
+    argv = ("-i", str(demo), "webui", "set", "webui.port=8081", "-r", "panther-01", "--dry-run")
+    code, out, err = run(capsys, *argv)
+    assert code == 0 and "1 robot: 1 would change in" in err, err
+    row = next(line for line in out.splitlines() if line.startswith("│ panther-01"))
+    assert [c.strip() for c in row.split("│")[1:-1]] == ["panther-01", "would change",
+                                                         "would change: webui.port: 8080 -> 8081"], out
+    code, out, _ = run(capsys, *argv, "--json")
+    robot = json.loads(out)["robots"][0]
+    assert (robot["outcome"], robot["data"]["dry_run"]) == ("changed", True), robot
+
+
 def test_the_live_recap_of_a_dry_run_says_would_change() -> None:
     """The progress view's count and recap (on a terminal) use the same words as the table."""
     import io
@@ -277,3 +290,7 @@ def test_a_local_file_is_called_a_file_not_a_robot(tmp_path: Path, capsys: Capsy
         header = next(line for line in out.splitlines() if "hosts.yaml" not in line and "┃" in line)
         assert header.split("┃")[1].strip() == "file" and "robot" not in header, header
         assert summary in err and "robot" not in err, err
+    # a refusal of the plan: nothing was changed (not "on any robot")
+    code, _, err = run(capsys, "config", "rollback", "--file", "hosts.yaml", "--to", "nope", "--yes")
+    assert code == 2 and "backup 'nope' not found for hosts.yaml" in err, err
+    assert "nothing was changed" in err and "robot" not in err, err

@@ -240,9 +240,11 @@ def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
             usage[c.robot.name] = exc
             raise
         plans[c.robot.name] = p
-        names = ", ".join(h.describe() for h in p.hosts) or "no hosts"
-        return RobotResult(c.robot.name, Outcome.OK, f"{len(p.hosts)} host(s) first: {names}",
-                           data={"hosts_file": p.hosts_file.source},
+        names = ", ".join(h.describe() for h in p.hosts)
+        first = f"{len(p.hosts)} host(s) first ({names}), then " if p.hosts else "no hosts in its file; "
+        # nothing shut down yet: what the robot would get, as every plan says it
+        return RobotResult(c.robot.name, Outcome.CHANGED, f"would shut down {first}the Built-in Computer",
+                           data={"hosts_file": p.hosts_file.source, "dry_run": True},
                            warnings=[str(f) for f in p.parsed.warnings])
 
     from panther_ops.cli.render import error, print_results

@@ -129,7 +129,7 @@ def set_(
                             RunOptions(forks=inv.forks), connections=conns)
         if dds is not None:
             for r in planned.results:
-                r.data["ready"] = r.outcome.value == "ok"
+                r.data["ready"] = r.outcome.value in ("ok", "changed")
         refused = [r for r in planned.results if r.data.get("refused")]
         if refused:  # bad input for a robot (e.g. no such DDS profile there): nothing is sent anywhere
             from panther_ops.errors import UsageError

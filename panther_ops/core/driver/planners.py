@@ -231,7 +231,7 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
     present = reads.fact(IMAGE, new_ref)
     if present is False:
         warnings.append(f"{new_ref} is not on the robot: it needs a pull (internet on the robot); "
-                        + ("--pull runs docker compose pull first" if not pull else "pulled before recreating"))
+                        + ("--pull runs" if not pull else "--pull given: runs") + " docker compose pull first")
     parts = [f"image {current} -> {new_ref}"]
     if renamed_from:
         parts.append(f"service {renamed_from} -> {service}")

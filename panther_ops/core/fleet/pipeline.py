@@ -283,13 +283,19 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
     ctx.phase("roll back")
     t = ctx.transport
     services = plan.recreate if recreate is None else recreate
+    restored = _restored_services(plan)
+    added = tuple(s for s in services if restored is not None and s not in restored)
+    services = tuple(s for s in services if s not in added)
     again: str | None = None
+    logs = ""
     try:
         for e in plan.edits:
             if e.before is None:
                 _remove(ctx, e.path)
             else:
                 t.write_file_atomic(e.path, e.before)
+        if added:  # a service the change added is gone from the restored file: its containers too
+            logs = _remove_containers(ctx, added)
         if services:
             if before_recreate is not None:
                 before_recreate()
@@ -302,9 +308,51 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
         return result
     result.outcome = Outcome.ROLLED_BACK
     result.message = (f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
-                      + note)
+                      + logs + note)
     mark_backup(ctx, backup_id, f"rolled-back: {problem}")
     return result
+
+
+def _restored_services(plan: RobotPlan) -> set[str] | None:
+    """The services of the compose file as the rollback puts it back (None: the plan does not
+    touch it, or it cannot be read: every service is brought back as planned)."""
+    import yaml
+
+    before = next((e.before for e in plan.edits if e.path == plan.compose_file), None)
+    if before is None:
+        return None
+    try:
+        doc = yaml.safe_load(before)
+    except (yaml.YAMLError, RecursionError):
+        return None
+    services = doc.get("services") if isinstance(doc, dict) else None
+    return {str(k) for k in services} if isinstance(services, dict) else None
+
+
+def _remove_containers(ctx: RobotContext, services: tuple[str, ...]) -> str:
+    """Remove the containers of services no longer in the compose file (what ``docker compose up
+    --remove-orphans`` would remove), so a crash-looping new service does not outlive the
+    rollback; returns their last log lines for the message (``; nmea-gps log: ...``)."""
+    client = ctx.transport.docker()
+    if client is None:
+        return ""
+    logs = ""
+    for service in services:
+        for c in _containers(client, service):
+            log = last_log(c)
+            logs += f"; {service} log: {log}" if log else ""
+            c.remove(force=True)
+    return logs
+
+
+def last_log(container: Any, lines: int = 3) -> str:
+    """A container's last log lines, each once, joined with `` | `` (at most 400 characters)."""
+    try:
+        text = container.logs(tail=lines).decode(errors="replace").strip()
+    except Exception:  # a log is a courtesy here
+        return ""
+    unique = list(dict.fromkeys(t.strip() for t in text.splitlines() if t.strip()))
+    return " | ".join(unique)[-400:]
 
 
 def mark_backup(ctx: RobotContext, backup_id: str, status: str) -> None:

@@ -7,7 +7,7 @@ import re
 from typing import Any
 
 from panther_ops.core.config.robot import read_config
-from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, last_log
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.manager_ops.settings import ROBOT_DIR, SERVICE
@@ -36,23 +36,15 @@ def tidy(ctx: RobotContext, root: str) -> None:
         return
 
 
-def _last_log(container: Any, lines: int = 3) -> str:
-    try:
-        text = container.logs(tail=lines).decode(errors="replace").strip()
-    except Exception:  # a log is a courtesy here
-        return ""
-    unique = list(dict.fromkeys(t.strip() for t in text.splitlines() if t.strip()))
-    return " | ".join(unique)[-400:]
-
-
 def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
     """`apply_plan`, with the manager container handled where compose alone would not:
 
     * remove: the container is stopped before compose.yaml changes (never two managers at
       once) and deleted once the change is verified (``compose up`` leaves orphans running);
-    * a rolled-back deploy of a new service: the orphan container is deleted and the driver
-      recreated from the restored compose.yaml (the pipeline's own restore asked compose for
-      a service the restored file no longer has).
+    * a rolled-back change: the containers made to match the restored compose.yaml (the
+      pipeline's rollback has deleted a new service's orphan container, with its last log
+      lines in the message; one left over is deleted here) and the driver recreated, a
+      stopped manager started again.
     """
     action = plan.data.get("action")
     if not plan.edits or opts.dry_run or action not in ("deploy", "remove"):
@@ -97,7 +89,7 @@ def _repair(ctx: RobotContext, plan: RobotPlan, client: Any, result: RobotResult
         services.append(SERVICE)
     else:
         for c in service_containers(client):
-            log = _last_log(c)
+            log = last_log(c)
             if log:
                 result.message += f"; manager log: {log}"
             c.remove(force=True)

@@ -192,7 +192,9 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
                                 "running": state.running, "ready": bool(plan), "namespace": note}
         if not plan:
             return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data)
-        return RobotResult(ctx.robot.name, Outcome.OK, f"plan: {plan_text(plan, note)}", data=data)
+        # nothing sent yet: a change the robot would get (as every plan says: "would change")
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"would change: {plan_text(plan, note)}",
+                           data={**data, "dry_run": True})
     return task
 
 
