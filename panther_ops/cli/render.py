@@ -5,7 +5,7 @@ Data goes to stdout, progress and messages to stderr, so ``--json | jq`` works.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from panther_ops.errors import ExitCode
@@ -135,14 +135,20 @@ def outcome_word(r: RobotResult) -> str:
     return "would change" if r.outcome is Outcome.CHANGED and r.data.get("dry_run") else r.outcome.value
 
 
+def outcome_counts(results: Iterable[RobotResult]) -> list[tuple[int, str, str]]:
+    """How many results say each word (``would change`` apart from ``changed``), in the order
+    the words first come: (count, word, style)."""
+    counts: dict[tuple[str, str], int] = {}
+    for r in results:
+        key = (outcome_word(r), STYLE[r.outcome])
+        counts[key] = counts.get(key, 0) + 1
+    return [(n, word, style) for (word, style), n in counts.items()]
+
+
 def print_summary(fleet: FleetResult) -> None:
     """``3 robots: 2 changed, 1 ok in 0.4 s``; a plan not applied (a dry run) says ``would change``."""
-    counts: dict[tuple[str, str], int] = {}
-    for o in Outcome:
-        for r in fleet.by_outcome(o):
-            word = outcome_word(r)
-            counts[(word, STYLE[o])] = counts.get((word, STYLE[o]), 0) + 1
-    parts = [f"[{style}]{n} {word}[/]" for (word, style), n in counts.items()]
+    grouped = (r for o in Outcome for r in fleet.by_outcome(o))  # ok first, then changed, ...
+    parts = [f"[{style}]{n} {word}[/]" for n, word, style in outcome_counts(grouped)]
     code = fleet.exit_code
     tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
     _console(stderr=True).print(

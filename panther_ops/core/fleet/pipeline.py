@@ -316,16 +316,17 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
 def _restored_services(plan: RobotPlan) -> set[str] | None:
     """The services of the compose file as the rollback puts it back (None: the plan does not
     touch it, or it cannot be read: every service is brought back as planned)."""
-    import yaml
+    from panther_ops.core.kinds.common import load_mapping
+    from panther_ops.core.kinds.compose import WHAT
+    from panther_ops.core.kinds.registry import FileKindError
 
     before = next((e.before for e in plan.edits if e.path == plan.compose_file), None)
     if before is None:
         return None
     try:
-        doc = yaml.safe_load(before)
-    except (yaml.YAMLError, RecursionError):
+        services = load_mapping(plan.compose_file, before, WHAT).get("services")
+    except FileKindError:
         return None
-    services = doc.get("services") if isinstance(doc, dict) else None
     return {str(k) for k in services} if isinstance(services, dict) else None
 
 
@@ -339,13 +340,13 @@ def _remove_containers(ctx: RobotContext, services: tuple[str, ...]) -> str:
     logs = ""
     for service in services:
         for c in _containers(client, service):
-            log = last_log(c)
+            log = _last_log(c)
             logs += f"; {service} log: {log}" if log else ""
             c.remove(force=True)
     return logs
 
 
-def last_log(container: Any, lines: int = 3) -> str:
+def _last_log(container: Any, lines: int = 3) -> str:
     """A container's last log lines, each once, joined with `` | `` (at most 400 characters)."""
     try:
         text = container.logs(tail=lines).decode(errors="replace").strip()

@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import contextlib
-import re
 from typing import Any
 
-from panther_ops.core.config.robot import read_config
-from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, last_log
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.manager_ops.settings import ROBOT_DIR, SERVICE
@@ -41,10 +39,9 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
 
     * remove: the container is stopped before compose.yaml changes (never two managers at
       once) and deleted once the change is verified (``compose up`` leaves orphans running);
-    * a rolled-back change: the containers made to match the restored compose.yaml (the
-      pipeline's rollback has deleted a new service's orphan container, with its last log
-      lines in the message; one left over is deleted here) and the driver recreated, a
-      stopped manager started again.
+    * a change that was not applied or was rolled back: the manager stopped for its removal
+      started again (the pipeline's rollback itself deletes a new service's orphan container
+      and recreates the driver from the restored compose.yaml).
     """
     action = plan.data.get("action")
     if not plan.edits or opts.dry_run or action not in ("deploy", "remove"):
@@ -69,38 +66,14 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
                 c.remove(force=True)
         tidy(ctx, root)
         return result
-    if "backup" in result.data:  # written, then restored by the pipeline: make the containers match
-        _repair(ctx, plan, client, result, stopped)
-        tidy(ctx, root)
-    else:
-        for c in stopped:
-            c.start()
-    return result
-
-
-def _repair(ctx: RobotContext, plan: RobotPlan, client: Any, result: RobotResult, stopped: list[Any]) -> None:
-    from panther_ops.core.fleet.pipeline import recreate_and_verify
-
-    if client is None:
-        return
-    cfg = read_config(ctx)
-    services = [cfg.service]
-    if SERVICE in cfg.compose.services():
-        services.append(SERVICE)
-    else:
-        for c in service_containers(client):
-            log = last_log(c)
-            if log:
-                result.message += f"; manager log: {log}"
-            c.remove(force=True)
-    result.message = re.sub(r" \(after restore: docker compose up failed: [^)]*\)", "", result.message)
-    restore = RobotPlan(plan.robot, "restore", [], tuple(services), plan.compose_file, [])
-    problem = recreate_and_verify(ctx, restore, 3.0, RobotResult(plan.robot, Outcome.OK, ""))
-    if problem:
-        result.outcome = Outcome.FAILED
-        result.message += f"; after restore: {problem}"
+    # not applied, or rolled back by the pipeline (files restored; a new service's container
+    # removed, its last log lines in the message; the plan's other services recreated from the
+    # restored compose.yaml): a manager stopped for its removal runs again
     for c in stopped:
-        with contextlib.suppress(Exception):  # recreated by compose above: nothing to start
+        with contextlib.suppress(Exception):  # a container compose recreated meanwhile is running
             c.reload()
             if c.status != "running":
                 c.start()
+    if "backup" in result.data:
+        tidy(ctx, root)
+    return result
