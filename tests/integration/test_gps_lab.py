@@ -178,3 +178,43 @@ def test_a_failed_enable_rolls_back_without_a_trace_of_the_new_service(
     now = containers(lab, old)
     assert not [k for k in now if "nmea-gps" in k], now
     assert {k: v["id"] for k, v in now.items()} == {k: v["id"] for k, v in running.items()}
+
+
+def test_a_failed_enable_leaves_the_operators_own_nmea_gps_project_alone(
+        lab: Any, restored: None, capsys: pytest.CaptureFixture[str]) -> None:
+    """An operator who added the GPS by hand in a compose project of their own (~/handmade,
+    service nmea-gps, holding UDP 5000): `gps enable`'s new container cannot bind the port, the
+    change rolls back, and only the new container is removed; the operator's, a container of
+    the same service name in another project, keeps running untouched."""
+    from tests.lab.files import USER
+    from tests.lab.nmea_image import NMEA_IMAGE
+
+    inv = str(lab.inventory_path)
+    old = robot_of(lab, "2.0.4")
+    use_nmea_image(lab, old)
+    lab.write(old, "/home/husarion/handmade/compose.yaml",
+              f"services:\n  nmea-gps:\n    image: {NMEA_IMAGE}\n    network_mode: host\n    restart: always\n"
+              "    command: ros2 run nmea_navsat_driver nmea_socket_driver --ros-args -p port:=5000\n")
+    up = lab.exec(old, ["bash", "-lc", "cd ~/handmade && docker compose up -d"], user=USER, timeout=120)
+    assert up.returncode == 0, up.stderr
+    try:
+        handmade = {k: v for k, v in containers(lab, old).items() if k.startswith("handmade-nmea-gps")}
+        assert [v["state"] for v in handmade.values()] == ["running"], handmade
+        deadline = time.monotonic() + 10
+        while 5000 not in udp_ports(lab, old) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert 5000 in udp_ports(lab, old)
+        before = lab.read(old, COMPOSE)
+        code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", old, "--yes", "--settle", "2", "--json")
+        assert code == 3, (doc, err)
+        result = doc["robots"][0]
+        assert result["outcome"] == "rolled-back", result
+        assert "bind: Address already in use" in result["message"], result
+        assert lab.read(old, COMPOSE) == before
+        now = containers(lab, old)
+        assert [k for k in now if "nmea-gps" in k] == list(handmade), now
+        (name, was), = handmade.items()
+        assert (now[name]["id"], now[name]["state"]) == (was["id"], "running")
+    finally:
+        lab.exec(old, ["bash", "-lc", "cd ~/handmade && docker compose down; cd && rm -rf ~/handmade"], user=USER,
+                 timeout=120)

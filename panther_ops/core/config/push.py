@@ -14,6 +14,7 @@ robot's own image, else panther-ops' template for that version.
 
 from __future__ import annotations
 
+import posixpath
 import re
 from pathlib import Path
 
@@ -26,6 +27,7 @@ from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import running_containers
 from panther_ops.core.kinds import PUSHABLE, FileKind, check_file
 from panther_ops.errors import InputError, UsageError
 
@@ -156,7 +158,7 @@ def _from_image(ctx: RobotContext, cfg: RobotConfig, package: str, filename: str
         return None
     path = f"/ros2_ws/install/{package}/share/{package}/config/{filename}"
     try:
-        containers = client.containers.list(filters={"label": f"com.docker.compose.service={cfg.service}"})
+        containers = running_containers(client, cfg.service, posixpath.dirname(cfg.compose_path))
         if not containers:
             return None
         stream, _ = containers[0].get_archive(path)

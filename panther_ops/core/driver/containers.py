@@ -17,6 +17,7 @@ from panther_ops.core.containers.times import engine_now, human_duration, parse_
 from panther_ops.core.driver.images import HubTag, local_images, newer_tags
 from panther_ops.core.driver.planners import compose_argv
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import service_containers
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
 
@@ -105,26 +106,11 @@ def describe_container(attrs: Mapping[str, Any], *, compose_image: str | None, c
     return view
 
 
-def _compose_dir(cfg: RobotConfig) -> tuple[str, str]:
-    return posixpath.dirname(cfg.compose_path) or "~", posixpath.basename(cfg.compose_path)
-
-
-def service_containers(client: Any, service: str, working_dir: str | None = None) -> list[Any]:
-    """Containers of a compose service (of the project in ``working_dir`` when given), running first."""
-    found = list(client.containers.list(all=True, filters={"label": f"com.docker.compose.service={service}"}))
-    if working_dir:
-        own = [c for c in found
-               if (c.attrs.get("Config", {}).get("Labels") or {}).get("com.docker.compose.project.working_dir")
-               in (working_dir, None)]
-        found = own or found
-    found.sort(key=lambda c: not (c.attrs.get("State") or {}).get("Running"))
-    return found
-
-
 def driver_container(client: Any, cfg: RobotConfig) -> Any | None:
     """The driver's container: by compose service label, else by container_name."""
     service = cfg.service
-    found = service_containers(client, service, _compose_dir(cfg)[0])
+    # cfg.compose_path is absolute (read with the robot user's home): its project's containers first
+    found = service_containers(client, service, posixpath.dirname(cfg.compose_path))
     if found:
         return found[0]
     name = cfg.compose.service(service).get("container_name") or service

@@ -9,12 +9,13 @@ from typing import Any
 from panther_ops.core.config.robot import read_compose
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver import planners
-from panther_ops.core.driver.containers import last_line, service_containers
+from panther_ops.core.driver.containers import last_line
 from panther_ops.core.driver.images import TargetImage
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, mark_backup, recreate_and_verify, roll_back
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
 
@@ -70,7 +71,8 @@ def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Robo
             failed = f"docker compose pull failed: {last_line(res.stderr)}"
             return _roll_back_update(ctx, plan, opts, result, failed, backup_id, client, recreated=False)
     if renamed_from:
-        for c in service_containers(client, str(renamed_from), cdir):
+        for c in service_containers(client, str(renamed_from), project_dir(ctx, plan.compose_file, plan.home),
+                                    own_only=True):
             c.remove(force=True)
     problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
     if problem is None:
@@ -90,11 +92,11 @@ def _roll_back_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, re
     renamed_from = plan.data.get("service_from")
     if not renamed_from:
         return roll_back(ctx, plan, opts, result, problem, backup_id)
-    cdir = posixpath.dirname(plan.compose_file) or "~"
+    wd = project_dir(ctx, plan.compose_file, plan.home)
 
     def remove_new_containers() -> None:
         for svc in plan.recreate:
-            for c in service_containers(client, svc, cdir):
+            for c in service_containers(client, svc, wd, own_only=True):
                 c.remove(force=True)
 
     return roll_back(ctx, plan, opts, result, problem, backup_id, recreate=(str(renamed_from),),

@@ -25,6 +25,7 @@ from typing import Any
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_apply, scripts_backup
@@ -295,11 +296,11 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
             else:
                 t.write_file_atomic(e.path, e.before)
         if added:  # a service the change added is gone from the restored file: its containers too
-            logs = _remove_containers(ctx, added)
+            logs = _remove_containers(ctx, plan, added)
         if services:
             if before_recreate is not None:
                 before_recreate()
-            restore = RobotPlan(plan.robot, "restore", [], services, plan.compose_file, [])
+            restore = RobotPlan(plan.robot, "restore", [], services, plan.compose_file, [], home=plan.home)
             again = recreate_and_verify(ctx, restore, min(opts.settle_s, 3.0),
                                         RobotResult(plan.robot, Outcome.OK, ""))
     except OpsError as exc:
@@ -330,16 +331,18 @@ def _restored_services(plan: RobotPlan) -> set[str] | None:
     return {str(k) for k in services} if isinstance(services, dict) else None
 
 
-def _remove_containers(ctx: RobotContext, services: tuple[str, ...]) -> str:
-    """Remove the containers of services no longer in the compose file (what ``docker compose up
-    --remove-orphans`` would remove), so a crash-looping new service does not outlive the
-    rollback; returns their last log lines for the message (``; nmea-gps log: ...``)."""
+def _remove_containers(ctx: RobotContext, plan: RobotPlan, services: tuple[str, ...]) -> str:
+    """Remove the project's containers of services no longer in its compose file (what ``docker
+    compose up --remove-orphans`` would remove; another project's containers of the same name
+    stay), so a crash-looping new service does not outlive the rollback; returns their last log
+    lines for the message (``; nmea-gps log: ...``)."""
     client = ctx.transport.docker()
     if client is None:
         return ""
     logs = ""
+    wd = project_dir(ctx, plan.compose_file, plan.home)
     for service in services:
-        for c in _containers(client, service):
+        for c in service_containers(client, service, wd, own_only=True):
             log = _last_log(c)
             logs += f"; {service} log: {log}" if log else ""
             c.remove(force=True)
@@ -381,21 +384,17 @@ def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, res
     if not res.ok:
         return f"docker compose up failed: {res.stderr.strip()[-400:]}"
     ctx.phase("verify")
-    return _watch(client, plan, settle_s)
+    return _watch(client, plan, settle_s, project_dir(ctx, compose, plan.home))
 
 
-def _containers(client: Any, service: str) -> list[Any]:
-    return list(client.containers.list(all=True, filters={"label": f"com.docker.compose.service={service}"}))
-
-
-def _watch(client: Any, plan: RobotPlan, settle_s: float) -> str | None:
+def _watch(client: Any, plan: RobotPlan, settle_s: float, working_dir: str) -> str | None:
     deadline = time.monotonic() + settle_s
     checks = plan.verify or [Verify(s) for s in plan.recreate]
     while True:
         for v in checks:
-            ctrs = _containers(client, v.service)
+            ctrs = service_containers(client, v.service, working_dir, own_only=True)
             if not ctrs:
-                return f"service {v.service}: no container after recreate"
+                return f"service {v.service}: no container of the project in {working_dir} after recreate"
             c = ctrs[0]
             state = c.attrs.get("State", {})
             cmd = c.attrs.get("Config", {}).get("Cmd") or []

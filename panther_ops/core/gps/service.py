@@ -8,6 +8,7 @@ from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.core.gps import plan as planner
 from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.results import Outcome, RobotResult
@@ -39,7 +40,7 @@ def apply_gps(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotRe
 
     try:
         gone = []
-        for c in client.containers.list(all=True, filters={"label": f"com.docker.compose.service={service}"}):
+        for c in service_containers(client, service, project_dir(ctx, plan.compose_file, plan.home), own_only=True):
             c.remove(force=True)
             gone.append(c.name)
     except (DockerException, OSError) as exc:  # the file is written; the container stays

@@ -8,6 +8,7 @@ from typing import Any
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.core.manager_ops.settings import ROBOT_DIR, SERVICE
 from panther_ops.errors import OpsError
 from panther_ops.results import Outcome, RobotResult
@@ -17,8 +18,9 @@ from panther_ops.transport.base import Command
 # ---------------------------------------------------------------------------------------
 # apply (the pipeline, plus the container the pipeline does not know about)
 # ---------------------------------------------------------------------------------------
-def service_containers(client: Any) -> list[Any]:
-    return list(client.containers.list(all=True, filters={"label": f"com.docker.compose.service={SERVICE}"}))
+def manager_containers(client: Any, working_dir: str | None = None, *, own_only: bool = False) -> list[Any]:
+    """The manager service's containers, running first (``fleet.services.service_containers``)."""
+    return service_containers(client, SERVICE, working_dir, own_only=own_only)
 
 
 _TIDY = ('r="${PANTHER_OPS_ROOT:-}"; d="$r$1"; [ -d "$d" ] || exit 0; '
@@ -48,8 +50,9 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
         return apply_plan(ctx, plan, opts)
     client = ctx.transport.docker()
     stopped: list[Any] = []
+    wd = project_dir(ctx, plan.compose_file, plan.home)
     if action == "remove" and client is not None:
-        for c in service_containers(client):
+        for c in manager_containers(client, wd, own_only=True):
             if c.status == "running":
                 c.stop(timeout=10)
                 stopped.append(c)
@@ -62,7 +65,7 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
     root = f"{ctx.transport.home()}/{ROBOT_DIR}"
     if result.outcome is Outcome.CHANGED:
         if action == "remove" and client is not None:
-            for c in service_containers(client):
+            for c in manager_containers(client, wd, own_only=True):
                 c.remove(force=True)
         tidy(ctx, root)
         return result

@@ -9,7 +9,7 @@ from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.manager_ops import plan_deploy as planner
-from panther_ops.core.manager_ops.apply_step import service_containers
+from panther_ops.core.manager_ops.apply_step import manager_containers
 from panther_ops.core.manager_ops.bundle import ManagerBundle
 from panther_ops.core.manager_ops.checks import IMAGE_PROBE
 from panther_ops.core.manager_ops.image_probe import probe_image
@@ -40,7 +40,7 @@ def _running_warning(ctx: RobotContext) -> list[str]:
         client = ctx.transport.docker()
         if client is None:
             return []
-        ctrs = service_containers(client)
+        ctrs = manager_containers(client)
     except OpsError:
         return []
     except Exception:  # docker SDK errors: the plan stays valid, the status command says more

@@ -4,10 +4,12 @@ container of the image without network."""
 
 from __future__ import annotations
 
+import posixpath
 from typing import Any
 
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import running_containers
 from panther_ops.core.manager_ops.checks import PROBE, ImageFacts, parse_probe
 from panther_ops.errors import RemoteStateError
 
@@ -15,7 +17,7 @@ from panther_ops.errors import RemoteStateError
 def _run_probe(client: Any, cfg: RobotConfig, hosts_file: str) -> str:
     argv = ["sh", "-c", PROBE, "probe", hosts_file]
     image = cfg.compose.driver_image
-    for ctr in client.containers.list(filters={"label": f"com.docker.compose.service={cfg.service}"}):
+    for ctr in running_containers(client, cfg.service, posixpath.dirname(cfg.compose_path)):
         tags = getattr(ctr.image, "tags", []) or []
         if image in tags:
             code, out = ctr.exec_run(["/ros_entrypoint.sh", *argv], demux=False)

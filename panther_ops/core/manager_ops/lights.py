@@ -12,12 +12,14 @@ under: the inventory's ``namespace:``, else the driver's ``namespace:=`` argumen
 from __future__ import annotations
 
 import json
+import posixpath
 
 from panther_ops.core.config.namespace import driver_namespace
 from panther_ops.core.config.robot import read_config
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import running_containers
 from panther_ops.errors import RemoteStateError
 from panther_ops.manager.adapters.interfaces import RosInterfaces, interfaces_for
 from panther_ops.results import Outcome, RobotResult
@@ -42,7 +44,7 @@ def set_animation(ctx: RobotContext, anim_id: int, param: str, repeating: bool) 
     client = ctx.transport.docker()
     if client is None:
         return RobotResult(ctx.robot.name, Outcome.SKIPPED, "no docker engine on this robot (demo robot)")
-    containers = client.containers.list(filters={"label": f"com.docker.compose.service={cfg.service}"})
+    containers = running_containers(client, cfg.service, posixpath.dirname(cfg.compose_path))
     if not containers:
         raise RemoteStateError(f"the driver ({cfg.service}) is not running", hint="panther-ops driver status")
     ros = interfaces_for(cfg.stack.version)

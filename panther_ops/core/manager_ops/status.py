@@ -17,7 +17,7 @@ from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.fleet.reading import read_file
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.manager_ops.apply_step import service_containers
+from panther_ops.core.manager_ops.apply_step import manager_containers
 from panther_ops.core.manager_ops.layout import parse_state, state_path
 from panther_ops.core.manager_ops.settings import DISABLE_ARG, SERVICE
 from panther_ops.errors import RemoteStateError
@@ -84,12 +84,11 @@ def status_task(ctx: RobotContext) -> RobotResult:
     client = ctx.transport.docker() if ctx.robot.transport != "local" else None
     if client is None:
         return RobotResult(name, Outcome.SKIPPED, f"no docker engine; {_what(data)}", data=data, warnings=warnings)
-    ctrs = service_containers(client)
+    ctrs = manager_containers(client)
     if not ctrs:
         data["state"] = "missing"
         return RobotResult(name, Outcome.FAILED, f"{_what(data)}: no container for service {SERVICE}", data=data,
                            warnings=warnings)
-    ctrs.sort(key=lambda c: not (c.attrs.get("State") or {}).get("Running"))
     data.update(describe(ctrs[0].attrs, engine_now(client)))
     if data["running_version"] and data["version"] and data["running_version"] != data["version"]:
         warnings.append(f"the container runs {data['running_version']}, deployed.json says {data['version']}")
@@ -128,11 +127,10 @@ def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
     client, why = engine(ctx)
     if client is None:  # a demo robot: skipped, as the driver's logs are
         raise NoEngineError(why or "no docker engine on this robot")
-    ctrs = service_containers(client)
+    ctrs = manager_containers(client)
     if not ctrs:
         raise RemoteStateError(f"no container for service {SERVICE}: the manager is not deployed",
                                hint="panther-ops manager deploy -r ROBOT")
-    ctrs.sort(key=lambda c: not (c.attrs.get("State") or {}).get("Running"))
     ctr = ctrs[0]
     return read_logs(client, ctr, opts)
 
