@@ -18,7 +18,7 @@ REPO=$(cd "$(dirname "$0")/.." && pwd)
 PYTHON=${PYTHON:-"$REPO/.venv/bin/python"}
 PLUGIN_DIR=/usr/libexec/docker/cli-plugins
 APT_PACKAGES="openssh-server openssh-client docker.io gpsd gpsd-clients iproute2 sudo
-busybox-static faketime iputils-ping procps curl openssl gcc libc6-dev fdisk e2fsprogs util-linux mount patch
+busybox-static faketime iputils-ping procps curl openssl gcc libc6-dev fdisk e2fsprogs util-linux mount patch git
 zsh fish python3"
 
 if [ "$(id -u)" != 0 ]; then

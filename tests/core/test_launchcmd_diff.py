@@ -74,3 +74,14 @@ def test_unified_diff_headers_and_markers() -> None:
     nonl = unified_diff("a\nb", "a\nc", "f.yaml")
     assert nonl.endswith("-b\n\\ No newline at end of file\n+c\n\\ No newline at end of file\n")
     assert unified_diff("x\n", "y\n", "rel/path.yaml").startswith("--- a/rel/path.yaml\n+++ b/rel/path.yaml\n")
+
+
+def test_a_created_or_removed_file_is_dev_null_in_its_header() -> None:
+    """As diff -N and git write it: patch(1) and git apply create or delete the file."""
+    created = unified_diff(None, "a\n", "/home/husarion/config/x.yaml")
+    assert created.splitlines()[:3] == ["--- /dev/null", "+++ b/home/husarion/config/x.yaml", "@@ -0,0 +1 @@"]
+    removed = unified_diff("a\n", None, "/home/husarion/config/x.yaml")
+    assert removed.splitlines()[:3] == ["--- a/home/husarion/config/x.yaml", "+++ /dev/null", "@@ -1 +0,0 @@"]
+    emptied = unified_diff("a\n", "", "/home/husarion/config/x.yaml")  # the file stays, empty
+    assert emptied.splitlines()[:2] == ["--- a/home/husarion/config/x.yaml", "+++ b/home/husarion/config/x.yaml"]
+    assert unified_diff(None, None, "x") == ""

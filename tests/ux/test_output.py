@@ -99,6 +99,27 @@ def test_piped_dry_run_is_a_patch_each_robot_applies_from_its_root(demo: Path, t
         assert "wheel_type:=WH02" not in untouched  # a dry run wrote nothing
 
 
+def test_a_dry_run_that_creates_a_file_is_a_patch_that_creates_it(demo: Path, tmp_path: Path) -> None:
+    """A controller limit on 2.1.1 writes a new file beside the compose change: ``--- /dev/null``
+    as diff -N writes it, and both ``patch -p1`` and ``git apply`` make the file the robot gets."""
+    run = piped(["-i", str(demo), "config", "set", "controller.linear.x.max_velocity", "1.0", "-r", "panther-01",
+                 "--dry-run"])
+    assert run.code == 0, run.err
+    new = "home/husarion/config/panther_controller/config/WH01_controller.yaml"
+    assert f"--- /dev/null\n+++ b/{new}\n@@ -0,0 +1," in run.out
+    tools = [["patch", "-p1", "--quiet"], ["git", "apply", "-p1", "-"]]
+    for argv in tools:
+        assert shutil.which(argv[0]), f"{argv[0]} is needed (scripts/install-test-deps.sh)"
+        tree = tmp_path / f"copy-{argv[0]}"
+        shutil.copytree(demo / "robots" / "panther-01", tree)
+        done = subprocess.run(argv, input=run.out, cwd=tree, capture_output=True, text=True, check=False)
+        assert done.returncode == 0, done.stdout + done.stderr
+        assert "max_velocity: 1.0" in (tree / new).read_text()
+        compose = (tree / "home/husarion/compose.yaml").read_text()
+        assert "controller_config_path:=/config/panther_controller/config/WH01_controller.yaml" in compose
+    assert not (demo / "robots" / "panther-01" / new).exists()  # a dry run wrote nothing
+
+
 def test_colour_follows_the_terminal_no_color_and_the_color_option(demo: Path) -> None:
     args = ["-i", str(demo), *SET_WHEEL, "-r", "panther-01", "--dry-run"]
     assert "\x1b[32m+" in on_pty(args).out  # a terminal: additions green

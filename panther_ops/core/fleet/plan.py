@@ -56,14 +56,15 @@ class MaskedFileEdit(FileEdit):
             return _SECRET_LINE.sub(lambda m: f"{m.group(1)}****{'' if m.group(2) in kept else note}{m.group(3)}", text)
 
         old, new = mask(before, " (old value)"), mask(after, " (new value)")
-        return Diff(plain.path, unified_diff(old, new, self.path))
+        return Diff(plain.path, unified_diff(None if self.before is None else old,
+                                             None if self.after is None else new, self.path))
 
 
 @functools.lru_cache(maxsize=256)
 def _diff(path: str, before: bytes | None, after: bytes | None) -> Diff:
     """The edit's diff; robots with the same file and change share one (a Diff is immutable)."""
-    old = (before or b"").decode(errors="replace")
-    return Diff(path, unified_diff(old, (after or b"").decode(errors="replace"), path))
+    old = None if before is None else before.decode(errors="replace")
+    return Diff(path, unified_diff(old, None if after is None else after.decode(errors="replace"), path))
 
 
 @dataclass(frozen=True)

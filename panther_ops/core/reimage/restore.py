@@ -45,9 +45,9 @@ class SecretFileEdit(FileEdit):
     """A FileEdit whose diff names the secret's size and hash, never its content."""
 
     def diff(self) -> Diff:
-        def shown(data: bytes | None) -> str:
+        def shown(data: bytes | None) -> str | None:
             if data is None:
-                return ""
+                return None
             return f"(secret: {len(data)} bytes, sha256 {hashlib.sha256(data).hexdigest()[:16]}...)\n"
 
         return Diff(self.path, unified_diff(shown(self.before), shown(self.after), self.path))

@@ -12,22 +12,26 @@ def _header_path(path: str) -> str:
     return path.lstrip("/")
 
 
-def unified_diff(before: str, after: str, path: str, *, context: int = 3) -> str:
+def unified_diff(before: str | None, after: str | None, path: str, *, context: int = 3) -> str:
     """A unified diff from ``before`` to ``after`` with ``a/`` and ``b/`` headers.
 
     ``path`` is the file's path on the robot; a leading ``/`` is dropped, so
     ``/home/husarion/compose.yaml`` gives ``--- a/home/husarion/compose.yaml`` and
-    ``+++ b/home/husarion/compose.yaml`` (``patch -p1`` applies it from ``/``).
+    ``+++ b/home/husarion/compose.yaml`` (``patch -p1`` applies it from ``/``). A file that
+    does not exist (``None``: one the change creates, or removes) is ``/dev/null`` in its
+    header, as diff(1) -N and git write it, so ``patch`` creates or deletes it.
     Identical texts give ``""``. A last line without a newline is marked with
     ``\\ No newline at end of file`` as diff(1) and git do. The result ends with a newline.
     """
     if before == after:
         return ""
     name = _header_path(path)
-    a = before.splitlines(keepends=True)
-    b = after.splitlines(keepends=True)
+    a = (before or "").splitlines(keepends=True)
+    b = (after or "").splitlines(keepends=True)
+    old = "/dev/null" if before is None else f"a/{name}"
+    new = "/dev/null" if after is None else f"b/{name}"
     out: list[str] = []
-    for line in difflib.unified_diff(a, b, f"a/{name}", f"b/{name}", n=context):
+    for line in difflib.unified_diff(a, b, old, new, n=context):
         if line.endswith("\n"):
             out.append(line)
         else:
