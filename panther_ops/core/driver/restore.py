@@ -81,7 +81,7 @@ def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
     tree = str(plan.data["config_dir"])
     backup_id = new_backup_id()
     bdir = f"{BACKUP_ROOT}/{backup_id}"
-    archive = f"{bdir}/config.tar.gz".replace("~", ctx.transport.home(), 1)
+    archive = f"{bdir}/config.tar.gz".replace("~", plan.home or ctx.transport.home(), 1)
     manifest = {
         "id": backup_id, "created": datetime.now(timezone.utc).isoformat(timespec="seconds"), "robot": name,
         "command": opts.command, "summary": plan.summary, "compose_file": plan.compose_file,

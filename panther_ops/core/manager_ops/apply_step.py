@@ -62,7 +62,7 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
         for c in stopped:
             c.start()
         raise
-    root = f"{ctx.transport.home()}/{ROBOT_DIR}"
+    root = f"{plan.home or ctx.transport.home()}/{ROBOT_DIR}"  # the home the plan read: no round trip
     if result.outcome is Outcome.CHANGED:
         if action == "remove" and client is not None:
             for c in manager_containers(client, wd, own_only=True):
