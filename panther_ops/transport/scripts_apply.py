@@ -5,9 +5,11 @@ new content, each staged in a temp file beside its target (same file system, so 
 is atomic), fsyncs them, optionally asks the robot's own ``docker compose`` about a staged
 compose file, and prints ``STAGED_MARK``. It then waits for one line on stdin:
 
-- ``go``: checks that every file is still what the plan read (sha256; exit 3 and nothing
-  left behind when one changed), renames every staged file into place, fsyncs the
-  directories and records the status;
+- ``go``: takes the robot's write lock (``flock`` on ``~/.panther-ops/write.lock``), checks
+  that every file is still what the plan read (sha256; exit 3 and nothing left behind when one
+  changed), renames every staged file into place, fsyncs the directories and records the
+  status, then lets the lock go: the check and the renames are one step to any other writer,
+  which either waits and then finds the file changed, or finds it as it was;
 - ``stop`` (the command will not go ahead: another robot's plan was refused, or the
   operator said no): removes all it made, backup included, and renames nothing;
 - anything else, or the end of the input (the connection died): removes the staged files,
@@ -59,6 +61,24 @@ _CHECK = _EACH.replace("@BODY@", (
     '  printf "%s changed on the robot since it was read\\n" "$p" >&2; unmake; exit 3; fi; fi'
 ))
 
+LOCK_NAME = "write.lock"
+"""The lock file every write on a robot takes (``~/.panther-ops/write.lock``, beside the
+backups): held with ``flock`` from the check that each file is what the plan read until every
+rename is done, so two writers never both pass the check."""
+LOCK_WAIT_S = 60
+"""How long a write waits for another write's check and renames (they take milliseconds)."""
+
+_LOCK = (
+    f'lk="${{w%/backups/*}}/{LOCK_NAME}"; '
+    'if ! command -v flock >/dev/null 2>&1; then drop; '
+    '  echo "flock (util-linux) is missing on the robot: a write cannot be made safe against another" >&2; exit 1; fi; '
+    'if ! touch -- "$lk" 2>/dev/null || ! [ -w "$lk" ]; then drop; '
+    'printf "cannot open the write lock %s\\n" "$lk" >&2; exit 1; fi; exec 9>>"$lk"; '
+    f'if ! flock -w {LOCK_WAIT_S} 9; then drop; '
+    f'  printf "another change held the write lock %s for {LOCK_WAIT_S} s; nothing written\\n" "$lk" >&2; exit 1; fi; '
+)
+"""Take the robot's write lock (fd 9, released when the shell ends, renames done)."""
+
 _APPLY_FN = "apply_() { " + (
     "trap '' HUP PIPE; nl='\n'; tab='\t'; r=\"${PANTHER_OPS_ROOT:-}\"; "
     'w="$r$1"; st="$2"; size="$3"; val="$4"; shift 4; '
@@ -85,7 +105,7 @@ _APPLY_FN = "apply_() { " + (
     'if [ "$go" = stop ]; then unmake; exit 4; fi; '
     'if [ "$go" != go ]; then drop; printf "abandoned: no go-ahead (%s)\\n" "${go:-connection closed}" > "$w/status"; '
     '  exit 4; fi; '
-    'unset IFS; set +f; ' + _CHECK + 'IFS="$nl"; set -f; '
+    + _LOCK + 'unset IFS; set +f; ' + _CHECK + 'IFS="$nl"; set -f; '
     'dirs=""; for l in $staged; do t="${l%%"$tab"*}"; f="${l#*"$tab"}"; '
     '  if [ "$t" = - ]; then rm -f -- "$f" || exit 1; else mv -f -- "$t" "$f" || exit 1; fi; dirs="$dirs${f%/*}$nl"; '
     'done; sync -- $dirs 2>/dev/null; '

@@ -18,7 +18,7 @@ import posixpath
 import secrets
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from typing import Any
 
@@ -194,11 +194,6 @@ def _compare_values(before: bytes, after: bytes) -> bool:
     return strip(old) == strip(new)
 
 
-def _remove(ctx: RobotContext, path: str) -> None:
-    ctx.transport.run(Command.sh('r="${PANTHER_OPS_ROOT:-}"; p="$1"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; '
-                                 'esac; rm -f -- "$r$p"', path))
-
-
 def _stage(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[str, Any], status: str,
            go: bool) -> str | None:
     """Unpack the backup and the staged files and (maybe) validate, in one session kept for
@@ -261,7 +256,8 @@ def _write_problem(name: str, plan: RobotPlan, res: CommandResult) -> str | None
     """What a finished write session says went wrong (None: all renamed); raises when the
     connection died or the robot failed."""
     if res.exit_status == scripts_apply.CHANGED_EXIT:
-        return "a file changed on the robot since it was read; nothing written, run again"
+        what = res.stderr.strip().splitlines()[-1:] or ["a file changed on the robot since it was read"]
+        return f"{what[0]}; nothing written: re-run to apply on top"
     if res.exit_status == scripts_apply.REFUSED_EXIT:
         return f"nothing written: docker compose refuses the new {plan.compose_file}: {res.stderr.strip()[-300:]}"
     if res.exit_status == -1:
@@ -282,7 +278,6 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
     containers removed); ``note`` ends the message.
     """
     ctx.phase("roll back")
-    t = ctx.transport
     services = plan.recreate if recreate is None else recreate
     restored = _restored_services(plan)
     added = tuple(s for s in services if restored is not None and s not in restored)
@@ -290,11 +285,13 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
     again: str | None = None
     logs = ""
     try:
-        for e in plan.edits:
-            if e.before is None:
-                _remove(ctx, e.path)
-            else:
-                t.write_file_atomic(e.path, e.before)
+        refused = _restore_files(ctx, plan, backup_id)
+        if refused is not None:
+            result.outcome = Outcome.FAILED
+            result.message = (f"{problem}; ROLLBACK REFUSED: {refused}: another change wrote it after this one; "
+                              f"nothing restored (backup {backup_id} on the robot: config rollback --to {backup_id})")
+            mark_backup(ctx, backup_id, f"failed: {problem}; not rolled back: {refused}")
+            return result
         if added:  # a service the change added is gone from the restored file: its containers too
             logs = _remove_containers(ctx, plan, added)
         if services:
@@ -312,6 +309,30 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
                       + logs + note)
     mark_backup(ctx, backup_id, f"rolled-back: {problem}")
     return result
+
+
+def _restore_files(ctx: RobotContext, plan: RobotPlan, backup_id: str) -> str | None:
+    """Put every file of ``plan`` back as it was read, through the same locked compare-and-rename
+    as the write: only where each file is still what this change wrote (another change made
+    since is never overwritten). The files being replaced are kept beside the change's backup
+    (``<backup>/rollback``). Returns what changed meanwhile (nothing restored), or None."""
+    undo = RobotPlan(plan.robot, f"roll back {backup_id}", [replace(e, before=e.after, after=e.before)
+                                                          for e in plan.edits],
+                     (), plan.compose_file, [], home=plan.home)
+    manifest = {"id": f"{backup_id}/rollback", "robot": ctx.robot.name, "summary": undo.summary,
+                "files": [{"path": e.path, "backup": f"files/{i}" if e.before is not None else None}
+                          for i, e in enumerate(undo.edits)]}
+    problem = _stage(ctx, undo, f"{BACKUP_ROOT}/{backup_id}/rollback", manifest, "", go=True)
+    if problem is None:
+        res = ctx.transport.resume(scripts_apply.WRITE_KEY, b"")
+        if res is None:
+            raise TransportError(ctx.robot.name, "the rollback's write ended before it was done (a bug: see --debug)")
+        if res.exit_status == scripts_apply.CHANGED_EXIT:
+            return (res.stderr.strip().splitlines() or ["a file"])[-1].replace(" since it was read", " since")
+        problem = _write_problem(ctx.robot.name, undo, res)
+    if problem is not None:
+        raise TransportError(ctx.robot.name, problem)
+    return None
 
 
 def _restored_services(plan: RobotPlan) -> set[str] | None:
