@@ -122,6 +122,32 @@ def test_status_shows_drift_and_restart_recreates(lab: Any, pristine: None,
     assert doc["robots"][0]["data"]["command_drift"] is False and doc["robots"][0]["warnings"] == []
 
 
+@pytest.mark.parametrize("version", ["2.1.1", "2.2.2"])
+def test_stop_and_start_keep_the_same_container(lab: Any, pristine: None, version: str,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    inv, name = str(lab.inventory_path), robot_of(lab, version)
+    old = {k: v for k, v in containers(lab, name).items() if v["state"] == "running"}
+    driver = next(k for k in old if "panther_ros" in k or "husarion_ugv_ros" in k)
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "stop", "-r", name, "--yes", "--json")
+    assert code == 0, doc
+    (res,) = doc["robots"]
+    assert res["outcome"] == "changed" and res["message"].startswith("stopped "), res
+    now = containers(lab, name)
+    assert now[driver]["state"] == "exited" and now[driver]["id"] == old[driver]["id"]
+    assert all(now[k]["state"] == "running" for k in old if k != driver), "only the driver is stopped"
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "stop", "-r", name, "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "ok" and "already stopped" in doc["robots"][0]["message"]
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "status", "-r", name, "--json")
+    assert code == 3 and doc["robots"][0]["outcome"] == "failed"
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "start", "-r", name, "--yes", "--settle", "1", "--json")
+    assert code == 0, doc
+    assert doc["robots"][0]["outcome"] == "changed" and "running after 1 s" in doc["robots"][0]["message"]
+    now = containers(lab, name)
+    assert now[driver]["state"] == "running" and now[driver]["id"] == old[driver]["id"]
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "start", "-r", name, "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "ok" and "already running" in doc["robots"][0]["message"]
+
+
 def test_update_20_to_21_is_a_real_recreate(lab: Any, pristine: None, capsys: pytest.CaptureFixture[str]) -> None:
     inv, name = str(lab.inventory_path), robot_of(lab, "2.0.4")
     before = lab.read(name, COMPOSE)

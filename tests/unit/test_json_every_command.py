@@ -35,6 +35,8 @@ VALID: dict[str, list[str]] = {
     "driver status": ["--all"],
     "driver logs": R,
     "driver restart": [*R, "--dry-run"],
+    "driver stop": [*R, "--dry-run"],
+    "driver start": [*R, "--dry-run"],
     "driver versions": ["--all"],
     "driver update": ["humble-2.1.1-20240828", *R, "--dry-run"],
     "shutdown": ["--hosts", "{tmp}/hosts.yaml", "--dry-run"],

@@ -1,4 +1,4 @@
-"""`panther-ops driver status|logs|restart|versions|update` and `config restore-defaults`."""
+"""`panther-ops driver status|logs|restart|stop|start|versions|update` and `config restore-defaults`."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ from panther_ops.cli.context import Fleet
 from panther_ops.cli.options import GATED, READ, RECREATE, TARGETS, WRITE, Follow, Lines, OptStr, Timestamps, shared
 
 app = typer.Typer(
-    help="The driver container (panther_ros / husarion_ugv_ros): status, logs, restart, image versions, update.",
+    help=("The driver container (panther_ros / husarion_ugv_ros): status, logs, restart, stop, start, image "
+          "versions, update."),
     no_args_is_help=True,
 )
 
@@ -88,6 +89,40 @@ def restart(fleet: Fleet) -> int:
     from panther_ops.core.driver.restart import apply_restart, plan_restart
 
     return fleet.change("driver restart", plan_restart, applier=apply_restart, verb="Recreate")
+
+
+@app.command("stop")
+@shared(*(n for n in RECREATE if n != "settle"), "canary", "max_fail")
+def stop(fleet: Fleet) -> int:
+    """Stop the driver container: `docker compose stop <driver service>` as the robot user (the
+    container is kept; `driver start` brings it back). The robot's motors are then not driven:
+    Panther's E-stop engages while its driver is down. `restart: always` in Husarion's compose
+    file starts it again when the robot boots.
+
+    `changed` when it stopped, `ok` when it was already stopped.
+
+    Example: panther-ops driver stop -r panther-01 --yes
+    """
+    from panther_ops.core.driver.run_state import apply_run_state, plan_stop
+
+    return fleet.change("driver stop", plan_stop, applier=apply_run_state, verb="Stop the driver on")
+
+
+@app.command("start")
+@shared(*RECREATE, "canary", "max_fail")
+def start(fleet: Fleet) -> int:
+    """Start a stopped driver container as it is: `docker compose start <driver service>` (no
+    recreate: a change made with --no-restart still waits for `driver restart`), then check it
+    keeps running, unrestarted, for --settle seconds.
+
+    `changed` when it started, `ok` when it was already running, `failed` (exit 3) when it did
+    not stay up (see `driver logs`).
+
+    Example: panther-ops driver start -r panther-01 --yes
+    """
+    from panther_ops.core.driver.run_state import apply_run_state, plan_start
+
+    return fleet.change("driver start", plan_start, applier=apply_run_state, verb="Start the driver on")
 
 
 # ------------------------------------------------------------------ versions

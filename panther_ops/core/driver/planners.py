@@ -1,4 +1,4 @@
-"""The planners of `driver restart`, `driver update` and `config restore-defaults`.
+"""The planners of `driver restart|stop|start`, `driver update` and `config restore-defaults`.
 
 Pure functions of compose.yaml as read (:class:`ComposeRead`), the facts they ask for
 (:class:`Reads`: whether the robot has a docker engine, whether it holds an image) and what
@@ -47,6 +47,20 @@ def plan_restart(raw: ComposeRead, reads: Reads) -> RobotPlan:
     plan = RobotPlan(reads.robot, f"recreate {cfg.service} ({cfg.compose.driver_image})", [], (cfg.service,),
                      cfg.compose_path, [Verify(cfg.service, words)])
     plan.data.update(action="recreate", service=cfg.service, image=cfg.compose.driver_image)
+    return plan
+
+
+def plan_run_state(raw: ComposeRead, reads: Reads, action: str) -> RobotPlan:
+    """`driver stop` / `driver start` (``action``): the driver's service from compose.yaml.
+
+    Stop is ``docker compose stop`` (the container is kept, so ``start`` brings the same one
+    back; ``restart: always`` starts it again when the robot boots, as Husarion's compose
+    files ask); start is ``docker compose start`` (no recreate: a change written with
+    ``--no-restart`` stays pending until `driver restart`)."""
+    cfg = parse_config(raw, reads.stack)
+    plan = RobotPlan(reads.robot, f"{action} {cfg.service} ({cfg.compose.driver_image})", [], (), cfg.compose_path,
+                     [Verify(cfg.service)] if action == "start" else [])
+    plan.data.update(action=action, service=cfg.service, image=cfg.compose.driver_image)
     return plan
 
 

@@ -405,10 +405,12 @@ def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, res
     if not res.ok:
         return f"docker compose up failed: {res.stderr.strip()[-400:]}"
     ctx.phase("verify")
-    return _watch(client, plan, settle_s, project_dir(ctx, compose, plan.home))
+    return watch_services(client, plan, settle_s, project_dir(ctx, compose, plan.home))
 
 
-def _watch(client: Any, plan: RobotPlan, settle_s: float, working_dir: str) -> str | None:
+def watch_services(client: Any, plan: RobotPlan, settle_s: float, working_dir: str) -> str | None:
+    """Watch the plan's services (its verify checks, else its recreated services) for ``settle_s``:
+    a problem, or None when each kept running, unrestarted, with the planned command."""
     deadline = time.monotonic() + settle_s
     checks = plan.verify or [Verify(s) for s in plan.recreate]
     while True:
