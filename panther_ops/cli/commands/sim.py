@@ -167,3 +167,74 @@ def battery_check(file: File, json_out: Json = False) -> int:
         for n in notes:
             sys.stderr.write(f"note: {n}\n")
     return 0
+
+
+@battery_app.command("charge")
+def battery_charge(
+    action: Annotated[str, typer.Argument(help="start or stop charging.")],
+    robot_model: Annotated[str, typer.Option("--robot-model", help="panther or lynx (the model's name when the "
+                                             "simulation has no namespace).")] = "panther",
+    namespace: Annotated[str, typer.Option("--namespace", help="The simulation's ROS namespace, if any (the "
+                                           "model is spawned under it).")] = "",
+    tool: Annotated[str, typer.Option("--tool", help="Gazebo's CLI: ign (Humble, Fortress) or gz (Jazzy, "
+                                      "Harmonic).")] = "ign",
+    yes: Yes = False,
+    dry_run: DryRun = False,
+    json_out: Json = False,
+) -> int:
+    """Start or stop charging the simulated battery: the LinearBatteryPlugin's recharge service,
+    called as Husarion's manual does (`ign service --service /model/panther/battery/battery/
+    recharge/start ... --timeout 0`), on this machine, where the simulation runs. The plan shows
+    the exact command; it asks (or --yes); --dry-run only shows it. The service must be among
+    those the simulation serves (`ign service --list`), else exit 3 naming the ones it has.
+
+    Examples:
+      panther-ops sim battery charge start --yes
+      panther-ops sim battery charge stop --namespace panther --yes
+    """
+    from panther_ops.cli.render import emit_json, error
+    from panther_ops.core.sim.charging import plan_charge
+    from panther_ops.transport.base import quote_command
+
+    call = plan_charge(action, robot_model, namespace, tool)
+    shown = quote_command(call.argv, reveal=True)
+    doc: dict[str, Any] = {"schema": 1, "command": "sim battery charge", "action": call.action,
+                           "service": call.service, "argv": list(call.argv), "dry_run": dry_run}
+    if dry_run:
+        if json_out:
+            emit_json({**doc, "outcome": "changed", "exit_code": 0})
+        else:
+            sys.stdout.write(f"would run: {shown}\nnote dry run: nothing was called\n")
+        return 0
+    if not yes:
+        if not sys.stdin.isatty():
+            error("this calls the simulation: pass --yes when not interactive (or --dry-run to only look)")
+            return 2
+        sys.stdout.write(f"{shown}\n")
+        if not typer.confirm(f"{call.action.capitalize()} charging?", default=False):
+            sys.stderr.write("nothing was called\n")
+            return 2
+    from panther_ops.core.sim.charging import missing_service
+    from panther_ops.transport.local_command import run_local
+
+    listed = run_local(call.listing)
+    why = missing_service(call, listed.stdout) if listed.ok else f"{shown}: cannot list services: {listed.stderr}"
+    if why is not None:
+        if json_out:
+            emit_json({**doc, "outcome": "failed", "output": why, "exit_code": 3})
+        else:
+            error(why)
+        return 3
+    res = run_local(call.argv)
+    said = (res.stdout + res.stderr).strip()
+    # --timeout 0, as documented: the request is sent and the CLI does not wait for an answer
+    # (it says "Service call timed out"); anything else it says is an error.
+    ok = res.ok and said in ("", "Service call timed out")
+    if json_out:
+        emit_json({**doc, "outcome": "changed" if ok else "failed", "output": said, "exit_code": 0 if ok else 3})
+    elif ok:
+        sys.stdout.write(f"charging {call.action}: sent to {call.service}\n"
+                         "check: ros2 topic echo battery/battery_status (power_supply_status 1 = charging)\n")
+    else:
+        error(f"{call.argv[0]} service failed (exit {res.exit_status}): {said[-400:]}")
+    return 0 if ok else 3

@@ -1,0 +1,26 @@
+"""A command run on this machine (the simulation's tools: Gazebo's CLI), with a time limit."""
+
+from __future__ import annotations
+
+import shlex
+import shutil
+import subprocess
+import time
+from collections.abc import Sequence
+
+from panther_ops.errors import UsageError
+from panther_ops.transport.base import CommandResult
+
+
+def run_local(argv: Sequence[str], *, timeout: float = 30.0) -> CommandResult:
+    """Run ``argv`` (no shell); UsageError when its program is not installed here."""
+    if shutil.which(argv[0]) is None:
+        raise UsageError(f"{argv[0]}: not found on this machine's PATH",
+                         hint="run panther-ops where the simulation runs (Gazebo's command-line tool installed)")
+    start = time.monotonic()
+    try:
+        cp = subprocess.run(list(argv), capture_output=True, timeout=timeout, check=False)
+    except subprocess.TimeoutExpired:
+        return CommandResult(shlex.join(argv), -1, "", f"no answer in {timeout:g} s", time.monotonic() - start)
+    return CommandResult(shlex.join(argv), cp.returncode, cp.stdout.decode(errors="replace"),
+                         cp.stderr.decode(errors="replace"), time.monotonic() - start, cp.stdout)
