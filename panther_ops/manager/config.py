@@ -207,30 +207,61 @@ def _strip_v2_0_prefix(node: str, key: str) -> tuple[str, str]:
     return node, key
 
 
+_IGNORED_TARGET = ("", "")
+
+
+def _node_of(node: str, params: Mapping[str, Any], source: str) -> str:
+    """The node a section's keys belong to: "/**" or no node name takes the node of the
+    section's other keys (else the file's name)."""
+    if _section_for(node, "timer_frequency") is not None:
+        return node
+    own = {_KEYS[k][0] for k in (_strip_v2_0_prefix(node, f)[1] for f in params) if k in _KEYS}
+    hint = next(iter(own)) if len(own) == 1 else Path(source).stem
+    return f"{node} {hint}"
+
+
+def _target(node: str, full_key: str) -> tuple[str, str] | None:
+    """(section, field) a key sets; `_IGNORED_TARGET` for a stock key the manager ignores;
+    None for a key that is not a manager parameter."""
+    section_node, key = _strip_v2_0_prefix(node, full_key)
+    if key in _IGNORED:
+        return _IGNORED_TARGET
+    section = _section_for(section_node, key)
+    if section is None:
+        return None
+    if key in _TIMEOUT_KEYS:
+        return section, f"service_{key.rsplit('.', 1)[1]}_timeout"
+    return section, key if key in _SHARED else _KEYS[key][1]
+
+
 def _apply(values: dict[str, dict[str, Any]], node: str, params: Mapping[str, Any],
            source: str, notes: list[str]) -> None:
     defaults: dict[str, Any] = {"lights": LightsParams(), "safety": SafetyParams()}
-    if _section_for(node, "timer_frequency") is None:
-        # "/**" or no node name: the node is the one the file's other keys belong to
-        own = {_KEYS[k][0] for k in (_strip_v2_0_prefix(node, f)[1] for f in params) if k in _KEYS}
-        hint = next(iter(own)) if len(own) == 1 else Path(source).stem
-        node = f"{node} {hint}"
+    node = _node_of(node, params, source)
     for full_key, value in params.items():
-        section_node, key = _strip_v2_0_prefix(node, full_key)
-        if key in _IGNORED:
-            continue
-        section = _section_for(section_node, key)
-        if section is None:
+        where = _target(node, full_key)
+        if where is None:
             notes.append(f"{source}: {full_key}: not a manager parameter, ignored")
             continue
-        if key in _TIMEOUT_KEYS:
-            target = f"service_{key.rsplit('.', 1)[1]}_timeout"
-        elif key in _SHARED:
-            target = key
-        else:
-            target = _KEYS[key][1]
+        if where == _IGNORED_TARGET:
+            continue
+        section, target = where
         like = getattr(defaults[section], target)
         values[section][target] = _coerce(value, like, full_key, source)
+
+
+def param_targets(params: Mapping[str, Any], source: str = "<params>") -> dict[str, str | None]:
+    """What each key of ``params`` (as `config_with_params` takes them) sets: ``section.field``
+    (``lights.low_battery_threshold_percent`` for ``battery.percent.threshold.low`` and for
+    its 2.0 name alike), ``""`` for a stock key the manager ignores, None for a key that is
+    not a manager parameter."""
+    flat = flatten(params)
+    node = _node_of("", flat, source)
+    out: dict[str, str | None] = {}
+    for key in flat:
+        where = _target(node, key)
+        out[key] = None if where is None else ".".join(where).strip(".")
+    return out
 
 
 def _build(values: dict[str, dict[str, Any]], sources: list[str], notes: list[str],

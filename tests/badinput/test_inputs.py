@@ -262,6 +262,119 @@ WEBUI = [  # desired.webui: the inventory's values (when it loads), a DDS profil
 ]
 
 
+# ------------------------------------------------------------------ desired: blocks, checked whole when the inventory loads
+DESIRED_COMMANDS = (("validate", ("inventory", "validate")), ("doctor", ("doctor", "--all")),
+                    ("apply", ("apply", "--all", "--dry-run")), ("diff", ("config", "diff", "--all")))
+"""Every command that reads the desired blocks refuses the same block the same way."""
+
+
+def desired_inventory(robot: str = "", group: str = "", defaults: str = "") -> str:
+    """A local robot (the demo's panther-01, so each command can run on it) in group ``field``,
+    with ``desired:`` blocks (flow YAML) on the robot, the group and the defaults."""
+    def block(text: str, indent: str) -> str:
+        return f"{indent}desired: " + esc("{" + text + "}") + "\n" if text else ""
+
+    return ("version: 1\n" + (f"defaults:\n{block(defaults, '  ')}" if defaults else "")
+            + "groups:\n  field:\n" + (block(group, "    ") or "    description: x\n")
+            + "robots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n    groups: [field]\n"
+            + block(robot, "    "))
+
+
+MANAGER_DEPLOY = (("deploy", ("manager", "deploy", "--all", "--dry-run")),)
+"""desired.manager's own command: it read the block (and deployed on `enabled: "no"`)."""
+
+
+def desired_cases(cid: str, names: list[str], *, robot: str = "", group: str = "", defaults: str = "",
+                  also: tuple[tuple[str, tuple[str, ...]], ...] = ()) -> list[Case]:
+    inv = desired_inventory(robot, group, defaults)
+    return [Case(f"desired-{cid}-{name}", list(args), ["inventory.yaml", *names], inventory=inv)
+            for name, args in (*DESIRED_COMMANDS, *also)]
+
+
+DESIRED = [
+    # desired.gps: unknown keys, every value whether enabled or not, ports in ASCII digits
+    *desired_cases("gps-unknown-key", ["[robots.r1.desired.gps.colour]", "unknown key", "enabled, port, ip"],
+                   robot="gps: {enabled: true, colour: red}"),
+    *desired_cases("gps-disabled-port", ["[robots.r1.desired.gps.port]", "70000", "1 to 65535"],
+                   robot="gps: {enabled: false, port: 70000}"),
+    *desired_cases("gps-port-text", ["[robots.r1.desired.gps.port]", "'5000/udp'", "ASCII digits"],
+                   robot='gps: {enabled: true, port: "5000/udp"}'),
+    *desired_cases("gps-port-fullwidth", ["[robots.r1.desired.gps.port]", "\uff15\uff10\uff10\uff10", "ASCII digits"],
+                   robot='gps: {enabled: true, port: "\uff15\uff10\uff10\uff10"}'),
+    *desired_cases("gps-enabled-text", ["[robots.r1.desired.gps.enabled]", "'yes please'", "true or false"],
+                   robot="gps: {enabled: yes please}"),
+    *desired_cases("gps-disabled-ip", ["[robots.r1.desired.gps.ip]", "'10.15.20.256'", "IPv4"],
+                   robot="gps: {enabled: false, ip: 10.15.20.256}"),
+    *desired_cases("gps-disabled-namespace", ["[robots.r1.desired.gps.namespace]", "'a/b'", "ROS namespace"],
+                   robot="gps: {enabled: false, namespace: a/b}"),
+    *desired_cases("gps-container-text", ["[robots.r1.desired.gps.container]", "'maybe'", "true or false"],
+                   robot="gps: {container: maybe}"),
+    *desired_cases("gps-group-port", ["[groups.field.desired.gps.port]", "'5000/udp'", "1 to 65535"],
+                   group='gps: {enabled: true, port: "5000/udp"}'),
+    *desired_cases("gps-defaults-port", ["[defaults.desired.gps.port]", "0", "1 to 65535"],
+                   defaults="gps: {enabled: false, port: 0}"),
+    # desired.manager: read only by `manager deploy` before, checked by every command now
+    *desired_cases("manager-unknown-key", ["[robots.r1.desired.manager.colour]", "unknown key", "enabled, mode"],
+                   robot="manager: {enabled: false, colour: red}"),
+    *desired_cases("manager-enabled-text", ["[robots.r1.desired.manager.enabled]", "'no'", "true or false"],
+                   robot='manager: {enabled: "no"}', also=MANAGER_DEPLOY),
+    *desired_cases("manager-mode", ["[robots.r1.desired.manager.mode]", "'ros1'", "ros2 or sim"],
+                   robot="manager: {mode: ros1}",
+                   also=MANAGER_DEPLOY),
+    *desired_cases("manager-scenario", ["[robots.r1.desired.manager.scenario]", "no_such", "shipped: "],
+                   robot="manager: {enabled: false, mode: sim, scenario: no_such}"),
+    *desired_cases("manager-param-unknown", ["[robots.r1.desired.manager.params.battery.percent.threshold.lo]",
+                                             "not a manager parameter"],
+                   robot="manager: {params: {battery.percent.threshold.lo: 0.3}}",
+                   also=MANAGER_DEPLOY),
+    *desired_cases("manager-param-value", ["[groups.field.desired.manager.params]", "fraction", "7"],
+                   group="manager: {enabled: false, params: {battery.percent.threshold.low: 7}}"),
+    *desired_cases("manager-hosts-relative", ["[robots.r1.desired.manager.shutdown_hosts]", "'../h.yaml'",
+                                              "absolute path"],
+                   robot="manager: {shutdown_hosts: ../h.yaml}"),
+    # two names of one setting in one block (or merged from two layers): refused naming both
+    *desired_cases("manager-param-alias", ["[robots.r1.desired.manager.params.low_battery_threshold_percent]",
+                                           "manager.params.battery.percent.threshold.low",
+                                           "manager.params.low_battery_threshold_percent", "one manager parameter"],
+                   robot="manager: {params: {battery.percent.threshold.low: 0.3, low_battery_threshold_percent: 0.2}}",
+                   also=MANAGER_DEPLOY),
+    *desired_cases("manager-hosts-twice", ["[robots.r1.desired.manager.params.shutdown_hosts_path]",
+                                           "manager.shutdown_hosts and manager.params.shutdown_hosts_path"],
+                   robot="manager: {shutdown_hosts: /home/husarion/h.yaml, params: {shutdown_hosts_path: /x.yaml}}",
+                   also=MANAGER_DEPLOY),
+    *desired_cases("launch-alias", ["[robots.r1.desired.launch_args.animations_config_path]",
+                                    "launch_args.led_config_file and launch_args.animations_config_path",
+                                    "one launch argument"],
+                   robot="launch_args: {led_config_file: /config/a.yaml, animations_config_path: /config/b.yaml}"),
+    *desired_cases("launch-alias-merged", ["[robots.r1.desired.launch_args.user_led_animations_path]",
+                                           "groups.field.desired.launch_args.user_led_animations_file",
+                                           "robots.r1.desired.launch_args.user_led_animations_path"],
+                   group="launch_args: {user_led_animations_file: /config/a.yaml}",
+                   robot="launch_args: {user_led_animations_path: /config/b.yaml}"),
+    *desired_cases("controller-alias", ["[robots.r1.desired.controller.controller.linear.x.max_velocity]",
+                                        "controller.linear.x.max_velocity and "
+                                        "controller.controller.linear.x.max_velocity", "one controller limit"],
+                   robot="controller: {linear.x.max_velocity: 1.0, controller.linear.x.max_velocity: 0.5}"),
+    # desired.launch_args / controller: what no stack or wheel type takes
+    *desired_cases("launch-newline", ["[robots.r1.desired.launch_args.namespace]", "'\\n'", "one line"],
+                   robot='launch_args: {namespace: "a\\nb"}'),
+    *desired_cases("launch-null", ["[robots.r1.desired.launch_args.wheel_type]", "None", "one value"],
+                   robot="launch_args: {wheel_type: null}"),
+    *desired_cases("launch-name", ["[robots.r1.desired.launch_args.a;id]", "'a;id'", "letters, digits"],
+                   robot='launch_args: {"a;id": 1}'),
+    *desired_cases("controller-unknown", ["[robots.r1.desired.controller.linear.x.max_speed]",
+                                          "unknown controller limit"],
+                   robot="controller: {linear.x.max_speed: 1.0}"),
+    *desired_cases("controller-type", ["[defaults.desired.controller.angular.z.max_velocity]", "'fast'",
+                                       "not a number"],
+                   defaults="controller: {angular.z.max_velocity: fast}"),
+    # desired.shutdown_hosts: each entry by the hosts file's one validator
+    *desired_cases("hosts-port", ["[robots.r1.desired.shutdown_hosts.0.port]", "70000", "1-65535"],
+                   robot="shutdown_hosts: [{ip: 10.15.20.3, username: husarion, port: 70000}]"),
+    *desired_cases("hosts-unknown-key", ["[robots.r1.desired.shutdown_hosts.0.colour]", "unknown key"],
+                   robot="shutdown_hosts: [{ip: 10.15.20.3, username: husarion, colour: red}]"),
+]
+
 # ------------------------------------------------------------------ a local hosts file's backups (--file)
 HOSTS = "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
 BACKUP = "20261122T101500Z-1a2b"
@@ -318,7 +431,7 @@ LOCAL_FILES = [
          files={"hosts.yaml": HOSTS}),
 ]
 
-CASES = (WEBUI + INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
+CASES = (WEBUI + DESIRED + INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
          + LOCAL_FILES)
 
 

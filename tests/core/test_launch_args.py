@@ -6,9 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config import arg_catalogue, arg_edits, arg_rules
+from panther_ops.core.config import arg_edits, arg_rules
 from panther_ops.core.config import launch_args as la
 from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.kinds import arg_catalogue
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 

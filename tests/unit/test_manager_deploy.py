@@ -317,19 +317,23 @@ def test_manager_yaml_carries_desired_params(tmp_path: Path) -> None:
     assert not cfg.notes
 
 
-@pytest.mark.parametrize(("manager", "message"), [
-    ({"colour": "red"}, "unknown setting 'colour'"),
-    ({"mode": "ros1"}, "use ros2 or sim"),
-    ({"params": {"battery.percent.threshold.low": 7}}, "fraction"),
-    ({"shutdown_hosts": "relative.yaml"}, "absolute path"),
-    ({"mode": "sim", "scenario": "no_such"}, "no such shipped scenario"),
+@pytest.mark.parametrize(("manager", "key", "message"), [
+    ({"colour": "red"}, "manager.colour", "unknown key"),
+    ({"mode": "ros1"}, "manager.mode", "ros2 or sim"),
+    ({"params": {"battery.percent.threshold.low": 7}}, "manager.params", "fraction"),
+    ({"shutdown_hosts": "relative.yaml"}, "manager.shutdown_hosts", "an absolute path"),
+    ({"shutdown_hosts": "/home/husarion/../x.yaml"}, "manager.shutdown_hosts", "without '..'"),
+    ({"mode": "sim", "scenario": "no_such"}, "manager.scenario", "no such shipped scenario"),
 ])
-def test_bad_desired_manager_is_a_usage_error(tmp_path: Path, manager: dict[str, Any], message: str) -> None:
-    inv = make_fleet(tmp_path, {"r": ("panther-2.1.1.yaml", {"manager": manager})})
-    with Connections(inv) as conns:
-        ctx = RobotContext(inv.robots["r"], conns.get(inv.robots["r"]), inv)
-        with pytest.raises(UsageError, match=message):
-            plan_deploy(ctx)
+def test_bad_desired_manager_is_refused_when_the_inventory_loads(tmp_path: Path, manager: dict[str, Any], key: str,
+                                                                 message: str) -> None:
+    """Refused by the inventory (every command, exit 2), no longer only by deploy's plan; the
+    planner's own call of the same validator still refuses a block given to it directly."""
+    with pytest.raises(UsageError, match=message) as exc:
+        make_fleet(tmp_path, {"r": ("panther-2.1.1.yaml", {"manager": manager})})
+    assert f"[robots.r.desired.{key}]" in str(exc.value) and "inv.yaml" in str(exc.value)
+    with pytest.raises(UsageError, match=message):
+        manager_settings({"manager": manager})
 
 
 def test_disabled_robot_is_left_alone(tmp_path: Path) -> None:

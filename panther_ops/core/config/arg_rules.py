@@ -7,8 +7,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from panther_ops.core.config.arg_catalogue import _ALIAS_NOTES, _BY_KEY, _BY_NAME, ArgType, _ugv
 from panther_ops.core.config.launch_args import _TRUE, ArgConflictError, _since_text
+from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_KEY, _BY_NAME, ArgType, _ugv
 from panther_ops.core.stack import Stack
 
 if TYPE_CHECKING:

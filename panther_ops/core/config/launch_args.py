@@ -19,12 +19,20 @@ from __future__ import annotations
 
 import difflib
 import re
-import unicodedata
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from panther_ops.core.config.arg_catalogue import _ALIAS_NOTES, _BY_NAME, _V2_2, CATALOGUE, ArgSpec, ArgType, _ugv
+from panther_ops.core.kinds.arg_catalogue import (
+    _ALIAS_NOTES,
+    _BY_NAME,
+    _V2_2,
+    CATALOGUE,
+    ArgSpec,
+    ArgType,
+    _ugv,
+    arg_text_problem,
+)
 from panther_ops.core.stack import Stack
 from panther_ops.errors import UsageError
 
@@ -115,26 +123,18 @@ def _since_text(s: ArgSpec, stack: Stack) -> str:
     return f"{s.key} needs {family} {s.availability()}; this robot runs {stack.label()}"
 
 
-_ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-
-
 def check_arg_text(key: str, value: str) -> None:
     """Refuse what can never be written into the driver's command, ``--force`` or not: a
     name that is not a launch argument name, a value holding a newline or another control
-    character (it would split or corrupt the ``command:`` line of compose.yaml).
+    character (it would split or corrupt the ``command:`` line of compose.yaml); the
+    catalogue's rule (`arg_text_problem`), which the inventory's ``desired.launch_args`` uses too.
 
     Raises:
         InvalidArgValueError: naming the argument and the offending character.
     """
-    if not _ARG_NAME.match(key.removeprefix("launch_args.")):
-        raise InvalidArgValueError(f"launch argument name {key!r} is not allowed",
-                                   hint="letters, digits and '_', starting with a letter or '_'")
-    bad = next((c for c in value if unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp")), None)
-    if bad is not None:
-        raise InvalidArgValueError(
-            f"{key}: the value {value!r} holds the control character {bad!r} (U+{ord(bad):04X})",
-            hint="a launch argument value is one line of printable text",
-        )
+    problem = arg_text_problem(key, value)
+    if problem is not None:
+        raise InvalidArgValueError(problem[0], hint=problem[1])
 
 
 def validate_arg(

@@ -9,9 +9,9 @@ from typing import Any
 
 from panther_ops.core.fleet.hostspec import JUMP_FORMS, HostSpecError, parse_jump
 from panther_ops.core.fleet.inventory import _SCALAR_FIELDS, DEFAULT_FORKS, Inventory, Robot, UserComputer
+from panther_ops.core.fleet.inventory_desired import DesiredError, check_desired
 from panther_ops.core.fleet.inventory_values import (
     DEFAULT_KEYS,
-    DESIRED_KEYS,
     GROUP_KEYS,
     HOST,
     NAME,
@@ -160,9 +160,9 @@ class _Loader:
                 if k not in GROUP_KEYS:
                     raise self.err(f"unknown group key {k!r}", f, g, f"groups.{name}.{k}", k,
                                    hint=f"allowed: {', '.join(sorted(GROUP_KEYS))}")
-            if "desired" in g:
-                self.check_desired(g["desired"], f, g, f"groups.{name}.desired")
             self.groups[name] = dict(g)
+            if "desired" in g:
+                self.groups[name]["desired"] = self.check_desired(g["desired"], f, g, f"groups.{name}.desired")
 
     def read_settings(self, value: Any, f: Path, parent: LineDict) -> None:
         s = self.mapping(value, f, parent, "settings")
@@ -230,8 +230,7 @@ class _Loader:
         if k == "vars":
             return dict(self.mapping(v, f, d, key))
         if k == "desired":
-            self.check_desired(v, f, d, key)
-            return plain(v)
+            return self.check_desired(v, f, d, key)
         if k == "user_computer":
             return self.user_computer(v, f, d, key)
         return _SCALAR_FIELDS[k](v)
@@ -258,36 +257,32 @@ class _Loader:
                 raise self.err(bad.message, f, d, f"{key}.{k}", k, hint=bad.hint) from None
         return UserComputer(**out)
 
-    def check_desired(self, value: Any, f: Path, parent: LineDict, key: str) -> None:
+    def check_desired(self, value: Any, f: Path, parent: LineDict, key: str) -> dict[str, Any]:
+        """One layer's ``desired:`` block, checked whole (`inventory_desired`); its values as
+        the commands read them."""
         d = self.mapping(value, f, parent, key)
-        for k, v in d.items():
-            if k not in DESIRED_KEYS:
-                raise self.err(f"unknown desired setting {k!r}", f, d, f"{key}.{k}", k,
-                               hint="allowed: " + ", ".join(sorted(DESIRED_KEYS)))
-            if k in ("launch_args", "controller", "webui", "gps", "manager"):
-                m = self.mapping(v, f, d, f"{key}.{k}")
-                for sk, sv in m.items():
-                    if isinstance(sv, (LineDict, LineList)) and k in ("launch_args", "controller"):
-                        raise self.err(f"{k}.{sk} must be a single value", f, m, f"{key}.{k}.{sk}", sk)
-                if k == "webui":
-                    self.check_webui(m, f, f"{key}.{k}")
-            elif k == "image" and (not isinstance(v, str) or ":" not in v):
-                raise self.err("image must be REPOSITORY:TAG", f, d, f"{key}.image", k)
-            elif k == "shutdown_hosts" and (
-                not isinstance(v, LineList) or not all(isinstance(h, LineDict) for h in v)
-            ):
-                raise self.err("shutdown_hosts must be a list of mappings (ip, username, ...)",
-                                   f, d, f"{key}.{k}", k)
+        try:
+            return check_desired(plain(d))
+        except DesiredError as bad:
+            doc, sub = _located(d, bad.path)
+            raise self.err(bad.message, f, doc, f"{key}.{bad.key}", sub, hint=bad.hint) from None
 
-    def check_webui(self, m: LineDict, f: Path, key: str) -> None:
-        """desired.webui: the snap's keys (or their short names) with the configure hook's rules."""
-        from panther_ops.core.kinds.webui_settings import SettingError, validate
-
-        for sk, sv in m.items():
-            try:
-                validate({sk: sv})
-            except SettingError as bad:
-                raise self.err(str(bad), f, m, f"{key}.{sk}", sk) from None
+    def check_merged(self, name: str, doc: LineDict, f: Path, desired: dict[str, Any], groups: Any) -> None:
+        """The robot's desired block as merged from its layers, checked whole again: two names
+        of one setting may come from different layers (a group's ``led_config_file``, the
+        robot's ``animations_config_path``), and neither replaces the other."""
+        try:
+            check_desired(desired)
+        except DesiredError as bad:
+            layers = [("defaults", self.defaults.get("desired", {}))]
+            layers += [(f"groups.{g}", self.groups.get(g, {}).get("desired", {})) for g in groups]
+            layers.append((f"robots.{name}", doc.get("desired") or {}))
+            where = [f"{layer}.desired.{'.'.join(map(str, path))}" for path in (bad.other, bad.path) if path
+                     for layer, block in layers if _holds(block, path)]
+            raise self.err(f"{bad.message} (merged from {', '.join(where)})", f, doc,
+                           f"robots.{name}.desired.{bad.key}", "desired" if "desired" in doc else None,
+                           hint="one name in every layer (a later layer then replaces an earlier one's value)"
+                           if bad.other else bad.hint) from None
 
     def check_groups(self, robot: Robot) -> None:
         """Every group a robot names is declared under ``groups:`` (a typo would silently
@@ -318,6 +313,7 @@ class _Loader:
             vars_.update(plain(gd.get("vars", {})))
         desired = deep_merge(desired, own.get("desired", {}))
         vars_.update(own.get("vars", {}))
+        self.check_merged(name, doc, f, desired, groups)
         transport = merged.get("transport", "ssh")
         if transport == "local":
             if "root" not in merged:
@@ -341,3 +337,37 @@ class _Loader:
             connect_timeout=merged.get("connect_timeout", 10.0),
             source=f"{f}:{doc.line}", user_computer=merged.get("user_computer"),
         )
+
+
+def _located(doc: LineDict, path: tuple[str | int, ...]) -> tuple[LineDict | LineList, str | None]:
+    """The innermost mapping or list on ``path`` below ``doc`` that holds the next step, and
+    that step's key (for its line)."""
+    node: LineDict | LineList = doc
+    for i, step in enumerate(path):
+        last = i == len(path) - 1
+        if isinstance(node, LineDict) and isinstance(step, str) and step in node:
+            child = node[step]
+            if last or not isinstance(child, (LineDict, LineList)):
+                return node, step
+            node = child
+        elif isinstance(node, LineList) and isinstance(step, int) and 0 <= step < len(node):
+            child = node[step]
+            if last or not isinstance(child, (LineDict, LineList)):
+                return child if isinstance(child, (LineDict, LineList)) else node, None
+            node = child
+        else:
+            break
+    return node, None
+
+
+def _holds(block: Any, path: tuple[str | int, ...]) -> bool:
+    """Whether a layer's desired block gives the key at ``path``."""
+    node = block
+    for step in path:
+        if not isinstance(node, (dict, list)):
+            return False
+        try:
+            node = node[step]  # type: ignore[index]
+        except (KeyError, IndexError, TypeError):
+            return False
+    return True

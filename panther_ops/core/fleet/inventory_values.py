@@ -53,7 +53,7 @@ DESIRED_KEYS = {
     "webui": "WebUI snap settings (namespace, transport, layout, port, domain_id, ...)",
     "gps": "GPS settings (enabled, port, router)",
     "shutdown_hosts": "list of hosts the robot shuts down with itself",
-    "manager": "runtime manager settings (enabled, ...)",
+    "manager": "runtime manager settings (enabled, mode, scenario, params, shutdown_hosts)",
 }
 
 

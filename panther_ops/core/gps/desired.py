@@ -14,12 +14,10 @@ from typing import Any
 
 from panther_ops.core.config.planners import edit_args
 from panther_ops.core.config.robot_config import RobotConfig
+from panther_ops.core.fleet.inventory_desired import DesiredError, gps_block, usage_error
 from panther_ops.core.fleet.plan import FileEdit, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.plan import DEFAULT_IP, DEFAULT_PORT, SERVICE, GpsOptions, enable_change
-from panther_ops.errors import UsageError
-
-KEYS = ("enabled", "port", "ip", "namespace", "container", "router")
 
 
 @dataclass
@@ -31,37 +29,23 @@ class DesiredGps:
     recreate: tuple[str, ...] = ()
 
 
-def _options(value: dict[str, Any]) -> GpsOptions:
-    port = value.get("port", DEFAULT_PORT)
-    if isinstance(port, bool) or not isinstance(port, int):
-        raise UsageError(f"desired.gps.port {port!r}: a UDP port number (1-65535)")
-    for key in ("container",):
-        if key in value and not isinstance(value[key], bool):
-            raise UsageError(f"desired.gps.{key} {value[key]!r}: true or false")
-    ns = value.get("namespace")
-    if ns is not None and not isinstance(ns, str):
-        raise UsageError(f"desired.gps.namespace {ns!r}: a ROS namespace")
-    return GpsOptions(port=port, ip=str(value.get("ip", DEFAULT_IP)), namespace=ns,
-                      container=bool(value.get("container", False)))
-
-
 def desired_gps(reads: Reads, cfg: RobotConfig, value: Any) -> DesiredGps:
-    """Edit ``cfg.compose`` toward ``desired.gps``; UsageError for a bad block."""
-    if not isinstance(value, dict):
-        raise UsageError("desired.gps must be a mapping", hint="keys: " + ", ".join(KEYS))
-    unknown = sorted(set(value) - set(KEYS))
-    if unknown:
-        raise UsageError(f"desired.gps.{unknown[0]}: unknown key", hint="allowed: " + ", ".join(KEYS))
+    """Edit ``cfg.compose`` toward ``desired.gps``, as the inventory checked it when it loaded
+    (`fleet/inventory_desired.gps_block`, called again for a caller that gives a block of its own)."""
+    try:
+        value = gps_block(value)
+    except DesiredError as bad:
+        raise usage_error(bad) from None
     enabled = value.get("enabled")
-    if enabled is not None and not isinstance(enabled, bool):
-        raise UsageError(f"desired.gps.enabled {enabled!r}: true or false")
     out = DesiredGps()
     if "router" in value:
         out.warnings.append("desired.gps.router: set by `panther-ops gps router set` (or gps enable --router), "
                             "not by apply")
     if enabled is True:
         before = cfg.compose.text()
-        change = enable_change(reads, cfg, _options(value))
+        options = GpsOptions(port=value.get("port", DEFAULT_PORT), ip=value.get("ip", DEFAULT_IP),
+                             namespace=value.get("namespace"), container=value.get("container", False))
+        change = enable_change(reads, cfg, options)
         out.warnings += change.warnings
         out.verify += change.verify
         if cfg.compose.text() != before or change.extra:

@@ -23,13 +23,13 @@ through :class:`Reads`); the reads and the apply are `service.py`'s.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.config.launch_args import bool_word
 from panther_ops.core.config.planners import edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
+from panther_ops.core.fleet.inventory_desired import IP_RULE, NAMESPACE_RULE, nmea_ip, nmea_namespace
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.udp_address import check_port
@@ -45,8 +45,6 @@ DEFAULT_IP = "10.15.20.2"
 LAUNCH_FILE = "/husarion_utils/nmea_navsat.launch.py"
 PARAMS_PACKAGE = "husarion_ugv_localization"
 PARAMS_NAME = "nmea_navsat.yaml"
-_NAMESPACE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_IPV4 = re.compile(r"^(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)(\.(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)){3}$")
 
 
 @dataclass(frozen=True)
@@ -60,10 +58,10 @@ class GpsOptions:
 
     def __post_init__(self) -> None:
         check_port(self.port, "--port")
-        if not _IPV4.match(self.ip):
-            raise UsageError(f"--ip {self.ip!r}: an IPv4 address of the Built-in Computer, e.g. {DEFAULT_IP}")
-        if self.namespace is not None and not _NAMESPACE.match(self.namespace):
-            raise UsageError(f"--namespace {self.namespace!r}: a ROS namespace (letters, digits and _, e.g. panther)")
+        if not nmea_ip(self.ip):
+            raise UsageError(f"--ip {self.ip!r}: {IP_RULE}")
+        if self.namespace is not None and not nmea_namespace(self.namespace):
+            raise UsageError(f"--namespace {self.namespace!r}: {NAMESPACE_RULE}")
 
     @property
     def default_socket(self) -> bool:
@@ -76,7 +74,7 @@ def robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
         return asked
     env = cfg.compose.environment(cfg.service).get("ROBOT_NAMESPACE")
     found = reads.namespace or cfg.compose.args.get("namespace") or env or "panther"
-    if not _NAMESPACE.match(found):
+    if not nmea_namespace(found):
         raise UsageError(f"the robot's namespace {found!r} is not a plain ROS namespace", hint="pass --namespace")
     return found
 

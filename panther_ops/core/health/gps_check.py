@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.gps.plan import DEFAULT_PORT
 from panther_ops.core.gps.status import (
     BUSY,
     FIX,
@@ -37,10 +38,10 @@ def wants_gps(desired: Any) -> bool:
 
 def gps_finding(ctx: RobotContext) -> Finding:
     gps = ctx.robot.desired.get("gps") or {}
-    port = gps.get("port", 5000)
+    port = gps.get("port", DEFAULT_PORT)  # a port: the inventory checked desired.gps when it loaded
     try:
-        result = status_task(StatusOptions(port=int(port), window_s=WINDOW_S))(ctx)
-    except (OpsError, ValueError, TypeError) as exc:
+        result = status_task(StatusOptions(port=port, window_s=WINDOW_S))(ctx)
+    except OpsError as exc:
         return Finding("gps", "warn", f"could not check: {exc}", "panther-ops gps status -r ROBOT")
     d = result.data
     verdict, detail = d.get("verdict", "?"), d.get("detail", result.message)

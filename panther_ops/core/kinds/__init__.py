@@ -8,11 +8,13 @@ same message whatever command carries it: the message of the kind's dedicated va
 ``config set``).
 
 The shared engine, below `fleet` (whose change pipeline checks every compose file a plan
-writes, and whose inventory checks ``desired.webui``) and above `stack` and `yaml`: the
-kinds' models and rules live here, not in a feature, so every feature and the engine use the
-same one. Besides the registry: `controller_limits` (the wheel types' limits, shared with
-``config set``), `hostsfile` (the shutdown hosts file: both formats, validation and edits),
-`webui_settings` (the husarion-webui snap's keys and its configure hook's rules).
+writes, and whose inventory checks its ``desired:`` blocks with these rules) and above `stack`
+and `yaml`: the kinds' models and rules live here, not in a feature, so every feature and the
+engine use the same one. Besides the registry: `arg_catalogue` (the driver's launch
+arguments per stack version, shared with ``config set`` and ``desired.launch_args``),
+`controller_limits` (the wheel types' limits, shared with ``config set`` and
+``desired.controller``), `hostsfile` (the shutdown hosts file: both formats, validation and
+edits), `webui_settings` (the husarion-webui snap's keys and its configure hook's rules).
 """
 
 from __future__ import annotations

@@ -169,6 +169,24 @@ def _as_float(key: LimitKey, value: Any) -> float:
     return number
 
 
+def limit_value(key: str | LimitKey, value: Any) -> tuple[LimitKey, bool | float]:
+    """The key and its value as written, whatever the robot's wheels: a boolean for
+    ``has_*_limits``, a finite number otherwise, seconds > 0 for ``cmd_vel_timeout``. What
+    `validate_limit` checks first, and the inventory's ``desired.controller`` when it loads.
+
+    Raises:
+        ControllerError: not a limit key, or a value of the wrong type.
+    """
+    lk = key if isinstance(key, LimitKey) else parse_limit_key(key)
+    if lk.is_bool:
+        return lk, _as_bool(lk, value)
+    number = _as_float(lk, value)
+    if not lk.axis and number <= 0:  # cmd_vel_timeout: the watchdog's seconds, whatever the wheels
+        raise ControllerError(f"{lk.dotted}={value!r} must be a positive number of seconds",
+                              hint="e.g. 0.5 (panther_ros' default; husarion_ugv 2.2: 0.2)")
+    return lk, number
+
+
 def validate_limit(
     stack: Stack, wheel_type: str, key: str | LimitKey, value: Any, *, force: bool = False
 ) -> ValidatedLimit:
@@ -179,7 +197,7 @@ def validate_limit(
             negative maximum or positive minimum (unless ``force``).
         LimitExceededError: above the wheel type's limit (unless ``force``).
     """
-    lk = key if isinstance(key, LimitKey) else parse_limit_key(key)
+    lk, checked = limit_value(key, value)
     warnings: list[str] = []
 
     def refuse(message: str, error: type[ControllerError] = ControllerError, hint: str | None = None) -> None:
@@ -188,16 +206,12 @@ def validate_limit(
         warnings.append(message + " (forced)")
 
     if not lk.axis:  # cmd_vel_timeout: the watchdog's seconds, whatever the wheels
-        seconds = _as_float(lk, value)
-        if seconds <= 0:
-            raise ControllerError(f"{lk.dotted}={value!r} must be a positive number of seconds",
-                                  hint="e.g. 0.5 (panther_ros' default; husarion_ugv 2.2: 0.2)")
-        return ValidatedLimit(lk, seconds)
+        return ValidatedLimit(lk, checked)
     if lk.axis == "linear.y" and wheel_type != "WH02":
         refuse(f"{lk.dotted}: linear.y limits exist only for the mecanum wheels WH02 (this robot: {wheel_type})")
-    if lk.is_bool:
-        return ValidatedLimit(lk, _as_bool(lk, value), tuple(warnings))
-    number = _as_float(lk, value)
+    if isinstance(checked, bool):
+        return ValidatedLimit(lk, checked, tuple(warnings))
+    number = checked
     if lk.param.startswith("max_") and number < 0:
         refuse(f"{lk.dotted}={number} must not be negative")
     if lk.param.startswith("min_") and number > 0:

@@ -7,7 +7,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.fleet.templates import template_file
+from panther_ops.core.fleet.inventory_desired import (
+    MANAGER_KEYS,
+    DesiredError,
+    ScenarioError,
+    manager_block,
+    usage_error,
+)
+from panther_ops.core.fleet.inventory_desired import scenario_path as _scenario_path
 from panther_ops.errors import UsageError
 
 SERVICE = "panther_ops_manager"
@@ -52,16 +59,8 @@ SSH_POWEROFF = ("ssh -o BatchMode=yes -o StrictHostKeyChecking=accept-new -i /ro
 _SHARED_TARGETS = ("/root/.ssh/id_rsa", "/run/husarion/")
 
 
-SETTINGS = {
-    "enabled": "deploy the manager on this robot (default true)",
-    "mode": "ros2 (default, on the robot's ROS 2 graph) or sim (the simulation adapter, for labs)",
-    "scenario": "sim: a shipped scenario name (charging, low_battery, ...) or a local scenario file",
-    "params": "manager parameters (docs/manager.md), e.g. battery.percent.threshold.low: 0.3",
-    "shutdown_hosts": "robot path of the shutdown hosts file (default: the one the driver uses)",
-}
-
-
-MODES = ("ros2", "sim")
+SETTINGS = MANAGER_KEYS
+"""The keys of ``desired.manager``, checked when the inventory loads (`fleet/inventory_desired.manager_block`)."""
 
 
 @dataclass(frozen=True)
@@ -77,45 +76,22 @@ class ManagerSettings:
 
 def manager_settings(desired: Mapping[str, Any], *, sim: bool | None = None,
                      scenario: str | None = None) -> ManagerSettings:
-    """Read ``desired.manager`` (unknown keys and values: UsageError); ``sim``/``scenario`` override it."""
-    raw = desired.get("manager") or {}
-    if not isinstance(raw, Mapping):
-        raise UsageError("desired.manager must be a mapping", hint="keys: " + ", ".join(SETTINGS))
-    unknown = sorted(set(raw) - set(SETTINGS))
-    if unknown:
-        raise UsageError(f"desired.manager: unknown setting {unknown[0]!r}", hint="allowed: " + ", ".join(SETTINGS))
-    mode = str(raw.get("mode", "ros2"))
-    if mode not in MODES:
-        raise UsageError(f"desired.manager.mode {mode!r}: use ros2 or sim")
+    """``desired.manager`` as the inventory checked it when it loaded (`manager_block`, called
+    again for a caller that gives a block of its own: UsageError); ``sim``/``scenario`` override it."""
+    try:
+        raw = manager_block(desired.get("manager"))
+    except DesiredError as bad:
+        raise usage_error(bad) from None
+    mode = raw.get("mode", "ros2")
     if sim is not None:
         mode = "sim" if sim else "ros2"
-    params = raw.get("params") or {}
-    if not isinstance(params, Mapping):
-        raise UsageError("desired.manager.params must be a mapping of manager parameters")
-    hosts = raw.get("shutdown_hosts")
-    if hosts is not None and (not isinstance(hosts, str) or not hosts.startswith("/")):
-        raise UsageError("desired.manager.shutdown_hosts must be an absolute path on the robot")
-    return ManagerSettings(bool(raw.get("enabled", True)), mode, str(scenario or raw.get("scenario", "charging")),
-                           dict(params), hosts)
+    return ManagerSettings(raw.get("enabled", True), mode, str(scenario or raw.get("scenario", "charging")),
+                           dict(raw.get("params") or {}), raw.get("shutdown_hosts"))
 
 
 def scenario_path(name: str) -> Path:
-    """A shipped scenario by name (``charging``), else a local file."""
-    if "/" not in name and not name.endswith((".yaml", ".yml")):
-        path = template_file("manager", "scenarios", f"{name}.yaml") if _shipped(name) else Path(name)
-    else:
-        path = Path(name)
-    if not path.is_file():
-        raise UsageError(f"scenario {name}: no such shipped scenario or file",
-                         hint="shipped: " + ", ".join(sorted(p.stem for p in _scenarios())))
-    return path
-
-
-def _scenarios() -> list[Path]:
-    from panther_ops.core.fleet.templates import template_path
-
-    return sorted(template_path("manager", "scenarios").glob("*.yaml"))
-
-
-def _shipped(name: str) -> bool:
-    return any(p.stem == name for p in _scenarios())
+    """A shipped scenario by name (``charging``), else a local file (UsageError: neither)."""
+    try:
+        return _scenario_path(name)
+    except ScenarioError as exc:
+        raise UsageError(f"scenario {exc}", hint=exc.hint) from None

@@ -1,7 +1,15 @@
-"""The catalogue of the driver's launch arguments per stack version (panther-stack.md 1.1)."""
+"""The catalogue of the driver's launch arguments per stack version (panther-stack.md 1.1),
+and what any argument's name and value must be to be written at all.
+
+Below the features (`config`'s checks and edits) and the inventory (``desired.launch_args``,
+checked when it loads), so both read one catalogue: which names are one argument (a name
+of another version, an alias) and which text can never be a launch argument.
+"""
 
 from __future__ import annotations
 
+import re
+import unicodedata
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
@@ -313,3 +321,28 @@ for _spec in CATALOGUE:
         _BY_NAME[_name] = _spec
     for _alias, _note in _spec.aliases:
         _ALIAS_NOTES[_alias] = (_spec, _note)
+
+
+def catalogue_key(name: str) -> str | None:
+    """The catalogue key of an argument's name, a per-version name or an alias (None: not in
+    the catalogue): two names with one key are one argument."""
+    found = _BY_NAME.get(name) or (_ALIAS_NOTES[name][0] if name in _ALIAS_NOTES else None)
+    return found.key if found is not None else None
+
+
+_ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$", re.ASCII)
+
+
+def arg_text_problem(key: str, value: str) -> tuple[str, str] | None:
+    """Why ``key:=value`` can never be written into the driver's command, ``--force`` or not,
+    and what is allowed (None: it can be): a name that is not a launch argument name, a value
+    holding a newline or another control character (it would split or corrupt the
+    ``command:`` line of compose.yaml)."""
+    if not _ARG_NAME.match(key.removeprefix("launch_args.")):
+        return (f"launch argument name {key!r} is not allowed",
+                "letters, digits and '_', starting with a letter or '_'")
+    bad = next((c for c in value if unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp")), None)
+    if bad is not None:
+        return (f"{key}: the value {value!r} holds the control character {bad!r} (U+{ord(bad):04X})",
+                "a launch argument value is one line of printable text")
+    return None
