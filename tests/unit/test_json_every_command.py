@@ -69,6 +69,7 @@ VALID: dict[str, list[str]] = {
                     "--dry-run"],
     "sim world show": ["{tmp}/world.sdf"],
     "sim world set": ["{tmp}/world.sdf", "--latitude", "52.2297", "--longitude", "21.0122", "--dry-run"],
+    "sim battery charge": ["start", "--dry-run"],
     "sim battery check": [str(template_path("config", "panther-2.1", "panther_gazebo", "config",
                                             "battery_plugin_config.yaml"))],
     "estop status": ["--all"],
