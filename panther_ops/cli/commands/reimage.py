@@ -148,6 +148,9 @@ def restore(
 ) -> int:
     """Put a backup back onto the robot after its OS was reinstalled.
 
+    The archive is checked first, whole: its manifest, then every member exactly as the
+    manifest lists it (no path outside the archive, no unlisted file or link, no hard link,
+    device or fifo, nothing missing, twice or changed); else refused (exit 2, nothing written).
     The robot's new host key is shown beside the backup's and must be trusted first
     (`panther-ops trust ROBOT --replace` after checking it on the robot): never silently.
     Then, as one plan with diffs through the pipeline (confirm, backup on the robot, atomic
