@@ -6,6 +6,8 @@ file (demo robots, backups, history, the operator's files) byte-identical.
 
 from __future__ import annotations
 
+import gzip
+import hashlib
 import json
 from pathlib import Path
 
@@ -431,8 +433,52 @@ LOCAL_FILES = [
          files={"hosts.yaml": HOSTS}),
 ]
 
+# ------------------------------------------------------------------ reimage flash/verify: a bad image and a bad device
+# The image is judged first, whatever the device (docs/reimage.md): the image is named, not the device. The
+# devices are a regular file, a path that does not exist and a character device: never a block device.
+IMAGE = b"\x00" * 4096 + b"not a real card image" * 100
+GZ = gzip.compress(IMAGE)
+TRUNCATED_GZ = GZ[: len(GZ) // 2]
+ZEROS = "0" * 64
+BAD_DEVICES = [("card-file", "{tmp}/card.bin"), ("no-device", "/dev/panther-ops-no-such-card"),
+               ("char-device", "/dev/null")]
+
+
+def _image_cases(dev_id: str, dev: str) -> list[Case]:
+    card = {"card.bin": b"card " * 100}
+    flash = ["reimage", "flash", "{tmp}/x.img", "--device", dev, "--yes"]
+    flash_gz = ["reimage", "flash", "{tmp}/x.img.gz", "--device", dev, "--yes"]
+    verify = ["reimage", "verify", "{tmp}/x.img", "--device", dev]
+    verify_gz = ["reimage", "verify", "{tmp}/x.img.gz", "--device", dev]
+    gz = {**card, "x.img.gz": TRUNCATED_GZ,
+          "x.img.gz.sha256": f"{hashlib.sha256(TRUNCATED_GZ).hexdigest()}  x.img.gz\n"}
+    wrong_sidecar = {**card, "x.img": IMAGE, "x.img.sha256": f"{ZEROS}  x.img\n"}
+    return [
+        Case(f"flash-wrong-sha256-{dev_id}", [*flash, "--sha256", ZEROS],
+             ["{tmp}/x.img: sha256 is " + hashlib.sha256(IMAGE).hexdigest(), f"--sha256 says {ZEROS}"],
+             files={**card, "x.img": IMAGE}),
+        Case(f"flash-wrong-sidecar-{dev_id}", flash, ["{tmp}/x.img: sha256 is", f"{{tmp}}/x.img.sha256 says {ZEROS}"],
+             files=wrong_sidecar),
+        Case(f"flash-sidecar-not-a-hash-{dev_id}", flash, ["x.img.sha256", "'not-a-hash' is not a sha256"],
+             files={**card, "x.img": IMAGE, "x.img.sha256": "not-a-hash\n"}),
+        Case(f"flash-no-checksum-{dev_id}", flash, ["{tmp}/x.img: no checksum", "--sha256 HASH", "x.img.sha256"],
+             files={**card, "x.img": IMAGE}),
+        Case(f"flash-truncated-gz-{dev_id}", flash_gz, ["{tmp}/x.img.gz: not a readable .gz file"], files=gz),
+        Case(f"flash-name-not-content-{dev_id}", ["reimage", "flash", "{tmp}/x.img.xz", "--device", dev, "--yes",
+                                                  "--sha256", ZEROS],
+             ["x.img.xz: the name says xz-compressed but the content is uncompressed"],
+             files={**card, "x.img.xz": IMAGE}),
+        Case(f"verify-wrong-sha256-{dev_id}", [*verify, "--sha256", ZEROS], ["{tmp}/x.img: sha256 is"],
+             files={**card, "x.img": IMAGE}),
+        Case(f"verify-wrong-sidecar-{dev_id}", verify, [f"{{tmp}}/x.img.sha256 says {ZEROS}"], files=wrong_sidecar),
+        Case(f"verify-truncated-gz-{dev_id}", verify_gz, ["{tmp}/x.img.gz: not a readable .gz file"], files=gz),
+    ]
+
+
+IMAGES = [case for dev_id, dev in BAD_DEVICES for case in _image_cases(dev_id, dev)]
+
 CASES = (WEBUI + DESIRED + INVENTORY + ALIASES + SELECTORS + LAUNCH_ARGS + REACHES_ROBOT + SCENARIOS + LIGHTS + STACKS
-         + LOCAL_FILES)
+         + LOCAL_FILES + IMAGES)
 
 
 def test_the_corpus_is_large_and_unique() -> None:

@@ -251,6 +251,9 @@ def test_refuses_a_mounted_device(
     with _mounted(loop, dev, tmp_path / "mnt") as mnt:
         err = _refused(capsys, images["random"], dev, "--yes")
         assert f"{dev} is mounted at {mnt}" in err and "nothing was written" in err
+        # a bad image and a bad device: the image is named first (docs/reimage.md), the device not
+        err = _refused(capsys, images["random"], dev, "--yes", "--sha256", "0" * 64)
+        assert f"{images['random']}: sha256 is " in err and "is mounted" not in err
     assert _unchanged(dev, marks)
 
 
@@ -318,8 +321,12 @@ def test_refuses_the_device_holding_root(images: dict[str, Path], capsys: pytest
     parent = blockdev.device_facts(roots[0]).parent
     if parent:
         roots.append(f"/dev/{parent}")
-    for dev in roots:  # a wrong checksum besides: two refusals stand between this test and the disk
+    for dev in roots:
+        # a wrong checksum is named first, whatever the device: nothing about the disk is said
         err = _refused(capsys, images["random"], dev, "--yes", "--sha256", "0" * 64)
+        assert f"{images['random']}: sha256 is " in err and "root file system" not in err
+        # a good image, and no --yes besides: two refusals stand between this test and the disk
+        err = _refused(capsys, images["random"], dev)
         assert f"{dev} holds this machine's root file system (/)" in err
 
 

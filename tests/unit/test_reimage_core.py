@@ -1,4 +1,5 @@
-"""Pure parts of `reimage`: image format, checksum files, xz sizes, device judgement, verdicts."""
+"""Pure parts of `reimage`: image format, checksum files, xz sizes, device judgement, verdicts,
+a backup manifest's modes and paths."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import lzma
 
 import pytest
 
+from panther_ops.core.parse.numbers import NumberError, file_mode
 from panther_ops.core.reimage.device import describe, refusals, verify_refusals
 from panther_ops.core.reimage.image import (
     detect_format,
@@ -13,6 +15,7 @@ from panther_ops.core.reimage.image import (
     sha256_from_file,
     xz_uncompressed_size,
 )
+from panther_ops.core.reimage.manifest import clean_path_problem
 from panther_ops.core.reimage.verify import Verdict
 from panther_ops.errors import UsageError
 from panther_ops.transport.blockdev import DeviceFacts, Mount
@@ -131,3 +134,25 @@ def test_reapply_keeps_the_new_images_and_puts_back_args_mounts_and_services() -
     assert result.service("nmea_gps")["image"] == "husarion/nmea-gps:humble"
     assert reapply(text, text, "compose.yaml") == (text, [])
     assert same_line((2, 1, 1), (2, 1, 2)) and not same_line((2, 1, 1), (2, 2, 0))
+
+
+def test_file_modes_are_octal_ascii_digits() -> None:
+    assert file_mode("0644") == 0o644 and file_mode("755") == 0o755 and file_mode("4755") == 0o4755
+    for bad in ("0o644", "0648", "64", "07777 ", "٠٦٤٤", 644, None):
+        with pytest.raises(NumberError):
+            file_mode(bad)
+
+
+@pytest.mark.parametrize(("path", "problem"), [
+    ("/home/husarion/compose.yaml", None),
+    ("home/husarion/compose.yaml", "is not an absolute path"),
+    ("//etc/passwd", "is not a clean path"),
+    ("/home/husarion/../../etc/passwd", "is not a clean path"),
+    ("/home/husarion/./x", "is not a clean path"),
+    ("/home/husarion/", "is not a clean path"),
+    ("/", "is the root directory"),
+    ("/home/husarion/a\nb", "control character"),
+])
+def test_manifest_paths_are_clean_and_absolute(path: str, problem: str | None) -> None:
+    found = clean_path_problem(path)
+    assert (found is None) if problem is None else (problem in (found or ""))

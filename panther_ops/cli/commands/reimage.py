@@ -31,9 +31,9 @@ def flash(
 ) -> int:
     """Write IMAGE to the card in this machine's reader, then read it back and compare.
 
-    The image's sha256 is checked first (--sha256 or IMAGE.sha256); the device must be a
-    whole block device, unmounted, not holding this machine's root, at least the image's
-    size. The first MiB (partition table) is written last. Exit 2: refused, nothing written;
+    The image's sha256 is checked first (--sha256 or IMAGE.sha256), whatever the device; then
+    the device must be a whole block device, unmounted, not holding this machine's root, at
+    least the image's size. The first MiB (partition table) is written last. Exit 2: refused, nothing written;
     exit 3: the card does not read back as the image.
 
     Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
@@ -45,9 +45,10 @@ def flash(
     from panther_ops.errors import ExitCode
 
     with progress(json_out) as step:
+        # the image first (its checksum, then its size), whatever the device: then the device
         img = inspect_image(image, sha256, require_checksum=True, progress=step)
-        facts = eligible_device(device, img)
         file_sha = check_sha256(img, step)
+        facts = eligible_device(device, img)
         what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
         if not yes:
             if not sys.stdin.isatty():
@@ -74,20 +75,18 @@ def flash(
 def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Json = False) -> int:
     """Read DEVICE back and compare it with IMAGE (sha256, and the first differing byte).
 
-    The image's own sha256 is checked too when --sha256 or IMAGE.sha256 gives one.
-    Exit 3 when the device differs.
+    The image's own sha256 is checked first, before the device, when --sha256 or IMAGE.sha256
+    gives one. Exit 3 when the device differs.
 
     Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
     """
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.reimage import progress
-    from panther_ops.core.reimage.flash import check_sha256, inspect_image, verify
+    from panther_ops.core.reimage.flash import inspect_image, verify
     from panther_ops.errors import ExitCode
 
     with progress(json_out) as step:
-        img = inspect_image(image, sha256, require_checksum=False, progress=step)
-        if img.expected_sha256 is not None:
-            check_sha256(img, step)
+        img = inspect_image(image, sha256, require_checksum=False, progress=step)  # checked when a hash is given
         v = verify(img, device, step)
     if json_out:
         emit_json({"schema": 1, "command": "reimage verify", "image": img.to_json(), "ok": v.ok,
@@ -148,6 +147,9 @@ def restore(
 ) -> int:
     """Put a backup back onto the robot after its OS was reinstalled.
 
+    The archive is checked first, whole: its manifest, then every member exactly as the
+    manifest lists it (no path outside the archive, no unlisted file or link, no hard link,
+    device or fifo, nothing missing, twice or changed); else refused (exit 2, nothing written).
     The robot's new host key is shown beside the backup's and must be trusted first
     (`panther-ops trust ROBOT --replace` after checking it on the robot): never silently.
     Then, as one plan with diffs through the pipeline (confirm, backup on the robot, atomic

@@ -52,6 +52,17 @@ def port(value: object) -> int:
     return number
 
 
+_MODE = re.compile(r"[0-7]{3,4}", re.ASCII)
+
+
+def file_mode(value: object) -> int:
+    """A file's permission bits as ``chmod`` writes them: the text of 3 or 4 ASCII octal
+    digits (``"0644"``, ``"755"``). Raises NumberError."""
+    if not isinstance(value, str) or not _MODE.fullmatch(value):
+        raise NumberError("a file mode: 3 or 4 octal digits 0-7, e.g. '0644'")
+    return int(value, 8)
+
+
 def whole(value: object, low: int, high: int) -> int:
     """An integer setting from YAML or a command line: an int (not a bool) or its ASCII text,
     from ``low`` to ``high``. Raises NumberError."""

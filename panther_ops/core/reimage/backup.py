@@ -18,11 +18,10 @@ from panther_ops import __version__
 from panther_ops.core.fleet.facts import RobotFacts, parse_probe, probe_command
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.reimage.carry import Candidate, candidates, is_secret, role_of
+from panther_ops.core.reimage.manifest import MANIFEST_VERSION
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.transport.base import Command
 from panther_ops.transport.scripts_reimage import TAR
-
-MANIFEST_VERSION = 1
 
 
 @dataclass

@@ -1,14 +1,17 @@
 """`reimage flash` and `reimage verify`: the steps, in order, on this machine's card reader.
 
-Inspect the image (format, size, expected checksum) → judge the device → check the image's
-sha256 → confirm → write (``transport.blockdev``) → read back and compare. Refusals raise
-UsageError before anything is written; progress goes to the caller's callback.
+The image first, whatever the device: its name and format, its expected checksum, its sha256
+checked against it, then its decompressed size → judge the device → confirm → write
+(``transport.blockdev``) → read back and compare. A bad image is named before anything about
+the device is read. Refusals raise UsageError before anything is written; progress goes to the
+caller's callback.
 """
 
 from __future__ import annotations
 
 import os
 import time
+import zlib
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,6 +31,8 @@ class Image:
     file_bytes: int
     expected_sha256: str | None
     checksum_from: str | None
+    file_sha256: str | None = None
+    """The file's sha256, computed and found equal to ``expected_sha256`` (None: not checked)."""
 
     def to_json(self) -> dict[str, Any]:
         return {"path": self.path, "format": self.fmt, "bytes": self.size, "file_bytes": self.file_bytes,
@@ -35,7 +40,10 @@ class Image:
 
 
 def inspect_image(path: str, sha256: str | None, *, require_checksum: bool, progress: Progress | None = None) -> Image:
-    """The image's format, decompressed size and expected sha256 (from ``sha256`` or IMAGE.sha256)."""
+    """The image's format, expected sha256 (from ``sha256`` or IMAGE.sha256; required with
+    ``require_checksum``), the file's sha256 checked against it, then its decompressed size,
+    in that order: a wrong checksum is named before a compressed image is decompressed, and
+    before anything about a device is read. UsageError naming the image."""
     if not os.path.exists(path):
         raise UsageError(f"{path}: no such image file")
     if not os.path.isfile(path):
@@ -52,24 +60,38 @@ def inspect_image(path: str, sha256: str | None, *, require_checksum: bool, prog
         raise UsageError(f"{path}: no checksum to check it against: give --sha256 HASH or put "
                          f"{os.path.basename(sidecar)} beside it")
     file_bytes = os.path.getsize(path)
+    actual = None
+    if expected is not None:
+        actual = _sha256_checked(path, expected, source, progress)
     if fmt == "raw":
         size = file_bytes
     elif fmt == "xz":
         size = xz_uncompressed_size(lambda off, n: blockdev.read_at(path, off, n), file_bytes, path)
     else:
-        size = blockdev.gz_size(path, progress)
+        try:
+            size = blockdev.gz_size(path, progress)
+        except (EOFError, OSError, zlib.error) as exc:
+            raise UsageError(f"{path}: not a readable .gz file ({exc}): refused, nothing was written") from exc
     if size == 0:
         raise UsageError(f"{path}: the image is empty")
-    return Image(path, fmt, size, file_bytes, expected, source)
+    return Image(path, fmt, size, file_bytes, expected, source, actual)
+
+
+def _sha256_checked(path: str, expected: str, source: str | None, progress: Progress | None) -> str:
+    actual = blockdev.file_sha256(path, progress)
+    if actual != expected:
+        raise UsageError(f"{path}: sha256 is {actual} but {source} says {expected}: refused, nothing was written")
+    return actual
 
 
 def check_sha256(image: Image, progress: Progress | None = None) -> str:
-    """The image file's sha256, which must be the expected one (else UsageError: nothing written)."""
-    actual = blockdev.file_sha256(image.path, progress)
-    if image.expected_sha256 is not None and actual != image.expected_sha256:
-        raise UsageError(f"{image.path}: sha256 is {actual} but {image.checksum_from} says "
-                         f"{image.expected_sha256}: refused, nothing was written")
-    return actual
+    """The image file's sha256, which must be the expected one (else UsageError: nothing written);
+    computed once (``inspect_image`` checks it when the expected one is known)."""
+    if image.file_sha256 is not None:
+        return image.file_sha256
+    if image.expected_sha256 is None:
+        return blockdev.file_sha256(image.path, progress)
+    return _sha256_checked(image.path, image.expected_sha256, image.checksum_from, progress)
 
 
 def eligible_device(device: str, image: Image) -> DeviceFacts:

@@ -1,6 +1,7 @@
 """`reimage restore`: a backup archive back onto the reinstalled robot, through the pipeline.
 
-The archive is read and checked first (manifest, every file's sha256, paths); the plan then
+The archive is read and checked first (its manifest, then every member against it: name, type,
+size, mode, sha256; anything else refuses the whole archive); the plan then
 reads the robot's files as a backup would and writes back every file of the robot user's home
 that differs (content or mode) as one plan with exact diffs: the key pair, known_hosts and
 authorized_keys, the config tree, mounted files, the deployed manager and the compose file,
@@ -14,9 +15,7 @@ across release lines restore is refused with exit 2.
 from __future__ import annotations
 
 import hashlib
-import json
 import posixpath
-import tarfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,7 +23,8 @@ from typing import Any
 from panther_ops.core.fleet.changes import Planner
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.reimage.backup import MANIFEST_VERSION, collect
+from panther_ops.core.reimage.archive import read_archive
+from panther_ops.core.reimage.backup import collect
 from panther_ops.core.reimage.reapply import reapply, same_line
 from panther_ops.core.stack import parse_version
 from panther_ops.core.yaml.diff import unified_diff
@@ -69,38 +69,12 @@ class Backup:
 
 
 def load_backup(path: str) -> Backup:
-    """The archive's manifest and files; UsageError naming what is wrong (nothing is done)."""
-    if not Path(path).is_file():
-        raise UsageError(f"--from {path}: no such file")
-    try:
-        with tarfile.open(path, "r:gz") as tar:
-            members = {m.name: m for m in tar.getmembers()}
-            fh = tar.extractfile(members["manifest.json"]) if "manifest.json" in members else None
-            if fh is None:
-                raise UsageError(f"--from {path}: not a panther-ops backup (no manifest.json)")
-            manifest = json.load(fh)
-            if manifest.get("version") != MANIFEST_VERSION:
-                raise UsageError(f"--from {path}: manifest version {manifest.get('version')!r}, "
-                                 f"this panther-ops reads version {MANIFEST_VERSION}")
-            files, links = [], []
-            for entry in manifest.get("files", []):
-                p = str(entry["path"])
-                if not p.startswith("/") or posixpath.normpath(p) != p:
-                    raise UsageError(f"--from {path}: file path {p!r} is not a clean absolute path")
-                if entry.get("kind") == "symlink":
-                    links.append(p)
-                    continue
-                member = members.get("files" + p)
-                data_fh = tar.extractfile(member) if member is not None else None
-                if data_fh is None:
-                    raise UsageError(f"--from {path}: {p} is in the manifest but not in the archive")
-                data = data_fh.read()
-                if hashlib.sha256(data).hexdigest() != entry["sha256"]:
-                    raise UsageError(f"--from {path}: {p} does not match its sha256 in the manifest (damaged)")
-                files.append(BackupFile(p, int(str(entry["mode"]), 8), data, bool(entry.get("secret"))))
-    except (tarfile.TarError, OSError, EOFError, ValueError, KeyError) as exc:
-        raise UsageError(f"--from {path}: not a readable backup archive ({exc})") from exc
-    return Backup(path, manifest, files, links)
+    """The archive's manifest and files, every member checked against the manifest
+    (``archive.read_archive``); UsageError naming what is wrong (nothing is done)."""
+    contents = read_archive(path)
+    files = [BackupFile(e.path, e.mode, contents.data[e.path], e.secret) for e in contents.entries if e.kind == "file"]
+    links = [e.path for e in contents.entries if e.kind == "symlink"]
+    return Backup(path, contents.manifest, files, links)
 
 
 def restore_planner(backup: Backup) -> Planner:
