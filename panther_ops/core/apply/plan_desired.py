@@ -1,5 +1,5 @@
 """The planner of `panther-ops apply` and `config diff`: the inventory's desired state
-(launch arguments, controller, image, GPS, the WebUI on the User Computer) converged in one
+(launch arguments, controller, image, GPS, shutdown hosts, the WebUI on the User Computer) converged in one
 plan per robot. The WebUI's change is the plan's action after the robot's files (see
 `desired.py`).
 
@@ -33,6 +33,48 @@ def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, for
     if image and image != cfg.compose.driver_image:
         cfg.compose.set_image(image)
         parts.append(f"image -> {image}")
+    _driver_files(reads, cfg, desired, force, (edits, warnings, verify, parts))
+    if desired.get("shutdown_hosts") is not None:
+        from panther_ops.core.shutdown.plan_desired import desired_hosts
+
+        hosts = desired_hosts(reads, cfg, desired["shutdown_hosts"])
+        edits += hosts.edits
+        warnings += hosts.warnings
+        parts += [hosts.summary] if hosts.summary else []
+    recreate: tuple[str, ...] = ()
+    driver_files = bool(edits)
+    if desired.get("gps") is not None:
+        from panther_ops.core.gps.desired import desired_gps
+
+        gps = desired_gps(reads, cfg, desired["gps"])
+        edits += gps.extra
+        warnings += gps.warnings
+        verify += gps.verify
+        parts += gps.parts
+        recreate = gps.recreate
+    arg_summary = _args_summary(cfg, old_args)
+    if arg_summary != "no change":
+        parts.insert(0, arg_summary)
+    webui = _plan_webui(reads, cfg, desired.get("webui"), warnings)
+    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps", "webui", "shutdown_hosts"})
+    if unsupported:
+        warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
+    plan = compose_plan(reads.robot, cfg, "; ".join(parts) or "no change", warnings, verify,
+                        "matches the inventory's desired state", extra=edits)
+    if plan.edits and recreate:  # desired.gps: the nmea-gps service alone when the driver is as it was
+        driver_same = not driver_files and cfg.compose.service(cfg.service) == driver_before
+        plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
+        if driver_same:
+            plan.verify = [v for v in plan.verify if v.service in recreate]
+    _add_webui(plan, webui)
+    return plan
+
+
+def _driver_files(reads: Reads, cfg: RobotConfig, desired: dict[str, Any], force: bool,
+                  into: tuple[list[FileEdit], list[str], list[Verify], list[str]]) -> None:
+    """desired.launch_args and desired.controller (a wheel type change migrates a custom
+    controller file), added ``into`` the plan's edits, warnings, checks and summary parts."""
+    edits, warnings, verify, parts = into
     migrated = None
     if desired.get("launch_args"):
         largs = dict(desired["launch_args"])
@@ -58,33 +100,6 @@ def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, for
         verify.append(v)
     if migrated is not None:
         edits += migrated.edits
-    recreate: tuple[str, ...] = ()
-    driver_files = bool(edits)
-    if desired.get("gps") is not None:
-        from panther_ops.core.gps.desired import desired_gps
-
-        gps = desired_gps(reads, cfg, desired["gps"])
-        edits += gps.extra
-        warnings += gps.warnings
-        verify += gps.verify
-        parts += gps.parts
-        recreate = gps.recreate
-    arg_summary = _args_summary(cfg, old_args)
-    if arg_summary != "no change":
-        parts.insert(0, arg_summary)
-    webui = _plan_webui(reads, cfg, desired.get("webui"), warnings)
-    unsupported = sorted(set(desired) - {"image", "launch_args", "controller", "gps", "webui"})
-    if unsupported:
-        warnings.append(f"desired {', '.join(unsupported)}: applied by their own commands, not by `apply`")
-    plan = compose_plan(reads.robot, cfg, "; ".join(parts) or "no change", warnings, verify,
-                        "matches the inventory's desired state", extra=edits)
-    if plan.edits and recreate:  # desired.gps: the nmea-gps service alone when the driver is as it was
-        driver_same = not driver_files and cfg.compose.service(cfg.service) == driver_before
-        plan.recreate = recreate if driver_same else tuple(dict.fromkeys((*plan.recreate, *recreate)))
-        if driver_same:
-            plan.verify = [v for v in plan.verify if v.service in recreate]
-    _add_webui(plan, webui)
-    return plan
 
 
 def _plan_webui(reads: Reads, cfg: RobotConfig, desired: dict[str, Any] | None,

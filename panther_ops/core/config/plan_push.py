@@ -65,17 +65,45 @@ def wheel_of(cfg: RobotConfig) -> str:
 _CHECKED: Memo[list[str]] = Memo()
 
 
+@dataclass
+class Pushed:
+    """What a push does to a robot: its files, and (in ``cfg``) the mount and the argument."""
+
+    edits: list[FileEdit]
+    warnings: list[str]
+    verify: Verify
+    summary: str
+    robot_path: str
+
+
 def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
     """The plan of pushing ``bundle`` as ``kind`` to the robot whose compose.yaml is ``raw``."""
     cfg = parse_config(raw, reads.stack)
-    target = Target(cfg.stack, wheel_of(cfg))
-    warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
-                                 lambda: check_file(kind, str(bundle.main), bundle.data,
-                                                    local=bundle.main, target=target, force=force)))
     if kind is FileKind.JOY2TWIST:
         from panther_ops.core.config.gamepad import plan_joy2twist
 
+        warnings = _checked(cfg, kind, bundle, force)
         return plan_joy2twist(reads, cfg, bundle.main.name, bundle.data, warnings)
+    pushed = push_onto(reads, cfg, kind, bundle, force=force)
+    plan = compose_plan(reads.robot, cfg, pushed.summary, pushed.warnings, [pushed.verify],
+                        f"{pushed.robot_path} already has this content", extra=pushed.edits)
+    plan.data["robot_path"] = pushed.robot_path
+    return plan
+
+
+def _checked(cfg: RobotConfig, kind: FileKind, bundle: Bundle, force: bool) -> list[str]:
+    """The file through its kind's one validator, for this robot's stack and wheel (once each)."""
+    target = Target(cfg.stack, wheel_of(cfg))
+    return list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),
+                             lambda: check_file(kind, str(bundle.main), bundle.data,
+                                                local=bundle.main, target=target, force=force)))
+
+
+def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *, force: bool = False) -> Pushed:
+    """Push ``bundle`` as ``kind`` (not joy2twist) onto the robot ``cfg`` describes: the files
+    to write, checked by their kind's validator; the mount and the launch argument are made in
+    ``cfg`` (the caller's plan writes compose.yaml)."""
+    warnings = _checked(cfg, kind, bundle, force)
     forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
@@ -131,8 +159,5 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
     summary = f"{kind.value}: {bundle.main.name} -> {robot_dir}/{name}" + (f" ({arg}:={main_container})" if arg else "")
     if forced:
         summary += " [--force: " + "; ".join(forced) + "]"
-    plan = compose_plan(reads.robot, cfg, summary, warnings, [Verify(cfg.service, contains)],
-                         f"{robot_dir}/{name} already has this content", extra=edits)
-    plan.data["robot_path"] = f"{robot_dir}/{name}"
-    return plan
+    return Pushed(edits, warnings, Verify(cfg.service, contains), summary, f"{robot_dir}/{name}")
 

@@ -522,3 +522,33 @@ def remove_host(text: str, ip: str, username: str | None = None, port: int | Non
     for i in reversed(drop):
         doc.delete(f"hosts.{i}")
     return Edit(doc.text, True, f"removed {len(drop)} entr{'y' if len(drop) == 1 else 'ies'} of {ip}")
+
+
+def converge_hosts(text: str, entries: list[Mapping[str, Any]], source: str = "<hosts>") -> Edit:
+    """The file listing exactly ``entries`` (``desired.shutdown_hosts``): a listed host that is
+    not among them removed, each of them added or updated in place (comments and the layout of
+    the rest kept). The message names what changed."""
+    want = {_key_of(e) for e in entries}
+    doc = _load(text, source)
+    plain = doc.to_plain()
+    hosts = plain.get("hosts") if isinstance(plain, Mapping) else None
+    removed: list[str] = []
+    current = text
+    if isinstance(hosts, list):
+        for raw in hosts:
+            key = _key_of(raw)
+            if key is not None and key not in want:
+                ip, user, port = key
+                edit = remove_host(current, ip, user or None, port, source)
+                if edit.changed:
+                    current = edit.text
+                    removed.append(f"{user}@{ip}" if user else f"http://{ip}")
+    said: list[str] = [f"removed {', '.join(removed)}"] if removed else []
+    for entry in entries:
+        edit = add_host(current, entry, source)
+        if edit.changed:
+            current = edit.text
+            said.append(edit.message)
+    if not said:
+        return Edit(text, False, "hosts as desired")
+    return Edit(current, True, "; ".join(said))
