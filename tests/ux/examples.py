@@ -120,6 +120,7 @@ EXPECTED_EXIT = {
     "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
     "panther-ops sim world set w.sdf --latitude 91 --yes": 2,
     "panther-ops sim battery check bad_battery.yaml": 2,
+    "panther-ops sim battery charge start --namespace robot1 --yes": 3,
     "panther-ops config rollback --file hosts.yaml --to 20261124T1244 --yes": 2,
     "panther-ops -i demo-fleet config push bad_pad.yaml --as joy2twist --all --yes": 2,
     "panther-ops -i demo-fleet config set controller.cmd_vel_timeout 0 -r panther-01 --yes": 2,

@@ -5,6 +5,7 @@ pseudo-terminal differs only in styling."""
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 from pathlib import Path
@@ -61,6 +62,14 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("NUC_SECRET", "a-long-shared-secret-for-the-nuc")
+    # the reader's simulation (docs/gps.md): Gazebo's CLI, a stand-in serving the recharge
+    # services of a panther without a namespace and of one spawned under 'panther'
+    (tmp_path / "gz-services").write_text("".join(
+        f"/model/{m}/battery/{b}/recharge/{a}\n" for m, b in (("panther", "battery"), ("panther", "panther/battery"))
+        for a in ("start", "stop")))
+    monkeypatch.setenv("PATH", f"{ROOT / 'tests' / 'standins'}:{os.environ['PATH']}")
+    monkeypatch.setenv("PANTHER_OPS_STANDIN_GZ_SERVICES", str(tmp_path / "gz-services"))
+    monkeypatch.setenv("PANTHER_OPS_STANDIN_GZ_CALLS", str(tmp_path / "gz-calls"))
     assert main(["-i", "demo-fleet", "config", "pull", "controller", "-r", "panther-01", "-o",
                  "my_controller.yaml"]) == 0
     # hosts.yaml (GOOD_HOSTS) with a backup beside it, for `config history|rollback --file hosts.yaml`
