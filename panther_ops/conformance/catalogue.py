@@ -1,4 +1,4 @@
-"""The launch-argument catalogue (core/config/arg_catalogue.py) against what a release declares.
+"""The launch-argument catalogue (core/kinds/arg_catalogue.py) against what a release declares.
 
 The catalogue writes a default in its own notation; `catalogue_default` evaluates it in the
 same contexts as upstream's (`launch.CONTEXTS`):
@@ -24,7 +24,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from panther_ops.conformance.launch import CONTEXTS
-from panther_ops.core.config.arg_catalogue import ArgSpec, ArgType
+from panther_ops.core.kinds.arg_catalogue import ArgSpec, ArgType
 from panther_ops.core.config.launch_args import args_for, bool_word
 from panther_ops.core.stack import Stack
 

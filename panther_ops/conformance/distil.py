@@ -5,7 +5,7 @@ What is kept, and why it is not a copy of upstream's files:
 - ``launch``: per launch argument that bringup and its includes declare: its name, the
   files declaring it, its kind (``bool``/``choice``/``text``), its choices, its default
   evaluated in three contexts (`launch.CONTEXTS`) and where that default is read from.
-  These are the facts the catalogue (core/config/arg_catalogue.py) must state.
+  These are the facts the catalogue (core/kinds/arg_catalogue.py) must state.
 - ``files``: per upstream default file panther-ops has a kind for, or a template of, or
   that the 2.2 config tree holds: its sha256, its format and its semantic digest (key
   paths, value types and a hash of each value: `digest`), and for a file of a kind, the

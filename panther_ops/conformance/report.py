@@ -50,7 +50,7 @@ WHAT = """\
   name; `lynx_*` and WH05 files: a Lynx). The verdict is the one recorded when the table
   was made; where a template equals the upstream file semantically, the validator is run
   again on the template.
-- **Launch arguments**: the catalogue (`panther_ops/core/config/arg_catalogue.py`) has
+- **Launch arguments**: the catalogue (`panther_ops/core/kinds/arg_catalogue.py`) has
   exactly the arguments bringup and the launch files of the same repository it includes
   declare, with their kind (bool, choice, free text), choices, default and where the
   default is read from. Defaults are evaluated with every environment variable unset, in
