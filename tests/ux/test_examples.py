@@ -57,6 +57,8 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
     (tmp_path / "pad.yaml").write_text(JOY2TWIST)
     (tmp_path / "bad_pad.yaml").write_text(JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
+    (tmp_path / "bad_srv_pad.yaml").write_text(JOY2TWIST.replace("reset_srv: hardware/e_stop_reset",
+                                                                 "reset_srv: hardware/e-stop-reset"))
     (tmp_path / "proj").mkdir()
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)
