@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from panther_ops.core.config.arg_catalogue import _ALIAS_NOTES, _BY_NAME, _V2_2, CATALOGUE, ArgSpec, ArgType, _ugv
+from panther_ops.core.parse import ros_names
 from panther_ops.core.stack import Stack
 from panther_ops.errors import UsageError
 
@@ -76,9 +77,6 @@ _TRUE = frozenset({"true", "1"})
 
 
 _FALSE = frozenset({"false", "0"})
-
-
-_NS_TOKEN = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
 _INTERPOLATION = re.compile(r"\$\{[^}]*\}|\$[A-Za-z_][A-Za-z0-9_]*")
@@ -237,12 +235,11 @@ def _normalise(s: ArgSpec, stack: Stack, value: str, *, force: bool, warnings: l
                 return choice
         return _refuse(name, value, choices, force, warnings)
     if s.type is ArgType.NAMESPACE:
-        tokens = value.strip("/").split("/") if value.strip("/") else []
-        trailing = value.endswith("/") and value != "/"
-        if value and (trailing or not all(_NS_TOKEN.match(t) for t in tokens)):
-            allowed = ("a ROS namespace: letters, digits, _ and /, not starting with a digit",)
-            return _refuse(name, value, allowed, force, warnings, kind="a valid namespace")
-        return value
+        try:
+            return ros_names.namespace(value)
+        except ros_names.RosNameError as exc:  # no node starts under it: --force cannot help
+            raise InvalidArgValueError(f"{name}={value!r}: {exc}", hint="the driver's nodes would not start "
+                                       "(rcl refuses the name); --force does not write it") from None
     if s.type in (ArgType.PATH, ArgType.DIR):
         return _check_path(s, name, value, force, warnings)
     return value

@@ -33,6 +33,7 @@ from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.udp_address import check_port
+from panther_ops.core.parse.ros_names import RosNameError, namespace
 from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
@@ -45,7 +46,6 @@ DEFAULT_IP = "10.15.20.2"
 LAUNCH_FILE = "/husarion_utils/nmea_navsat.launch.py"
 PARAMS_PACKAGE = "husarion_ugv_localization"
 PARAMS_NAME = "nmea_navsat.yaml"
-_NAMESPACE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _IPV4 = re.compile(r"^(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)(\.(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)){3}$")
 
 
@@ -62,12 +62,25 @@ class GpsOptions:
         check_port(self.port, "--port")
         if not _IPV4.match(self.ip):
             raise UsageError(f"--ip {self.ip!r}: an IPv4 address of the Built-in Computer, e.g. {DEFAULT_IP}")
-        if self.namespace is not None and not _NAMESPACE.match(self.namespace):
-            raise UsageError(f"--namespace {self.namespace!r}: a ROS namespace (letters, digits and _, e.g. panther)")
+        if self.namespace is not None:
+            gps_namespace(self.namespace, "--namespace")
 
     @property
     def default_socket(self) -> bool:
         return self.port == DEFAULT_PORT and self.ip == DEFAULT_IP
+
+
+def gps_namespace(value: str, what: str, hint: str | None = None) -> str:
+    """A namespace the NMEA service takes: a ROS namespace (core/parse/ros_names) of one token,
+    since the service writes it as ``robot_namespace:=<ns>`` and ``__ns:=/<ns>``."""
+    try:
+        namespace(value)
+    except RosNameError as exc:
+        raise UsageError(f"{what} {value!r}: {exc}", hint=hint) from None
+    if not value or "/" in value:
+        raise UsageError(f"{what} {value!r}: one namespace token for the NMEA driver (letters, digits and _, "
+                         "e.g. panther), without '/'", hint=hint)
+    return value
 
 
 def robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
@@ -76,9 +89,7 @@ def robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
         return asked
     env = cfg.compose.environment(cfg.service).get("ROBOT_NAMESPACE")
     found = reads.namespace or cfg.compose.args.get("namespace") or env or "panther"
-    if not _NAMESPACE.match(found):
-        raise UsageError(f"the robot's namespace {found!r} is not a plain ROS namespace", hint="pass --namespace")
-    return found
+    return gps_namespace(found, "the robot's namespace", hint="pass --namespace")
 
 
 def service_mapping(namespace: str, opts: GpsOptions) -> dict[str, Any]:

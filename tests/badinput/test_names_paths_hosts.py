@@ -1,0 +1,96 @@
+"""Bad-input corpus, issue 23 items 5, 9 and 10: ROS names (namespaces, topics, services) by
+rcl's rules in every command and file that takes one, launch-argument paths (characters, '..',
+mounts), and chained shutdown commands. Each case: exit 2, the value named with what is
+allowed, no traceback, every file of the demo fleet byte-identical.
+
+Robots of the demo fleet: panther-01 runs panther_ros 2.1.1 (no /config volume), panther-02
+2.0.4, panther-03 husarion_ugv 2.2.2 (the config tree mounted at /config).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tests.badinput.harness import Case, check_refused
+
+TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
+COMPOSE_211 = (TEMPLATES / "compose/panther-2.1.1.yaml").read_text()
+COMPOSE_01 = "demo/robots/panther-01/home/husarion/compose.yaml"
+R1 = ["-r", "panther-01", "--yes"]
+R3 = ["-r", "panther-03", "--yes"]
+LOCAL_01 = "version: 1\nrobots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n"
+LOCAL_03 = "version: 1\nrobots:\n  r3:\n    transport: local\n    root: {demo}/robots/panther-03\n"
+NS_RULES = "ASCII letters, digits, '_' and '/'"
+
+
+def _compose_01(old: str, new: str) -> dict[str, str | bytes]:
+    """panther-01's compose.yaml with one change (bytes: the harness leaves its braces alone)."""
+    assert old in COMPOSE_211, old
+    return {COMPOSE_01: COMPOSE_211.replace(old, new, 1).encode()}
+
+
+# ------------------------------------------------------------------ namespaces (item 5)
+NAMESPACES = [
+    Case("ns-set-dash", ["config", "set", "namespace", "e-stop", *R1], ["namespace='e-stop'", "'-' is not allowed",
+                                                                          NS_RULES]),
+    Case("ns-set-dash-forced", ["config", "set", "namespace", "e-stop", *R1, "--force"],
+         ["namespace='e-stop'", "'-' is not allowed", "--force does not write it"]),
+    Case("ns-set-digit-forced", ["config", "set", "namespace", "fleet/2nd", *R3, "--force"],
+         ["namespace='fleet/2nd'", "the token '2nd' starts with a digit"]),
+    Case("ns-set-double-slash-forced", ["config", "set", "namespace", "fleet//a", *R1, "--force"],
+         ["'fleet//a'", "'//'"]),
+    Case("ns-set-tilde-forced", ["config", "set", "namespace", "~/x", *R1, "--force"],
+         ["namespace='~/x'", "'~' is not allowed in a namespace"]),
+    Case("ns-set-everywhere-forced", ["config", "set", "namespace", "robot-7", *R3, "--everywhere", "--force"],
+         ["namespace='robot-7'", "'-' is not allowed"]),
+    Case("ns-apply-desired-forced", ["apply", "--all", "--yes", "--force"], ["namespace='e-stop'", "'-'"],
+         inventory=LOCAL_01 + "    desired: {{launch_args: {{namespace: e-stop}}}}\n"),
+    Case("ns-inventory", ["inventory", "validate"], ["namespace", "'e-stop'", "'-' is not allowed"],
+         inventory=LOCAL_01 + "    namespace: e-stop\n"),
+    Case("ns-inventory-global", ["inventory", "validate"], ["namespace", "leave namespace out"],
+         inventory=LOCAL_01 + "    namespace: /\n"),
+    Case("ns-gps-option", ["gps", "enable", "--namespace", "e-stop", *R1], ["--namespace 'e-stop'", "'-'"]),
+    Case("ns-gps-option-tokens", ["gps", "enable", "--namespace", "fleet/panther", *R1],
+         ["--namespace 'fleet/panther'", "one namespace token"]),
+    Case("ns-gps-desired", ["apply", "--all", "--yes"], ["'2robot'", "starts with a digit"],
+         inventory=LOCAL_01 + "    desired: {{gps: {{enabled: true, namespace: 2robot}}}}\n"),
+    Case("ns-gps-robot", ["gps", "enable", *R1], ["the robot's namespace 'e-stop'", "'-'", "--namespace"],
+         files=_compose_01("ROBOT_NAMESPACE=panther", "ROBOT_NAMESPACE=e-stop")),
+    Case("ns-webui-set", ["webui", "set", "ros.namespace=e-stop", *R1], ["ros.namespace='e-stop'", "'-'"]),
+    Case("ns-webui-set-digit", ["webui", "set", "ros.namespace=2robot", *R1], ["ros.namespace='2robot'",
+                                                                              "starts with a digit"]),
+    Case("ns-webui-desired", ["config", "diff", "--all"], ["desired.webui", "'e-stop'", "'-' is not allowed"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{namespace: e-stop}}}}\n"),
+]
+# the whole compose file is checked, namespaces no command changed included: every command that writes it
+BAD_ENV = _compose_01("ROBOT_NAMESPACE=panther", "ROBOT_NAMESPACE=e-stop")
+BAD_GAMEPAD = _compose_01("        namespace:=panther", "        namespace:=2panther")
+WRITES_COMPOSE = {
+    "config-set": ["config", "set", "wheel_type", "WH02", *R1],
+    "config-push": ["config", "push", "{tmp}/WH01_controller.yaml", "--as", "controller", *R1],
+    "config-set-controller": ["config", "set", "controller.linear.x.max_velocity", "1.5", *R1],
+    "driver-update": ["driver", "update", "humble-2.1.2-20241125", *R1],
+}
+CONTROLLER = (TEMPLATES / "config/panther-2.1/panther_controller/config/WH01_controller.yaml").read_bytes()
+for cid, args in WRITES_COMPOSE.items():
+    NAMESPACES.append(Case(f"ns-compose-env-{cid}", args, ["compose.yaml", "environment.ROBOT_NAMESPACE='e-stop'",
+                                                             "'-' is not allowed"],
+                           files={**BAD_ENV, "WH01_controller.yaml": CONTROLLER}))
+    NAMESPACES.append(Case(f"ns-compose-gamepad-{cid}", args,
+                           ["compose.yaml", "services.gamepad_controller.command: namespace:='2panther'",
+                            "starts with a digit"], files={**BAD_GAMEPAD, "WH01_controller.yaml": CONTROLLER}))
+
+
+CASES = NAMESPACES
+
+
+def test_the_corpus_is_unique() -> None:
+    assert len({c.id for c in CASES}) == len(CASES)
+
+
+@pytest.mark.parametrize("case", CASES, ids=str)
+def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                 monkeypatch: pytest.MonkeyPatch) -> None:
+    check_refused(case, tmp_path, capsys, monkeypatch)
