@@ -83,7 +83,52 @@ for cid, args in WRITES_COMPOSE.items():
                             "starts with a digit"], files={**BAD_GAMEPAD, "WH01_controller.yaml": CONTROLLER}))
 
 
-CASES = NAMESPACES
+# ------------------------------------------------------------------ launch-argument paths (item 9)
+COMPOSE_222 = (TEMPLATES / "compose/husarion-ugv-2.2.2.yaml").read_text()
+COMPOSE_03 = "demo/robots/panther-03/home/husarion/compose.yaml"
+PATH_CHARS = "ASCII letters, digits, '_', '.', '+', '-' and '/'"
+MOUNTS_03 = "/run/husarion/robot_config.env, /run/husarion/robot_config.yaml, /run/dbus/system_bus_socket, " \
+            "/sys/bus/iio/devices, /root/.ssh/id_rsa, /config"
+PATHS: list[Case] = []
+for cid, value, bad in (("semicolon", "/config/a;reboot.yaml", "';'"), ("space", "/config/my wheel.yaml", "' '"),
+                        ("subst", "/config/$(id).yaml", "'$'"), ("backtick", "/config/`id`.yaml", "'`'"),
+                        ("and", "/config/a&&b.yaml", "'&'"), ("pipe", "/config/a|b.yaml", "'|'"),
+                        ("quote", "/config/it's.yaml", '"\'"'), ("unicode", "/config/wheel\u00e9.yaml", "'\u00e9'"),
+                        ("tilde", "/config/~wheel.yaml", "'~'"), ("colon", "/config/a:b.yaml", "':'"),
+                        ("find-space", "$(find panther_description)/config/my wheel.yaml", "' '")):
+    for arg, robot in (("wheel_config_path", R1), ("controller_config_path", R3)):
+        PATHS.append(Case(f"path-{cid}-{arg}", ["config", "set", arg, value, *robot], [arg, bad, PATH_CHARS]))
+    PATHS.append(Case(f"path-{cid}-forced", ["config", "set", "components_config_path", value, *R3, "--force"],
+                      ["components_config_path", bad, PATH_CHARS]))
+PATHS += [
+    Case("path-dotdot", ["config", "set", "controller_config_path", "/config/../root/.ssh/id_rsa", *R3, "--force"],
+         ["controller_config_path='/config/../root/.ssh/id_rsa' holds '..'"]),
+    Case("path-apply-semicolon", ["apply", "--all", "--yes"], ["wheel_config_path", "';'", PATH_CHARS],
+         inventory=LOCAL_03 + "    desired: {{launch_args: {{wheel_config_path: '/config/a;b.yaml'}}}}\n"),
+    # a path no volume mounts and not in the image: named with the mounts
+    Case("path-unmounted-03", ["config", "set", "controller_config_path", "/home/husarion/c.yaml", *R3],
+         ["controller_config_path=/home/husarion/c.yaml is neither inside a volume", MOUNTS_03,
+          "the driver cannot open it"]),
+    Case("path-unmounted-01", ["config", "set", "wheel_config_path", "/config/WH01.yaml", *R1],
+         ["wheel_config_path=/config/WH01.yaml is neither inside a volume", "/root/.ssh/id_rsa",
+          "/run/husarion/panther_config.env", "/ros2_ws, /opt/ros"]),
+    Case("path-unmounted-dir", ["config", "set", "common_dir_path", "/etc/husarion", *R3],
+         ["common_dir_path=/etc/husarion is neither inside a volume", MOUNTS_03]),
+    Case("path-unmounted-apply", ["apply", "--all", "--yes"], ["led_config_file=/config/leds.yaml is neither inside"],
+         inventory=LOCAL_01 + "    desired: {{launch_args: {{led_config_file: /config/leds.yaml}}}}\n"),
+]
+# the whole command is checked: a path already in it that no volume mounts refuses an unrelated change
+UNMOUNTED_03 = {COMPOSE_03: COMPOSE_222.replace("launch_gamepad:=true",
+                                                "launch_gamepad:=true controller_config_path:=/tmp/c.yaml", 1).encode()}
+for cid, args in (("config-set", ["config", "set", "log_level", "DEBUG", *R3]),
+                  ("config-set-bool", ["config", "set", "use_ekf", "false", *R3]),
+                  ("gps-enable", ["gps", "enable", "--port", "5001", *R3])):
+    PATHS.append(Case(f"path-kept-unmounted-{cid}", args,
+                      ["controller_config_path=/tmp/c.yaml is neither inside a volume", MOUNTS_03],
+                      files=UNMOUNTED_03))
+
+
+CASES = NAMESPACES + PATHS
 
 
 def test_the_corpus_is_unique() -> None:

@@ -24,7 +24,16 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from panther_ops.core.config.arg_catalogue import _ALIAS_NOTES, _BY_NAME, _V2_2, CATALOGUE, ArgSpec, ArgType, _ugv
+from panther_ops.core.config.arg_catalogue import (
+    _ALIAS_NOTES,
+    _BY_NAME,
+    _V2_2,
+    CATALOGUE,
+    PATH_CHARACTERS,
+    ArgSpec,
+    ArgType,
+    _ugv,
+)
 from panther_ops.core.parse import ros_names
 from panther_ops.core.stack import Stack
 from panther_ops.errors import UsageError
@@ -80,6 +89,13 @@ _FALSE = frozenset({"false", "0"})
 
 
 _INTERPOLATION = re.compile(r"\$\{[^}]*\}|\$[A-Za-z_][A-Za-z0-9_]*")
+
+
+_FIND = re.compile(r"^\$\((?:find|find-pkg-share) [A-Za-z0-9_]+\)")
+"""A launch substitution of a package's share directory, as the catalogue's defaults use it."""
+
+
+_PATH_CHAR = re.compile(r"[A-Za-z0-9_.+/-]")
 
 
 def spec(key: str) -> ArgSpec:
@@ -248,10 +264,20 @@ def _normalise(s: ArgSpec, stack: Stack, value: str, *, force: bool, warnings: l
 def _check_path(s: ArgSpec, name: str, value: str, force: bool, warnings: list[str]) -> str:
     if value == "" or (s.allow_none and value == "None"):
         return value
-    ok = bool(value.startswith(("/", "$(find ", "$(find-pkg-share ", "${")) or _INTERPOLATION.match(value))
-    if ok and value.startswith("$(") and ")" not in value:
-        ok = False
-    if ok:
+    find = _FIND.match(value)
+    rest = value[find.end():] if find else value
+    plain = _INTERPOLATION.sub("x", rest)  # compose fills these in on the robot
+    bad = next((c for c in plain if not _PATH_CHAR.match(c)), None)
+    if bad is not None:  # --force or not: no config path has it, the driver would not find the file
+        raise InvalidArgValueError(
+            f"{name}={value!r}: {bad!r} is not a character of a config path; allowed: {PATH_CHARACTERS}"
+            + (", after $(find <package>)" if find else ""),
+            hint="name the file with those characters (config push writes file names of the same set)")
+    if ".." in plain.split("/"):
+        raise InvalidArgValueError(f"{name}={value!r} holds '..': name the file directly",
+                                   hint="a path that climbs out of a mounted directory is not what the mount gives")
+    absolute = value.startswith("/") or bool(_INTERPOLATION.match(value))
+    if (rest == "" or rest.startswith("/")) if find else absolute:
         return value
     allowed: tuple[str, ...] = ("an absolute path inside the container (e.g. /config/...)", "$(find <package>)/...")
     if s.type is ArgType.DIR:
