@@ -128,7 +128,32 @@ for cid, args in (("config-set", ["config", "set", "log_level", "DEBUG", *R3]),
                       files=UNMOUNTED_03))
 
 
-CASES = NAMESPACES + PATHS
+# ------------------------------------------------------------------ shutdown hosts commands (item 10)
+# chaining (';', '&&', '||', '|', '&') is a warning (tests/unit/test_shutdown_cli.py): the host's login shell
+# runs the chain; a control character other than a newline was let through and is refused now
+HOSTS: list[Case] = []
+ONE_LINE = "must be a one-line command of printable text"
+for cid, char, shown in (("cr", "\r", "U+000D"), ("escape", "\x1b", "U+001B"), ("vtab", "\x0b", "U+000B"),
+                         ("line-separator", "\u2028", "U+2028"), ("zero-width", "\u200b", "U+200B")):
+    text = f'hosts:\n  - ip: 192.0.2.5\n    username: pi\n    command: "sudo shutdown now{char.encode("unicode_escape").decode()}"\n'
+    files: dict[str, str | bytes] = {"h.yaml": text.encode()}
+    HOSTS += [
+        Case(f"hosts-validate-{cid}", ["shutdown", "hosts", "validate", "{tmp}/h.yaml"],
+             ["h.yaml", "hosts[0].command", ONE_LINE, shown], files=files),
+        Case(f"hosts-push-{cid}", ["config", "push", "{tmp}/h.yaml", "--as", "shutdown-hosts", *R1],
+             ["h.yaml", "hosts[0].command", ONE_LINE, shown], files=files),
+        Case(f"hosts-run-{cid}", ["shutdown", "--hosts", "{tmp}/h.yaml", "--yes"], ["hosts[0].command", shown],
+             files=files),
+        Case(f"hosts-add-local-keeps-{cid}", ["shutdown", "hosts", "add", "{tmp}/h.yaml", "--ip", "10.15.20.9",
+                                              "--user", "pi", "--yes"], ["h.yaml", "hosts[0].command", shown],
+             files=files),
+        Case(f"hosts-add-option-{cid}", ["shutdown", "hosts", "add", "-r", "panther-01", "--ip", "10.15.20.9",
+                                         "--user", "pi", "--command", f"sudo shutdown now{char}", "--yes"],
+             ["host.command", ONE_LINE, shown]),
+    ]
+
+
+CASES = NAMESPACES + PATHS + HOSTS
 
 
 def test_the_corpus_is_unique() -> None:

@@ -48,6 +48,8 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "my_hosts.yaml").write_text(GOOD_HOSTS)
     (tmp_path / "hosts.yaml").write_text(GOOD_HOSTS + "  - ip: 10.15.20.9\n    username: pi\n")
     (tmp_path / "bad_hosts.yaml").write_text(BAD_PUSHED_HOSTS)
+    (tmp_path / "chained.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
+                                           "    command: sync && sudo shutdown now\n")
     config = ROOT / "templates" / "config" / "panther-2.1"  # a simulation workspace's files (docs/gps.md)
     shutil.copy(config / "panther_description" / "config" / "components.yaml", tmp_path / "components.yaml")
     shutil.copy(config / "panther_gazebo" / "config" / "battery_plugin_config.yaml",
