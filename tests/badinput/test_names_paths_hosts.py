@@ -82,6 +82,31 @@ for cid, args in WRITES_COMPOSE.items():
                            ["compose.yaml", "services.gamepad_controller.command: namespace:='2panther'",
                             "starts with a digit"], files={**BAD_GAMEPAD, "WH01_controller.yaml": CONTROLLER}))
 
+# a BT project's service_name ports are ROS service names too (bt validate and config push --as bt-*)
+BT = TEMPLATES / "behavior_trees"
+LIGHTS_BAD = (BT / "lights.xml").read_text().replace('service_name="lights/set_animation"',
+                                                     'service_name="lights/set-animation"', 1)
+SAFETY_BAD = (BT / "safety.xml").read_text().replace('service_name="hardware/e_stop_trigger"',
+                                                     'service_name="hardware/e_stop trigger"', 1)
+assert "set-animation" in LIGHTS_BAD and "e_stop trigger" in SAFETY_BAD
+BT_LIGHTS = {"proj/PantherLightsBT.btproj": (BT / "PantherLightsBT.btproj").read_bytes(),
+             "proj/lights.xml": LIGHTS_BAD.encode()}
+BT_SAFETY = {"proj/PantherSafetyBT.btproj": (BT / "PantherSafetyBT.btproj").read_bytes(),
+             "proj/safety.xml": SAFETY_BAD.encode(), "proj/shutdown.xml": (BT / "shutdown.xml").read_bytes()}
+LIGHTS_NAMED = ["<CallSetLedAnimationService> service_name='lights/set-animation'", "'-' is not allowed"]
+SAFETY_NAMED = ["service_name='hardware/e_stop trigger'", "' ' is not allowed"]
+NAMESPACES += [
+    # bt validate lists its findings on stdout (tests/unit/test_ros_names.py reads them); stderr has the verdict
+    Case("bt-validate-lights-service", ["bt", "validate", "{tmp}/proj/PantherLightsBT.btproj"],
+         ["PantherLightsBT.btproj: BT project refused (1 errors"], files=BT_LIGHTS),
+    Case("bt-validate-safety-service", ["bt", "validate", "{tmp}/proj/PantherSafetyBT.btproj"],
+         ["PantherSafetyBT.btproj: BT project refused (1 errors"], files=BT_SAFETY),
+    Case("bt-push-lights-service", ["config", "push", "{tmp}/proj/PantherLightsBT.btproj", "--as", "bt-lights", *R1],
+         ["PantherLightsBT.btproj", *LIGHTS_NAMED], files=BT_LIGHTS),
+    Case("bt-push-safety-service", ["config", "push", "{tmp}/proj/PantherSafetyBT.btproj", "--as", "bt-safety", *R3],
+         ["PantherSafetyBT.btproj", *SAFETY_NAMED], files=BT_SAFETY),
+]
+
 
 # ------------------------------------------------------------------ launch-argument paths (item 9)
 COMPOSE_222 = (TEMPLATES / "compose/husarion-ugv-2.2.2.yaml").read_text()

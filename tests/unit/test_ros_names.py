@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import shutil
+from pathlib import Path
+
 import pytest
 
 from panther_ops.core.parse.ros_names import RosNameError, namespace, service_name, topic_name
@@ -81,3 +84,25 @@ def test_invalid_namespaces(ns: str, why: str) -> None:
 def test_namespace_length_counts_the_leading_slash() -> None:
     assert namespace("x" * 244) == "x" * 244
     assert namespace("/" + "x" * 244) == "/" + "x" * 244
+
+
+def test_bt_service_names_are_ros_names(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 23 item 5: a literal service_name port of a BT project (bt validate, config push --as bt-*)."""
+    from panther_ops.cli.app import main
+    from panther_ops.core.kinds.bt import service_name_findings
+
+    trees = Path(__file__).resolve().parents[2] / "templates" / "behavior_trees"
+    shutil.copytree(trees, tmp_path / "proj")
+    project = tmp_path / "proj" / "PantherLightsBT.btproj"
+    assert service_name_findings(project) == []
+    lights = tmp_path / "proj" / "lights.xml"
+    text = lights.read_text()
+    lights.write_text(text.replace('service_name="lights/set_animation"', 'service_name="lights/set-animation"', 1)
+                      .replace('service_name="lights/set_animation"', 'service_name="{my_service}"', 1))
+    [found] = service_name_findings(project)
+    assert found.code == "bt-service-name" and "lights.xml: Lights" in found.where
+    assert found.message.startswith("<CallSetLedAnimationService> service_name='lights/set-animation': not a valid")
+    capsys.readouterr()
+    assert main(["bt", "validate", str(project)]) == 2
+    out = " ".join(capsys.readouterr().out.split())
+    assert "service_name='lights/set-animation': not a valid ROS service name: '-' is not allowed" in out
