@@ -141,6 +141,23 @@ JOY2TWIST_BAD: dict[str, tuple[bytes, list[str]]] = {
                       ["ros__parameters.max_speed: unknown key"]),
     "present-maybe": (_joy("present: true", "present: maybe"), ["e_stop.present='maybe' must be true or false"]),
     "srv-space": (_joy("reset_srv: hardware/e_stop_reset", "reset_srv: bad srv"), ["reset_srv='bad srv'"]),
+    # issue 23 item 5: names by rcl's rules (core/parse/ros_names.py), not only "no whitespace"
+    "srv-dash": (_joy("reset_srv: hardware/e_stop_reset", "reset_srv: hardware/e-stop-reset"),
+                 ["e_stop.reset_srv='hardware/e-stop-reset'", "not a valid ROS service name", "'-' is not allowed"]),
+    "srv-digit": (_joy("trigger_srv: hardware/e_stop_trigger", "trigger_srv: hardware/2trigger"),
+                  ["e_stop.trigger_srv='hardware/2trigger'", "the token '2trigger' starts with a digit"]),
+    "srv-double-slash": (_joy("trigger_srv: hardware/e_stop_trigger", "trigger_srv: hardware//e_stop_trigger"),
+                         ["e_stop.trigger_srv='hardware//e_stop_trigger'", "'//'"]),
+    "srv-substitution": (_joy("reset_srv: hardware/e_stop_reset", "reset_srv: '{robot}/e_stop_reset'"),
+                         ["e_stop.reset_srv='{{robot}}/e_stop_reset'", "unknown substitution {{robot}}"]),
+    "topic-tilde": (_joy("present: true", "present: true\n      topic: hardware/e_stop~"),
+                    ["e_stop.topic='hardware/e_stop~'", "not a valid ROS topic name", "'~'"]),
+    "topic-number": (_joy("present: true", "present: true\n      topic: 5"),
+                     ["e_stop.topic=5", "a non-empty text"]),
+    "cmd-vel-trailing-slash": (_joy("    e_stop:\n", "    cmd_vel_topic: cmd_vel/\n    e_stop:\n"),
+                               ["cmd_vel_topic='cmd_vel/'", "it ends with '/'"]),
+    "cmd-vel-semicolon": (_joy("    e_stop:\n", "    cmd_vel_topic: 'cmd_vel;reboot'\n    e_stop:\n"),
+                          ["cmd_vel_topic='cmd_vel;reboot'", "';' is not allowed"]),
     "wrong-node": (_joy("joy2twist_node:", "teleop_node:"), ["teleop_node: unknown node"]),
     "axis-not-mapping": (_joy("      axis:\n        angular_z: 0\n        linear_x: 4\n        linear_y: 3\n",
                               "      axis: 0\n"), ["button_index_map.axis=0 must be a mapping"]),
@@ -247,7 +264,7 @@ for cid, (content, names) in BATTERY_BAD.items():
     CASES.append(_push("battery", cid, content, names))
 for cid, (content, names) in JOY2TWIST_BAD.items():
     CASES.append(_push("joy2twist", cid, content, names))
-for cid in ("factor-text", "index-float", "unknown-button"):
+for cid in ("factor-text", "index-float", "unknown-button", "srv-dash", "cmd-vel-semicolon"):
     CASES.append(_push("joy2twist", cid, *JOY2TWIST_BAD[cid], robot="panther-02"))
     CASES.append(_push("joy2twist", cid, *JOY2TWIST_BAD[cid], robot="panther-03"))
 for cid, (content, names) in ANIM_BAD.items():

@@ -183,8 +183,64 @@ def test_set_launch_args_on_a_compose_file() -> None:
 
 def test_stale_alias_in_command_is_replaced() -> None:
     text = ("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n"
-            "    command: ros2 launch panther_bringup bringup.launch.py user_animations_file:=/a.yaml\n")
+            "    volumes: [/home/husarion/config:/config]\n"
+            "    command: ros2 launch panther_bringup bringup.launch.py user_animations_file:=/config/a.yaml\n")
     compose = ComposeFile.parse(text)
-    change = arg_edits.set_launch_args(compose, {"user_led_animations_file": "/b.yaml"})
-    assert compose.args == {"user_led_animations_file": "/b.yaml"}
+    change = arg_edits.set_launch_args(compose, {"user_led_animations_file": "/config/b.yaml"})
+    assert compose.args == {"user_led_animations_file": "/config/b.yaml"}
     assert any("replaced user_animations_file" in w for w in change.warnings)
+
+
+# issue 23 item 9: a path argument is a path inside the container, of the characters config paths have
+@pytest.mark.parametrize(("value", "bad"), [
+    ("/config/a;b.yaml", "';'"), ("/config/my ctrl.yaml", "' '"), ("/config/x$(id).yaml", "'$'"),
+    ("/config/é.yaml", "'é'"), ("/config/a|b.yaml", "'|'"), ("/config/a&&b.yaml", "'&'"), ("/config/~x.yaml", "'~'"),
+    ("$(find panther_controller)/config/a b.yaml", "' '"), ("/config/x'.yaml", '"\'"'), ("/config/a:b.yaml", "':'"),
+])
+def test_path_characters_are_refused_even_forced(value: str, bad: str) -> None:
+    for force in (False, True):
+        with pytest.raises(la.InvalidArgValueError) as exc:
+            la.validate_arg(S211, "controller_config_path", value, force=force)
+        assert f"{bad} is not a character of a config path" in str(exc.value)
+        assert "ASCII letters, digits, '_', '.', '+', '-' and '/'" in str(exc.value)
+
+
+def test_path_with_dotdot_is_refused() -> None:
+    with pytest.raises(la.InvalidArgValueError, match=r"holds '\.\.'"):
+        la.validate_arg(S222, "controller_config_path", "/config/../etc/WH01_controller.yaml", force=True)
+
+
+@pytest.mark.parametrize("value", ["/config/husarion_ugv_controller/config/WH01+mine_v-1.2.yaml",
+                                   "$(find panther_controller)/config/WH01_controller.yaml",
+                                   "$(find-pkg-share panther_controller)/config/WH01_controller.yaml",
+                                   "${CONFIG_DIR:-/config}/WH01_controller.yaml", "/config/${MODEL}_controller.yaml"])
+def test_paths_of_config_characters_pass(value: str) -> None:
+    assert la.validate_arg(S222, "controller_config_path", value).value == value
+
+
+def test_a_path_no_volume_mounts_is_an_error_naming_the_mounts() -> None:
+    compose = ComposeFile.parse((ROOT / "templates/compose/husarion-ugv-2.2.2.yaml").read_text())
+    volumes = compose.list_volumes()
+    [found] = [f for f in arg_rules.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml"}, volumes=volumes)
+               if f.rule == "path-mounted"]
+    assert found.level == "error"
+    assert "/config" in found.message and "/root/.ssh/id_rsa" in found.message
+    assert "the driver cannot open it" in found.message
+    image = "/ros2_ws/install/husarion_ugv_controller/share/husarion_ugv_controller/config/WH01_controller.yaml"
+    [warning] = [f for f in arg_rules.check_args(S222, {"controller_config_path": image}, volumes=volumes)
+                 if f.rule == "path-mounted"]
+    assert warning.level == "warning" and "must exist in the image" in warning.message
+    assert not [f for f in arg_rules.check_args(S222, {"controller_config_path": "/config//x/./c.yaml"},
+                                                volumes=volumes) if f.rule == "path-mounted"]
+
+
+def test_set_launch_args_refuses_an_unmounted_path_even_one_it_did_not_change() -> None:
+    text = ("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n"
+            "    volumes: [/home/husarion/config:/config]\n"
+            "    command: ros2 launch panther_bringup bringup.launch.py controller_config_path:=/elsewhere/c.yaml\n")
+    compose = ComposeFile.parse(text)
+    with pytest.raises(la.ArgConflictError, match=r"controller_config_path=/elsewhere/c.yaml is neither inside"):
+        arg_edits.set_launch_args(compose, {"wheel_type": "WH02"})
+    assert not compose.changed
+    forced = arg_edits.set_launch_args(compose, {"wheel_type": "WH02"}, force=True)
+    assert any("the driver cannot open it" in w and w.endswith("(forced)") for w in forced.warnings)

@@ -265,3 +265,29 @@ def test_setup_check_and_robot_need_an_ssh_robot(demo: Path, capsys: pytest.Capt
     assert "1 robot: 1 would change in" in err, err
     code, _, err = run(capsys, "-i", inv, "shutdown", "robot", "-r", "panther-01")
     assert code == 2 and "panther-01" in err and "husarion@10.15.20.3:22" in err
+
+
+def test_a_chained_command_is_a_warning_of_validate_and_of_every_plan_that_writes_it(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], no_network: list[str]) -> None:
+    """Issue 23 item 10: `shutdown hosts validate`, `config push --as shutdown-hosts` and
+    `shutdown hosts add` (a local file and a robot's) show it; the files stay as they were."""
+    chained = tmp_path / "chained.yaml"
+    chained.write_text("hosts:\n  - ip: 10.15.20.5\n    username: pi\n    command: sudo shutdown now; rm -rf /tmp/x\n")
+    said = "hosts[0].command (line 4): 'sudo shutdown now; rm -rf /tmp/x' chains commands with ';'"
+    code, out, err = run(capsys, "shutdown", "hosts", "validate", str(chained))
+    assert code == 0 and "1 warning(s)" in out and said in err
+    assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
+    inv = ["-i", str(tmp_path / "demo")]
+    code, _, err = run(capsys, *inv, "config", "push", str(chained), "--as", "shutdown-hosts", "-r", "panther-01",
+                       "--dry-run")
+    assert code == 0 and said in err
+    local = tmp_path / "hosts.yaml"
+    local.write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
+    code, _, err = run(capsys, "shutdown", "hosts", "add", str(local), "--ip", "10.15.20.9", "--user", "pi",
+                       "--command", "sync && sudo shutdown now", "--dry-run")
+    assert code == 0 and "hosts[1].command (line 6): 'sync && sudo shutdown now' chains commands with '&&'" in err
+    code, _, err = run(capsys, *inv, "shutdown", "hosts", "add", "-r", "panther-01", "--ip", "10.15.20.9", "--user",
+                       "pi", "--command", "sudo shutdown now | tee /tmp/log", "--dry-run")
+    assert code == 0 and "'sudo shutdown now | tee /tmp/log' chains commands with '|'" in err
+    assert local.read_text() == "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
+    assert no_network == []

@@ -329,3 +329,36 @@ def test_result_rows_never_carry_the_secret() -> None:
     assert row.to_json()["robot"] == "http://192.0.2.5:3003"
     row = result_of(HostResult(ShutdownHost("192.0.2.3", "pi", ping_for_success=False), HostState.SUCCESS, "x"))
     assert row.message == "shutdown requested (ping_for_success: false)"
+
+
+# issue 23 item 10: a chained command is a warning; a control character anywhere is an error
+@pytest.mark.parametrize(("command", "ops"), [
+    ("sudo shutdown now; rm -rf /tmp/x", ["';'"]), ("sync && sudo shutdown now", ["'&&'"]),
+    ("sudo shutdown now || sudo poweroff", ["'||'"]), ("echo bye | wall", ["'|'"]),
+    ("sudo shutdown now &", ["'&'"]), ("a ;b && c", ["';'", "'&&'"]),
+])
+def test_chained_commands_are_warned_of(command: str, ops: list[str]) -> None:
+    hf = parse_hosts(f"hosts:\n  - ip: 10.15.20.5\n    username: pi\n    command: '{command}'\n")
+    assert not hf.errors
+    [warning] = [str(w) for w in hf.warnings if "command" in w.where]
+    assert f"chains commands with {', '.join(ops)}" in warning
+    assert "/home/pi/my_long_shutdown_sequence.sh" in warning
+    [found] = check_entry(new_entry("10.15.20.5", username="pi", command=command))
+    assert found.where == "host.command" and "chains commands" in found.message
+
+
+@pytest.mark.parametrize("command", ["sudo shutdown now", "sudo poweroff",
+                                     "sudo shutdown -h now >/dev/null 2>&1", "sudo shutdown now # stop; bye",
+                                     "/home/pi/my_long_shutdown_sequence.sh", "sudo shutdown 'now;'"])
+def test_quoted_operators_redirections_and_comments_are_not_chains(command: str) -> None:
+    hf = parse_hosts(f"hosts:\n  - ip: 10.15.20.5\n    username: pi\n    command: \"{command}\"\n")
+    assert not [w for w in hf.warnings if "chains" in str(w)], command
+
+
+@pytest.mark.parametrize(("escaped", "shown"), [("\\r", "'\\r', U+000D"), ("\\x1b[31m", "'\\x1b', U+001B"),
+                                                ("\\u2028", "'\\u2028', U+2028"), ("\\u200b", "'\\u200b', U+200B")])
+def test_control_characters_in_a_command_are_errors(escaped: str, shown: str) -> None:
+    hf = parse_hosts(f'hosts:\n  - ip: 10.15.20.5\n    username: pi\n    command: "sudo shutdown now{escaped}"\n')
+    [error] = [str(e) for e in hf.errors]
+    assert "hosts[0].command" in error and "must be a one-line command of printable text" in error
+    assert shown in error

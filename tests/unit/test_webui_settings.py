@@ -29,6 +29,9 @@ def test_manual_panther_settings_pass_as_snap_keys() -> None:
         ({"ros.namespace": "bad ns"}, "ros.namespace", "1-20 characters"),
         ({"ros.namespace": "Panther"}, "ros.namespace", "a-z"),
         ({"ros.namespace": "a" * 21}, "ros.namespace", "1-20 characters"),
+        # issue 23 item 5: the snap's hook lets these through, ROS does not (core/parse/ros_names)
+        ({"ros.namespace": "e-stop"}, "ros.namespace", "'-' is not allowed"),
+        ({"ros.namespace": "2robot"}, "ros.namespace", "starts with a digit"),
         ({"webui.port": 70000}, "webui.port", "from 1 to 65535"),
         ({"webui.port": 0}, "webui.port", "from 1 to 65535"),
         ({"webui.port": "80; reboot"}, "webui.port", "whole number"),

@@ -124,6 +124,10 @@ EXPECTED_EXIT = {
     "panther-ops config rollback --file hosts.yaml --to 20261124T1244 --yes": 2,
     "panther-ops -i demo-fleet config push bad_pad.yaml --as joy2twist --all --yes": 2,
     "panther-ops -i demo-fleet config set controller.cmd_vel_timeout 0 -r panther-01 --yes": 2,
+    "panther-ops -i demo-fleet config push bad_srv_pad.yaml --as joy2twist --all --yes": 2,
+    "panther-ops -i demo-fleet config set namespace fleet/2nd -r panther-01 --yes --force": 2,
+    'panther-ops -i demo-fleet config set wheel_config_path "/config/my wheel.yaml" -r panther-03 --yes': 2,
+    "panther-ops -i demo-fleet config set controller_config_path /home/husarion/c.yaml -r panther-03 --yes": 2,
 }
 """Examples that show a refusal: their exit code."""
 

@@ -49,6 +49,8 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "my_hosts.yaml").write_text(GOOD_HOSTS)
     (tmp_path / "hosts.yaml").write_text(GOOD_HOSTS + "  - ip: 10.15.20.9\n    username: pi\n")
     (tmp_path / "bad_hosts.yaml").write_text(BAD_PUSHED_HOSTS)
+    (tmp_path / "chained.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
+                                           "    command: sync && sudo shutdown now\n")
     config = ROOT / "templates" / "config" / "panther-2.1"  # a simulation workspace's files (docs/gps.md)
     shutil.copy(config / "panther_description" / "config" / "components.yaml", tmp_path / "components.yaml")
     shutil.copy(config / "panther_gazebo" / "config" / "battery_plugin_config.yaml",
@@ -58,6 +60,8 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
     (tmp_path / "pad.yaml").write_text(JOY2TWIST)
     (tmp_path / "bad_pad.yaml").write_text(JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
+    (tmp_path / "bad_srv_pad.yaml").write_text(JOY2TWIST.replace("reset_srv: hardware/e_stop_reset",
+                                                                 "reset_srv: hardware/e-stop-reset"))
     (tmp_path / "proj").mkdir()
     (tmp_path / "proj" / "My.btproj").write_text(ESCAPING_BTPROJ)
     monkeypatch.chdir(tmp_path)

@@ -19,12 +19,15 @@ def validate(
     json_out: Json = False,
 ) -> int:
     """Check a BT project: the required trees (Lights; or Safety and Shutdown), known nodes and
-    ports, literal values and script expressions; warns when a custom Safety tree drops one of
-    the default safety behaviours (the manual's caution). Exit 2 when it would be refused.
+    ports, literal values and script expressions, service names (ROS names by rcl's rules);
+    warns when a custom Safety tree drops one of the default safety behaviours (the manual's
+    caution). Exit 2 when it would be refused.
 
     Example: panther-ops bt validate my_trees/PantherSafetyBT.btproj
     """
     from panther_ops.cli.views.findings import report_findings
+    from panther_ops.core.kinds.bt import service_name_findings
     from panther_ops.manager import validate_bt_project
 
-    return report_findings(str(file), validate_bt_project(file), json_out=json_out, what="BT project")
+    findings = validate_bt_project(file) + service_name_findings(file)
+    return report_findings(str(file), findings, json_out=json_out, what="BT project")

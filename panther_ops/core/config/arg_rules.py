@@ -1,14 +1,16 @@
 """Rules across the launch arguments of one command: custom wheels, WH05, battery in
-simulation, GPS, ENU localization, mounted files."""
+simulation, GPS, ENU localization, mounted files (a path no volume mounts and not in the image
+is an error)."""
 
 from __future__ import annotations
 
+import posixpath
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from panther_ops.core.config.launch_args import _TRUE, ArgConflictError, _since_text
-from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_KEY, _BY_NAME, ArgType, _ugv
+from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_KEY, _BY_NAME, IMAGE_PREFIXES, ArgType, _ugv
 from panther_ops.core.stack import Stack
 
 if TYPE_CHECKING:
@@ -109,25 +111,37 @@ def _rule_enu(stack: Stack, args: Mapping[str, str], _v: Sequence[Volume] | None
     ]
 
 
+def _inside(path: str, target: str) -> bool:
+    return path == target or path.startswith(target.rstrip("/") + "/")
+
+
 def _rule_mounted(stack: Stack, args: Mapping[str, str], volumes: Sequence[Volume] | None, _s: bool) -> list[Finding]:
+    """An absolute path argument is a path inside the container: in a volume of the driver's
+    service, or in the image (`IMAGE_PREFIXES`: a warning, since whether the image has the file
+    is not known here); anywhere else the driver cannot open it (an error naming the mounts)."""
     if volumes is None:
         return []
-    targets = [v.target.rstrip("/") for v in volumes]
+    targets = [posixpath.normpath(v.target) for v in volumes if v.target]
+    unknown = any("$" in t for t in targets)  # a mount compose interpolates: where it lands is not known here
+    mounts = ", ".join(targets) or "none"
     out: list[Finding] = []
     for key, value in args.items():
         s = _BY_KEY.get(key)
         if s is None or s.type not in (ArgType.PATH, ArgType.DIR) or not value.startswith("/"):
             continue
-        if not any(value == t or value.startswith(t + "/") for t in targets if t):
-            out.append(
-                Finding(
-                    "warning",
-                    "path-mounted",
-                    f"{key}={value} is not inside any volume of the driver container; "
-                    "the file must exist in the image or be mounted",
-                    (key,),
-                )
-            )
+        path = posixpath.normpath(value)
+        if any(_inside(path, t) for t in targets):
+            continue
+        if unknown or path.startswith(IMAGE_PREFIXES):
+            out.append(Finding("warning", "path-mounted",
+                               f"{key}={value} is not inside any volume of the driver container; "
+                               "the file must exist in the image or be mounted", (key,)))
+        else:
+            out.append(Finding("error", "path-mounted",
+                               f"{key}={value} is neither inside a volume of the driver container (its mounts: "
+                               f"{mounts}) nor in the image ({', '.join(p.rstrip('/') for p in IMAGE_PREFIXES)}): "
+                               "the driver cannot open it; push the file (config push FILE --as KIND mounts it) "
+                               "or mount its directory", (key,)))
     return out
 
 
@@ -137,7 +151,8 @@ RULES: tuple[ArgRule, ...] = (
     ArgRule("battery-sim-only", "battery_config_path is simulation-only up to 2.1", _rule_battery),
     ArgRule("gps-source", "fuse_gps needs a GPS source", _rule_gps),
     ArgRule("enu-without-gps", "localization_mode enu is meant with GPS", _rule_enu),
-    ArgRule("path-mounted", "absolute config paths should be inside a mounted volume", _rule_mounted),
+    ArgRule("path-mounted", "an absolute config path is inside a mounted volume (or, a warning, in the image)",
+            _rule_mounted),
 )
 
 

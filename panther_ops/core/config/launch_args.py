@@ -28,11 +28,13 @@ from panther_ops.core.kinds.arg_catalogue import (
     _BY_NAME,
     _V2_2,
     CATALOGUE,
+    PATH_CHARACTERS,
     ArgSpec,
     ArgType,
     _ugv,
     arg_text_problem,
 )
+from panther_ops.core.parse import ros_names
 from panther_ops.core.stack import Stack
 from panther_ops.errors import UsageError
 
@@ -86,10 +88,14 @@ _TRUE = frozenset({"true", "1"})
 _FALSE = frozenset({"false", "0"})
 
 
-_NS_TOKEN = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-
-
 _INTERPOLATION = re.compile(r"\$\{[^}]*\}|\$[A-Za-z_][A-Za-z0-9_]*")
+
+
+_FIND = re.compile(r"^\$\((?:find|find-pkg-share) [A-Za-z0-9_]+\)")
+"""A launch substitution of a package's share directory, as the catalogue's defaults use it."""
+
+
+_PATH_CHAR = re.compile(r"[A-Za-z0-9_.+/-]")
 
 
 def spec(key: str) -> ArgSpec:
@@ -237,12 +243,11 @@ def _normalise(s: ArgSpec, stack: Stack, value: str, *, force: bool, warnings: l
                 return choice
         return _refuse(name, value, choices, force, warnings)
     if s.type is ArgType.NAMESPACE:
-        tokens = value.strip("/").split("/") if value.strip("/") else []
-        trailing = value.endswith("/") and value != "/"
-        if value and (trailing or not all(_NS_TOKEN.match(t) for t in tokens)):
-            allowed = ("a ROS namespace: letters, digits, _ and /, not starting with a digit",)
-            return _refuse(name, value, allowed, force, warnings, kind="a valid namespace")
-        return value
+        try:
+            return ros_names.namespace(value)
+        except ros_names.RosNameError as exc:  # no node starts under it: --force cannot help
+            raise InvalidArgValueError(f"{name}={value!r}: {exc}", hint="the driver's nodes would not start "
+                                       "(rcl refuses the name); --force does not write it") from None
     if s.type in (ArgType.PATH, ArgType.DIR):
         return _check_path(s, name, value, force, warnings)
     return value
@@ -251,10 +256,20 @@ def _normalise(s: ArgSpec, stack: Stack, value: str, *, force: bool, warnings: l
 def _check_path(s: ArgSpec, name: str, value: str, force: bool, warnings: list[str]) -> str:
     if value == "" or (s.allow_none and value == "None"):
         return value
-    ok = bool(value.startswith(("/", "$(find ", "$(find-pkg-share ", "${")) or _INTERPOLATION.match(value))
-    if ok and value.startswith("$(") and ")" not in value:
-        ok = False
-    if ok:
+    find = _FIND.match(value)
+    rest = value[find.end():] if find else value
+    plain = _INTERPOLATION.sub("x", rest)  # compose fills these in on the robot
+    bad = next((c for c in plain if not _PATH_CHAR.match(c)), None)
+    if bad is not None:  # --force or not: no config path has it, the driver would not find the file
+        raise InvalidArgValueError(
+            f"{name}={value!r}: {bad!r} is not a character of a config path; allowed: {PATH_CHARACTERS}"
+            + (", after $(find <package>)" if find else ""),
+            hint="name the file with those characters (config push writes file names of the same set)")
+    if ".." in plain.split("/"):
+        raise InvalidArgValueError(f"{name}={value!r} holds '..': name the file directly",
+                                   hint="a path that climbs out of a mounted directory is not what the mount gives")
+    absolute = value.startswith("/") or bool(_INTERPOLATION.match(value))
+    if (rest == "" or rest.startswith("/")) if find else absolute:
         return value
     allowed: tuple[str, ...] = ("an absolute path inside the container (e.g. /config/...)", "$(find <package>)/...")
     if s.type is ArgType.DIR:

@@ -24,6 +24,7 @@ from typing import Any
 
 from panther_ops.core.fleet.inventory_values import DESIRED_KEYS
 from panther_ops.core.parse.numbers import NumberError, port
+from panther_ops.core.parse.ros_names import RosNameError, namespace
 from panther_ops.errors import UsageError
 
 KeyPath = tuple[str | int, ...]
@@ -112,9 +113,6 @@ _IPV4 = re.compile(r"^(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)(\.(25[0-5]|2[0-4]\d|1\d\
 IP_RULE = "an IPv4 address of the Built-in Computer, e.g. 10.15.20.2"
 
 
-_TOKEN = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$", re.ASCII)
-
-
 NAMESPACE_RULE = "a ROS namespace (letters, digits and _, e.g. panther)"
 
 
@@ -124,8 +122,15 @@ def nmea_ip(value: object) -> bool:
 
 
 def nmea_namespace(value: object) -> bool:
-    """A namespace the NMEA launch file takes as ``robot_namespace:=`` (one token)."""
-    return isinstance(value, str) and bool(_TOKEN.match(value))
+    """A namespace the NMEA launch file takes as ``robot_namespace:=`` and the service as
+    ``__ns:=/<ns>``: a valid ROS namespace (core/parse/ros_names) of one token."""
+    if not isinstance(value, str) or not value or "/" in value:
+        return False
+    try:
+        namespace(value)
+    except RosNameError:
+        return False
+    return True
 
 
 def gps_block(value: Any) -> dict[str, Any]:

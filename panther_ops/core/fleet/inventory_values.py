@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.core.fleet.hostspec import HOST_FORMS, JUMP_FORMS, HostSpecError, check_host, parse_jump
+from panther_ops.core.parse.ros_names import RosNameError, namespace
 from panther_ops.core.yaml.located import LineDict, LineList
 from panther_ops.errors import InventoryError
 
@@ -67,9 +68,6 @@ POSIX_USER = re.compile(r"^[a-z_][a-z0-9_-]{0,31}\$?$")
 
 
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,62}$")
-
-
-ROS_NAMESPACE = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$")
 
 
 VERSION = re.compile(r"^\d+\.\d+\.\d+$")
@@ -136,9 +134,14 @@ def user_value(v: Any) -> str:
 
 
 def namespace_value(v: Any) -> str:
-    if not isinstance(v, str) or not ROS_NAMESPACE.match(v):
-        raise BadValue(f"namespace {v!r} is not a ROS namespace", "letters, digits and '_', e.g. panther")
-    return v
+    """A robot's ROS namespace, by the one parser of ROS names (the global one: leave it out)."""
+    if v in ("", "/"):
+        raise BadValue(f"namespace {v!r} is not a ROS namespace", "for the global namespace leave namespace out")
+    try:
+        return namespace(v)
+    except RosNameError as exc:
+        raise BadValue(f"namespace {v!r}: {exc}", "letters, digits and '_' in tokens separated by '/', "
+                                                  "e.g. panther") from None
 
 
 def stack_value(v: Any) -> str:

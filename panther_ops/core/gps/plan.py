@@ -29,10 +29,11 @@ from typing import Any
 from panther_ops.core.config.launch_args import bool_word
 from panther_ops.core.config.planners import edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
-from panther_ops.core.fleet.inventory_desired import IP_RULE, NAMESPACE_RULE, nmea_ip, nmea_namespace
+from panther_ops.core.fleet.inventory_desired import IP_RULE, nmea_ip, nmea_namespace
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.udp_address import check_port
+from panther_ops.core.parse.ros_names import RosNameError, namespace
 from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
@@ -60,12 +61,25 @@ class GpsOptions:
         check_port(self.port, "--port")
         if not nmea_ip(self.ip):
             raise UsageError(f"--ip {self.ip!r}: {IP_RULE}")
-        if self.namespace is not None and not nmea_namespace(self.namespace):
-            raise UsageError(f"--namespace {self.namespace!r}: {NAMESPACE_RULE}")
+        if self.namespace is not None:
+            gps_namespace(self.namespace, "--namespace")
 
     @property
     def default_socket(self) -> bool:
         return self.port == DEFAULT_PORT and self.ip == DEFAULT_IP
+
+
+def gps_namespace(value: str, what: str, hint: str | None = None) -> str:
+    """A namespace the NMEA service takes: a ROS namespace (core/parse/ros_names) of one token,
+    since the service writes it as ``robot_namespace:=<ns>`` and ``__ns:=/<ns>``."""
+    try:
+        namespace(value)
+    except RosNameError as exc:
+        raise UsageError(f"{what} {value!r}: {exc}", hint=hint) from None
+    if not nmea_namespace(value):
+        raise UsageError(f"{what} {value!r}: one namespace token for the NMEA driver (letters, digits and _, "
+                         "e.g. panther), without '/'", hint=hint)
+    return value
 
 
 def robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
@@ -74,9 +88,7 @@ def robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
         return asked
     env = cfg.compose.environment(cfg.service).get("ROBOT_NAMESPACE")
     found = reads.namespace or cfg.compose.args.get("namespace") or env or "panther"
-    if not nmea_namespace(found):
-        raise UsageError(f"the robot's namespace {found!r} is not a plain ROS namespace", hint="pass --namespace")
-    return found
+    return gps_namespace(found, "the robot's namespace", hint="pass --namespace")
 
 
 def service_mapping(namespace: str, opts: GpsOptions) -> dict[str, Any]:

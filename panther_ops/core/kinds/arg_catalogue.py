@@ -31,6 +31,21 @@ class ArgType(str, Enum):
 Default = str | Callable[[Stack], str]
 
 
+IMAGE_PREFIXES = ("/ros2_ws/", "/opt/ros/", "/husarion_utils/")
+"""Where the driver image's own files are, inside the container: a path argument there needs no
+volume. The catalogue's defaults are read from the image (``$(find <pkg>)/...``, resolved by
+ament to ``/ros2_ws/install/<pkg>/share/<pkg>`` of the image's workspace, the path `config pull`
+reads an image default from; ROS's own packages under ``/opt/ros/<distro>``); Husarion's images
+keep their helper launch files in ``/husarion_utils`` (the nmea-gps image's
+``nmea_navsat.launch.py``). A path under one of them is not refused when no volume mounts it:
+whether the file is in that image is not known before the driver starts (a warning says so)."""
+
+PATH_CHARACTERS = "ASCII letters, digits, '_', '.', '+', '-' and '/'"
+"""The characters of a path argument (config push allows the same in the file names it writes):
+nothing a shell, compose or launch reads specially, no space, no '~' (the command is not run
+by a shell, so '~' is never expanded; the path is absolute anyway)."""
+
+
 @dataclass(frozen=True)
 class ArgSpec:
     """One launch argument.

@@ -4,6 +4,11 @@ An ``<include path="...">`` is resolved against the including file and must stay
 directory of the ``.btproj``: the included files are copied beside it on the robot, so a
 path that leaves it (``../../.ssh/authorized_keys``, an absolute path, a link out) would
 read or write anywhere. ``ros_pkg`` includes are resolved on the robot (not copied).
+
+A node's ``service_name`` port (CallSetBoolService, CallTriggerService,
+CallSetLedAnimationService...) is a ROS service name: a literal one is checked by the one parser
+of ROS names (`core/parse/ros_names.py`, `service_name_findings`), in `bt validate` and every
+path that carries a project (the runtime manager, archived alone onto the robot, cannot import it).
 """
 
 from __future__ import annotations
@@ -11,10 +16,15 @@ from __future__ import annotations
 import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from panther_ops.core.kinds.common import text_of
 from panther_ops.core.kinds.lights import on_disk, split
 from panther_ops.core.kinds.registry import FileKindError, Target
+from panther_ops.core.parse.ros_names import RosNameError, service_name
+
+if TYPE_CHECKING:
+    from panther_ops.manager.findings import Finding
 
 WHAT = "BT project"
 
@@ -67,6 +77,33 @@ def confine(rel: str, base: Path, root: Path) -> str | None:
     return None
 
 
+def service_name_findings(path: Path) -> list[Finding]:
+    """An error for each literal ``service_name`` of the project's trees that is not a ROS
+    service name (a ``{blackboard}`` reference is left to the tree); an unreadable project: none
+    (`validate_bt_project` says why)."""
+    from panther_ops.manager.bt.builder import is_ref, node_id
+    from panther_ops.manager.bt.project import load_bt_project
+    from panther_ops.manager.errors import BtProjectError
+    from panther_ops.manager.findings import error
+
+    try:
+        project = load_bt_project(path)
+    except BtProjectError:
+        return []
+    out: list[Finding] = []
+    for tree_id, tree in project.trees.items():
+        for element in tree.element.iter():
+            value = element.get("service_name")
+            if value is None or is_ref(value):
+                continue
+            try:
+                service_name(value)
+            except RosNameError as exc:
+                out.append(error("bt-service-name", f"<{node_id(element)}> service_name={value!r}: {exc}",
+                                 f"{tree.source}: {tree_id}"))
+    return out
+
+
 def check_bt_project(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
     """Any BT project (`bt validate`)."""
     return _check(source, data, local, (), "")
@@ -91,7 +128,7 @@ def _check(source: str, data: bytes, local: Path | None, trees: tuple[str, ...],
         project_files(local)
 
     def check(path: Path) -> list[str]:
-        errors, warnings = split(validate_bt_project(path))
+        errors, warnings = split(validate_bt_project(path) + service_name_findings(path))
         if errors:
             raise FileKindError(source, WHAT, errors, hint=f"panther-ops bt validate {source}")
         present = set(load_bt_project(path).trees)

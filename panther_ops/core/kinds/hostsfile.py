@@ -15,7 +15,7 @@ A local file may hold the secret as ``secret: {env: VARIABLE}`` or ``{file: PATH
 relative to the hosts file), resolved only when the hosts are used; the robot's own file
 holds the value itself, since the manager reads it.
 
-Size (~525 lines): the file kind's one model: both formats, their validation and their
+Size (~575 lines): the file kind's one model: both formats, their validation and their
 edits share the entry rules, so the validator and the editor cannot drift apart.
 """
 
@@ -26,6 +26,7 @@ import math
 import os
 import re
 import shlex
+import unicodedata
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
@@ -219,6 +220,43 @@ def is_power_off_command(command: str) -> bool:
     return not any(w in bad for w in rest)
 
 
+def chain_operators(command: str) -> list[str]:
+    """The shell's control operators in ``command`` outside quotes and comments (``;``, ``&&``,
+    ``||``, ``|``, ``&``...), in order, once each; ``2>&1``, ``&>`` and ``>|`` are redirections."""
+    ops: list[str] = []
+    quote = ""
+    i = 0
+    while i < len(command):
+        c = command[i]
+        if c == "\\" and quote != "'":
+            i += 2
+            continue
+        if quote:
+            quote = "" if c == quote else quote
+        elif c in "'\"":
+            quote = c
+        elif c == "#" and (i == 0 or command[i - 1].isspace()):
+            break
+        elif c in ";&|":
+            j = i
+            while j < len(command) and command[j] in ";&|":
+                j += 1
+            op = command[i:j]
+            after = command[j:j + 1]
+            redirect = (op in ("&", "|") and i > 0 and command[i - 1] in "<>") or (op == "&" and after == ">")
+            if not redirect:
+                ops.append(op)
+            i = j
+            continue
+        i += 1
+    return list(dict.fromkeys(ops))
+
+
+def _unprintable(text: str) -> str | None:
+    """The first control or invisible character of ``text`` (a tab is a space to a shell)."""
+    return next((c for c in text if c != "\t" and unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp")), None)
+
+
 def _number(value: Any) -> float | None:
     if isinstance(value, bool):
         return None
@@ -309,10 +347,21 @@ class _Checker:
 
     def command(self, raw: Mapping[str, Any], http: bool, where: str, path: str) -> str | None:
         command = raw.get("command", DEFAULT_COMMAND)
-        if not isinstance(command, str) or not command.strip() or "\n" in command or "\0" in command:
-            self.add("error", f"{where}.command", "must be a one-line command", f"{path}.command")
+        bad = _unprintable(command) if isinstance(command, str) else None
+        if not isinstance(command, str) or not command.strip() or bad is not None:
+            held = f" (it holds {bad!r}, U+{ord(bad):04X})" if bad is not None else ""
+            self.add("error", f"{where}.command", f"must be a one-line command of printable text{held}",
+                     f"{path}.command")
             return None
-        if not http and not is_power_off_command(command):
+        ops = [] if http else chain_operators(command)
+        if ops:
+            self.add("warning", f"{where}.command", f"{command!r} chains commands with "
+                     f"{', '.join(repr(o) for o in ops)}: the host's login shell runs them all and the manager sees "
+                     "only the last one's exit status (after && or || the shutdown depends on the command before it; "
+                     "sudo asks a password for what the manual's sudoers line does not allow); put the sequence in a "
+                     "script on the host and name it here, as the manual does (/home/pi/my_long_shutdown_sequence.sh)",
+                     f"{path}.command")
+        elif not http and not is_power_off_command(command):
             self.add("warning", f"{where}.command", f"{command!r} is not a shutdown/poweroff command: make sure it "
                      "powers the host off (and that sudo allows it without a password)", f"{path}.command")
         return command

@@ -7,18 +7,22 @@ E-stop topic and services, the output topic, and the gamepad's map in either of 
 two forms: ``button_index_map`` (axis and button indexes, integers) or ``input_index_map``
 (``'A3'``, ``'!A5'``, ``'B4'``: an optional negation, A for an axis or B for a button, its
 number). The parameters sit under the node's name (``joy2twist_node``) or the wildcard
-``/**``, below ``ros__parameters``.
+``/**``, below ``ros__parameters``. The E-stop topic, its services and ``cmd_vel_topic`` are
+ROS names by rcl's rules (`core/parse/ros_names.py`): ``hardware/e-stop-reset`` would stop the
+node when it creates its client, so it is refused here.
 """
 
 from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from panther_ops.core.kinds.common import is_number, load_mapping
 from panther_ops.core.kinds.registry import FileKindError, Target
+from panther_ops.core.parse.ros_names import RosNameError, service_name, topic_name
 
 WHAT = "gamepad (joy2twist) parameters"
 NODES = ("joy2twist_node", "/**")
@@ -100,11 +104,17 @@ def _e_stop(section: dict[str, Any], where: str, errors: list[str]) -> None:
     _unknown(section, E_STOP, where, errors)
     if "present" in section and not isinstance(section["present"], bool):
         errors.append(f"{where}present={section['present']!r} must be true or false")
-    for key in ("topic", "reset_srv", "trigger_srv"):
+    for key, parse in (("topic", topic_name), ("reset_srv", service_name), ("trigger_srv", service_name)):
         if key in section:
-            value = section[key]
-            if not isinstance(value, str) or not value or any(c.isspace() for c in value):
-                errors.append(f"{where}{key}={value!r} must be a ROS name (no spaces)")
+            _name(section[key], parse, f"{where}{key}", errors)
+
+
+def _name(value: Any, parse: Callable[[object], str], where: str, errors: list[str]) -> None:
+    """A topic or service name, by the one parser of ROS names (core/parse/ros_names.py)."""
+    try:
+        parse(value)
+    except RosNameError as exc:
+        errors.append(f"{where}={value!r}: {exc}")
 
 
 def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
@@ -134,9 +144,8 @@ def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target
                 check(sub, f"{where}{key}.", errors)
         if "button_index_map" in params and "input_index_map" in params:
             errors.append(f"{where}: button_index_map and input_index_map both given (the node reads one form)")
-        topic = params.get("cmd_vel_topic")
-        if "cmd_vel_topic" in params and (not isinstance(topic, str) or not topic or any(c.isspace() for c in topic)):
-            errors.append(f"{where}cmd_vel_topic={topic!r} must be a ROS topic name (no spaces)")
+        if "cmd_vel_topic" in params:
+            _name(params["cmd_vel_topic"], topic_name, f"{where}cmd_vel_topic", errors)
         if "cmd_vel_stamped" in params and not isinstance(params["cmd_vel_stamped"], bool):
             errors.append(f"{where}cmd_vel_stamped={params['cmd_vel_stamped']!r} must be true or false")
     if errors:

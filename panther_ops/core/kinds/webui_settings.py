@@ -6,18 +6,22 @@ Keys and defaults (snapcraft.io/husarion-webui; `snap set husarion-webui KEY=VAL
 
 The ROS keys are checked by the snap's configure hook (husarion-snap-common 0.5.0,
 ``local-ros/configure_hook_ros.sh``), which refuses the whole ``snap set`` otherwise:
-namespace ``^[0-9a-z_-]{1,20}$``, domain id 0-232, localhost-only 0 or 1, a transport that is
-``rmw_fastrtps_cpp``, ``rmw_cyclonedds_cpp`` or names a DDS profile shipped with the snap
-(udp, udp-lo, shm, builtin) or added to its common directory (``<name>.xml`` there, the
-manual's "custom DDS configuration"). The WebUI keys are the built-in server's port
-(1-65535) and a layout name (a file ``foxglove-<layout>.json`` in the common directory).
-The same rules run here before anything is sent, so a refused value changes nothing.
+namespace ``^[0-9a-z_-]{1,20}$`` (and here also a ROS namespace by rcl's rules,
+`core/parse/ros_names.py`: no ``-``, no token starting with a digit), domain id 0-232,
+localhost-only 0 or 1, a transport that is ``rmw_fastrtps_cpp``, ``rmw_cyclonedds_cpp`` or
+names a DDS profile shipped with the snap (udp, udp-lo, shm, builtin) or added to its common
+directory (``<name>.xml`` there, the manual's "custom DDS configuration"). The WebUI keys are
+the built-in server's port (1-65535) and a layout name (a file ``foxglove-<layout>.json`` in
+the common directory). The same rules run here before anything is sent, so a refused value
+changes nothing.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Collection, Mapping
+
+from panther_ops.core.parse.ros_names import RosNameError, namespace
 
 SNAP = "husarion-webui"
 COMMON_DIR = "/var/snap/husarion-webui/common"
@@ -89,6 +93,11 @@ def _check(key: str, value: str, dds_profiles: Collection[str] | None) -> str:
     if key == "ros.namespace":
         if not NAMESPACE.match(value):
             raise SettingError(key, value, "1-20 characters of a-z, 0-9, '_' and '-' (e.g. panther)")
+        try:  # the hook lets '-' and a leading digit through; the WebUI's ROS nodes would not start
+            namespace(value)
+        except RosNameError as exc:
+            raise SettingError(key, value, f"{exc} (the snap's hook takes 1-20 characters of a-z, 0-9 and '_')") \
+                from None
     elif key == "ros.transport":
         if value in BUILTIN_TRANSPORTS:
             return value
