@@ -133,6 +133,16 @@ def nmea_namespace(value: object) -> bool:
     return True
 
 
+def _namespace_why(value: object) -> str:
+    """What the ROS name rules say of a namespace the NMEA driver cannot take ('' if only the
+    one-token rule refuses it)."""
+    try:
+        namespace(value)
+    except RosNameError as exc:
+        return f": {exc}"
+    return ": one token, without '/'"
+
+
 def gps_block(value: Any) -> dict[str, Any]:
     """``desired.gps`` (docs/gps.md): every key, enabled or not."""
     path: KeyPath = ("gps",)
@@ -150,7 +160,8 @@ def gps_block(value: Any) -> dict[str, Any]:
     if "ip" in gps and not nmea_ip(gps["ip"]):
         raise DesiredError((*path, "ip"), f"gps.ip {gps['ip']!r} is not allowed", IP_RULE)
     if "namespace" in gps and not nmea_namespace(gps["namespace"]):
-        raise DesiredError((*path, "namespace"), f"gps.namespace {gps['namespace']!r} is not allowed", NAMESPACE_RULE)
+        raise DesiredError((*path, "namespace"), f"gps.namespace {gps['namespace']!r} is not allowed"
+                           + _namespace_why(gps["namespace"]), NAMESPACE_RULE)
     if "router" in gps and not isinstance(gps["router"], (bool, Mapping)):
         raise DesiredError((*path, "router"), f"gps.router {gps['router']!r} is not allowed",
                            "true/false or a mapping of `gps router set` settings")
