@@ -19,12 +19,12 @@
 #   ros2 topic pub [--rate R] <ns>/cmd_vel geometry_msgs/msg/Twist '{...}'
 #       a publisher (node `_ros2cli_<pid>`) registered while it runs (tests start it with
 #       `docker exec -d` and stop it with a signal); a killed one no longer counts.
-#   ros2 run teleop_twist_keyboard teleop_twist_keyboard --ros-args -p repeat_rate:=R
-#       -r cmd_vel:=<ns>/cmd_vel
-#       the keyboard teleoperation on its terminal: publisher `teleop_twist_keyboard` while it
-#       runs; i , j l u o m . move, k (any other key) stops; the current Twist "published"
-#       every 1/R s on schedule (a key press changes it at once) as a line `<uptime> <linear.x> <angular.z>`
-#       appended to /var/lib/ros2-standin/cmd_vel.log; Ctrl-C ends it.
+#   ros2 run teleop_twist_keyboard ...  -> `Package 'teleop_twist_keyboard' not found`, exit 1:
+#       the real images do not have it (FROM husarnet/ros:humble-ros-core plus what rosdep
+#       installs for the bringup; no package.xml of panther_ros 2.0.4/2.1.1 or husarion_ugv_ros
+#       2.2.0/2.2.2 depends on it). A publisher made with rclpy (the lab's Python image has an
+#       rclpy stand-in, data/rclpy-standin) registers in and logs to the same state as
+#       `ros2 topic pub` here: /var/lib/ros2-standin/cmd_vel/<node>, cmd_vel.log.
 # An E-stop topic or service of another namespace is never answered: like the real CLI, the
 # command waits (`waiting for service to become available...`) until it is killed.
 LOG=/var/log/ros2-standin.log
@@ -165,51 +165,8 @@ case "${1:-}" in
         ;;
 esac
 if [ "${1:-}" = run ] && [ "${2:-}" = teleop_twist_keyboard ]; then
-    rate=0 topic=/cmd_vel
-    for a in "$@"; do
-        case $a in
-            repeat_rate:=*) rate=${a#repeat_rate:=} ;;
-            cmd_vel:=*) topic=${a#cmd_vel:=} ;;
-        esac
-    done
-    if [ "$topic" = "$P/cmd_vel" ]; then
-        mkdir -p "$STATE/cmd_vel"
-        echo "$$" > "$STATE/cmd_vel/teleop_twist_keyboard"
-    fi
-    old=$(stty -g 2>/dev/null || true)
-    stty -icanon -echo 2>/dev/null || true
-    trap 'rm -f "$STATE/cmd_vel/teleop_twist_keyboard"; [ -n "$old" ] && stty "$old" 2>/dev/null; exit 0' INT TERM HUP
-    echo "Reading from the keyboard and Publishing to Twist! (lab stand-in; repeat_rate $rate)"
-    echo "i , j l u o m . move, k stops; CTRL-C to quit"
-    # publish every period (centiseconds, from /proc/uptime), keeping to the schedule: a key
-    # press does not delay the next message
-    period=$(awk "BEGIN { if ($rate > 0) printf \"%d\", 100 / $rate; else print 360000 }")
-    [ "$period" -gt 0 ] || period=1
-    read -r up _ < /proc/uptime
-    now=$(( ${up%.*} * 100 + 10#${up#*.} ))
-    next=$((now + period))
-    x=0 z=0
-    while :; do
-        read -r up _ < /proc/uptime
-        now=$(( ${up%.*} * 100 + 10#${up#*.} ))
-        left=$((next - now))
-        key=
-        if [ "$left" -gt 0 ]; then
-            read -t "$(printf '%d.%02d' $((left / 100)) $((left % 100)))" -n 1 key
-        fi
-        case $key in
-            i) x=0.5 z=0 ;; ,) x=-0.5 z=0 ;; j) x=0 z=1.0 ;; l) x=0 z=-1.0 ;;
-            u) x=0.5 z=1.0 ;; o) x=0.5 z=-1.0 ;; m) x=-0.5 z=-1.0 ;; .) x=-0.5 z=1.0 ;;
-            "") ;;
-            *) x=0 z=0 ;;
-        esac
-        [ -n "$key" ] && continue  # a key: applied now, published on schedule
-        next=$((next + period))
-        if [ "$topic" = "$P/cmd_vel" ]; then
-            read -r up _ < /proc/uptime
-            echo "$up $x $z" >> "$STATE/cmd_vel.log"
-        fi
-    done
+    echo "Package 'teleop_twist_keyboard' not found" >&2
+    exit 1
 fi
 echo "[ros2-standin] ros2 $*"
 case "${1:-}" in
