@@ -113,7 +113,7 @@ def test_a_rollback_never_overwrites_a_change_made_after_it(lab: Any) -> None:
         b_out, b_err = b.communicate("go\n", timeout=120)
         assert b.returncode == 0, b_out + b_err
         assert json.loads(b_out)["robots"][0]["outcome"] == "changed"
-        out, err = a.communicate(timeout=120)
+        out, _err = a.communicate(timeout=120)
         res = json.loads(out)["robots"][0]
         assert res["outcome"] == "failed", res
         assert "ROLLBACK REFUSED" in res["message"] and "compose.yaml changed on the robot" in res["message"], res
