@@ -38,7 +38,7 @@ from typing import Any
 
 from ._sys import LabError
 from .files import DATA
-from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox, tar_dir, tar_file
+from .image import IMPORT_CHANGES, VERSION_LABEL, build_rootfs, find_static_busybox, tar_dir, tar_file, with_version
 
 PYTHON_TAG = "panther-ops-lab/python:3.10"
 LABEL = "org.panther-ops.lab"
@@ -222,23 +222,26 @@ def _link(tar: tarfile.TarFile, name: str, target: str) -> None:
     tar.addfile(ti)
 
 
-def python_changes() -> list[str]:
-    """`docker import --change` lines: the stand-in's, with its own label."""
-    return [c for c in IMPORT_CHANGES if not c.startswith("LABEL ")] + [f"LABEL {LABEL}=python-stand-in"]
+def python_changes(version: str | None = None) -> list[str]:
+    """`docker import --change` lines: the stand-in's, with its own label (and its release's)."""
+    return ([c for c in IMPORT_CHANGES if not c.startswith("LABEL ")] + [f"LABEL {LABEL}=python-stand-in"]
+            + ([f"LABEL {VERSION_LABEL}={version}"] if version else []))
 
 
 def use_python_image(lab: Any, name: str) -> str:
     """Import the Python image into robot `name` under its own tag and the robot's driver tag.
 
     The running containers are not touched; the next recreate of the driver (e.g. by
-    `manager deploy`) runs it from the Python image. Returns the image id.
+    `manager deploy`) runs it from the Python image, with the robot's release in /version.txt
+    as its driver image has. Returns the image id.
     """
     tar = python_rootfs(Path(lab.base) / ".images")
     robot = lab.robot(name)
     client = lab.docker_client(name, timeout=120)
     try:
         repo, tag = PYTHON_TAG.rsplit(":", 1)
-        client.api.import_image_from_file(str(tar), repository=repo, tag=tag, changes=python_changes())
+        client.api.import_image_from_data(with_version(tar.read_bytes(), robot.stack.key), repository=repo, tag=tag,
+                                          changes=python_changes(robot.stack.key))
         image = client.images.get(PYTHON_TAG)
         driver_repo, driver_tag = robot.image.rsplit(":", 1)
         image.tag(driver_repo, driver_tag)
@@ -253,9 +256,9 @@ def restore_driver_image(lab: Any, name: str) -> None:
     robot = lab.robot(name)
     client = lab.docker_client(name, timeout=120)
     try:
-        stand_in = [i for i in client.images.list(filters={"label": f"{LABEL}=stand-in"})]
+        stand_in = client.images.list(filters={"label": [f"{LABEL}=stand-in", f"{VERSION_LABEL}={robot.stack.key}"]})
         if not stand_in:
-            raise LabError(f"{name}: the busybox stand-in image is gone")
+            raise LabError(f"{name}: the busybox stand-in image of {robot.stack.key} is gone")
         driver_repo, driver_tag = robot.image.rsplit(":", 1)
         stand_in[0].tag(driver_repo, driver_tag)
     finally:

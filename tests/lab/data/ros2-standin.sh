@@ -25,8 +25,21 @@
 #       2.2.0/2.2.2 depends on it). A publisher made with rclpy (the lab's Python image has an
 #       rclpy stand-in, data/rclpy-standin) registers in and logs to the same state as
 #       `ros2 topic pub` here: /var/lib/ros2-standin/cmd_vel/<node>, cmd_vel.log.
-# An E-stop topic or service of another namespace is never answered: like the real CLI, the
-# command waits (`waiting for service to become available...`) until it is killed.
+#
+# The lights controller's SetLEDAnimation service of the image's release (/version.txt, as the
+# real Dockerfiles write it: the panther / husarion_ugv package version), in the driver's
+# namespace: 2.0.x `lights/controller/set/animation` with panther_msgs/srv/SetLEDAnimation
+# (husarion/husarion_ugv_ros@2.0.4:panther_lights/src/controller_node.cpp), 2.1.x
+# `lights/set_animation` with panther_msgs (@2.1.1:panther_lights/src/lights_controller_node.cpp),
+# 2.2.x `lights/set_animation` with husarion_ugv_msgs (@2.2.2:husarion_ugv_lights/src/
+# lights_controller_node.cpp). The answer is the controller's: success=True for an animation it
+# has -- the release's default IDs (2.0/2.1 led_config.yaml: 0-7, 9; 2.2 panther_animations.yaml:
+# 0-15) and the `id:`s of the user animations file the driver's launch arguments name
+# (`user_led_animations_file:=` 2.0/2.1; `user_led_animations_path:=`, else
+# <common_dir_path>/husarion_ugv_lights/config/user_animations.yaml, 2.2) -- else success=False,
+# "No animation with ID: N".
+# An E-stop or lights service of another namespace, name or type is never answered: like the
+# real CLI, the command waits (`waiting for service to become available...`) until it is killed.
 LOG=/var/log/ros2-standin.log
 STATE=/var/lib/ros2-standin
 echo "ros2 $*" >> "$LOG"
@@ -73,6 +86,48 @@ e_stop_state() {
 set_e_stop() {
     [ -d "$STATE" ] || mkdir -p "$STATE"
     echo "$1" > "$STATE/e_stop"
+}
+
+launch_arg() {  # the value of the driver's launch argument $1:= (PID 1's command line), else ""
+    [ -r /proc/1/cmdline ] || return 0
+    tr '\000' '\n' < /proc/1/cmdline | sed -n "s/^$1:=//p" | head -n 1
+}
+
+lights_service() {  # "<name> <msgs package>" of the image's release, or nothing
+    v=
+    [ -r /version.txt ] && read -r v < /version.txt
+    case $v in
+        2.0.*) echo "lights/controller/set/animation panther_msgs" ;;
+        2.1.*) echo "lights/set_animation panther_msgs" ;;
+        2.2.*) echo "lights/set_animation husarion_ugv_msgs" ;;
+    esac
+}
+
+set_animation() {  # $1 msgs package, $2 the request (YAML)
+    id=$(printf '%s' "$2" | sed -n 's/.*id: *\([0-9][0-9]*\).*/\1/p')
+    rep=False
+    case $2 in *"repeating: true"*) rep=True ;; esac
+    known="0 1 2 3 4 5 6 7 9"
+    user=$(launch_arg user_led_animations_file)
+    if [ "$1" = husarion_ugv_msgs ]; then
+        known="0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15"
+        user=$(launch_arg user_led_animations_path)
+        common=$(launch_arg common_dir_path)
+        [ -z "$user" ] && [ -n "$common" ] && user=$common/husarion_ugv_lights/config/user_animations.yaml
+    fi
+    [ -n "$user" ] && [ -r "$user" ] && known="$known $(sed -n 's/^[ -]*id: *\([0-9][0-9]*\).*/\1/p' "$user")"
+    echo "requester: making request: $1.srv.SetLEDAnimation_Request(animation=$1.msg.LEDAnimation(id=$id, param=''), repeating=$rep)"
+    echo
+    echo "response:"
+    for k in $known; do
+        if [ "$k" = "$id" ]; then
+            echo "$1.srv.SetLEDAnimation_Response(success=True, message='')"
+            echo
+            return 0
+        fi
+    done
+    echo "$1.srv.SetLEDAnimation_Response(success=False, message='No animation with ID: $id')"
+    echo
 }
 
 respond() {
@@ -159,6 +214,15 @@ case "${1:-}" in
                     exit 0
                     ;;
                 */hardware/e_stop_trigger | */hardware/e_stop_reset) wait_forever ;;
+                */lights/set_animation | */lights/controller/set/animation)
+                    set -- "$@" "" "" ""
+                    lights=$(lights_service)
+                    if [ -n "$lights" ] && [ "$3" = "$P/${lights%% *}" ] && [ "$4" = "${lights#* }/srv/SetLEDAnimation" ]; then
+                        set_animation "${lights#* }" "$5"
+                        exit 0
+                    fi
+                    wait_forever
+                    ;;
             esac
         fi
         exit 0
