@@ -110,3 +110,26 @@ def test_the_plan_says_every_difference_and_the_desired_overrides(tmp_path: Path
     assert all(f"# - {d}\n" in text for d in intended)
     body = yaml.safe_load(text)["/**"]["ros__parameters"]
     assert body["cpu.temp.fan_on"] == 80 and body["cpu.temp.fan_off"] == 70.0
+
+
+def test_the_probe_reads_the_stock_files_where_the_image_has_them(tmp_path: Path) -> None:
+    """PROBE (run by sh as in the driver container) resolves $(find pkg) in AMENT_PREFIX_PATH and
+    prints each stock parameter file after its own mark; a file without a final newline too."""
+    import os
+    import subprocess
+
+    from panther_ops.core.manager_ops.checks import PROBE, parse_probe
+
+    share = tmp_path / "opt/ros/share/panther_manager/config"
+    share.mkdir(parents=True)
+    (share / "safety_manager.yaml").write_text(SAFETY_21.rstrip("\n"))
+    (share / "shutdown_hosts_config.yaml").write_text("hosts: []\n")
+    paths = stock_manager((2, 1, 1)).paths()
+    cp = subprocess.run(["sh", "-c", PROBE, "probe", "$(find panther_manager)/config/shutdown_hosts_config.yaml",
+                         *paths], capture_output=True, text=True, check=True, timeout=10,
+                        env={**os.environ, "AMENT_PREFIX_PATH": f"/nonexistent:{tmp_path / 'opt/ros'}"})
+    facts = parse_probe("img", cp.stdout)
+    assert facts.hosts_text == "hosts: []\n"
+    assert facts.param_texts == {paths[1]: SAFETY_21}  # the lights file is not there
+    assert robot_params(stock_manager((2, 1, 1)), {p: facts.param_texts.get(p) for p in paths},
+                        "img").values["cpu.temp.fan_on"] == 80.0
