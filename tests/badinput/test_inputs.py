@@ -261,6 +261,25 @@ WEBUI = [  # desired.webui: the inventory's values (when it loads), a DDS profil
          inventory=LOCAL_01 + "    desired: {{webui: {{transport: my-profile}}}}\n"),
     Case("webui-apply-transport-injection", ["apply", "--all", "--yes"], ["desired.webui.transport", INJECT],
          inventory=LOCAL_01 + "    desired: {{webui: {{transport: \"" + esc(INJECT) + "\"}}}}\n"),
+    # husarion-snap-common@0.13.0: the namespace regex ^[a-z_][0-9a-z_]{0,19}$, zenoh refused, and a
+    # DDS profile its check_xml_profile_type detects (declaration, <profiles>/<CycloneDDS> with xmlns)
+    Case("webui-desired-namespace-hyphen", ["apply", "--all", "--dry-run"],
+         ["desired.webui.namespace", "panther-01", "not starting with a digit"],
+         inventory=LOCAL_01 + "    desired: {{webui: {{namespace: panther-01}}}}\n"),
+    Case("webui-set-namespace-hyphen", ["webui", "set", "ros.namespace=panther-01", "--all", "--yes"],
+         ["ros.namespace", "panther-01", "a-z, 0-9 and '_'"]),
+    Case("webui-set-zenoh", ["webui", "set", "ros.transport=rmw_zenoh_cpp", "--all", "--yes"],
+         ["ros.transport", "rmw_zenoh_cpp", "zenoh is refused"]),
+    Case("webui-dds-file-dds-root", ["webui", "set", "--dds-file", "{tmp}/lab.xml", "--all", "--yes"],
+         ["lab.xml", "<profiles>", "not <dds>"], files={"lab.xml": '<?xml version="1.0"?>\n<dds><profiles/></dds>\n'}),
+    Case("webui-dds-file-no-declaration", ["webui", "set", "--dds-file", "{tmp}/lab.xml", "--all", "--yes"],
+         ["lab.xml", "<?xml version"], files={"lab.xml": '<CycloneDDS xmlns="https://cdds.io/config"/>\n'}),
+    Case("webui-dds-file-wrong-xmlns", ["webui", "set", "--dds-file", "{tmp}/lab.xml", "--all", "--yes"],
+         ["lab.xml", "xmlns", "fastRTPS_Profiles"],
+         files={"lab.xml": '<?xml version="1.0"?>\n<profiles xmlns="http://example.org/x"/>\n'}),
+    Case("webui-dds-file-builtin-name", ["webui", "set", "--dds-file", "{tmp}/udp.xml", "--all", "--yes"],
+         ["udp.xml", "snap's own transports"],
+         files={"udp.xml": '<?xml version="1.0"?>\n<CycloneDDS xmlns="https://cdds.io/config"/>\n'}),
 ]
 
 

@@ -83,6 +83,11 @@ def test_deploy_runs_the_manager_and_remove_restores_compose(lab: Any, python_ro
     ctr = inspect(lab, name, SERVICE)
     assert ctr is not None and ctr["State"]["Status"] == "running" and ctr["RestartCount"] == 0
     assert f"/opt/panther-ops/manager/{version}/panther_ops_manager.pyz" in ctr["Config"]["Cmd"]
+    # what the stock manager of the release runs with (issue 24: fans 75/70 and 50/45, not the node defaults)
+    params = lab.read(name, "/home/husarion/panther-ops/manager/config/manager.yaml")
+    assert "cpu.temp.fan_on: 75.0" in params and "driver.temp.fan_off: 45.0" in params
+    assert "# Intended differences from the stock manager of " in params
+    assert doc["robots"][0]["data"]["parameters"]["origin"].startswith("the stock values of ")
 
     deadline = time.monotonic() + 30  # the first lines can take a while on a loaded machine
     while True:

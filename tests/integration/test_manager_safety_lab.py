@@ -6,7 +6,9 @@
   stand-in records ``sudo shutdown now`` and goes silent (nothing is powered off for real).
 * `manager deploy` (ROS 2 mode) on a robot whose image has neither paramiko nor ssh is refused
   (exit 2) naming what would be lost; nothing is written.
-* `lights test` calls the service of the robot's stack, under its namespace, on 2.0, 2.1 and 2.2.
+* `lights test` calls the service of the robot's stack, under its namespace, on 2.0, 2.1 and 2.2,
+  and judges the lights controller's answer (the lab's driver stand-in answers only its release's
+  service name and type, from the image's /version.txt, as the real controller does).
 
 Every address is a lab address (10.200.x.y).
 """
@@ -159,10 +161,24 @@ def test_lights_test_calls_the_stacks_service_under_its_namespace(
         lab: Any, capsys: pytest.CaptureFixture[str], version: str, service: str, srv_type: str) -> None:
     name = robot_of(lab, version)
     robot = lab.robot(name)
-    code, doc, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "lights", "test", "21", "--repeating",
+    code, doc, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "lights", "test", "9", "--repeating",
                                   "-r", name, "--json")
     assert code == 0, out + err
-    argv = doc["robots"][0]["data"]["argv"]
+    res = doc["robots"][0]
+    assert res["outcome"] == "changed" and res["message"] == f"animation 9 requested on {service}", res
+    argv = res["data"]["argv"]
     assert argv[:5] == ["ros2", "service", "call", service, srv_type]
+    assert "SetLEDAnimation_Response(success=True" in res["data"]["response"]  # the controller's answer
     log = lab.docker(name, "exec", robot.driver_container, "cat", "/var/log/ros2-standin.log").stdout
     assert f"ros2 service call {service} {srv_type}" in log  # what ran in the driver container
+    # an animation the release does not have: the controller's own refusal, not a change
+    code, doc, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "lights", "test", "21", "-r", name,
+                                  "--json")
+    res = doc["robots"][0]
+    assert code != 0 and res["outcome"] == "failed", out + err
+    assert f"{service} refused animation 21: No animation with ID: 21" in res["message"]
+    # the other releases' service names are never answered on this one (the real CLI waits)
+    for other in {"/panther/lights/controller/set/animation", "/panther/lights/set_animation"} - {service}:
+        cp = lab.docker(name, "exec", robot.driver_container, "/ros_entrypoint.sh", "timeout", "2", "ros2", "service",
+                        "call", other, srv_type, "{animation: {id: 9, param: ''}, repeating: false}")
+        assert cp.returncode != 0 and "response:" not in cp.stdout, cp.stdout

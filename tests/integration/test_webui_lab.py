@@ -1,7 +1,8 @@
 """Issue-14 WebUI acceptance on the lab: `webui install|set|get|start|stop|status|url` on User
 Computers behind the robots (namespaces with a real sshd and sudo, reached with fabric through
 the robot's connection), the lab's `snap` stand-in for husarion-webui (its configuration, the
-configure hook's rules, a real HTTP server answering /ui on webui.port while started)."""
+configure hook's rules as husarion-snap-common@0.13.0 states them, a real HTTP server answering
+/ui on webui.port while started)."""
 
 from __future__ import annotations
 
@@ -65,7 +66,7 @@ def test_install_set_start_with_password_sudo_then_idempotent_then_port(
     data = doc["robots"][0]["data"]
     assert data["installed"] and data["channel"] == "humble/stable" and data["running"] is True
     assert data["settings"] == {"ros.namespace": "panther", "ros.transport": "rmw_cyclonedds_cpp",
-                                "ros.domain-id": "0", "ros.localhost-only": "0", "webui.layout": "panther",
+                                "ros.domain-id": "0", "ros.localhost-only": "", "webui.layout": "panther",
                                 "webui.port": "8080"}
     assert data["ui_http"] == 200 and data["url"] == f"http://{lab.computer('w1').ip}:8080/ui"
     assert W1_PASSWORD not in json.dumps(doc)
@@ -106,7 +107,7 @@ def test_without_the_password_sudo_fails_with_the_way_out(wlab: tuple[Lab, Path]
 
 
 @pytest.mark.parametrize("arg", ["ros.namespace=bad ns", "webui.port=70000", "ros.domain-id=300",
-                                 "ros.transport=no-such-profile"])
+                                 "ros.transport=no-such-profile", "ros.namespace=panther-01"])
 def test_bad_values_exit_2_nothing_sent(wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], arg: str) -> None:
     lab, inv = wlab
     assert cli(capsys, inv, "webui", "install", "-r", "r02")[0] == 0
@@ -117,22 +118,35 @@ def test_bad_values_exit_2_nothing_sent(wlab: tuple[Lab, Path], capsys: pytest.C
     assert snap_state(lab, "w2") == before
 
 
+FASTDDS = ('<?xml version="1.0" encoding="UTF-8" ?>\n'
+           '<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">\n'
+           '  <participant profile_name="lab" is_default_profile="true"><rtps/></participant>\n</profiles>\n')
+
+
 def test_dds_file_not_xml_refused_and_a_good_one_uploaded_and_selected(
         wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    """The configure hook resolves ros.transport=<X> to <common>/dds-config-<X>.xml and detects
+    its type (husarion-snap-common@0.13.0): the profile is uploaded there and the snap selects it."""
     lab, inv = wlab
     assert cli(capsys, inv, "webui", "install", "-r", "r02")[0] == 0
-    bad = tmp_path / "lab-profile.xml"
-    bad.write_text("transport: udp\n")
     before = snap_state(lab, "w2")
-    code, _, err = cli(capsys, inv, "webui", "set", "--dds-file", str(bad), "-r", "r02", "--yes")
-    assert code == 2 and "well-formed XML" in err
-    assert snap_state(lab, "w2") == before
+    for text, why in (("transport: udp\n", "well-formed XML"),
+                      ('<?xml version="1.0"?>\n<dds><profiles><transport_descriptors/></profiles></dds>\n', "not <dds>")):
+        bad = tmp_path / "lab-profile.xml"
+        bad.write_text(text)
+        code, _, err = cli(capsys, inv, "webui", "set", "--dds-file", str(bad), "-r", "r02", "--yes")
+        assert code == 2 and why in err, err
+        assert snap_state(lab, "w2") == before
     good = tmp_path / "lab-profile.xml"
-    good.write_text('<?xml version="1.0"?>\n<dds><profiles><transport_descriptors/></profiles></dds>\n')
+    good.write_text(FASTDDS)
     code, doc, err = cli(capsys, inv, "webui", "set", "--dds-file", str(good), "-r", "r02", "--yes", "--json")
     assert code == 0, err
     assert doc["robots"][0]["data"]["settings"]["ros.transport"] == "lab-profile"
-    assert lab.exec("w2", ["cat", "/var/snap/husarion-webui/common/lab-profile.xml"]).stdout == good.read_text()
+    common = "/var/snap/husarion-webui/common"
+    assert lab.exec("w2", ["cat", f"{common}/dds-config-lab-profile.xml"]).stdout == good.read_text()
+    env = lab.exec("w2", ["cat", f"{common}/ros.env"]).stdout  # what the hook made of it
+    assert f"export FASTRTPS_DEFAULT_PROFILES_FILE={common}/dds-config-lab-profile.xml" in env
+    assert "export RMW_IMPLEMENTATION=rmw_fastrtps_cpp" in env
 
 
 def test_install_refused_when_a_clock_is_5_s_off(wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str]) -> None:

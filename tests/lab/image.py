@@ -1,7 +1,11 @@
 """The lab's container image: a busybox-static root file system with a `ros2` stand-in.
 
-Built once per lab as a ~2 MB tarball, then `docker import`ed into each robot's dockerd and
-tagged with every image name the compose templates use (nothing can be pulled here).
+Built once per lab as a ~2 MB tarball, then `docker import`ed into each robot's dockerd under
+every image name the compose templates use (nothing can be pulled here): each stack's driver
+image with its release's `/version.txt` (what the real Dockerfiles write: the panther /
+husarion_ugv package version, husarion/husarion_ugv_ros@2.2.2:docker/Dockerfile.hardware,
+husarion/panther-docker@2.1.2:Dockerfile.hardware), the `ros2` stand-in answering that
+release's interfaces; the other images (joy2twist) without one.
 """
 
 from __future__ import annotations
@@ -26,6 +30,22 @@ IMPORT_CHANGES = (
     "ENV ROS_DISTRO=humble",
     "LABEL org.panther-ops.lab=stand-in",
 )
+
+
+VERSION_FILE = "version.txt"
+VERSION_LABEL = "org.panther-ops.lab.version"
+"""Label of a driver stand-in image: the release its /version.txt names."""
+
+
+def with_version(rootfs: bytes, version: str) -> bytes:
+    """A root file system tarball with `/version.txt` holding ``version`` added."""
+    out = io.BytesIO()
+    with tarfile.open(fileobj=io.BytesIO(rootfs)) as src, tarfile.open(fileobj=out, mode="w") as tar:
+        for member in src.getmembers():
+            if member.name != VERSION_FILE:
+                tar.addfile(member, src.extractfile(member) if member.isfile() else None)
+        tar_file(tar, VERSION_FILE, f"{version}\n".encode())
+    return out.getvalue()
 
 
 def find_static_busybox() -> Path:

@@ -39,7 +39,7 @@ from ._sys import (
     wait_for,
     wait_gone,
 )
-from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox
+from .image import IMPORT_CHANGES, VERSION_LABEL, build_rootfs, find_static_busybox, with_version
 from .state import DEFAULT_BASE, LabState, Proc, RobotState, all_states, base_lock
 
 SUBNET_BASE = "10.200"
@@ -782,16 +782,27 @@ class Lab:
         return docker.DockerClient(base_url=f"unix://{self.docker_socket(name)}", version="1.41", timeout=timeout)
 
     def _import_images(self, r: RobotState) -> None:
+        """Each stack's driver image with its release's /version.txt, the others without."""
         client = self.docker_client(r.name, timeout=60)
         try:
-            tags = F.all_image_tags()
-            first_repo, first_tag = tags[0].rsplit(":", 1)
-            client.api.import_image_from_data(
-                self._rootfs, repository=first_repo, tag=first_tag, changes=list(IMPORT_CHANGES)
-            )
-            for t in tags[1:]:
-                repo, tag = t.rsplit(":", 1)
-                client.api.tag(tags[0], repo, tag)
+            drivers: set[str] = set()
+            for st in F.STACKS.values():
+                driver = st.images()[0]
+                repo, tag = driver.rsplit(":", 1)
+                client.api.import_image_from_data(
+                    with_version(self._rootfs, st.key), repository=repo, tag=tag,
+                    changes=[*IMPORT_CHANGES, f"LABEL {VERSION_LABEL}={st.key}"],
+                )
+                drivers.add(driver)
+            others = [t for t in F.all_image_tags() if t not in drivers]
+            if others:
+                first_repo, first_tag = others[0].rsplit(":", 1)
+                client.api.import_image_from_data(
+                    self._rootfs, repository=first_repo, tag=first_tag, changes=list(IMPORT_CHANGES)
+                )
+                for t in others[1:]:
+                    repo, tag = t.rsplit(":", 1)
+                    client.api.tag(others[0], repo, tag)
         finally:
             client.close()
 

@@ -6,7 +6,9 @@ stand-in and entrypoint, plus a CPython 3.10 from this machine (pruned of tests,
 tkinter, ensurepip, compiled caches), the shared libraries `ldd` shows for the interpreter
 and the extension modules kept, and the manager's dependencies as site-packages (py_trees,
 pydot, pyparsing, PyYAML's pure-Python part; from the environment running the lab) — like
-Ubuntu's python3 and python3-yaml in the real ROS image. No network, no pulls.
+Ubuntu's python3 and python3-yaml in the real ROS image — and, as the real image's rclpy and
+geometry_msgs (ros-core), the lab's stand-in of the part of them a publisher uses
+(data/rclpy-standin: publishes into the `ros2` stand-in's state). No network, no pulls.
 
 `use_python_image(lab, "r02")` imports it into that robot's dockerd under a tag of its own
 (`panther-ops-lab/python:3.10`) AND under the robot's real driver tag, so on that robot
@@ -35,11 +37,14 @@ from pathlib import Path
 from typing import Any
 
 from ._sys import LabError
-from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox, tar_dir, tar_file
+from .files import DATA
+from .image import IMPORT_CHANGES, VERSION_LABEL, build_rootfs, find_static_busybox, tar_dir, tar_file, with_version
 
 PYTHON_TAG = "panther-ops-lab/python:3.10"
 LABEL = "org.panther-ops.lab"
-BUILDER = "pyimage-4"
+BUILDER = "pyimage-5"
+#: stand-ins of the ROS image's own Python packages (rclpy, geometry_msgs), put in site-packages
+STANDIN_PACKAGES = DATA / "rclpy-standin"
 #: site-packages of the image: (import name, distribution)
 PACKAGES = (("py_trees", "py_trees"), ("pydot", "pydot"), ("pyparsing", "pyparsing"), ("yaml", "PyYAML"))
 #: stdlib directories left out (tests, GUIs, installers, build files)
@@ -113,7 +118,8 @@ def cache_key(python: Path) -> str:
             versions.append(f"{dist}={importlib.metadata.version(dist)}")
         except importlib.metadata.PackageNotFoundError:
             versions.append(f"{dist}=?")
-    raw = f"{BUILDER} {python} {st.st_size} {st.st_mtime} {bb.st_size} {' '.join(versions)}"
+    standins = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(STANDIN_PACKAGES.rglob("*.py")))).hexdigest()
+    raw = f"{BUILDER} {python} {st.st_size} {st.st_mtime} {bb.st_size} {' '.join(versions)} {standins}"
     return hashlib.sha256(raw.encode()).hexdigest()[:12]
 
 
@@ -171,6 +177,15 @@ def _build(python: Path, dest: Path) -> None:
             for module, _dist in PACKAGES:
                 for rel, path in _package_sources(module):
                     tar_file(tar, f"{PREFIX}/lib/python3.10/site-packages/{rel}", path.read_bytes())
+            site = f"{PREFIX}/lib/python3.10/site-packages"
+            for path in sorted(STANDIN_PACKAGES.rglob("*")):
+                if "__pycache__" in path.parts:
+                    continue
+                rel = path.relative_to(STANDIN_PACKAGES).as_posix()
+                if path.is_dir():
+                    _dirs(tar, [f"{site}/{rel}"])
+                elif path.suffix == ".py":
+                    tar_file(tar, f"{site}/{rel}", path.read_bytes())
             tar_file(tar, "etc/lab-image", b"panther-ops test lab stand-in image (busybox + Python 3.10, no ROS)\n")
 
 
@@ -207,23 +222,26 @@ def _link(tar: tarfile.TarFile, name: str, target: str) -> None:
     tar.addfile(ti)
 
 
-def python_changes() -> list[str]:
-    """`docker import --change` lines: the stand-in's, with its own label."""
-    return [c for c in IMPORT_CHANGES if not c.startswith("LABEL ")] + [f"LABEL {LABEL}=python-stand-in"]
+def python_changes(version: str | None = None) -> list[str]:
+    """`docker import --change` lines: the stand-in's, with its own label (and its release's)."""
+    return ([c for c in IMPORT_CHANGES if not c.startswith("LABEL ")] + [f"LABEL {LABEL}=python-stand-in"]
+            + ([f"LABEL {VERSION_LABEL}={version}"] if version else []))
 
 
 def use_python_image(lab: Any, name: str) -> str:
     """Import the Python image into robot `name` under its own tag and the robot's driver tag.
 
     The running containers are not touched; the next recreate of the driver (e.g. by
-    `manager deploy`) runs it from the Python image. Returns the image id.
+    `manager deploy`) runs it from the Python image, with the robot's release in /version.txt
+    as its driver image has. Returns the image id.
     """
     tar = python_rootfs(Path(lab.base) / ".images")
     robot = lab.robot(name)
     client = lab.docker_client(name, timeout=120)
     try:
         repo, tag = PYTHON_TAG.rsplit(":", 1)
-        client.api.import_image_from_file(str(tar), repository=repo, tag=tag, changes=python_changes())
+        client.api.import_image_from_data(with_version(tar.read_bytes(), robot.stack.key), repository=repo, tag=tag,
+                                          changes=python_changes(robot.stack.key))
         image = client.images.get(PYTHON_TAG)
         driver_repo, driver_tag = robot.image.rsplit(":", 1)
         image.tag(driver_repo, driver_tag)
@@ -238,9 +256,9 @@ def restore_driver_image(lab: Any, name: str) -> None:
     robot = lab.robot(name)
     client = lab.docker_client(name, timeout=120)
     try:
-        stand_in = [i for i in client.images.list(filters={"label": f"{LABEL}=stand-in"})]
+        stand_in = client.images.list(filters={"label": [f"{LABEL}=stand-in", f"{VERSION_LABEL}={robot.stack.key}"]})
         if not stand_in:
-            raise LabError(f"{name}: the busybox stand-in image is gone")
+            raise LabError(f"{name}: the busybox stand-in image of {robot.stack.key} is gone")
         driver_repo, driver_tag = robot.image.rsplit(":", 1)
         stand_in[0].tag(driver_repo, driver_tag)
     finally:

@@ -119,6 +119,8 @@ def test_driver_container_runs_with_the_compose_command(lab: Lab) -> None:
         assert image in stack(r.stack.key).images()
         cmd = " ".join(driver_command(lab, r.name).split())
         assert f"[ros2-standin] {cmd}" in lab.docker(r.name, "logs", ctr).stdout
+        # the release in /version.txt, as the real images have it (the ros2 stand-in answers its interfaces)
+        assert lab.docker(r.name, "exec", ctr, "cat", "/version.txt").stdout == f"{r.stack.key}\n"
 
 
 def test_compose_force_recreate_applies_new_command_fast(lab: Lab) -> None:

@@ -71,3 +71,35 @@ def test_set_animation_argv_is_the_manuals_call() -> None:
     assert ugv[3:5] == ["/lights/set_animation", "husarion_ugv_msgs/srv/SetLEDAnimation"]
     assert service_call_argv(interfaces_for((2, 0, 4)), "/panther/", 1, "", False)[3:5] == [
         "/panther/lights/controller/set/animation", "panther_msgs/srv/SetLEDAnimation"]
+
+
+class _Driver:
+    """The driver container as `lights test` runs the call there: (exit, output) of exec_run."""
+
+    def __init__(self, code: int, output: str) -> None:
+        self.code, self.output, self.argv = code, output, None
+
+    def exec_run(self, argv: list[str], demux: bool = False) -> tuple[int, bytes]:
+        self.argv = argv
+        return self.code, self.output.encode()
+
+
+def test_lights_test_is_bounded_and_judges_the_controllers_answer() -> None:
+    """`ros2 service call` waits for ever for a service nobody serves (another release's name:
+    2.0's lights/controller/set/animation vs 2.1+'s lights/set_animation); the controller answers
+    success=False for an animation it lacks (husarion_ugv_ros@2.0.4 controller_node.cpp)."""
+    from panther_ops.core.manager_ops.lights import CALL_TIMEOUT_S, call_in
+    from panther_ops.manager.adapters.interfaces import interfaces_for
+
+    argv = service_call_argv(interfaces_for((2, 0, 4)), "panther", 21, "", True)
+    req = "requester: making request: panther_msgs.srv.SetLEDAnimation_Request(...)\n\nresponse:\n"
+    ok = _Driver(0, req + "panther_msgs.srv.SetLEDAnimation_Response(success=True, message='')\n")
+    res = call_in("r1", ok, argv, 21, "panther_ros 2.0")
+    assert res.outcome.value == "changed" and ok.argv == ["/ros_entrypoint.sh", "timeout", str(CALL_TIMEOUT_S), *argv]
+    refused = _Driver(0, req + "panther_msgs.srv.SetLEDAnimation_Response(success=False, "
+                               "message='No animation with ID: 21')\n")
+    res = call_in("r1", refused, argv, 21, "panther_ros 2.0")
+    assert res.outcome.value == "failed" and "refused animation 21: No animation with ID: 21" in res.message
+    for code in (124, 0):  # timed out; or a CLI that gave up waiting without an answer
+        res = call_in("r1", _Driver(code, "waiting for service to become available...\n"), argv, 21, "panther_ros 2.0")
+        assert res.outcome.value == "failed" and "no answer from /panther/lights/controller/set/animation" in res.message

@@ -192,7 +192,13 @@ def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: s
         "--stack", STACKS[template],
         *(["--namespace", "panther"] if template == "panther-2.0.4.yaml" else [])]
     params = yaml.safe_load(next(e.after for e in plan.edits if e.path.endswith("manager.yaml")))  # type: ignore[arg-type]
-    assert params["/**"]["ros__parameters"] == {"shutdown_hosts_path": hosts, "shutdown_localhost_command": poweroff}
+    # the hosts file, the robot's power-off, and the stock manager's values of the release (issue 24:
+    # no docker engine here, so the release's table, tests/unit/test_manager_stock_params.py)
+    from panther_ops.core.manager_ops.stock import stock_manager
+
+    version = tuple(int(x) for x in STACKS[template].split("."))
+    assert params["/**"]["ros__parameters"] == {"shutdown_hosts_path": hosts, "shutdown_localhost_command": poweroff,
+                                                **stock_manager(version).values}  # type: ignore[arg-type]
     if template.startswith("husarion-ugv"):  # the tree's hosts file, D-Bus power-off like the driver
         assert "/home/husarion/config:/config:ro" in svc["volumes"]
         assert "/run/dbus/system_bus_socket:/run/dbus/system_bus_socket" in svc["volumes"]

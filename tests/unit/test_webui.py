@@ -10,7 +10,10 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.kinds.webui_settings import SettingError, dds_profile
+from panther_ops.core.remote.webui.defaults import RobotNamespace
+from panther_ops.core.remote.webui.remote import apply_settings
 from panther_ops.core.remote.webui.state import parse_state, plan_changes
+from panther_ops.transport.base import Command, CommandResult
 
 STATE = """@@list
 Name            Version  Rev  Tracking       Publisher  Notes
@@ -24,8 +27,11 @@ Service                 Startup  Current   Notes
 husarion-webui.daemon   disabled inactive  -
 @@exit 0
 @@profiles
-my-fastdds.xml
-layout.json
+dds-config-my-fastdds.xml
+dds-config-udp.xml
+foxglove-panther.json
+my-old.xml
+rmw
 @@exit 0
 """
 
@@ -33,7 +39,9 @@ layout.json
 def test_state_parsed_with_defaults_and_the_plan() -> None:
     st = parse_state(STATE)
     assert (st.installed, st.channel, st.revision, st.running) == (True, "humble/stable", "42", False)
-    assert st.profiles == {"my-fastdds"}
+    # the configure hook resolves a transport <X> to dds-config-<X>.xml (husarion-snap-common@0.13.0:
+    # local-ros/configure_hook_ros.sh); a plain my-old.xml there is no profile of it
+    assert st.profiles == {"my-fastdds", "udp"}
     assert st.value("ros.namespace") == "panther" and st.value("webui.layout") == "default"
     assert plan_changes(st, {"ros.namespace": "panther", "webui.port": "8080", "webui.layout": "panther"}) == [
         ("webui.port", "8081", "8080"), ("webui.layout", "default", "panther")]
@@ -41,15 +49,57 @@ def test_state_parsed_with_defaults_and_the_plan() -> None:
     assert parse_state('@@list\nerror: snap "husarion-webui" is not installed\n@@exit 1\n').installed is False
 
 
-def test_dds_profile_checks() -> None:
-    assert dds_profile("fast.xml", b"<dds><profiles/></dds>") == ("fast", b"<dds><profiles/></dds>")
-    assert dds_profile("cyc.xml", b'<CycloneDDS xmlns="https://cdds.io/config"/>')[0] == "cyc"
+FASTDDS = (b'<?xml version="1.0" encoding="UTF-8" ?>\n'
+           b'<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">\n'
+           b'  <participant profile_name="lab" is_default_profile="true"><rtps/></participant>\n</profiles>\n')
+CYCLONE = (b'<?xml version="1.0" encoding="UTF-8" ?>\n<CycloneDDS xmlns="https://cdds.io/config" '
+           b'xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"><Domain id="any"/></CycloneDDS>\n')
+
+
+def test_dds_profile_checks_are_the_snaps() -> None:
+    """husarion-snap-common@0.13.0:local-ros/utils.sh check_xml_profile_type: `yq '. | keys | .[1]'`
+    (key 0 the XML declaration) is `profiles` with the Fast DDS xmlns or `CycloneDDS` with cdds.io's."""
+    assert dds_profile("fast.xml", FASTDDS) == ("fast", FASTDDS)
+    assert dds_profile("cyc.xml", CYCLONE)[0] == "cyc"
+    assert dds_profile("dds-config-cyc.xml", CYCLONE)[0] == "cyc"  # a file taken from the snap's directory
     for name, data, why in [("x.xml", b"transport: udp", "well-formed XML"),
-                            ("x.xml", b"<html/>", "root element"),
+                            ("x.xml", b'<?xml version="1.0"?><html/>', "root element <profiles>"),
+                            ("x.xml", b'<?xml version="1.0"?><dds><profiles/></dds>', "not <dds>"),
+                            ("x.xml", FASTDDS.replace(b"fastRTPS_Profiles", b"other"), "xmlns"),
+                            ("x.xml", CYCLONE.split(b"\n", 1)[1], "first line <\\?xml"),
                             ("x.xml", b'<!DOCTYPE d [<!ENTITY a "b">]><dds/>', "without DOCTYPE"),
-                            ("../x.xml", b"<dds/>", "file name")]:
+                            ("udp.xml", FASTDDS, "other than the snap's own transports"),
+                            ("rmw_zenoh_cpp.xml", FASTDDS, "other than the snap's own transports"),
+                            ("../x.xml", FASTDDS, "file name")]:
         with pytest.raises(SettingError, match=why):
             dds_profile(name, data)
+
+
+class FakeSession:
+    """A User Computer's snap as `apply_settings` sees it: the read, and the sudo commands."""
+
+    def __init__(self, state: str) -> None:
+        self.state = state
+        self.sudos: list[list[str]] = []
+        self.address = type("A", (), {"name": "uc"})()
+
+    def run(self, command: Command, *, timeout: float = 60.0) -> CommandResult:
+        return CommandResult("read", 0, self.state, "")
+
+    def sudo(self, command: Command, *, timeout: float = 60.0) -> CommandResult:
+        self.sudos.append([str(a) for a in command.argv])
+        return CommandResult("sudo", 0, "", "")
+
+
+def test_dds_file_is_uploaded_where_the_configure_hook_looks_for_it() -> None:
+    """`webui set --dds-file lab.xml` selects ros.transport=lab, which the hook resolves to
+    <common>/dds-config-lab.xml: the upload goes there, not to <common>/lab.xml."""
+    session = FakeSession(STATE)
+    apply_settings(session, {"ros.transport": "lab"}, RobotNamespace(None, ""),  # type: ignore[arg-type]
+                   ("lab", FASTDDS))
+    upload = session.sudos[0]
+    assert upload[:2] == ["sh", "-c"] and upload[-1] == "/var/snap/husarion-webui/common/dds-config-lab.xml"
+    assert session.sudos[1] == ["snap", "set", "husarion-webui", "ros.transport=lab"]
 
 
 @pytest.fixture

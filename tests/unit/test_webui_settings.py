@@ -19,8 +19,10 @@ def test_manual_panther_settings_pass_as_snap_keys() -> None:
                    "webui.port": "8081", "ros.domain-id": "232", "ros.localhost-only": "1"}
     assert validate({"namespace": "panther_2", "port": "1", "domain_id": 0}) == {
         "ros.namespace": "panther_2", "webui.port": "1", "ros.domain-id": "0"}
-    for t in ("udp", "udp-lo", "shm", "builtin", "rmw_fastrtps_cpp"):
+    # the tokens husarion-snap-common@0.13.0:local-ros/configure_hook_ros.sh resolves itself
+    for t in ("udp", "udp-lo", "shm", "udp-lo-cyclone", "rmw_fastrtps_cpp", "rmw_cyclonedds_cpp"):
         assert validate({"ros.transport": t}) == {"ros.transport": t}
+    assert validate({"ros.localhost-only": ""}) == {"ros.localhost-only": ""}  # unset, as the install hook leaves it
 
 
 @pytest.mark.parametrize(
@@ -32,6 +34,10 @@ def test_manual_panther_settings_pass_as_snap_keys() -> None:
         # issue 23 item 5: the snap's hook lets these through, ROS does not (core/parse/ros_names)
         ({"ros.namespace": "e-stop"}, "ros.namespace", "'-' is not allowed"),
         ({"ros.namespace": "2robot"}, "ros.namespace", "starts with a digit"),
+        ({"ros.namespace": "panther-01"}, "ros.namespace", "a-z, 0-9 and '_'"),  # the hook's 0.13.0 regex
+        ({"ros.namespace": "1panther"}, "ros.namespace", "not starting with a digit"),
+        ({"ros.transport": "rmw_zenoh_cpp"}, "ros.transport", "zenoh is refused"),
+        ({"ros.domain-id": "\uff18"}, "ros.domain-id", "ASCII digits"),
         ({"webui.port": 70000}, "webui.port", "from 1 to 65535"),
         ({"webui.port": 0}, "webui.port", "from 1 to 65535"),
         ({"webui.port": "80; reboot"}, "webui.port", "whole number"),
@@ -54,9 +60,12 @@ def test_refusals_name_key_value_and_rule(settings: dict[str, object], key: str,
 
 def test_custom_transport_must_be_a_present_profile_when_known() -> None:
     assert validate({"ros.transport": "my-fastdds"}, dds_profiles={"my-fastdds"}) == {"ros.transport": "my-fastdds"}
-    with pytest.raises(SettingError, match=r"no DDS profile /var/snap/husarion-webui/common/other.xml"):
+    with pytest.raises(SettingError, match=r"no DDS profile /var/snap/husarion-webui/common/dds-config-other.xml"):
         validate({"ros.transport": "other"}, dds_profiles={"my-fastdds"})
     assert validate({"ros.transport": "other"}) == {"ros.transport": "other"}  # presence checked when applied
+    # "builtin" was a token of husarion-snap-common 0.3.x only: now a profile name like any other
+    with pytest.raises(SettingError, match=r"dds-config-builtin.xml \(custom profiles there: my-fastdds;"):
+        validate({"ros.transport": "builtin"}, dds_profiles={"my-fastdds", "udp", "shm"})
 
 
 def test_inventory_desired_webui_is_checked(tmp_path: Path) -> None:

@@ -25,12 +25,14 @@ def teleop(
     ctx: typer.Context,
     robot: Robots = None,
     rate: Annotated[float, typer.Option("--rate", callback=_rate,
-                                        help="repeat_rate in Hz (at least 10).")] = 10.0,
+                                        help="publishing rate in Hz, the manual's repeat_rate (at least 10).")] = 10.0,
 ) -> int:
-    """The manual's keyboard teleoperation: teleop_twist_keyboard in the robot's driver
-    container with repeat_rate 10.0, on this terminal, over the robot's connection. Refused
-    while the E-stop is triggered; warns when another node publishes on cmd_vel. Exactly one
-    robot. Keys: i , j l u o m . move, k stops, Ctrl-C ends.
+    """The manual's keyboard teleoperation, on this terminal, over the robot's connection: a
+    small rclpy publisher in the robot's driver container (the images have no
+    teleop_twist_keyboard; they have python3 and rclpy, checked first) sending cmd_vel every
+    1/rate s. Refused while the E-stop is triggered or when the container lacks what it
+    needs; warns when another node publishes on cmd_vel. Exactly one robot. Keys as
+    teleop_twist_keyboard's: u i o j l m , . move, k stops, q/z w/x e/c speeds, Ctrl-C ends.
 
     Example: panther-ops teleop -r panther-01
     """
@@ -59,8 +61,8 @@ def teleop(
             return int(ExitCode.PARTIAL)
         for w in plan.warnings:
             context.info(f"warning {chosen[0].name}: {w}")
-        context.info(f"{chosen[0].name}: teleop_twist_keyboard in {plan.container} on {plan.namespace.rstrip('/')}"
-                     f"/cmd_vel at {rate:g} Hz; Ctrl-C ends")
+        context.info(f"{chosen[0].name}: keyboard teleop (rclpy) in {plan.container} on "
+                     f"{plan.namespace.rstrip('/')}/cmd_vel at {rate:g} Hz; Ctrl-C ends")
         return drive(rctx, plan)
 
 

@@ -104,7 +104,8 @@ def set_(
         help="KEY=VALUE: ros.namespace, ros.transport, ros.domain-id, ros.localhost-only, webui.layout, "
              "webui.port")] = None,
     dds_file: Annotated[Optional[Path], typer.Option(  # noqa: UP045
-        "--dds-file", help="A DDS XML profile to upload to the snap's common directory and select.")] = None,
+        "--dds-file", help="A DDS XML profile (Fast DDS <profiles> or <CycloneDDS> root, with its xmlns) "
+        "to upload as dds-config-<name>.xml to the snap's common directory and select as <name>.")] = None,
     ask_sudo_password: AskPassword = False,
 ) -> int:
     """Validate KEY=VALUE with the snap configure hook's rules before anything is sent, show

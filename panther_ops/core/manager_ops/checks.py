@@ -30,22 +30,33 @@ from panther_ops.errors import UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 
 _HOSTS_MARK = "--- panther-ops hosts file ---"
+_FILE_MARK = "--- panther-ops file "
 IMAGE_PROBE = "image-probe"
 """Fact: what the driver image offers (:class:`ImageFacts`, None: no engine), by hosts file."""
-#: $1 = the hosts file as manager.yaml names it (container path or $(find pkg)/rest)
+#: $1 = the hosts file as manager.yaml names it (container path or $(find pkg)/rest); then the
+#: stock manager's parameter files ($(find pkg)/rest), each printed after its own mark when there
 PROBE = r"""
 for c in ssh dbus-send python3; do command -v "$c" >/dev/null 2>&1 && echo "has $c"; done
 command -v python3 >/dev/null 2>&1 && python3 -c 'import paramiko' >/dev/null 2>&1 && echo "has paramiko"
-f="$1"
-case "$f" in
-  '$(find '*)
-    pkg=${f#'$(find '}; pkg=${pkg%%)*}; rest=${f#*)}; old_ifs=$IFS; IFS=:
-    for p in $AMENT_PREFIX_PATH; do
-      if [ -f "$p/share/$pkg$rest" ]; then f="$p/share/$pkg$rest"; break; fi
-    done
-    IFS=$old_ifs;;
-esac
-if [ -n "$f" ] && [ -f "$f" ]; then echo '--- panther-ops hosts file ---'; cat "$f"; fi
+resolve() {
+  f="$1"
+  case "$f" in
+    '$(find '*)
+      pkg=${f#'$(find '}; pkg=${pkg%%)*}; rest=${f#*)}; old_ifs=$IFS; IFS=:
+      for p in $AMENT_PREFIX_PATH; do
+        if [ -f "$p/share/$pkg$rest" ]; then f="$p/share/$pkg$rest"; break; fi
+      done
+      IFS=$old_ifs;;
+  esac
+}
+resolve "$1"
+show() { cat "$1"; [ -z "$(tail -c 1 "$1")" ] || echo; }  # each mark on a line of its own
+if [ -n "$f" ] && [ -f "$f" ]; then echo '--- panther-ops hosts file ---'; show "$f"; fi
+shift
+for want in "$@"; do
+  resolve "$want"
+  if [ -n "$f" ] && [ -f "$f" ]; then printf '%s%s ---\n' '--- panther-ops file ' "$want"; show "$f"; fi
+done
 exit 0
 """
 
@@ -59,6 +70,8 @@ class ImageFacts:
     """among ssh, dbus-send, python3, paramiko (importable by python3)"""
     hosts_text: str | None = None
     """the hosts file as the image sees it (None: not there)"""
+    param_texts: dict[str, str] = field(default_factory=dict)
+    """the stock manager's parameter files the image has ($(find pkg)/rest -> text)"""
 
     @property
     def ssh_method(self) -> str | None:
@@ -72,9 +85,21 @@ class ImageFacts:
 
 
 def parse_probe(image: str, output: str) -> ImageFacts:
-    head, sep, hosts = output.partition(_HOSTS_MARK + "\n")
-    programs = {line[4:].strip() for line in head.splitlines() if line.startswith("has ")}
-    return ImageFacts(image, programs, hosts if sep else None)
+    programs: set[str] = set()
+    parts: dict[str, list[str]] = {}
+    current: str | None = None
+    for line in output.splitlines(keepends=True):
+        bare = line.rstrip("\n")
+        if bare == _HOSTS_MARK or (bare.startswith(_FILE_MARK) and bare.endswith(" ---")):
+            current = "" if bare == _HOSTS_MARK else bare[len(_FILE_MARK):-4]
+            parts[current] = []
+        elif current is not None:
+            parts[current].append(line)
+        elif line.startswith("has "):
+            programs.add(line[4:].strip())
+    hosts = parts.pop("", None)
+    return ImageFacts(image, programs, None if hosts is None else "".join(hosts),
+                      {name: "".join(lines) for name, lines in parts.items()})
 
 
 def ssh_hosts(hosts_text: str | None, source: str) -> list[ShutdownHost]:

@@ -1,6 +1,7 @@
-"""Asking the driver image what it offers the deployed manager (see `checks.py`): over the
-robot's one connection, ``docker exec`` in the running driver container, else a throw-away
-container of the image without network."""
+"""Asking the driver image what it offers the deployed manager (see `checks.py`) and the stock
+manager's parameter files it has (`stock.py`): over the robot's one connection, ``docker exec``
+in the running driver container (so a file mounted over the image's is the one read), else a
+throw-away container of the image without network."""
 
 from __future__ import annotations
 
@@ -11,11 +12,13 @@ from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import running_containers
 from panther_ops.core.manager_ops.checks import PROBE, ImageFacts, parse_probe
+from panther_ops.core.manager_ops.stock import stock_manager
 from panther_ops.errors import RemoteStateError
 
 
 def _run_probe(client: Any, cfg: RobotConfig, hosts_file: str) -> str:
-    argv = ["sh", "-c", PROBE, "probe", hosts_file]
+    # the hosts file, then the stock manager's parameter files of this release (what it runs with)
+    argv = ["sh", "-c", PROBE, "probe", hosts_file, *stock_manager(cfg.stack.version).paths()]
     image = cfg.compose.driver_image
     for ctr in running_containers(client, cfg.service, posixpath.dirname(cfg.compose_path)):
         tags = getattr(ctr.image, "tags", []) or []

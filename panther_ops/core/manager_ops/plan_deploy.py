@@ -4,8 +4,10 @@ deploy, as ONE plan through the pipeline (diff, confirm, backup, atomic writes, 
 verify, roll back):
 
 * upload ``~/panther-ops/manager/<version>/panther_ops_manager.pyz`` (`manager_bundle`),
-  ``config/manager.yaml`` (the inventory's ``desired.manager.params`` over the defaults,
-  the shutdown hosts file and the robot's own shutdown command), the BT projects of
+  ``config/manager.yaml`` (the stock manager's parameter values of this robot — read in its
+  image in ROS 2 mode, the release's stock values (`stock.py`) otherwise — with the inventory's
+  ``desired.manager.params`` over them, the shutdown hosts file and the robot's own shutdown
+  command; the intended differences from the stock manager in its head), the BT projects of
   ``templates/behavior_trees/``, in simulation ``config/scenario.yaml``, and
   ``deployed.json`` (what is deployed, and what ``remove`` must restore);
 * add the compose service ``panther_ops_manager``: the driver's image, the driver's
@@ -46,6 +48,14 @@ from panther_ops.core.manager_ops.settings import (
     ManagerSettings,
     manager_settings,
     scenario_path,
+)
+from panther_ops.core.manager_ops.stock import (
+    CarriedParams,
+    StockManager,
+    intended_differences,
+    overrides,
+    robot_params,
+    stock_manager,
 )
 from panther_ops.errors import UsageError
 
@@ -88,14 +98,21 @@ def plan_deploy(raw: ComposeRead, reads: Reads, desired: Mapping[str, Any], *, s
     state = parse_state(reads.file(state_path(cfg.home)))
     spec = service_spec(reads, cfg, lay, settings)
     ssh_via = None
+    stock = stock_manager(cfg.stack.version)
+    texts = None
     if settings.mode == "ros2":  # the stock manager stands down: ours must do what it did
-        from panther_ops.core.manager_ops.checks import check_safety
+        from panther_ops.core.manager_ops.checks import IMAGE_PROBE, check_safety
 
         command = str(settings.params.get("shutdown_localhost_command", spec.localhost_command))
         w, ssh_via = check_safety(reads, cfg, spec.hosts_file, spec.hosts_source, command)
         warnings += w
+        facts = reads.fact(IMAGE_PROBE, spec.hosts_file)
+        texts = None if facts is None else {p: facts.param_texts.get(p) for p in stock.paths()}
+    carried = robot_params(stock, texts, cfg.compose.driver_image)
+    warnings += list(carried.notes)
+    differences = [*intended_differences(stock), *overrides(carried, settings.params)]
     arg = _arg_name(cfg)
-    files, what = _deploy_files(cfg, lay, settings, spec, bundle, state, arg)
+    files, what = _deploy_files(cfg, lay, settings, spec, bundle, state, arg, carried, stock)
     edits = _file_edits(reads, lay, files, state)
     _put_service(cfg, spec)
     driver_before = cfg.compose.service(cfg.service)
@@ -110,7 +127,9 @@ def plan_deploy(raw: ComposeRead, reads: Reads, desired: Mapping[str, Any], *, s
     old_version = state.get("version") if state else None
     head = (f"manager {old_version} -> {bundle.version}" if old_version and old_version != bundle.version
             else f"manager {bundle.version}")
-    parts = [f"deploy {head} ({settings.mode}) as service {SERVICE} on {cfg.compose.driver_image}"]
+    parts = [f"deploy {head} ({settings.mode}) as service {SERVICE} on {cfg.compose.driver_image}",
+             f"stock parameters: {carried.origin.split(' (', 1)[0]}; {len(differences)} differences from the "
+             "stock manager (manager.yaml's head)"]
     if driver_changed:
         parts.append(f"{arg}:={cfg.compose.args[arg]} on {cfg.service} (stock manager stands down)")
     noop = (f"manager {bundle.version} ({settings.mode}) already deployed; "
@@ -124,16 +143,19 @@ def plan_deploy(raw: ComposeRead, reads: Reads, desired: Mapping[str, Any], *, s
         plan.warnings += reads.fact(RUNNING)
     plan.data.update({"action": "deploy", "version": bundle.version, "mode": settings.mode, "service": SERVICE,
                       "image": cfg.compose.driver_image, "shutdown_hosts": spec.hosts_source,
-                      "stack": cfg.stack.version_str, "ssh_shutdowns": ssh_via})
+                      "stack": cfg.stack.version_str, "ssh_shutdowns": ssh_via,
+                      "parameters": {"origin": carried.origin, "values": carried.values},
+                      "differences": differences})
     return plan
 
 
 def _deploy_files(cfg: RobotConfig, lay: Layout, settings: ManagerSettings, spec: ServiceSpec,
                   bundle: ManagerBundle, state: Mapping[str, Any] | None,
-                  arg: str) -> tuple[dict[str, bytes], dict[str, str]]:
+                  arg: str, carried: CarriedParams, stock: StockManager) -> tuple[dict[str, bytes], dict[str, str]]:
     """Every file of the deployment (robot path -> content) and one-line descriptions of the copies."""
     files: dict[str, bytes] = {lay.archive: bundle.data,
-                               lay.config("manager.yaml"): manager_yaml(settings, spec, bundle.version)}
+                               lay.config("manager.yaml"): manager_yaml(settings, spec, bundle.version, carried,
+                                                                         stock)}
     what = {lay.archive: f"{ARCHIVE_NAME} {bundle.version}: panther_ops.manager + "
                          + ", ".join(f"{k} {v}" for k, v in bundle.dependencies.items())}
     for bt in BT_FILES:

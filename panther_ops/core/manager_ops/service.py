@@ -23,6 +23,7 @@ from panther_ops.core.manager_ops.settings import (
     SSH_POWEROFF,
     ManagerSettings,
 )
+from panther_ops.core.manager_ops.stock import CarriedParams, StockManager
 from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
@@ -145,18 +146,30 @@ def _check_hosts(reads: Reads, cfg: RobotConfig, path: str) -> None:
     check_file(FileKind.SHUTDOWN_HOSTS, path, data, target=Target(cfg.stack))
 
 
-def manager_yaml(settings: ManagerSettings, spec: ServiceSpec, version: str) -> bytes:
-    """``config/manager.yaml``: node-file shape, read by `load_manager_config`."""
+def manager_yaml(settings: ManagerSettings, spec: ServiceSpec, version: str, carried: CarriedParams,
+                 stock: StockManager) -> bytes:
+    """``config/manager.yaml``: node-file shape, read by `load_manager_config`: the hosts file and
+    the robot's power-off, the stock manager's values (``carried``), the inventory's
+    ``desired.manager.params`` over them (later keys win); the intended differences from the
+    stock manager said in its head (the plan shows the file in full)."""
     import yaml
+
+    from panther_ops.core.manager_ops.stock import intended_differences
+    from panther_ops.manager.config import flatten
 
     params: dict[str, Any] = {"shutdown_hosts_path": spec.hosts_file,
                               "shutdown_localhost_command": spec.localhost_command}
-    params.update(settings.params)
-    head = (f"# Runtime manager parameters (docs/manager.md), written by `panther-ops manager deploy` ({version}).\n"
-            "# Defaults for everything not listed; set them in the inventory (desired.manager.params) and\n"
-            "# deploy again: changes made here are overwritten.\n")
-    return (head + yaml.safe_dump({"/**": {"ros__parameters": params}}, sort_keys=False,
-                                  default_flow_style=False, width=1000)).encode()
+    params.update(carried.values)
+    params.update(flatten(settings.params))
+    head = [f"Runtime manager parameters (docs/manager.md), written by `panther-ops manager deploy` ({version}).",
+            f"What the stock manager runs with, carried over: {carried.origin};",
+            "the inventory's desired.manager.params over them. Set those in the inventory and deploy again:",
+            "changes made here are overwritten.",
+            f"Intended differences from the stock manager of {stock.releases} (docs/manager.md):",
+            *(f"- {d}" for d in intended_differences(stock))]
+    text = "".join(f"# {line}\n" for line in head)
+    return (text + yaml.safe_dump({"/**": {"ros__parameters": params}}, sort_keys=False,
+                                  default_flow_style=False, width=1000, allow_unicode=True)).encode()
 
 
 def _check_params(params: Mapping[str, Any]) -> list[str]:

@@ -19,14 +19,27 @@
 #   ros2 topic pub [--rate R] <ns>/cmd_vel geometry_msgs/msg/Twist '{...}'
 #       a publisher (node `_ros2cli_<pid>`) registered while it runs (tests start it with
 #       `docker exec -d` and stop it with a signal); a killed one no longer counts.
-#   ros2 run teleop_twist_keyboard teleop_twist_keyboard --ros-args -p repeat_rate:=R
-#       -r cmd_vel:=<ns>/cmd_vel
-#       the keyboard teleoperation on its terminal: publisher `teleop_twist_keyboard` while it
-#       runs; i , j l u o m . move, k (any other key) stops; the current Twist "published"
-#       every 1/R s on schedule (a key press changes it at once) as a line `<uptime> <linear.x> <angular.z>`
-#       appended to /var/lib/ros2-standin/cmd_vel.log; Ctrl-C ends it.
-# An E-stop topic or service of another namespace is never answered: like the real CLI, the
-# command waits (`waiting for service to become available...`) until it is killed.
+#   ros2 run teleop_twist_keyboard ...  -> `Package 'teleop_twist_keyboard' not found`, exit 1:
+#       the real images do not have it (FROM husarnet/ros:humble-ros-core plus what rosdep
+#       installs for the bringup; no package.xml of panther_ros 2.0.4/2.1.1 or husarion_ugv_ros
+#       2.2.0/2.2.2 depends on it). A publisher made with rclpy (the lab's Python image has an
+#       rclpy stand-in, data/rclpy-standin) registers in and logs to the same state as
+#       `ros2 topic pub` here: /var/lib/ros2-standin/cmd_vel/<node>, cmd_vel.log.
+#
+# The lights controller's SetLEDAnimation service of the image's release (/version.txt, as the
+# real Dockerfiles write it: the panther / husarion_ugv package version), in the driver's
+# namespace: 2.0.x `lights/controller/set/animation` with panther_msgs/srv/SetLEDAnimation
+# (husarion/husarion_ugv_ros@2.0.4:panther_lights/src/controller_node.cpp), 2.1.x
+# `lights/set_animation` with panther_msgs (@2.1.1:panther_lights/src/lights_controller_node.cpp),
+# 2.2.x `lights/set_animation` with husarion_ugv_msgs (@2.2.2:husarion_ugv_lights/src/
+# lights_controller_node.cpp). The answer is the controller's: success=True for an animation it
+# has -- the release's default IDs (2.0/2.1 led_config.yaml: 0-7, 9; 2.2 panther_animations.yaml:
+# 0-15) and the `id:`s of the user animations file the driver's launch arguments name
+# (`user_led_animations_file:=` 2.0/2.1; `user_led_animations_path:=`, else
+# <common_dir_path>/husarion_ugv_lights/config/user_animations.yaml, 2.2) -- else success=False,
+# "No animation with ID: N".
+# An E-stop or lights service of another namespace, name or type is never answered: like the
+# real CLI, the command waits (`waiting for service to become available...`) until it is killed.
 LOG=/var/log/ros2-standin.log
 STATE=/var/lib/ros2-standin
 echo "ros2 $*" >> "$LOG"
@@ -73,6 +86,48 @@ e_stop_state() {
 set_e_stop() {
     [ -d "$STATE" ] || mkdir -p "$STATE"
     echo "$1" > "$STATE/e_stop"
+}
+
+launch_arg() {  # the value of the driver's launch argument $1:= (PID 1's command line), else ""
+    [ -r /proc/1/cmdline ] || return 0
+    tr '\000' '\n' < /proc/1/cmdline | sed -n "s/^$1:=//p" | head -n 1
+}
+
+lights_service() {  # "<name> <msgs package>" of the image's release, or nothing
+    v=
+    [ -r /version.txt ] && read -r v < /version.txt
+    case $v in
+        2.0.*) echo "lights/controller/set/animation panther_msgs" ;;
+        2.1.*) echo "lights/set_animation panther_msgs" ;;
+        2.2.*) echo "lights/set_animation husarion_ugv_msgs" ;;
+    esac
+}
+
+set_animation() {  # $1 msgs package, $2 the request (YAML)
+    id=$(printf '%s' "$2" | sed -n 's/.*id: *\([0-9][0-9]*\).*/\1/p')
+    rep=False
+    case $2 in *"repeating: true"*) rep=True ;; esac
+    known="0 1 2 3 4 5 6 7 9"
+    user=$(launch_arg user_led_animations_file)
+    if [ "$1" = husarion_ugv_msgs ]; then
+        known="0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15"
+        user=$(launch_arg user_led_animations_path)
+        common=$(launch_arg common_dir_path)
+        [ -z "$user" ] && [ -n "$common" ] && user=$common/husarion_ugv_lights/config/user_animations.yaml
+    fi
+    [ -n "$user" ] && [ -r "$user" ] && known="$known $(sed -n 's/^[ -]*id: *\([0-9][0-9]*\).*/\1/p' "$user")"
+    echo "requester: making request: $1.srv.SetLEDAnimation_Request(animation=$1.msg.LEDAnimation(id=$id, param=''), repeating=$rep)"
+    echo
+    echo "response:"
+    for k in $known; do
+        if [ "$k" = "$id" ]; then
+            echo "$1.srv.SetLEDAnimation_Response(success=True, message='')"
+            echo
+            return 0
+        fi
+    done
+    echo "$1.srv.SetLEDAnimation_Response(success=False, message='No animation with ID: $id')"
+    echo
 }
 
 respond() {
@@ -159,57 +214,23 @@ case "${1:-}" in
                     exit 0
                     ;;
                 */hardware/e_stop_trigger | */hardware/e_stop_reset) wait_forever ;;
+                */lights/set_animation | */lights/controller/set/animation)
+                    set -- "$@" "" "" ""
+                    lights=$(lights_service)
+                    if [ -n "$lights" ] && [ "$3" = "$P/${lights%% *}" ] && [ "$4" = "${lights#* }/srv/SetLEDAnimation" ]; then
+                        set_animation "${lights#* }" "$5"
+                        exit 0
+                    fi
+                    wait_forever
+                    ;;
             esac
         fi
         exit 0
         ;;
 esac
 if [ "${1:-}" = run ] && [ "${2:-}" = teleop_twist_keyboard ]; then
-    rate=0 topic=/cmd_vel
-    for a in "$@"; do
-        case $a in
-            repeat_rate:=*) rate=${a#repeat_rate:=} ;;
-            cmd_vel:=*) topic=${a#cmd_vel:=} ;;
-        esac
-    done
-    if [ "$topic" = "$P/cmd_vel" ]; then
-        mkdir -p "$STATE/cmd_vel"
-        echo "$$" > "$STATE/cmd_vel/teleop_twist_keyboard"
-    fi
-    old=$(stty -g 2>/dev/null || true)
-    stty -icanon -echo 2>/dev/null || true
-    trap 'rm -f "$STATE/cmd_vel/teleop_twist_keyboard"; [ -n "$old" ] && stty "$old" 2>/dev/null; exit 0' INT TERM HUP
-    echo "Reading from the keyboard and Publishing to Twist! (lab stand-in; repeat_rate $rate)"
-    echo "i , j l u o m . move, k stops; CTRL-C to quit"
-    # publish every period (centiseconds, from /proc/uptime), keeping to the schedule: a key
-    # press does not delay the next message
-    period=$(awk "BEGIN { if ($rate > 0) printf \"%d\", 100 / $rate; else print 360000 }")
-    [ "$period" -gt 0 ] || period=1
-    read -r up _ < /proc/uptime
-    now=$(( ${up%.*} * 100 + 10#${up#*.} ))
-    next=$((now + period))
-    x=0 z=0
-    while :; do
-        read -r up _ < /proc/uptime
-        now=$(( ${up%.*} * 100 + 10#${up#*.} ))
-        left=$((next - now))
-        key=
-        if [ "$left" -gt 0 ]; then
-            read -t "$(printf '%d.%02d' $((left / 100)) $((left % 100)))" -n 1 key
-        fi
-        case $key in
-            i) x=0.5 z=0 ;; ,) x=-0.5 z=0 ;; j) x=0 z=1.0 ;; l) x=0 z=-1.0 ;;
-            u) x=0.5 z=1.0 ;; o) x=0.5 z=-1.0 ;; m) x=-0.5 z=-1.0 ;; .) x=-0.5 z=1.0 ;;
-            "") ;;
-            *) x=0 z=0 ;;
-        esac
-        [ -n "$key" ] && continue  # a key: applied now, published on schedule
-        next=$((next + period))
-        if [ "$topic" = "$P/cmd_vel" ]; then
-            read -r up _ < /proc/uptime
-            echo "$up $x $z" >> "$STATE/cmd_vel.log"
-        fi
-    done
+    echo "Package 'teleop_twist_keyboard' not found" >&2
+    exit 1
 fi
 echo "[ros2-standin] ros2 $*"
 case "${1:-}" in

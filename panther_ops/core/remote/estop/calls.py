@@ -116,13 +116,16 @@ for a in "$@"; do
         publishers) timeout "$t" ros2 topic info -v "$p/cmd_vel" 2>&1 ;;
         trigger) timeout "$t" ros2 service call "$p/hardware/e_stop_trigger" std_srvs/srv/Trigger 2>&1 ;;
         reset) timeout "$t" ros2 service call "$p/hardware/e_stop_reset" std_srvs/srv/Trigger 2>&1 ;;
+        keyboard) timeout "$t" python3 -c 'import rclpy, geometry_msgs.msg, termios' 2>&1 ;;
         *) echo "unknown action $a"; false ;;
     esac
     echo "@@exit $?"
 done
 """
 
-ACTIONS = ("status", "publishers", "trigger", "reset")
+ACTIONS = ("status", "publishers", "trigger", "reset", "keyboard")
+"""``keyboard``: whether the container's python3 has what `teleop`'s program imports
+(`panther_ops.core.remote.teleop.program.CHECK`)."""
 
 
 def command(namespace: str, actions: tuple[str, ...], timeout: int = ROS_TIMEOUT_S) -> Command:

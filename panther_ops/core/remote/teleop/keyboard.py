@@ -1,11 +1,13 @@
 """`teleop`: the manual's keyboard teleoperation, run in the robot's driver container.
 
-Before anything moves: the E-stop is asked (refused while triggered, with the way to reset
-it) and the publishers of ``cmd_vel`` (a warning: "do not try controlling the robot from
-different sources at the same time"). Then ``teleop_twist_keyboard`` runs in the driver
-container (``docker exec -it``) on a pseudo-terminal of the robot's connection, with
-``repeat_rate`` 10.0 (the manual's value: the robot stops when no command arrived for 1 s;
-10 Hz is the recommended minimum) publishing on the robot's ``cmd_vel``.
+Before anything moves, in one command in the driver container: the E-stop (refused while
+triggered, with the way to reset it), the publishers of ``cmd_vel`` (a warning: "do not try
+controlling the robot from different sources at the same time") and whether the container's
+python3 imports rclpy and geometry_msgs (refused, naming what is missing). Then the keyboard
+program of `program` (what ``teleop_twist_keyboard`` does; the images do not have that
+package) runs in the driver container (``docker exec -it``) on a pseudo-terminal of the
+robot's connection, publishing on the robot's ``cmd_vel`` every ``1/rate`` s (the manual's
+repeat_rate 10.0: the robot stops when no command arrived for 1 s; 10 Hz is the minimum).
 """
 
 from __future__ import annotations
@@ -13,7 +15,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.remote.estop.answers import Section
 from panther_ops.core.remote.estop.calls import CMD_VEL, ask, is_demo, read_state
+from panther_ops.core.remote.teleop.program import CHECK, PROGRAM
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.transport.base import Command
 
@@ -29,11 +33,26 @@ class TeleopPlan:
 
 
 def teleop_command(container: str, namespace: str, rate: float) -> Command:
-    """``docker exec -it`` of teleop_twist_keyboard with repeat_rate, on <ns>/cmd_vel."""
+    """``docker exec -it`` of the keyboard program (`program.PROGRAM`) through the image's
+    entrypoint (which sources ROS), publishing on <ns>/cmd_vel every 1/rate s."""
     topic = f"{namespace.rstrip('/')}/{CMD_VEL}"
-    return Command.of("docker", "exec", "-it", container, "/ros_entrypoint.sh", "ros2", "run",
-                      "teleop_twist_keyboard", "teleop_twist_keyboard", "--ros-args", "-p", f"repeat_rate:={rate:g}",
-                      "-r", f"cmd_vel:={topic}")
+    return Command.of("docker", "exec", "-it", container, "/ros_entrypoint.sh", "python3", "-c", PROGRAM,
+                      topic, f"{rate:g}")
+
+
+def missing_for_keyboard(section: Section | None) -> str | None:
+    """What the driver container lacks to run the keyboard program (None: nothing), from the
+    ``keyboard`` check's answer (``python3 -c '<CHECK>'``)."""
+    if section is None or section.status == 0:
+        return None
+    text = section.text.strip()
+    if section.status in (126, 127) or ("python3" in text and ("not found" in text or "No such file" in text)):
+        return "python3"  # the shell's or timeout's "cannot run it"
+    for line in reversed(text.splitlines()):
+        if "No module named" in line:
+            return line.split("No module named", 1)[1].strip(" '\"")
+    last = text.splitlines()[-1][-200:] if text else f"exit {section.status}"
+    return f"working `python3 -c \"{CHECK}\"` ({last})"
 
 
 DEMO_SKIP = "demo robot: no driver to drive (teleop needs a real robot)"
@@ -52,7 +71,7 @@ def prepare(ctx: RobotContext, rate: float) -> TeleopPlan:
                          hint="the robot stops when no velocity command arrived for 1 s; 10 Hz is the minimum")
     if is_demo(ctx):
         raise RemoteStateError(DEMO_SKIP)
-    got = ask(ctx, ("status", "publishers"))
+    got = ask(ctx, ("status", "publishers", "keyboard"))
     state = read_state(got)
     if state.problems:
         raise RemoteStateError("; ".join(state.problems), hint="panther-ops driver status")
@@ -66,4 +85,11 @@ def prepare(ctx: RobotContext, rate: float) -> TeleopPlan:
                     "the robot from different sources at the same time",)
     if not got.container:
         raise RemoteStateError("the driver container did not say its name")
+    missing = missing_for_keyboard(got.get("keyboard"))
+    if missing is not None:
+        raise RemoteStateError(
+            f"the driver container {got.container} has no {missing}: teleop runs a small rclpy publisher "
+            "there (python3 with rclpy and geometry_msgs, as every ROS 2 image has; the images have no "
+            "teleop_twist_keyboard); nothing was started",
+            hint="is the driver running the robot's own image? panther-ops driver status")
     return TeleopPlan(got.container, got.namespace, teleop_command(got.container, got.namespace, rate), warnings)

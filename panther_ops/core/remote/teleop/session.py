@@ -10,7 +10,7 @@ from panther_ops.transport.interactive import run_interactive
 
 
 def drive(ctx: RobotContext, plan: TeleopPlan) -> int:
-    """Run ``plan``'s teleop_twist_keyboard interactively; its exit status."""
+    """Run ``plan``'s keyboard program interactively; its exit status."""
     client = getattr(ctx.transport, "client", None)
     if client is None:
         raise UsageError("teleop needs an SSH robot", hint="a demo robot has no ROS to drive")

@@ -48,7 +48,8 @@ def robot_namespace_of(reads: Reads, cfg: RobotConfig) -> RobotNamespace:
         return RobotNamespace(None, "the robot's driver runs without a namespace: ros.namespace left unset")
     if not NAMESPACE.match(value):
         return RobotNamespace(None, f"the robot's namespace {value!r} ({source}) is not one the snap accepts "
-                                    "(1-20 of a-z, 0-9, '_', '-'): ros.namespace left as is; set it with "
+                                    "(1-20 of a-z, 0-9, '_', not starting with a digit): ros.namespace left as "
+                                    "is; set it with "
                                     "`webui set ros.namespace=...`")
     return RobotNamespace(value, f"the robot's namespace, {source}")
 

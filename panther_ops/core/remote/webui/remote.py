@@ -2,7 +2,7 @@
 
 Everything runs on the User Computer through a fabric session over the robot's connection
 (:mod:`panther_ops.core.remote.user_computer.access`): one read of the snap's state (``snap list``,
-``snap get -d``, ``snap services``, the custom DDS profiles), then ``sudo snap ...`` /
+``snap get -d``, ``snap services``, the DDS profiles ``dds-config-*.xml``), then ``sudo snap ...`` /
 ``sudo husarion-webui.start|stop`` as the manual does. Whether ``http://<host>:<port>/ui``
 answers is asked from the robot (curl there), i.e. through the robot's connection.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, validate
+from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, profile_path, validate
 from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import (
@@ -223,7 +223,7 @@ def apply_settings(session: UserComputerSession, wanted: dict[str, str], robot: 
     wanted, _ = with_robot_namespace(wanted, before.value(NS_KEY), robot)
     if dds is not None:
         name, data = dds
-        _upload(session, f"{COMMON_DIR}/{name}.xml", data)
+        _upload(session, profile_path(name), data)  # where the configure hook resolves <name> to
     plan = plan_changes(before, wanted)
     if plan:
         sudo(session, "snap", "set", SNAP, *(f"{k}={v}" for k, _, v in plan))

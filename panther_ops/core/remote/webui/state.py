@@ -7,7 +7,7 @@ import json
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.kinds.webui_settings import DEFAULTS, SNAP
+from panther_ops.core.kinds.webui_settings import DEFAULTS, SNAP, profile_name
 from panther_ops.core.remote.estop.answers import split
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 
@@ -22,6 +22,8 @@ class WebuiState:
     settings: dict[str, str] = field(default_factory=dict)
     running: bool = False
     profiles: set[str] = field(default_factory=set)
+    """Transports with a ``dds-config-<name>.xml`` in the common directory (the install hook's
+    links for the shipped ones included)."""
 
     def value(self, key: str) -> str:
         return self.settings.get(key, DEFAULTS[key])
@@ -55,8 +57,8 @@ def parse_state(output: str) -> WebuiState:
     state.running = services is not None and any(
         SNAP in line and " active" in f" {line}" and "inactive" not in line for line in services.text.splitlines())
     profiles = got.get("profiles")
-    if profiles is not None:
-        state.profiles = {n[:-4] for n in profiles.text.split() if n.endswith(".xml")}
+    if profiles is not None:  # dds-config-<X>.xml: the files the configure hook resolves <X> to
+        state.profiles = {name for n in profiles.text.split() if (name := profile_name(n)) is not None}
     return state
 
 
