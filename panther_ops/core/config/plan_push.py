@@ -68,7 +68,12 @@ _CHECKED: Memo[list[str]] = Memo()
 def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
     """The plan of pushing ``bundle`` as ``kind`` to the robot whose compose.yaml is ``raw``."""
     cfg = parse_config(raw, reads.stack)
-    target = Target(cfg.stack, wheel_of(cfg))
+    namespace = None
+    if kind is FileKind.CONTROLLER:  # its IMU broadcaster must read the IMU under the driver's namespace
+        from panther_ops.core.config.namespace import driver_namespace
+
+        namespace = driver_namespace(reads, cfg)[0]
+    target = Target(cfg.stack, wheel_of(cfg), namespace)
     warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
                                  lambda: check_file(kind, str(bundle.main), bundle.data,
                                                     local=bundle.main, target=target, force=force)))

@@ -135,6 +135,18 @@ def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any],
                         cfg.stack.label(), also, env_files)
 
 
+def _imu_warnings(reads: Reads, cfg: RobotConfig, ctrl: ControllerConfig, path: str) -> list[str]:
+    """The robot's own controller file, edited in place: what its IMU broadcaster does under the
+    driver's namespace (the edit does not change it; a template-made file is the stock one)."""
+    from panther_ops.core.config.namespace import driver_namespace
+    from panther_ops.core.kinds.controller_imu import imu_findings
+
+    found = imu_findings(ctrl.doc.to_plain(), cfg.stack, driver_namespace(reads, cfg)[0])
+    fix = f"; push a corrected file: panther-ops config push FILE --as controller ({found.hint})" if found.hint else ""
+    return [f"{path}: {e} (already so on the robot){fix}" for e in found.errors] + \
+        [f"{path}: {w}" for w in found.warnings]
+
+
 def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:
     new = cfg.compose.args
     parts = [f"{k}: {old[k]} -> {new[k]}" if k in old else f"{k}:={new[k]}" for k in new if old.get(k) != new[k]]
@@ -191,10 +203,12 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
     if host_path is None:
         host_path, container_path = cf.robot_path, cf.container_path
     before = reads.file(host_path)
+    robot_file = False
     if migrated is not None and migrated.host_path == host_path:
         ctrl = migrated.controller
     elif before is not None:
         ctrl = ControllerConfig.parse(before.decode(), cfg.stack, wheel, path=host_path, force=force)
+        robot_file = True
     else:
         ctrl = ControllerConfig.default(cfg.stack, wheel if wheel != "custom" else "WH01")
     changes = []
@@ -203,6 +217,8 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
         changes.append(change)
         warnings.extend(change.warnings)
     warnings.extend(ctrl.doc.notes)
+    if robot_file:
+        warnings.extend(_imu_warnings(reads, cfg, ctrl, host_path))
     after = ctrl.text().encode()
     edits = [] if after == before else [FileEdit(host_path, before, after)]
     contains: tuple[str, ...] = ()
