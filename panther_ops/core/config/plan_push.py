@@ -95,7 +95,7 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
         arg = cf.launch_arg or ""
         robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
         name = bundle.main.name
-        if cfg.tree_mounted and reads.file(cf.robot_path) is not None:
+        if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:
             name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
             arg = ""
         main_data = bundle.data
@@ -130,6 +130,7 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
         if cfg.host_path_of(mount_dst) != mount_src:
             cfg.compose.add_volume(mount_src, mount_dst, ro=True)
     if arg:
+        arg = spec(arg).name_for(cfg.stack)  # the name this stack declares (2.2: animations_config_path)
         w, v = edit_args(cfg, {arg: main_container}, [], force)
         warnings += w
         contains = v.cmd_contains

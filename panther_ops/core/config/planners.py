@@ -198,7 +198,7 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
             f"controller_config_path:={container_path} is not a file mounted from the robot",
             hint="push a controller file first: panther-ops config push FILE --as controller",
         )
-    if host_path is None and cfg.tree_mounted:  # 2.2: the tree's file is the one in use
+    if host_path is None and cfg.reads_from_tree(cf):  # 2.2: the tree's file is the one in use
         host_path, container_path = cf.robot_path, None
     if host_path is None:
         host_path, container_path = cf.robot_path, cf.container_path
