@@ -55,6 +55,24 @@ def test_availability_per_version(stack: object, key: str, available: bool) -> N
             la.validate_arg(stack, key, "True")  # type: ignore[arg-type]
 
 
+def test_nmea_launch_file_arguments_of_211() -> None:
+    """Issue 24 finding 4: panther_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py
+    (included by localization.launch.py with launch_nmea_gps) declares params_file and
+    device_namespace; husarion_ugv 2.2 calls the first nmea_params_path and fixes the second to gps."""
+    params, device = la.spec("params_file"), la.spec("device_namespace")
+    assert la.spec("nmea_params_path") is params
+    assert [params.available(s) for s in (S210, S211, S220, S222)] == [False, True, True, True]
+    assert [device.available(s) for s in (S210, S211, S220, S222)] == [False, True, False, False]
+    assert (params.name_for(S211), params.name_for(S222)) == ("params_file", "nmea_params_path")
+    assert params.default_for(S211) == "$(find panther_localization)/config/nmea_navsat_params.yaml"
+    assert params.default_for(S222) == "$(find husarion_ugv_localization)/config/nmea_navsat.yaml"
+    assert device.default_for(S211) == "gps"
+    assert la.validate_arg(S211, "params_file", "/config/p.yaml").name == "params_file"
+    assert la.validate_arg(S211, "device_namespace", "gnss").value == "gnss"
+    assert arg_edits.migrate_args(S211, S222, {"params_file": "/x.yaml", "device_namespace": "gps"}) == \
+        arg_edits.ArgMigration({"params_file": "nmea_params_path"}, ("device_namespace",))
+
+
 def test_names_per_version_and_aliases() -> None:
     assert la.validate_arg(S211, "led_config_file", "/config/x.yaml").name == "led_config_file"
     v = la.validate_arg(S222, "led_config_file", "/config/x.yaml")

@@ -325,12 +325,29 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("panther", "lynx"),
         default="panther",
     ),
+    # declared by the NMEA launch file that localization includes when launch_nmea_gps is true:
+    # panther_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py (params_file, device_namespace);
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_localization/launch/nmea_navsat.launch.py (nmea_params_path,
+    # the image's file; the device namespace is fixed to gps)
     ArgSpec(
-        "nmea_params_path",
+        "params_file",
         ArgType.PATH,
-        "NMEA GPS driver params (nmea_navsat.yaml)",
-        since=_V2_2,
-        default="$(find husarion_ugv_localization)/config/nmea_navsat.yaml",
+        "NMEA GPS driver params (used with launch_nmea_gps; 2.2: nmea_params_path)",
+        since=_v("2.1.1"),
+        names=((_V2_2, "nmea_params_path"),),
+        default=lambda s: (
+            "$(find husarion_ugv_localization)/config/nmea_navsat.yaml"
+            if _ugv(s)
+            else "$(find panther_localization)/config/nmea_navsat_params.yaml"
+        ),
+    ),
+    ArgSpec(
+        "device_namespace",
+        ArgType.NAMESPACE,
+        "namespace of the NMEA GPS driver's topics and frame (used with launch_nmea_gps): <ns>/<it>/fix",
+        since=_v("2.1.1"),
+        until=_v("2.1.2"),
+        default="gps",
     ),
     # the image's: husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_diagnostics/launch/system_monitor.launch.py
     # (FindPackageShare; bringup does not pass common_dir_path to it)
