@@ -254,6 +254,13 @@ for cid, (content, names) in COMPONENTS_BAD.items():
     CASES.append(_push("components", cid, content, names))
 for cid, (content, names) in BATTERY_BAD.items():
     CASES.append(_push("battery", cid, content, names))
+# issue 24 finding 8: panther_ros 2.0.1+ reads a 0-1 fraction and every key of the file (gazebo.urdf.xacro)
+_BATTERY_20 = (TEMPLATES / "config/panther-2.0/panther_gazebo/config/battery_plugin_config.yaml").read_text()
+CASES.append(_push("battery", "percent-on-2.0.4", _BATTERY_20.replace("initial_charge_percentage: 0.7",
+                                                                     "initial_charge_percentage: 70.0").encode(),
+                   ["initial_charge_percentage=70.0 is outside 0-1"], robot="panther-02"))
+CASES.append(_push("battery", "no-capacity-on-2.0.4", _BATTERY_20.replace("capacity: 20.0 # [Ah]\n", "").encode(),
+                   ["capacity is required"], robot="panther-02"))
 for cid, (content, names) in JOY2TWIST_BAD.items():
     CASES.append(_push("joy2twist", cid, content, names))
 for cid in ("factor-text", "index-float", "unknown-button"):
