@@ -123,10 +123,14 @@ def test_wh05_is_lynx_only() -> None:
     with pytest.raises(la.InvalidArgValueError, match="WH01, WH02, WH04, custom"):
         la.validate_arg(S211, "wheel_type", "WH05")
     with pytest.raises(la.InvalidArgValueError, match="Lynx wheel"):
-        la.validate_arg(S222, "wheel_type", "WH05")
+        la.validate_arg(S222, "wheel_type", "WH05", context={"robot_model": "panther"})
     assert la.validate_arg(S222, "wheel_type", "WH05", context={"robot_model": "lynx"}).value == "WH05"
-    forced = la.validate_arg(S222, "wheel_type", "WH05", force=True)
+    forced = la.validate_arg(S222, "wheel_type", "WH05", force=True, context={"robot_model": "panther"})
     assert "(forced)" in forced.warnings[-1]
+    # issue 24 finding 8: no robot known yet (the pre-check of `config set`): a choice of 2.2, not refused;
+    # a robot whose model is not known: said, not refused
+    assert la.validate_arg(S222, "wheel_type", "WH05").warnings == ()
+    assert "model is not known" in la.validate_arg(S222, "wheel_type", "WH05", context={}).warnings[0]
 
 
 def test_battery_config_is_simulation_only_before_2_2() -> None:
@@ -153,7 +157,9 @@ def test_cross_rules() -> None:
     assert _messages(arg_rules.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
     ok = {"wheel_type": "custom", "wheel_config_path": "/c/w.yaml", "controller_config_path": "/c/c.yaml"}
     assert _messages(arg_rules.check_args(S211, ok), "error") == []
-    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}), "error") == ["wh05-lynx"]
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}, robot_model="panther"), "error") == ["wh05-lynx"]
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}), "warning") == ["wh05-lynx"]  # model unknown
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}, robot_model="lynx"), "error") == []
     assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
     assert "battery-sim-only" in _messages(arg_rules.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
     assert "gps-source" in _messages(arg_rules.check_args(S211, {"fuse_gps": "True"}), "warning")
