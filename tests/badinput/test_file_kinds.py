@@ -244,8 +244,7 @@ _FLAG = "      use_namespace_as_sensor_name_prefix: true\n"
 for robot, tree in (("panther-01", "panther-2.1/panther_controller"), ("panther-02", "panther-2.0/panther_controller"),
                     ("panther-03", "husarion-ugv-2.2/husarion_ugv_controller")):
     stock = (TEMPLATES / "config" / tree / "config/WH01_controller.yaml").read_text()
-    old_form = (stock.replace(_FLAG, "") if _FLAG in stock
-                else _ctrl("<namespace>/imu_link", "imu_link", _ctrl("<namespace>/imu", "imu", stock).decode()).decode())
+    old_form = stock.replace(_FLAG, "").replace("<namespace>/imu", "imu")  # sensor_name: imu, no prefix flag
     CASES.append(_push("controller", "imu-not-namespaced", old_form.encode(),
                        ["imu_broadcaster", "'panther/imu'", "the IMU would not start"], robot=robot))
 for cid, (content, names) in WHEEL_BAD.items():
