@@ -123,6 +123,7 @@ EXPECTED_EXIT = {
     "panther-ops config rollback --file hosts.yaml --to 20261124T1244 --yes": 2,
     "panther-ops -i demo-fleet config push bad_pad.yaml --as joy2twist --all --yes": 2,
     "panther-ops -i demo-fleet config set controller.cmd_vel_timeout 0 -r panther-01 --yes": 2,
+    "panther-ops -i demo-fleet config push no_prefix_controller.yaml --as controller -r panther-02 --yes": 2,
 }
 """Examples that show a refusal: their exit code."""
 
