@@ -4,8 +4,9 @@ The catalogue writes a default in its own notation; `catalogue_default` evaluate
 same contexts as upstream's (`launch.CONTEXTS`):
 
 - ``$(find pkg)/rel``: the image's file (the same in every context);
-- ``<common_dir_path or $(find pkg)>/dir/rel``: ``<common_dir_path>/dir/rel`` when the
-  ``~/config`` tree is mounted (``common_dir_path`` set), else ``$(find pkg)/rel``;
+- ``<common_dir_path>/dir/rel (common_dir_path set; else $(find pkg)/rel)``:
+  ``<common_dir_path>/dir/rel`` when the ``~/config`` tree is mounted (``common_dir_path``
+  set), else the image's ``$(find pkg)/rel``;
 - ``{name}``: the value of argument ``name`` (the context's, else the catalogue default);
 - ``[_with_gps]``: present when ``fuse_gps`` is true (`OPTIONAL`);
 - anything else: the literal value.
@@ -28,7 +29,7 @@ from panther_ops.core.config.launch_args import args_for, bool_word
 from panther_ops.core.kinds.arg_catalogue import ArgSpec, ArgType
 from panther_ops.core.stack import Stack
 
-_TREE = re.compile(r"^<common_dir_path or \$\(find (?P<pkg>\w+)\)>/(?P<dir>\w+)/(?P<rest>.*)$")
+_TREE = re.compile(r"^<common_dir_path>/(?P<tree>\S+) \(common_dir_path set; else (?P<image>\$\(find \w+\)/\S+)\)$")
 OPTIONAL = {"_with_gps": "fuse_gps"}
 """Optional segments of the catalogue's notation: ``[segment]`` -> the argument that turns it on."""
 _BOOL = frozenset({"true", "false"})
@@ -54,7 +55,7 @@ def catalogue_default(spec: ArgSpec, stack: Stack, context: Mapping[str, str], _
     m = _TREE.match(text)
     if m:
         common = context.get("common_dir_path", "")
-        text = f"{common}/{m['dir']}/{m['rest']}" if common else f"$(find {m['pkg']})/{m['rest']}"
+        text = f"{common}/{m['tree']}" if common else m["image"]
 
     def value(name: str) -> str:
         if name in context:

@@ -34,17 +34,6 @@ KNOWN: dict[str, tuple[str, str]] = {
     "2.2.*:defaults:husarion_ugv_lights/config/lynx_animations.yaml":
         ("finding 1", "the Lynx's animations, same causes"),
     "2.2.*:defaults:husarion_ugv_manager/behavior_trees/LightsBT.btproj": ("finding 1", "Parallel and Delay"),
-    # 2. the IMU sensor name on a namespaced robot
-    "*:templates:config/*/*_controller/config/WH0?_controller.yaml": ("finding 2", ""),
-    "2.2.*:templates:config-tree/*/*_controller/config/WH0?_controller.yaml": ("finding 2", ""),
-    # 3. where 2.2 reads its defaults from
-    "2.2.*:launch:wheel_config_path": ("finding 3", ""),
-    "2.2.*:launch:system_monitor_config_path": ("finding 3", ""),
-    "2.2.0:launch:animations_config_path": ("finding 3", ""),
-    "2.2.*:launch:lights_bt_project_path": ("finding 3", ""),
-    # 4. 2.1.1's NMEA launch file
-    "2.1.1:launch:params_file": ("finding 4", ""),
-    "2.1.1:launch:device_namespace": ("finding 4", ""),
     # 5. templates
     "2.2.*:templates:*/husarion_ugv_lights/config/panther_animations.yaml": ("finding 5", "the 2.1 file renamed"),
     "2.2.*:templates:config/husarion-ugv-2.2/husarion_ugv_lights/config/panther_driver.yaml":
@@ -54,9 +43,6 @@ KNOWN: dict[str, tuple[str, str]] = {
     "2.2.2:tree:panther": ("finding 5", "the demo's tree lacks files the image copies"),
     "2.0.4:templates:config/panther-2.0/panther_manager/config/*_manager_config.yaml":
         ("finding 5", "node names 2.0.2-2.0.4 no longer have"),
-    # 8. simulation
-    "2.0.4:templates:config/panther-2.0/panther_gazebo/config/battery_plugin_config.yaml":
-        ("finding 8", "initial_charge_percentage: 2.0.1+ reads a 0-1 fraction"),
     # 9. joy2twist
     "2.2.2:templates:(none) -> husarion_ugv_bringup/config/joy2twist_*.yaml": ("finding 9", "no template"),
     # found by the conformance tool, not in the issue

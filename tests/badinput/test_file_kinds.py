@@ -1,5 +1,5 @@
 """Bad-input corpus: every command that carries a file kind, with the contents that kind's one
-validator refuses (issue 11, findings 1, 2, 6, 8, 12), injection strings and paths that
+validator refuses (issue 11, findings 1, 2, 6, 8, 12; issue 24), injection strings and paths that
 leave their directory. Each case: exit 2, the file or key named, no traceback, every file of
 the demo fleet (and of the operator) byte-identical.
 
@@ -256,12 +256,27 @@ for cid in ("fast", "maybe", "integer", "not-yaml", "binary"):
     CASES.append(_push("controller", cid, *CONTROLLER_BAD[cid], robot="panther-02"))
     CASES.append(_push("controller", cid, *CONTROLLER_BAD[cid], robot="panther-03"))
 CASES.append(_push("controller", "dry-run", *CONTROLLER_BAD["above-limit"]))
+# issue 24 finding 2: an IMU broadcaster that does not read the namespaced robot's IMU (${ns}imu)
+_FLAG = "      use_namespace_as_sensor_name_prefix: true\n"
+for robot, tree in (("panther-01", "panther-2.1/panther_controller"), ("panther-02", "panther-2.0/panther_controller"),
+                    ("panther-03", "husarion-ugv-2.2/husarion_ugv_controller")):
+    stock = (TEMPLATES / "config" / tree / "config/WH01_controller.yaml").read_text()
+    old_form = stock.replace(_FLAG, "").replace("<namespace>/imu", "imu")  # sensor_name: imu, no prefix flag
+    CASES.append(_push("controller", "imu-not-namespaced", old_form.encode(),
+                       ["imu_broadcaster", "'panther/imu'", "the IMU would not start"], robot=robot))
 for cid, (content, names) in WHEEL_BAD.items():
     CASES.append(_push("wheel", cid, content, names))
 for cid, (content, names) in COMPONENTS_BAD.items():
     CASES.append(_push("components", cid, content, names))
 for cid, (content, names) in BATTERY_BAD.items():
     CASES.append(_push("battery", cid, content, names))
+# issue 24 finding 8: panther_ros 2.0.1+ reads a 0-1 fraction and every key of the file (gazebo.urdf.xacro)
+_BATTERY_20 = (TEMPLATES / "config/panther-2.0/panther_gazebo/config/battery_plugin_config.yaml").read_text()
+CASES.append(_push("battery", "percent-on-2.0.4", _BATTERY_20.replace("initial_charge_percentage: 0.7",
+                                                                     "initial_charge_percentage: 70.0").encode(),
+                   ["initial_charge_percentage=70.0 is outside 0-1"], robot="panther-02"))
+CASES.append(_push("battery", "no-capacity-on-2.0.4", _BATTERY_20.replace("capacity: 20.0 # [Ah]\n", "").encode(),
+                   ["capacity is required"], robot="panther-02"))
 for cid, (content, names) in JOY2TWIST_BAD.items():
     CASES.append(_push("joy2twist", cid, content, names))
 for cid in ("factor-text", "index-float", "unknown-button", "srv-dash", "cmd-vel-semicolon"):

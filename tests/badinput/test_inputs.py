@@ -117,6 +117,11 @@ LAUNCH_ARGS = [
     Case("arg-key-shell-forced", ["config", "set", "a;id", "1", *R1, "--force"], ["a;id"]),
     Case("arg-injection-value", ["config", "set", "wheel_type", INJECT, *R1], ["wheel_type", INJECT]),
     Case("arg-unknown-key", ["config", "set", "wheel_typ", "WH02", *R1], ["wheel_typ", "wheel_type"]),
+    # issue 24 finding 8: WH05 reaches the robot's plan (a 2.2 choice), refused there on a Panther (its
+    # ROBOT_MODEL_NAME), and on panther_ros as no choice of the stack
+    Case("arg-wh05-on-a-panther-22", ["config", "set", "wheel_type", "WH05", "-r", "panther-03", "--yes"],
+         ["WH05", "robot_model is panther"]),
+    Case("arg-wh05-on-211", ["config", "set", "wheel_type", "WH05", *R1], ["WH05", "WH01, WH02, WH04, custom"]),
     Case("arg-get-injection-key", ["config", "get", INJECT, "-r", "panther-01"], [INJECT]),
     Case("arg-unset-injection-key", ["config", "unset", "a;id", *R1], ["a;id"]),
     Case("arg-controller-key", ["config", "get", "controller.linear.q.max_velocity", "-r", "panther-01"],

@@ -81,7 +81,10 @@ def test_family_specific_shapes() -> None:
     assert yaml.safe_load(config_file(s22, ConfigKind.WHEEL, wheel_type="WH05").template_text())["wheel_radius"] == 0.1348
     bat20 = yaml.safe_load(config_file(s20, ConfigKind.BATTERY_PLUGIN).template_text())
     bat21 = yaml.safe_load(config_file(s21, ConfigKind.BATTERY_PLUGIN).template_text())
-    assert bat20["initial_charge_percentage"] == 70.0 and "capacity" not in bat20
+    # panther_ros 2.0.1+ reads a 0-1 fraction and capacity (panther_ros@2.0.4:panther_gazebo/config/
+    # battery_plugin_config.yaml); 2.0.0's percent file has no template (issue 24 finding 8)
+    assert bat20["initial_charge_percentage"] == 0.7 and bat20["capacity"] == 20.0
+    assert config_file(stack_from_version("2.0.0"), ConfigKind.BATTERY_PLUGIN).template is None
     assert bat21["initial_charge_percentage"] == 0.7 and bat21["capacity"] == 20.0
     led = yaml.safe_load(config_file(s21, ConfigKind.ANIMATIONS).template_text())
     assert [a["id"] for a in led["led_animations"]] == [0, 1, 2, 3, 4, 5, 6, 7, 9]

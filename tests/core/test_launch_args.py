@@ -56,6 +56,24 @@ def test_availability_per_version(stack: object, key: str, available: bool) -> N
             la.validate_arg(stack, key, "True")  # type: ignore[arg-type]
 
 
+def test_nmea_launch_file_arguments_of_211() -> None:
+    """Issue 24 finding 4: panther_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py
+    (included by localization.launch.py with launch_nmea_gps) declares params_file and
+    device_namespace; husarion_ugv 2.2 calls the first nmea_params_path and fixes the second to gps."""
+    params, device = la.spec("params_file"), la.spec("device_namespace")
+    assert la.spec("nmea_params_path") is params
+    assert [params.available(s) for s in (S210, S211, S220, S222)] == [False, True, True, True]
+    assert [device.available(s) for s in (S210, S211, S220, S222)] == [False, True, False, False]
+    assert (params.name_for(S211), params.name_for(S222)) == ("params_file", "nmea_params_path")
+    assert params.default_for(S211) == "$(find panther_localization)/config/nmea_navsat_params.yaml"
+    assert params.default_for(S222) == "$(find husarion_ugv_localization)/config/nmea_navsat.yaml"
+    assert device.default_for(S211) == "gps"
+    assert la.validate_arg(S211, "params_file", "/config/p.yaml").name == "params_file"
+    assert la.validate_arg(S211, "device_namespace", "gnss").value == "gnss"
+    assert arg_edits.migrate_args(S211, S222, {"params_file": "/x.yaml", "device_namespace": "gps"}) == \
+        arg_edits.ArgMigration({"params_file": "nmea_params_path"}, ("device_namespace",))
+
+
 def test_names_per_version_and_aliases() -> None:
     assert la.validate_arg(S211, "led_config_file", "/config/x.yaml").name == "led_config_file"
     v = la.validate_arg(S222, "led_config_file", "/config/x.yaml")
@@ -106,10 +124,14 @@ def test_wh05_is_lynx_only() -> None:
     with pytest.raises(la.InvalidArgValueError, match="WH01, WH02, WH04, custom"):
         la.validate_arg(S211, "wheel_type", "WH05")
     with pytest.raises(la.InvalidArgValueError, match="Lynx wheel"):
-        la.validate_arg(S222, "wheel_type", "WH05")
+        la.validate_arg(S222, "wheel_type", "WH05", context={"robot_model": "panther"})
     assert la.validate_arg(S222, "wheel_type", "WH05", context={"robot_model": "lynx"}).value == "WH05"
-    forced = la.validate_arg(S222, "wheel_type", "WH05", force=True)
+    forced = la.validate_arg(S222, "wheel_type", "WH05", force=True, context={"robot_model": "panther"})
     assert "(forced)" in forced.warnings[-1]
+    # issue 24 finding 8: no robot known yet (the pre-check of `config set`): a choice of 2.2, not refused;
+    # a robot whose model is not known: said, not refused
+    assert la.validate_arg(S222, "wheel_type", "WH05").warnings == ()
+    assert "model is not known" in la.validate_arg(S222, "wheel_type", "WH05", context={}).warnings[0]
 
 
 def test_battery_config_is_simulation_only_before_2_2() -> None:
@@ -136,7 +158,9 @@ def test_cross_rules() -> None:
     assert _messages(arg_rules.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
     ok = {"wheel_type": "custom", "wheel_config_path": "/c/w.yaml", "controller_config_path": "/c/c.yaml"}
     assert _messages(arg_rules.check_args(S211, ok), "error") == []
-    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}), "error") == ["wh05-lynx"]
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}, robot_model="panther"), "error") == ["wh05-lynx"]
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}), "warning") == ["wh05-lynx"]  # model unknown
+    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}, robot_model="lynx"), "error") == []
     assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
     assert "battery-sim-only" in _messages(arg_rules.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
     assert "gps-source" in _messages(arg_rules.check_args(S211, {"fuse_gps": "True"}), "warning")

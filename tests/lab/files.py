@@ -233,6 +233,7 @@ def login_profile(st: StackImage, skel_profile: str) -> str:
 
 def _controller_yaml(drive: str, wheel: str) -> str:
     sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
+    # the IMU broadcaster as husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH01_controller.yaml has it
     return f"""# {wheel}_controller.yaml (panther-ops lab stand-in of the husarion_ugv_controller file)
 /**:
   controller_manager:
@@ -247,8 +248,8 @@ def _controller_yaml(drive: str, wheel: str) -> str:
 
   imu_broadcaster:
     ros__parameters:
-      sensor_name: imu
-      frame_id: imu_link
+      sensor_name: <namespace>/imu
+      frame_id: <namespace>/imu_link
 
   {drive}:
     ros__parameters:

@@ -77,6 +77,30 @@ def test_port_on_22_writes_params_file_and_disable_removes_it(capsys: pytest.Cap
     assert code == 0 and not params.exists() and snapshot(demo) == before
 
 
+def test_port_on_211_writes_params_file_mounts_it_and_disable_removes_it(capsys: pytest.CaptureFixture[str],
+                                                                         demo: Path) -> None:
+    """Issue 24 finding 4: panther_ros 2.1.1's NMEA launch file declares params_file
+    (panther_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py)."""
+    before = snapshot(demo)
+    code, doc, err = run(capsys, demo, "gps", "enable", "-r", "panther-01", "--port", "5001", "--yes", "--json")
+    assert code == 0, err
+    rel = "config/panther_localization/config/nmea_navsat_params.yaml"
+    params = demo / ROBOT_ROOT.format("panther-01") / rel
+    text = params.read_text()
+    assert "      port: 5001\n" in text and "      timeout_sec: 2\n" in text
+    assert f"params_file:=/{rel}" in compose(demo, "panther-01")
+    assert f"/home/husarion/{rel}:/{rel}:ro" in compose(demo, "panther-01")
+    # back to port 5000: the image's own params again (no stale params_file)
+    code, doc, err = run(capsys, demo, "gps", "enable", "-r", "panther-01", "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed", err
+    assert " params_file:=" not in compose(demo, "panther-01") and rel not in compose(demo, "panther-01")
+    assert not params.exists()
+    assert "launch_nmea_gps:=True" in compose(demo, "panther-01")
+    code, doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-01", "--port", "5001", "--yes", "--json")
+    code, doc, _ = run(capsys, demo, "gps", "disable", "-r", "panther-01", "--yes", "--json")
+    assert code == 0 and not params.exists() and snapshot(demo) == before
+
+
 def test_container_port_and_namespace_on_204(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
     code, _doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-02", "--port", "5002", "--namespace", "rover",
                         "--yes", "--json")
@@ -94,7 +118,6 @@ def test_container_port_and_namespace_on_204(capsys: pytest.CaptureFixture[str],
     (["--port", "0"], "--port 0"),
     (["--namespace", "my robot"], "--namespace"),
     (["--ip", "10.15.20"], "--ip"),
-    (["--port", "5001"], "panther_ros 2.1.1 has no launch argument"),  # 2.1.1 without --container
 ])
 def test_bad_input_exit_2_nothing_changed(capsys: pytest.CaptureFixture[str], demo: Path, argv: list[str],
                                           says: str) -> None:

@@ -105,8 +105,12 @@ def test_world_set_refuses(tmp_path: Path, capsys: pytest.CaptureFixture[str], a
 
 
 def test_battery_check(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _out, err = run(capsys, "sim", "battery", "check", str(BATTERY_20))
+    percent = tmp_path / "percent.yaml"  # panther_ros 2.0.0's form: no fraction note
+    percent.write_text("simulate_discharging: false\ninitial_charge_percentage: 70.0\ncharging_time: 6.0\n")
+    code, _out, err = run(capsys, "sim", "battery", "check", str(percent))
     assert code == 0 and "0-1 fraction" not in err
+    code, _out, err = run(capsys, "sim", "battery", "check", str(BATTERY_20))  # 2.0.1-2.0.4: a fraction
+    assert code == 0 and "0-1 fraction of panther_ros 2.0.1+" in err
     code, out, _ = run(capsys, "sim", "battery", "check", str(BATTERY_21), "--json")
     doc = json.loads(out)
     assert code == 0 and any("0-1 fraction" in n and "70 %" in n for n in doc["notes"])

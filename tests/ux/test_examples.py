@@ -58,6 +58,9 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "my_world.sdf").write_text(WORLD)
     (tmp_path / "w.sdf").write_text(WORLD)
     (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
+    wh01_20 = ROOT / "templates/config/panther-2.0/panther_controller/config/WH01_controller.yaml"
+    (tmp_path / "no_prefix_controller.yaml").write_text(  # docs/configuration.md: the IMU under a namespace
+        wh01_20.read_text().replace("      use_namespace_as_sensor_name_prefix: true\n", ""))
     (tmp_path / "pad.yaml").write_text(JOY2TWIST)
     (tmp_path / "bad_pad.yaml").write_text(JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
     (tmp_path / "bad_srv_pad.yaml").write_text(JOY2TWIST.replace("reset_srv: hardware/e_stop_reset",

@@ -92,9 +92,11 @@ def enable(
         (husarion/nmea-gps:humble-2.0.1-20240617, network_mode host, restart always,
         ros2 launch /husarion_utils/nmea_navsat.launch.py robot_namespace:=<ns>);
         only that service is recreated and checked;
-      panther_ros 2.1.1+ / husarion_ugv 2.2: launch_nmea_gps:=True on the driver; on 2.2 a
-        port or ip other than 5000 / 10.15.20.2 also writes the NMEA parameters file
-        (~/config/husarion_ugv_localization/config/nmea_navsat.yaml, nmea_params_path).
+      panther_ros 2.1.1+ / husarion_ugv 2.2: launch_nmea_gps:=True on the driver; a port
+        or ip other than 5000 / 10.15.20.2 also writes the NMEA parameters file
+        (2.1.1: ~/config/panther_localization/config/nmea_navsat_params.yaml, mounted,
+        params_file; 2.2: ~/config/husarion_ugv_localization/config/nmea_navsat.yaml,
+        nmea_params_path).
 
     Plan, diff, confirm, backup, atomic write, recreate, verify, roll back: like config set.
     A robot already set up reports ok. The fix topic: /<ns>/gps/fix. With --router the
@@ -125,7 +127,8 @@ def enable(
 @shared(*GATED)
 def disable(fleet: Fleet) -> int:
     """Take back what `gps enable` adds: the nmea-gps service (its container stopped and
-    removed), or launch_nmea_gps, nmea_params_path and the parameters file panther-ops wrote.
+    removed), or launch_nmea_gps, params_file (2.2: nmea_params_path) and the parameters file
+    panther-ops wrote.
     After an enable, compose.yaml is restored byte for byte.
 
     Example: panther-ops gps disable -r panther-01 --yes

@@ -13,6 +13,7 @@ from typing import Any
 
 from panther_ops.core.config.planners import _args_summary, compose_plan, controller_edits, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
+from panther_ops.core.config.robot_model import model_for_wheels
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.remote.webui.plan_desired import WebuiPlan
@@ -86,7 +87,7 @@ def _driver_files(reads: Reads, cfg: RobotConfig, desired: dict[str, Any], force
                 largs.update(point_at(cfg, migrated))
                 warnings += migrated.warnings
                 parts.append(migrated.summary)
-        w, v = edit_args(cfg, largs, [], force)
+        w, v = edit_args(cfg, largs, [], force, model_for_wheels(reads, cfg.stack, largs))
         warnings += w
         verify.append(v)
     if desired.get("controller"):

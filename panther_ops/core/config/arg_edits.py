@@ -61,13 +61,16 @@ def set_launch_args(
     *,
     force: bool = False,
     service: str | None = None,
+    robot_model: str | None = None,
 ) -> ArgChange:
     """Validate and write launch arguments into the driver command of ``compose``.
 
     Each value is validated for the driver's stack (`validate_arg`), then the cross rules
     run over the resulting command; errors refuse the whole change (nothing written)
     unless ``force``. Names of other versions or aliases already in the command for the
-    same argument are replaced by the declared name.
+    same argument are replaced by the declared name. Each value is checked against the
+    command as it will be (``wheel_type WH05`` with ``robot_model lynx`` in the same change);
+    ``robot_model``: the robot's model when the command has none (see `check_args`).
 
     Raises:
         LaunchArgError: a refused argument, value or combination.
@@ -79,8 +82,11 @@ def set_launch_args(
     warnings: list[str] = []
     prospective = dict(current)
     stale: list[str] = []
+    context = canonical_args(stack, {**current, **values})
+    if robot_model is not None:
+        context.setdefault("robot_model", robot_model)
     for key, value in values.items():
-        va = validate_arg(stack, key, value, force=force, context=canonical_args(stack, prospective))
+        va = validate_arg(stack, key, value, force=force, context=context)
         validated.append(va)
         warnings.extend(va.warnings)
         if va.spec is not None:
@@ -93,7 +99,8 @@ def set_launch_args(
     volumes = compose.list_volumes(service)
     said = {v.name for v in validated if v.warnings}  # a rule that says it again in other words is left out
     findings = [
-        f for f in check_args(stack, prospective, volumes=volumes) if (set(f.keys) & {v.name for v in validated}
+        f for f in check_args(stack, prospective, volumes=volumes, robot_model=robot_model)
+        if (set(f.keys) & {v.name for v in validated}
         or f.level == "error") and not (f.rule in _SAID_BY_THE_ARG and _SAID_BY_THE_ARG[f.rule] in said)
     ]
     warnings.extend(raise_for_errors(findings, force=force))

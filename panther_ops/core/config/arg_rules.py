@@ -58,13 +58,17 @@ def _rule_custom(stack: Stack, args: Mapping[str, str], _v: Sequence[Volume] | N
 
 
 def _rule_wh05(stack: Stack, args: Mapping[str, str], _v: Sequence[Volume] | None, _s: bool) -> list[Finding]:
-    if args.get("wheel_type") != "WH05" or args.get("robot_model", "panther") == "lynx":
+    model = args.get("robot_model")
+    if args.get("wheel_type") != "WH05" or model == "lynx":
         return []
+    if model is None:  # neither robot_model:= nor the robot's ROBOT_MODEL_NAME known here
+        return [Finding("warning", "wh05-lynx", "wheel_type WH05 is the Lynx wheel: this robot's model is not known "
+                        "here (robot_model:=, ROBOT_MODEL_NAME)", ("wheel_type", "robot_model"))]
     return [
         Finding(
             "error",
             "wh05-lynx",
-            f"wheel_type WH05 is the Lynx wheel but robot_model is {args.get('robot_model', 'panther')}",
+            f"wheel_type WH05 is the Lynx wheel but robot_model is {model}",
             ("wheel_type", "robot_model"),
         )
     ]
@@ -171,12 +175,15 @@ def check_args(
     *,
     volumes: Sequence[Volume] | None = None,
     simulation: bool = False,
+    robot_model: str | None = None,
 ) -> list[Finding]:
     """Run every rule over a command's arguments (names as written in the command).
 
     Also reports names the stack does not declare: an unknown name is a warning (ros2 launch
     ignores it silently); a name of another version (``led_config_file`` on 2.2) or an alias
     (``user_animations_file``) is an error because the setting would silently not apply.
+    ``robot_model``: the robot's model when the command has no ``robot_model:=`` (its
+    ROBOT_MODEL_NAME, `robot_model.env_robot_model`); None: not known.
     """
     findings: list[Finding] = []
     for name in args:
@@ -205,6 +212,8 @@ def check_args(
                 )
             )
     keyed = canonical_args(stack, args)
+    if robot_model is not None and "robot_model" not in keyed:
+        keyed["robot_model"] = robot_model
     for rule in RULES:
         findings.extend(rule.check(stack, keyed, volumes, simulation))
     return findings

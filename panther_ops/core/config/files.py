@@ -174,7 +174,8 @@ def _battery_plugin(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
             "husarion_ugv 2.2 renames the simulation battery file "
             "(husarion_ugv_gazebo/config/battery_plugin.yaml); no template"
         )
-    note = "simulation only; 2.0 uses a percent scale, 2.1.1 a 0-1 fraction (2.1.0 not verified)"
+    note = ("simulation only; a 0-1 fraction from panther_ros 2.0.1 (panther_ros@2.0.4, @2.1.1:"
+            "panther_gazebo/config/battery_plugin_config.yaml); 2.0.0 took percent: no template for it")
     return "panther_gazebo", "battery_plugin_config.yaml", "battery_config_path", note
 
 
@@ -213,6 +214,11 @@ _SPECS: dict[ConfigKind, Callable[[Stack, str, str], _Spec]] = {
 }
 
 
+_TEMPLATE_FROM: dict[ConfigKind, tuple[int, int, int]] = {ConfigKind.BATTERY_PLUGIN: (2, 0, 1)}
+"""Versions before these have a file no template reproduces (panther_ros 2.0.0's battery file:
+percent, no capacity; the 2.0 template is 2.0.1-2.0.4's)."""
+
+
 def config_file(
     stack: Stack,
     kind: ConfigKind,
@@ -226,7 +232,8 @@ def config_file(
         UsageError: the stack has no such file (e.g. lights driver params before 2.2).
     """
     package, filename, arg, note = _SPECS[kind](stack, wheel_type, robot_model)
-    return ConfigFile(kind, package, filename, arg, _exists(stack, package, filename), note)
+    template = None if stack.version < _TEMPLATE_FROM.get(kind, (0, 0, 0)) else _exists(stack, package, filename)
+    return ConfigFile(kind, package, filename, arg, template, note)
 
 
 def config_files(stack: Stack, *, robot_model: str = "panther") -> list[ConfigFile]:

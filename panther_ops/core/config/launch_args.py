@@ -160,7 +160,9 @@ def validate_arg(
         value: the value as typed (``true``, ``WH02``, ``/config/x.yaml``...).
         force: turn refusals into warnings (unknown names, values out of the choices,
             unavailable on this version). Malformed values (empty choice...) still pass.
-        context: the other arguments of the command (for WH05 vs robot_model).
+        context: the command's arguments as they will be (by catalogue key; for WH05 vs
+            robot_model, with the robot's ROBOT_MODEL_NAME when the command has none); None
+            when no robot is known yet (a pre-check): then WH05 is not checked against a model.
         simulation: the command runs in simulation (sim-only args are then fine).
 
     Returns:
@@ -192,18 +194,18 @@ def validate_arg(
         warnings.append(
             f"{name} only matters in simulation on {stack.label()} (Gazebo battery plugin); the robot ignores it"
         )
-    if s.key == "wheel_type" and normalised == "WH05":
-        model = (context or {}).get("robot_model", "panther")
-        if model != "lynx":
-            message = (
-                f"WH05 is the Lynx wheel; this robot's robot_model is {model}"
-                + (" (the default)" if "robot_model" not in (context or {}) else "")
-            )
+    if s.key == "wheel_type" and normalised == "WH05" and context is not None:  # None: no robot known yet
+        model = context.get("robot_model")
+        if model is None:
+            warnings.append("WH05 is the Lynx wheel: this robot's model is not known here (robot_model:=, "
+                            "ROBOT_MODEL_NAME)")
+        elif model != "lynx":
+            message = f"WH05 is the Lynx wheel; this robot's robot_model is {model}"
             if not force:
                 raise InvalidArgValueError(
                     message,
                     hint="Panther wheels: WH01 (off-road), WH02 (mecanum), WH04 (small pneumatic), custom; "
-                    "on a Lynx set robot_model:=lynx",
+                    "on a Lynx: robot_model:=lynx (or ROBOT_MODEL_NAME=lynx in /run/husarion/robot_config.env)",
                 )
             warnings.append(message + " (forced)")
     return ValidatedArg(s.key, name, normalised, tuple(warnings), s)

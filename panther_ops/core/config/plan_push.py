@@ -82,7 +82,7 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
     if kind is FileKind.JOY2TWIST:
         from panther_ops.core.config.gamepad import plan_joy2twist
 
-        warnings = _checked(cfg, kind, bundle, force)
+        warnings = _checked(reads, cfg, kind, bundle, force)
         return plan_joy2twist(reads, cfg, bundle.main.name, bundle.data, warnings)
     pushed = push_onto(reads, cfg, kind, bundle, force=force)
     plan = compose_plan(reads.robot, cfg, pushed.summary, pushed.warnings, [pushed.verify],
@@ -91,9 +91,14 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
     return plan
 
 
-def _checked(cfg: RobotConfig, kind: FileKind, bundle: Bundle, force: bool) -> list[str]:
+def _checked(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, force: bool) -> list[str]:
     """The file through its kind's one validator, for this robot's stack and wheel (once each)."""
-    target = Target(cfg.stack, wheel_of(cfg))
+    namespace = None
+    if kind is FileKind.CONTROLLER:  # its IMU broadcaster must read the IMU under the driver's namespace
+        from panther_ops.core.config.namespace import driver_namespace
+
+        namespace = driver_namespace(reads, cfg)[0]
+    target = Target(cfg.stack, wheel_of(cfg), namespace)
     return list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),
                              lambda: check_file(kind, str(bundle.main), bundle.data,
                                                 local=bundle.main, target=target, force=force)))
@@ -103,7 +108,7 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
     """Push ``bundle`` as ``kind`` (not joy2twist) onto the robot ``cfg`` describes: the files
     to write, checked by their kind's validator; the mount and the launch argument are made in
     ``cfg`` (the caller's plan writes compose.yaml)."""
-    warnings = _checked(cfg, kind, bundle, force)
+    warnings = _checked(reads, cfg, kind, bundle, force)
     forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
@@ -118,7 +123,7 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         arg = cf.launch_arg or ""
         robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
         name = bundle.main.name
-        if cfg.tree_mounted and reads.file(cf.robot_path) is not None:
+        if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:
             name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
             arg = ""
         main_data = bundle.data
@@ -153,6 +158,7 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         if cfg.host_path_of(mount_dst) != mount_src:
             cfg.compose.add_volume(mount_src, mount_dst, ro=True)
     if arg:
+        arg = spec(arg).name_for(cfg.stack)  # the name this stack declares (2.2: animations_config_path)
         w, v = edit_args(cfg, {arg: main_container}, [], force)
         warnings += w
         contains = v.cmd_contains

@@ -29,13 +29,16 @@ def _value_text(value: Any) -> str:
     return str(value)
 
 
-def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], force: bool) -> tuple[list[str], Verify]:
-    """Apply argument changes to ``cfg.compose`` (in memory); returns warnings and the check."""
+def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], force: bool,
+              robot_model: str | None = None) -> tuple[list[str], Verify]:
+    """Apply argument changes to ``cfg.compose`` (in memory); returns warnings and the check.
+    ``robot_model``: the robot's ROBOT_MODEL_NAME (`robot_model.env_robot_model`), where read."""
     warnings: list[str] = []
     contains: list[str] = []
     lacks: list[str] = []
     if sets:
-        change = set_launch_args(cfg.compose, {k: _value_text(v) for k, v in sets.items()}, force=force)
+        change = set_launch_args(cfg.compose, {k: _value_text(v) for k, v in sets.items()}, force=force,
+                                 robot_model=robot_model)
         warnings.extend(change.warnings)
         contains.extend(f"{a.name}:={a.value}" for a in change.args)
     for key in unsets:
@@ -73,16 +76,19 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
     that share one get the same edit. A new ``namespace`` warns of the places that keep
     the old one (``everywhere``: changes them in the same plan, see namespace_follow).
     """
+    model = None
     if "wheel_type" in sets or "wheel_type" in unsets:
+        from panther_ops.core.config.robot_model import env_robot_model
         from panther_ops.core.config.wheel_change import needs_migration
 
         cfg = parse_config(raw, reads.stack)
+        model = env_robot_model(reads, cfg.stack)  # WH05 is the Lynx wheel: the model decides
         new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack)
         if needs_migration(cfg, new_wheel):
-            return _plan_wheel_change(reads, cfg, new_wheel, sets, unsets, force)
+            return _plan_wheel_change(reads, cfg, new_wheel, sets, unsets, force, model)
     key = (raw, reads.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force,
-           everywhere)
-    out = _ARGS.get(key, lambda: _edit_args_of(raw, reads.stack, sets, unsets, force, everywhere))
+           everywhere, model)
+    out = _ARGS.get(key, lambda: _edit_args_of(raw, reads.stack, sets, unsets, force, everywhere, model))
     edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
     warnings, summary = list(out.warnings), out.summary
     for path in out.env_files:
@@ -102,7 +108,7 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
 
 
 def _plan_wheel_change(reads: Reads, cfg: RobotConfig, new_wheel: str, sets: Mapping[str, Any],
-                       unsets: list[str], force: bool) -> RobotPlan:
+                       unsets: list[str], force: bool, model: str | None = None) -> RobotPlan:
     """A wheel type change (set, or unset back to the stack's default) that migrates the custom
     controller file in the same plan."""
     from panther_ops.core.config.wheel_change import migrate, point_at
@@ -110,17 +116,17 @@ def _plan_wheel_change(reads: Reads, cfg: RobotConfig, new_wheel: str, sets: Map
     change = migrate(reads, cfg, new_wheel)
     assert change is not None
     old_args = dict(cfg.compose.args)
-    warnings, verify = edit_args(cfg, {**sets, **point_at(cfg, change)}, unsets, force)
+    warnings, verify = edit_args(cfg, {**sets, **point_at(cfg, change)}, unsets, force, model)
     summary = f"{_args_summary(cfg, old_args)}; {change.summary}"
     return compose_plan(reads.robot, cfg, summary, [*change.warnings, *warnings], [verify],
                         _noop_args(sets, unsets), extra=change.edits)
 
 
 def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any], unsets: list[str],
-                  force: bool, everywhere: bool = False) -> _ArgsOutcome:
+                  force: bool, everywhere: bool = False, model: str | None = None) -> _ArgsOutcome:
     cfg = parse_config(raw, stack_setting)
     old_args = dict(cfg.compose.args)
-    warnings, verify = edit_args(cfg, sets, unsets, force)
+    warnings, verify = edit_args(cfg, sets, unsets, force, model)
     summary = _args_summary(cfg, old_args)
     also: tuple[str, ...] = ()
     env_files: tuple[str, ...] = ()
@@ -133,6 +139,18 @@ def _edit_args_of(raw: ComposeRead, stack_setting: str, sets: Mapping[str, Any],
             summary += "; also " + ", ".join(follow.changed)
     return _ArgsOutcome(cfg.compose.text().encode(), summary, (*warnings, *cfg.compose.notes), verify, cfg.service,
                         cfg.stack.label(), also, env_files)
+
+
+def _imu_warnings(reads: Reads, cfg: RobotConfig, ctrl: ControllerConfig, path: str) -> list[str]:
+    """The robot's own controller file, edited in place: what its IMU broadcaster does under the
+    driver's namespace (the edit does not change it; a template-made file is the stock one)."""
+    from panther_ops.core.config.namespace import driver_namespace
+    from panther_ops.core.kinds.controller_imu import imu_findings
+
+    found = imu_findings(ctrl.doc.to_plain(), cfg.stack, driver_namespace(reads, cfg)[0])
+    fix = f"; push a corrected file: panther-ops config push FILE --as controller ({found.hint})" if found.hint else ""
+    return [f"{path}: {e} (already so on the robot){fix}" for e in found.errors] + \
+        [f"{path}: {w}" for w in found.warnings]
 
 
 def _args_summary(cfg: RobotConfig, old: Mapping[str, str]) -> str:
@@ -186,15 +204,17 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
             f"controller_config_path:={container_path} is not a file mounted from the robot",
             hint="push a controller file first: panther-ops config push FILE --as controller",
         )
-    if host_path is None and cfg.tree_mounted:  # 2.2: the tree's file is the one in use
+    if host_path is None and cfg.reads_from_tree(cf):  # 2.2: the tree's file is the one in use
         host_path, container_path = cf.robot_path, None
     if host_path is None:
         host_path, container_path = cf.robot_path, cf.container_path
     before = reads.file(host_path)
+    robot_file = False
     if migrated is not None and migrated.host_path == host_path:
         ctrl = migrated.controller
     elif before is not None:
         ctrl = ControllerConfig.parse(before.decode(), cfg.stack, wheel, path=host_path, force=force)
+        robot_file = True
     else:
         ctrl = ControllerConfig.default(cfg.stack, wheel if wheel != "custom" else "WH01")
     changes = []
@@ -203,6 +223,8 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
         changes.append(change)
         warnings.extend(change.warnings)
     warnings.extend(ctrl.doc.notes)
+    if robot_file:
+        warnings.extend(_imu_warnings(reads, cfg, ctrl, host_path))
     after = ctrl.text().encode()
     edits = [] if after == before else [FileEdit(host_path, before, after)]
     contains: tuple[str, ...] = ()

@@ -38,7 +38,7 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
         wheel = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
         cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
         cpath = args.get("controller_config_path")
-        host = cfg.host_path_of(cpath) if cpath else (cf.robot_path if cfg.tree_mounted else None)
+        host = cfg.host_path_of(cpath) if cpath else (cf.robot_path if cfg.reads_from_tree(cf) else None)
         text = None
         if host:
             try:

@@ -4,12 +4,13 @@ files" procedure as one command, and its inverse.
 push: upload the file under ``/home/husarion/config/<package>/...`` (the 2.2 layout, used on
 every version), mount it into the driver container and point the launch argument at it
 (2.0/2.1); on 2.2, whose ``~/config`` tree is mounted at ``/config`` and read through
-``common_dir_path``, overwrite the tree's file (or, where the tree has no such file, set the
-argument to it). A BT project brings the XML files its ``.btproj`` includes; a user
+``common_dir_path``, overwrite the tree's file where the stack reads that file from the tree
+(`ArgSpec.tree_since`: not the wheel file, nor 2.2.0's animations, which come from the image),
+else set the argument to the pushed file. A BT project brings the XML files its ``.btproj`` includes; a user
 animations file brings the images it references.
 
-pull: the file in use: the mounted one, else the 2.2 tree's, else the default inside the
-robot's own image, else panther-ops' template for that version.
+pull: the file in use: the mounted one, else the 2.2 tree's (where the stack reads it from the
+tree), else the default inside the robot's own image, else panther-ops' template for that version.
 """
 
 from __future__ import annotations
@@ -137,7 +138,7 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
             host = cfg.host_path_of(current)
             if host and (data := _read(ctx, host)) is not None:
                 return data, f"{host} (mounted, {name}:={current})"
-    if cfg.tree_mounted and (data := _read(ctx, cf.robot_path)) is not None:
+    if cfg.reads_from_tree(cf) and (data := _read(ctx, cf.robot_path)) is not None:
         return data, f"{cf.robot_path} (config tree)"
     from_image = _from_image(ctx, cfg, cf.package, cf.filename)
     if from_image is not None:

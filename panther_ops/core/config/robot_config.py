@@ -10,7 +10,7 @@ import posixpath
 from dataclasses import dataclass
 
 from panther_ops.core.config.compose import ComposeFile
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
+from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigFile
 from panther_ops.core.stack import Stack, stack_from_version
 
 
@@ -56,6 +56,25 @@ class RobotConfig:
     def tree_mounted(self) -> bool:
         """The 2.2 config tree (``~/config`` at ``/config``) is mounted into the driver."""
         return self.host_path_of(CONTAINER_CONFIG_DIR) == ROBOT_CONFIG_DIR
+
+    @property
+    def tree_read(self) -> bool:
+        """The driver's defaults can come from the tree: it is mounted and ``common_dir_path``
+        names it (the launch files read ``<common_dir_path>/<package>/...`` only when it is set)."""
+        common = self.compose.args.get("common_dir_path", "").rstrip("/")
+        return self.tree_mounted and bool(common) and self.host_path_of(common) == ROBOT_CONFIG_DIR
+
+    def reads_from_tree(self, cf: ConfigFile) -> bool:
+        """The driver uses ``cf``'s copy in the tree: no argument names another file, and the
+        stack reads that argument's default under common_dir_path (`ArgSpec.tree_since`: e.g. not
+        the wheel file, nor 2.2.0's animations, which come from the image)."""
+        if not cf.launch_arg or not self.tree_read:
+            return False
+        from panther_ops.core.config.launch_args import spec
+
+        s = spec(cf.launch_arg)
+        current = self.compose.args.get(s.name_for(self.stack))
+        return s.default_in_tree(self.stack) and current in (None, cf.container_path)
 
 
 @dataclass(frozen=True)

@@ -8,10 +8,13 @@
   and ``port`` parameters instead (the image's own demo form). Only that service is
   recreated and checked.
 - panther_ros 2.1.1+ and husarion_ugv 2.2: ``launch_nmea_gps:=True`` on the driver. A port
-  other than 5000 needs the NMEA parameters file: on 2.2 panther-ops writes
-  ``~/config/husarion_ugv_localization/config/nmea_navsat.yaml`` (in the mounted config tree)
-  and passes ``nmea_params_path:=/config/...``; panther_ros 2.1.1 has no argument for that
-  file (use ``--container``).
+  other than 5000 needs the NMEA parameters file, passed by the argument the NMEA launch file
+  (included by localization) declares: panther_ros 2.1.1's ``params_file``
+  (panther_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py; panther-ops writes
+  ``~/config/panther_localization/config/nmea_navsat_params.yaml`` and mounts it read-only at
+  ``/config/...``), husarion_ugv 2.2's ``nmea_params_path``
+  (husarion_ugv_ros@2.2.2:husarion_ugv_localization/launch/nmea_navsat.launch.py; the file
+  ``~/config/husarion_ugv_localization/config/nmea_navsat.yaml`` in the mounted config tree).
 
 ``disable`` takes back exactly what ``enable`` adds: the service (its container is stopped
 and removed), or the argument, the parameters path and the file -- an enable followed by a
@@ -26,7 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.launch_args import bool_word
+from panther_ops.core.config.launch_args import bool_word, spec
 from panther_ops.core.config.planners import edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.inventory_desired import IP_RULE, nmea_ip, nmea_namespace
@@ -44,8 +47,11 @@ DEFAULT_PORT = 5000
 DEFAULT_IP = "10.15.20.2"
 """The Built-in Computer's address the router forwards to (panther-stack.md section 4)."""
 LAUNCH_FILE = "/husarion_utils/nmea_navsat.launch.py"
-PARAMS_PACKAGE = "husarion_ugv_localization"
-PARAMS_NAME = "nmea_navsat.yaml"
+PARAMS_FILES = {False: ("panther_localization", "nmea_navsat_params.yaml"),
+                True: ("husarion_ugv_localization", "nmea_navsat.yaml")}
+"""(package, file) of the NMEA parameters file by family (husarion_ugv: True), as the image names it."""
+PARAMS_ARG = "params_file"
+"""Its launch argument's catalogue key (2.2: ``nmea_params_path``)."""
 
 
 @dataclass(frozen=True)
@@ -107,22 +113,34 @@ def service_check(namespace: str, opts: GpsOptions) -> Verify:
 
 
 def params_text(opts: GpsOptions) -> str:
-    """The NMEA driver's parameters file (husarion_ugv 2.2's nmea_navsat.yaml keys)."""
+    """The NMEA driver's parameters file: the keys and types of the image's own
+    (panther_ros@2.1.1:panther_localization/config/nmea_navsat_params.yaml,
+    husarion_ugv_ros@2.2.0:husarion_ugv_localization/config/nmea_navsat.yaml) with ip and port
+    as asked. ``timeout_sec`` stays an integer: nmea_socket_driver declares it with the
+    default 2, and rclpy refuses a double for an integer parameter."""
     return (
         "# NMEA GPS driver parameters (written by panther-ops gps enable)\n"
         "/**:\n"
-        "  ros__parameters:\n"
-        f"    ip: {opts.ip}\n"
-        f"    port: {opts.port}\n"
-        "    buffer_size: 4096\n"
-        "    timeout_sec: 2.0\n"
+        "  nmea_navsat_driver:\n"
+        "    ros__parameters:\n"
+        f"      ip: {opts.ip}\n"
+        f"      port: {opts.port}\n"
+        "      buffer_size: 4096\n"
+        "      timeout_sec: 2\n"
     )
 
 
 def _params_paths(cfg: RobotConfig) -> tuple[str, str]:
-    """(robot path, container path) of the params file in 2.2's config tree."""
-    rel = f"{PARAMS_PACKAGE}/config/{PARAMS_NAME}"
+    """(robot path, container path) of the params file: ``~/config/<package>/config/<file>``, seen
+    at ``/config/...`` (2.2: the mounted tree; 2.1.1: the file's own read-only mount)."""
+    package, name = PARAMS_FILES[cfg.stack.family is Family.HUSARION_UGV]
+    rel = f"{package}/config/{name}"
     return cfg.resolve(f"~/config/{rel}"), f"/config/{rel}"
+
+
+def _params_arg(cfg: RobotConfig) -> str:
+    """The name the robot's stack declares for the params file (params_file, nmea_params_path)."""
+    return spec(PARAMS_ARG).name_for(cfg.stack)
 
 
 def uses_container(cfg: RobotConfig, opts: GpsOptions) -> bool:
@@ -192,20 +210,34 @@ def _enable_service(cfg: RobotConfig, namespace: str, opts: GpsOptions) -> Chang
                   [service_check(namespace, opts)], [], [], data)
 
 
+def _take_back_params(reads: Reads, cfg: RobotConfig) -> tuple[list[str], list[FileEdit]]:
+    """The params argument, mount and file `gps enable` wrote (edits ``cfg.compose``): what to unset
+    and the file to delete (only panther-ops' own, recognised by its first line)."""
+    host_path, container_path = _params_paths(cfg)
+    if cfg.compose.args.get(_params_arg(cfg)) != container_path:
+        return [], []
+    extra: list[FileEdit] = []
+    before = reads.file(host_path)
+    if before is not None and before.startswith(params_text(GpsOptions()).splitlines()[0].encode()):
+        extra.append(FileEdit(host_path, before, None))
+    if cfg.stack.family is not Family.HUSARION_UGV and cfg.host_path_of(container_path) == host_path:
+        cfg.compose.remove_volume(container_path)
+    return [_params_arg(cfg)], extra
+
+
 def _enable_argument(reads: Reads, cfg: RobotConfig, opts: GpsOptions) -> Change:
     if SERVICE in cfg.compose.services():
         raise UsageError(f"compose.yaml already has the {SERVICE} service",
                          hint="panther-ops gps disable first, or pass --container to keep the service")
     sets: dict[str, Any] = {"launch_nmea_gps": bool_word(cfg.stack, True)}
     extra: list[FileEdit] = []
+    unsets: list[str] = []
     data: dict[str, Any] = {"mode": "argument", "service": cfg.service, "port": opts.port, "ip": opts.ip}
-    if not opts.default_socket:
-        if cfg.stack.family is not Family.HUSARION_UGV:
-            raise UsageError(
-                f"{cfg.stack.label()} has no launch argument for the NMEA parameters file "
-                f"(nmea_params_path is husarion_ugv 2.2+): cannot use udp {opts.ip}:{opts.port}",
-                hint="pass --container to run the nmea-gps service instead, or keep port 5000")
-        if not cfg.tree_mounted:
+    if opts.default_socket:  # the image's own params (port 5000): a params file of an earlier enable goes
+        unsets, extra = _take_back_params(reads, cfg)
+    else:
+        ugv = cfg.stack.family is Family.HUSARION_UGV
+        if ugv and not cfg.tree_mounted:
             raise UsageError("the config tree (~/config at /config) is not mounted in the driver",
                              hint="the NMEA parameters file goes to ~/config/husarion_ugv_localization/config")
         host_path, container_path = _params_paths(cfg)
@@ -213,10 +245,12 @@ def _enable_argument(reads: Reads, cfg: RobotConfig, opts: GpsOptions) -> Change
         after = params_text(opts).encode()
         if after != before:
             extra.append(FileEdit(host_path, before, after, 0o644))
-        sets["nmea_params_path"] = container_path
+        if not ugv and cfg.host_path_of(container_path) != host_path:
+            cfg.compose.add_volume(host_path, container_path, ro=True)
+        sets[_params_arg(cfg)] = container_path
         data["params_file"] = host_path
-    warnings, verify = edit_args(cfg, sets, [], False)
-    words = " ".join(f"{k}:={v}" for k, v in sets.items())
+    warnings, verify = edit_args(cfg, sets, unsets, False)
+    words = " ".join([*(f"{k}:={v}" for k, v in sets.items()), *(f"unset {k}" for k in unsets)])
     return Change(f"{words} on {cfg.service}", f"{cfg.service} already runs with {words}", (cfg.service,),
                   [verify], extra, warnings, data)
 
@@ -235,12 +269,8 @@ def plan_disable(raw: ComposeRead, reads: Reads) -> RobotPlan:
         done.append(f"remove service {SERVICE}")
     if cfg.stack.version >= (2, 1, 1):
         unsets = [k for k in ("launch_nmea_gps",) if k in cfg.compose.args]
-        host_path, container_path = _params_paths(cfg)
-        if cfg.compose.args.get("nmea_params_path") == container_path:
-            unsets.append("nmea_params_path")
-            before = reads.file(host_path)
-            if before is not None and before.startswith(params_text(GpsOptions()).splitlines()[0].encode()):
-                extra.append(FileEdit(host_path, before, None))
+        params, extra = _take_back_params(reads, cfg)
+        unsets += params
         if unsets:
             _w, check = edit_args(cfg, {}, unsets, False)
             recreate, verify = (cfg.service,), [check]

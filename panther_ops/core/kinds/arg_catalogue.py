@@ -61,6 +61,11 @@ class ArgSpec:
         aliases: other accepted input names, each with a note shown to the operator.
         sim_only_until: on versions up to this one the argument only matters in simulation.
         allow_none: the literal ``None`` disables the feature (components_config_path).
+        tree_since: from this version on (husarion_ugv 2.2+) the default is read under
+            ``common_dir_path`` -- the robot's ``~/config`` tree, mounted at ``/config`` -- when
+            that argument is set; None (or an older stack): from the image (``$(find <package>)``).
+            A file in the tree that the stack reads from the image is not used unless the
+            argument names it.
     """
 
     key: str
@@ -75,6 +80,7 @@ class ArgSpec:
     aliases: tuple[tuple[str, str], ...] = ()
     sim_only_until: Version | None = None
     allow_none: bool = False
+    tree_since: Version | None = None
 
     def available(self, stack: Stack) -> bool:
         v = stack.version
@@ -100,6 +106,10 @@ class ArgSpec:
     def default_for(self, stack: Stack) -> str:
         return self.default(stack) if callable(self.default) else self.default
 
+    def default_in_tree(self, stack: Stack) -> bool:
+        """The stack reads this argument's default file under ``common_dir_path`` (the ~/config tree)."""
+        return self.tree_since is not None and stack.version >= self.tree_since and self.available(stack)
+
     def availability(self) -> str:
         since = ".".join(map(str, self.since))
         if self.until is None:
@@ -116,27 +126,38 @@ def _ugv(stack: Stack) -> bool:
     return stack.family is Family.HUSARION_UGV
 
 
-def _common(pkg: str, rel: str) -> Callable[[Stack], str]:
-    """2.0-2.1: ``$(find panther_<pkg>)/rel``; 2.2: under common_dir_path or the package share."""
+def _tree(pkg: str, rel: str) -> str:
+    """A 2.2 default read under common_dir_path: ``PythonExpression([common_dir_path,
+    "/husarion_ugv_<pkg>' if common_dir_path else", FindPackageShare(...)])`` joined with ``rel``."""
+    return f"<common_dir_path>/husarion_ugv_{pkg}/{rel} (common_dir_path set; else $(find husarion_ugv_{pkg})/{rel})"
+
+
+def _common(pkg: str, rel: str, tree_since: Version | None = (2, 2, 0)) -> Callable[[Stack], str]:
+    """2.0-2.1: ``$(find panther_<pkg>)/rel``; 2.2: under common_dir_path from ``tree_since``
+    (else, and before it, the package share ``$(find husarion_ugv_<pkg>)/rel``)."""
 
     def default(stack: Stack) -> str:
-        if _ugv(stack):
-            return f"<common_dir_path or $(find husarion_ugv_{pkg})>/husarion_ugv_{pkg}/{rel}"
-        return f"$(find panther_{pkg})/{rel}"
+        if not _ugv(stack):
+            return f"$(find panther_{pkg})/{rel}"
+        if tree_since is not None and stack.version >= tree_since:
+            return _tree(pkg, rel)
+        return f"$(find husarion_ugv_{pkg})/{rel}"
 
     return default
 
 
 def _shutdown_default(stack: Stack) -> str:
     if _ugv(stack):
-        return "<common_dir_path or $(find husarion_ugv_manager)>/husarion_ugv_manager/config/shutdown_hosts.yaml"
+        return _tree("manager", "config/shutdown_hosts.yaml")
     if stack.version >= (2, 1, 1):
         return "$(find panther_manager)/config/shutdown_hosts_config.yaml"
     return "$(find panther_bringup)/config/shutdown_hosts.yaml"
 
 
-def _bt_default(kind: str) -> Callable[[Stack], str]:
+def _bt_default(kind: str, tree_since: Version | None) -> Callable[[Stack], str]:
     def default(stack: Stack) -> str:
+        if _ugv(stack) and tree_since is not None and stack.version >= tree_since:
+            return _tree("manager", f"behavior_trees/{kind}BT.btproj")
         if _ugv(stack):
             return f"$(find husarion_ugv_manager)/behavior_trees/{kind}BT.btproj"
         return f"$(find panther_manager)/behavior_trees/Panther{kind}BT.btproj"
@@ -149,6 +170,7 @@ def _battery_default(stack: Stack) -> str:
 
 
 _V2_2 = _v("2.2.0")
+_V2_2_2 = _v("2.2.2")
 
 
 _BOOL = ArgType.BOOL
@@ -165,18 +187,24 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         extra_choices=((_V2_2, ("WH05",)),),
         default="WH01",
     ),
+    # always the image's: panther_ros@2.0.4, @2.1.1:panther_controller/launch/controller.launch.py;
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/launch/controller.launch.py (description_pkg)
     ArgSpec(
         "wheel_config_path",
         ArgType.PATH,
         "wheel description YAML (needed with wheel_type custom)",
-        default=_common("description", "config/{wheel_type}.yaml"),
+        default=_common("description", "config/{wheel_type}.yaml", tree_since=None),
     ),
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/launch/controller.launch.py
+    # (husarion_ugv_controller_common_dir)
     ArgSpec(
         "controller_config_path",
         ArgType.PATH,
         "ros2_control controller YAML: velocity/acceleration limits (needed with wheel_type custom)",
         default=_common("controller", "config/{wheel_type}_controller.yaml"),
+        tree_since=_V2_2,
     ),
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/launch/controller.launch.py (description_common_dir)
     ArgSpec(
         "components_config_path",
         ArgType.PATH,
@@ -184,6 +212,7 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         since=_v("2.0.2"),
         default=_common("description", "config/components.yaml"),
         allow_none=True,
+        tree_since=_V2_2,
     ),
     ArgSpec(
         "battery_config_path",
@@ -192,27 +221,30 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         default=_battery_default,
         sim_only_until=_v("2.1.2"),
     ),
+    # panther_ros@2.0.4, @2.1.1:panther_lights/launch/lights.launch.py; husarion_ugv_ros@2.2.0 (and 2.2.1):
+    # husarion_ugv_lights/launch/lights.launch.py reads it from the image (husarion_ugv_lights_pkg),
+    # husarion_ugv_ros@2.2.2: from common_dir_path (husarion_ugv_lights_common_dir)
     ArgSpec(
         "led_config_file",
         ArgType.PATH,
         "LED panels, segments and default animations (2.2: animations_config_path)",
         names=((_V2_2, "animations_config_path"),),
         default=lambda s: (
-            "<common_dir_path or $(find husarion_ugv_lights)>/husarion_ugv_lights/config/{robot_model}_animations.yaml"
+            _common("lights", "config/{robot_model}_animations.yaml", tree_since=_V2_2_2)(s)
             if _ugv(s)
             else "$(find panther_lights)/config/led_config.yaml"
         ),
+        tree_since=_V2_2_2,
     ),
+    # panther_ros@2.0.4, @2.1.1:panther_lights/launch/lights.launch.py (""); husarion_ugv_ros@2.2.0, @2.2.2:
+    # husarion_ugv_lights/launch/lights.launch.py (husarion_ugv_lights_common_dir)
     ArgSpec(
         "user_led_animations_file",
         ArgType.PATH,
         "user LED animations YAML (top key user_animations; 2.2: user_led_animations_path)",
         names=((_V2_2, "user_led_animations_path"),),
-        default=lambda s: (
-            "<common_dir_path or $(find husarion_ugv_lights)>/husarion_ugv_lights/config/user_animations.yaml"
-            if _ugv(s)
-            else ""
-        ),
+        default=lambda s: _tree("lights", "config/user_animations.yaml") if _ugv(s) else "",
+        tree_since=_V2_2,
         aliases=(
             (
                 "user_animations_file",
@@ -238,26 +270,32 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         until=_v("2.0.1"),
         default="$(find panther_bringup)/config/ekf.yaml",
     ),
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_manager/launch/manager.launch.py (husarion_ugv_manager_common_dir)
     ArgSpec(
         "shutdown_hosts_config_path",
         ArgType.PATH,
         "hosts (User Computer...) shut down with the robot",
         default=_shutdown_default,
+        tree_since=_V2_2,
     ),
     ArgSpec("disable_manager", _BOOL, "do not start the lights/safety managers", since=_v("2.0.1"), default="False"),
+    # panther_ros@2.0.4:panther_manager/launch/manager_bt.launch.py, @2.1.1:panther_manager/launch/manager.launch.py;
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_manager/launch/manager.launch.py: lights from common_dir_path
+    # (husarion_ugv_manager_common_dir), safety from the image (husarion_ugv_manager_pkg)
     ArgSpec(
         "lights_bt_project_path",
         ArgType.PATH,
         "Groot2 project of the lights behavior tree",
         since=_v("2.0.2"),
-        default=_bt_default("Lights"),
+        default=_bt_default("Lights", _V2_2),
+        tree_since=_V2_2,
     ),
     ArgSpec(
         "safety_bt_project_path",
         ArgType.PATH,
         "Groot2 project of the safety/shutdown behavior trees (robot version >= 1.2)",
         since=_v("2.0.2"),
-        default=_bt_default("Safety"),
+        default=_bt_default("Safety", None),
     ),
     ArgSpec("fuse_gps", _BOOL, "fuse GPS (gps/fix) in the localization", since=_v("2.0.2"), default="False"),
     ArgSpec(
@@ -268,12 +306,15 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("relative", "enu"),
         default="relative",
     ),
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_localization/launch/localization.launch.py
+    # (husarion_ugv_localization_common_dir)
     ArgSpec(
         "localization_config_path",
         ArgType.PATH,
         "robot_localization params",
         since=_v("2.0.2"),
         default=_common("localization", "config/{localization_mode}_localization[_with_gps].yaml"),
+        tree_since=_V2_2,
     ),
     ArgSpec(
         "launch_nmea_gps",
@@ -307,19 +348,38 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("panther", "lynx"),
         default="panther",
     ),
+    # declared by the NMEA launch file that localization includes when launch_nmea_gps is true:
+    # panther_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py (params_file, device_namespace);
+    # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_localization/launch/nmea_navsat.launch.py (nmea_params_path,
+    # the image's file; the device namespace is fixed to gps)
     ArgSpec(
-        "nmea_params_path",
+        "params_file",
         ArgType.PATH,
-        "NMEA GPS driver params (nmea_navsat.yaml)",
-        since=_V2_2,
-        default="$(find husarion_ugv_localization)/config/nmea_navsat.yaml",
+        "NMEA GPS driver params (used with launch_nmea_gps; 2.2: nmea_params_path)",
+        since=_v("2.1.1"),
+        names=((_V2_2, "nmea_params_path"),),
+        default=lambda s: (
+            "$(find husarion_ugv_localization)/config/nmea_navsat.yaml"
+            if _ugv(s)
+            else "$(find panther_localization)/config/nmea_navsat_params.yaml"
+        ),
     ),
+    ArgSpec(
+        "device_namespace",
+        ArgType.NAMESPACE,
+        "namespace of the NMEA GPS driver's topics and frame (used with launch_nmea_gps): <ns>/<it>/fix",
+        since=_v("2.1.1"),
+        until=_v("2.1.2"),
+        default="gps",
+    ),
+    # the image's: husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_diagnostics/launch/system_monitor.launch.py
+    # (FindPackageShare; bringup does not pass common_dir_path to it)
     ArgSpec(
         "system_monitor_config_path",
         ArgType.PATH,
         "system monitor params",
         since=_V2_2,
-        default=_common("diagnostics", "config/system_monitor.yaml"),
+        default=_common("diagnostics", "config/system_monitor.yaml", tree_since=None),
     ),
 )
 

@@ -3,7 +3,8 @@
 The limits are checked by `controller_limits.validate_limit`, the check `config set
 controller.<key>` makes, so a pushed file and a set value get the same message. A file
 value must also have the type ROS declares: a double parameter written as an integer
-(``max_velocity: 2``) makes the controller refuse to load.
+(``max_velocity: 2``) makes the controller refuse to load. The IMU broadcaster must read
+the sensor the robot's URDF declares under the robot's namespace (`controller_imu`).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.core.kinds.common import text_of
+from panther_ops.core.kinds.controller_imu import imu_findings
 from panther_ops.core.kinds.controller_limits import (
     BOOL_PARAMS,
     CONTROLLER_KEYS,
@@ -108,6 +110,13 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
         raise FileKindError(source, WHAT, ["not a controller file: the top level is not a mapping"])
     check = _Check(target, force)
     if target.stack is not None:
+        imu = imu_findings(plain, target.stack, target.namespace)
+        if force:
+            check.warnings.extend(e + " (forced)" for e in imu.errors)
+        else:
+            check.errors.extend(imu.errors)
+            check.hint = imu.hint or check.hint
+        check.warnings.extend(imu.warnings)
         try:
             top, key = locate(doc, target.stack, force=force)
             check.warnings.extend(doc.notes)

@@ -45,6 +45,8 @@ class Target:
 
     stack: Stack | None = None
     wheel_type: str | None = None
+    namespace: str | None = None
+    """The driver's ROS namespace ("": none); the controller file's IMU broadcaster depends on it."""
 
 
 class FileKindError(UsageError):

@@ -117,6 +117,21 @@ def _triple(where: str, value: Any) -> list[str]:
 
 
 BATTERY_KEYS = ("simulate_discharging", "capacity", "initial_charge_percentage", "charging_time", "power_load")
+PERCENT_UNTIL = (2, 0, 0)
+"""The last version whose battery file takes percent (0-100) and no capacity:
+panther_ros@2.0.0:panther_description/urdf/gazebo.urdf.xacro computes
+``20.0*initial_charge_percentage/100.0``; from panther_ros@2.0.1 (and at 2.0.4, 2.1.1,
+husarion_ugv_ros@2.2.2:husarion_ugv_description/urdf/common/gazebo.urdf.xacro) it is
+``initial_charge_percentage*capacity``: a 0-1 fraction."""
+
+
+def _battery_required(version: tuple[int, int, int]) -> tuple[str, ...]:
+    """The keys the robot's gazebo.urdf.xacro reads (``battery_config['<key>']``): xacro fails
+    on a missing one, and with it the robot description. 2.0.0 reads power_load only when
+    simulate_discharging is true and has no capacity."""
+    if version <= PERCENT_UNTIL:
+        return ("simulate_discharging", "initial_charge_percentage", "charging_time")
+    return BATTERY_KEYS
 
 
 def check_battery(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
@@ -129,20 +144,29 @@ def check_battery(source: str, data: bytes, local: Path | None, target: Target, 
     for key in ("capacity", "charging_time", "power_load"):
         _positive(doc, key, errors)
     stack = target.stack
-    percent = stack is not None and stack.family is not Family.HUSARION_UGV and stack.version < (2, 1, 0)
+    if stack is not None:
+        required = _battery_required(stack.version)
+        if stack.version <= PERCENT_UNTIL and doc.get("simulate_discharging") is True:
+            required = (*required, "power_load")
+        for key in required:
+            if key not in doc:
+                errors.append(f"{key} is required: {stack.label()}'s URDF reads it (gazebo.urdf.xacro); "
+                              "without it the robot description fails")
+    percent = stack is not None and stack.family is not Family.HUSARION_UGV and stack.version <= PERCENT_UNTIL
     top = 100.0 if percent or stack is None else 1.0
     if "initial_charge_percentage" in doc:
         value = doc["initial_charge_percentage"]
         if not is_number(value) or not math.isfinite(float(value)) or not 0 <= float(value) <= top:
-            scale = "0-100 (percent, panther_ros 2.0)" if top == 100.0 else "0-1 (a fraction, panther_ros 2.1)"
+            scale = ("0-100 (percent, panther_ros 2.0.0)" if top == 100.0
+                     else "0-1 (a fraction, panther_ros 2.0.1 and later)")
             errors.append(f"initial_charge_percentage={value!r} is outside {scale}")
     if errors:
         raise FileKindError(source, what, errors)
     notes: list[str] = []
     value = doc.get("initial_charge_percentage")
     if stack is None and isinstance(value, int | float) and not isinstance(value, bool) and 0 < value <= 1:
-        notes.append(f"initial_charge_percentage {float(value):g} reads as the 0-1 fraction of panther_ros 2.1.1+ "
-                     f"({float(value) * 100:g} %); panther_ros 2.0 takes percent (0-100)")
+        notes.append(f"initial_charge_percentage {float(value):g} reads as the 0-1 fraction of panther_ros 2.0.1+ "
+                     f"({float(value) * 100:g} %); panther_ros 2.0.0 takes percent (0-100)")
     if stack is None and doc.get("simulate_discharging") is False and doc.get("power_load"):  # sim battery check
         notes.append("simulate_discharging is false: the plugin uses power_load 0 W (the battery does not drain)")
     return notes
