@@ -90,8 +90,8 @@ def test_container_port_and_namespace_on_204(capsys: pytest.CaptureFixture[str],
 
 
 @pytest.mark.parametrize(("argv", "says"), [
-    (["--port", "70000"], "--port 70000"),
-    (["--port", "0"], "--port 0"),
+    (["--port", "70000"], "'--port': '70000' is not a port"),  # the option's parser: ASCII digits, 1-65535
+    (["--port", "0"], "'--port': '0' is not a port"),
     (["--namespace", "my robot"], "--namespace"),
     (["--ip", "10.15.20"], "--ip"),
     (["--port", "5001"], "panther_ros 2.1.1 has no launch argument"),  # 2.1.1 without --container

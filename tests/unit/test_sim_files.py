@@ -141,3 +141,19 @@ def test_a_file_that_is_not_text_is_refused_naming_it(tmp_path: Path, capsys: py
     assert code == 2 and str(bad) in err and "not UTF-8 text" in err
     assert bad.read_bytes() == b"components:\n  - type: \xff\xfe\n"
     assert not (tmp_path / "components.yaml.panther-ops.bak").exists()
+
+
+def test_components_xyz_in_ascii_digits(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 23, finding 3: the components file kind and `sim gps add --xyz` take ASCII digits
+    only (float() takes '０.1', '1_0'; xacro and the URDF parser do not)."""
+    f = tmp_path / "c.yaml"
+    for xyz in ("０.1 0 0", "1_0 0 0", "0.1\u30000 0"):
+        content = f"components:\n  - type: LDR06\n    parent_link: cover_link\n    xyz: {xyz}\n"
+        f.write_text(content)
+        code, _out, err = run(capsys, "sim", "gps", "add", str(f), "--yes")
+        assert code == 2 and "components[0].xyz=" in err and f.read_text() == content, xyz
+    f.write_text(COMPONENTS.read_text())
+    code, _out, err = run(capsys, "sim", "gps", "add", str(f), "--xyz", "０.2 0 0", "--yes")
+    assert code == 2 and "--xyz '０.2 0 0'" in err and f.read_text() == COMPONENTS.read_text()
+    assert run(capsys, "sim", "gps", "add", str(f), "--xyz", "0.2  -1e-1 .05", "--yes")[0] == 0
+    assert "    xyz: 0.2 -1e-1 .05\n" in f.read_text()

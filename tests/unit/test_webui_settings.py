@@ -68,3 +68,13 @@ def test_inventory_desired_webui_is_checked(tmp_path: Path) -> None:
     assert f"{path}:7 [robots.r1.desired.webui.ros.domain-id]" in str(exc.value)
     assert "ros.domain-id='300' is not allowed: a whole number from 0 to 232" in str(exc.value)
     assert exc.value.exit_code is ExitCode.USAGE
+
+
+@pytest.mark.parametrize("value", ["８０８１", "\u0668\u0660\u0668\u0661", "8_081", " 8081x"])
+def test_numbers_in_ascii_digits_only(value: str) -> None:
+    """Issue 23, finding 3: the configure hook's ``^[0-9]+$`` is ASCII; re's ``\\d`` was not."""
+    for key in ("webui.port", "ros.domain-id"):
+        with pytest.raises(SettingError, match="ASCII digits") as exc:
+            validate({key: value})
+        assert exc.value.key == key
+

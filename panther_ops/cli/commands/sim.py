@@ -9,7 +9,7 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli.options import DryRun, Json, Yes
+from panther_ops.cli.options import DryRun, Json, Yes, real_number
 
 app = typer.Typer(help="Simulation files: the ANT02 (GPS) component, a world's spherical coordinates, the battery "
                        "plugin.", no_args_is_help=True)
@@ -113,7 +113,7 @@ def world_show(file: File, json_out: Json = False) -> int:
 
 
 def _opt(name: str, help_: str) -> Any:
-    return typer.Option(f"--{name}", help=help_)
+    return typer.Option(f"--{name}", parser=real_number(), help=help_)
 
 
 @world_app.command("set")

@@ -46,7 +46,7 @@ LAUNCH_FILE = "/husarion_utils/nmea_navsat.launch.py"
 PARAMS_PACKAGE = "husarion_ugv_localization"
 PARAMS_NAME = "nmea_navsat.yaml"
 _NAMESPACE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_IPV4 = re.compile(r"^(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)(\.(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)){3}$")
+_IPV4 = re.compile(r"^(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)(\.(25[0-5]|2[0-4]\d|1\d\d|[1-9]?\d)){3}$", re.ASCII)
 
 
 @dataclass(frozen=True)

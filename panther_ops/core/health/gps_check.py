@@ -17,6 +17,7 @@ from panther_ops.core.gps.status import (
     status_task,
 )
 from panther_ops.core.health.doctor import Finding
+from panther_ops.core.parse.numbers import port as parse_port
 from panther_ops.errors import OpsError
 
 WINDOW_S = 1.5
@@ -37,10 +38,10 @@ def wants_gps(desired: Any) -> bool:
 
 def gps_finding(ctx: RobotContext) -> Finding:
     gps = ctx.robot.desired.get("gps") or {}
-    port = gps.get("port", 5000)
     try:
-        result = status_task(StatusOptions(port=int(port), window_s=WINDOW_S))(ctx)
-    except (OpsError, ValueError, TypeError) as exc:
+        port = parse_port(gps.get("port", 5000))
+        result = status_task(StatusOptions(port=port, window_s=WINDOW_S))(ctx)
+    except (OpsError, ValueError, TypeError) as exc:  # NumberError: a port that is not one
         return Finding("gps", "warn", f"could not check: {exc}", "panther-ops gps status -r ROBOT")
     d = result.data
     verdict, detail = d.get("verdict", "?"), d.get("detail", result.message)

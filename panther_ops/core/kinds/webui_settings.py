@@ -112,8 +112,12 @@ def _check(key: str, value: str, dds_profiles: Collection[str] | None) -> str:
 
 
 def _integer(key: str, value: str, low: int, high: int) -> None:
-    if not re.fullmatch(r"\d{1,6}", value) or not low <= int(value) <= high:
-        raise SettingError(key, value, f"a whole number from {low} to {high}")
+    from panther_ops.core.parse.numbers import NumberError, int_in_range
+
+    try:
+        int_in_range(value, low, high)
+    except NumberError:
+        raise SettingError(key, value, f"a whole number from {low} to {high} in ASCII digits 0-9") from None
 
 
 DDS_ROOTS = ("dds", "profiles", "CycloneDDS")
