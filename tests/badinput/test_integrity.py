@@ -1,9 +1,11 @@
-"""Bad-input corpus, issue 23 (integrity of input): numbers that are not ASCII.
+"""Bad-input corpus, issue 23 (integrity of input): values already in a file, and numbers
+that are not ASCII.
 
+- A file that is wrong before the edit is refused by the edit that leaves the wrong value as
+  it was (the whole file is checked, not only the values given on the command line): the sim
+  world's spherical coordinates, a components entry, a shutdown hosts entry.
 - Numbers, ports and ids in ASCII digits only (``８０８１`` is 8081 to Python, not to ``snap
-  set``, docker compose or Gazebo): every file kind and command option that takes one, the
-  values already in a file an edit leaves as they were included (a components entry, a
-  shutdown hosts entry).
+  set``, docker compose or Gazebo): every file kind and command option that takes one.
 
 Each case: exit 2, the thing named, no traceback, every file byte-identical.
 """
@@ -31,6 +33,34 @@ def world_set(cid: str, content: str, argv: list[str], names: list[str], *, file
     return Case(f"world-{cid}", ["sim", "world", "set", "{tmp}/w.sdf", *argv, "--yes"],
                 ["{tmp}/w.sdf", *names] if file else names, files={"w.sdf": content})
 
+
+LAT = "<latitude_deg>53.1978</latitude_deg>"
+WORLD_FILE = [  # finding 2: values already in the file, the edit changing another one
+    world_set("lat-200", world(LAT, "<latitude_deg>200</latitude_deg>"), ["--longitude", "20"],
+              ["spherical_coordinates.latitude_deg='200'", "-90 to 90", "--latitude"]),
+    world_set("lat-dms", world(LAT, "<latitude_deg>53°11'52\"N</latitude_deg>"), ["--longitude", "20"],
+              ["spherical_coordinates.latitude_deg=", "degrees, minutes and seconds", "--latitude 53.197778"]),
+    world_set("lon-dms-west", world("<longitude_deg>18.3732", "<longitude_deg>18°22'24\"W"), ["--elevation", "5"],
+              ["longitude_deg=", "--longitude -18.373333"]),
+    world_set("lon-fullwidth", world("<longitude_deg>18.3732", "<longitude_deg>１８.３７３２"), ["--latitude", "50"],
+              ["longitude_deg='１８.３７３２'", "ASCII digits", "--longitude"]),
+    world_set("elevation-nan", world("<elevation>0", "<elevation>nan"), ["--latitude", "50"],
+              ["spherical_coordinates.elevation='nan'", "--elevation"]),
+    world_set("lat-empty", world(LAT, "<latitude_deg></latitude_deg>"), ["--longitude", "20"],
+              ["spherical_coordinates.latitude_deg=''"]),
+    world_set("lat-twice", world(LAT, LAT + "\n      <latitude_deg>52.0</latitude_deg>"), ["--longitude", "20"],
+              ["spherical_coordinates.latitude_deg: given twice"]),
+    world_set("lat-twice-set", world(LAT, LAT + "\n      <latitude_deg>52.0</latitude_deg>"), ["--latitude", "20"],
+              ["spherical_coordinates.latitude_deg: given twice"]),
+    world_set("two-blocks", world("    <gravity>", "    <spherical_coordinates><latitude_deg>1</latitude_deg>"
+                                                    "</spherical_coordinates>\n    <gravity>"), ["--latitude", "20"],
+              ["spherical_coordinates: 2 blocks", "keep one"]),
+    world_set("heading-360+", world("<elevation>0</elevation>", "<elevation>0</elevation><heading_deg>400"
+                                                              "</heading_deg>"), ["--latitude", "20"],
+              ["heading_deg='400'", "-360 to 360", "--heading"]),
+    world_set("entity", "<!DOCTYPE sdf [<!ENTITY a \"1\">]>\n" + esc(WORLD.split("\n", 1)[1]), ["--latitude", "20"],
+              ["<!ENTITY>"]),
+]
 
 WORLD_OPTIONS = [  # finding 3 on the command line: the option's parser
     world_set("option-fullwidth", esc(WORLD), ["--latitude", "５３"], ["'--latitude'", "'５３'", "ASCII digits"],
@@ -133,7 +163,7 @@ INVENTORY_NUMBERS = [  # the inventory's versions and jump ports (also read by e
          inventory=esc("version: 1\nrobots:\n  r1: {host: panther-07, stack: \"２.1.1\"}\n")),
 ]
 
-CASES = WORLD_OPTIONS + SIM_GPS + HOSTS_FILE + WEBUI_SET + DESIRED + OPTIONS + INVENTORY_NUMBERS
+CASES = WORLD_FILE + WORLD_OPTIONS + SIM_GPS + HOSTS_FILE + WEBUI_SET + DESIRED + OPTIONS + INVENTORY_NUMBERS
 
 
 def test_the_corpus_is_unique() -> None:

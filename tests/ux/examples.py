@@ -119,6 +119,8 @@ EXPECTED_EXIT = {
     "panther-ops manager run --sim --scenario low_batery": 2,
     "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
     "panther-ops sim world set w.sdf --latitude 91 --yes": 2,
+    "panther-ops sim world set dms.sdf --longitude 21.0122 --yes": 2,
+    "panther-ops sim world show dms.sdf": 3,
     "panther-ops sim battery check bad_battery.yaml": 2,
     "panther-ops config rollback --file hosts.yaml --to 20261124T1244 --yes": 2,
     "panther-ops -i demo-fleet config push bad_pad.yaml --as joy2twist --all --yes": 2,

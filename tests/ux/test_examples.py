@@ -54,6 +54,7 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
                 tmp_path / "battery_plugin_config.yaml")
     (tmp_path / "my_world.sdf").write_text(WORLD)
     (tmp_path / "w.sdf").write_text(WORLD)
+    (tmp_path / "dms.sdf").write_text(WORLD.replace("53.1978", "53°11'52\"N"))  # docs/gps.md: refused, with the fix
     (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
     (tmp_path / "pad.yaml").write_text(JOY2TWIST)
     (tmp_path / "bad_pad.yaml").write_text(JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
