@@ -21,11 +21,12 @@ from panther_ops.core.fleet.inventory_values import (
     BadValue,
     address_value,
     check_secrets,
-    deep_merge,
+    merge_desired,
     plain,
     port_value,
     positive_seconds,
     relative_to,
+    setting_name,
     user_value,
 )
 from panther_ops.core.yaml.located import LineDict, LineList, load_yaml_file
@@ -269,6 +270,8 @@ class _Loader:
                 for sk, sv in m.items():
                     if isinstance(sv, (LineDict, LineList)) and k in ("launch_args", "controller"):
                         raise self.err(f"{k}.{sk} must be a single value", f, m, f"{key}.{k}.{sk}", sk)
+                if k in ("webui", "controller"):
+                    self.check_once(k, m, f, f"{key}.{k}")
                 if k == "webui":
                     self.check_webui(m, f, f"{key}.{k}")
             elif k == "image" and (not isinstance(v, str) or ":" not in v):
@@ -278,6 +281,18 @@ class _Loader:
             ):
                 raise self.err("shutdown_hosts must be a list of mappings (ip, username, ...)",
                                    f, d, f"{key}.{k}", k)
+
+    def check_once(self, block: str, m: LineDict, f: Path, key: str) -> None:
+        """Every setting of desired.webui / desired.controller named once: ``port`` and
+        ``webui.port`` in one block are refused (which one is meant is not known)."""
+        seen: dict[str, str] = {}
+        for sk, sv in m.items():
+            name = setting_name(block, str(sk))
+            if name in seen:
+                first = seen[name]
+                raise self.err(f"{first}={m[first]!r} and {sk}={sv!r} both set {name}", f, m, f"{key}.{sk}", sk,
+                               hint=f"keep one of them (in {key})")
+            seen[name] = str(sk)
 
     def check_webui(self, m: LineDict, f: Path, key: str) -> None:
         """desired.webui: the snap's keys (or their short names) with the configure hook's rules."""
@@ -310,13 +325,13 @@ class _Loader:
         own = self.fields(doc, f, f"robots.{name}")
         merged: dict[str, Any] = {**self.defaults, **own}
         groups = merged.get("groups", ())
-        desired: dict[str, Any] = deep_merge({}, self.defaults.get("desired", {}))
+        desired: dict[str, Any] = merge_desired({}, self.defaults.get("desired", {}))
         vars_: dict[str, Any] = dict(self.defaults.get("vars", {}))
         for g in groups:
             gd = self.groups.get(g, {})
-            desired = deep_merge(desired, plain(gd.get("desired", {})))
+            desired = merge_desired(desired, plain(gd.get("desired", {})))
             vars_.update(plain(gd.get("vars", {})))
-        desired = deep_merge(desired, own.get("desired", {}))
+        desired = merge_desired(desired, own.get("desired", {}))
         vars_.update(own.get("vars", {}))
         transport = merged.get("transport", "ssh")
         if transport == "local":
