@@ -8,7 +8,7 @@ from typing import Annotated, Any
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, TARGETS, OptBool, OptInt, OptStr, shared
+from panther_ops.cli.options import READ, TARGETS, OptBool, OptInt, OptStr, port_number, shared
 
 router_app = typer.Typer(
     help="The RUTX11 router's NMEA forwarding (REST API, through the robot's SSH connection).",
@@ -55,7 +55,8 @@ def router_set(
                                             help="Turn NMEA forwarding on (and the GNSS with it) or off.")] = None,
     hostname: Annotated[OptStr, typer.Option(
         "--hostname", help="Where the router sends NMEA (the Built-in Computer: 10.15.20.2).")] = None,
-    port: Annotated[OptInt, typer.Option("--port", help="UDP port the router sends NMEA to (5000).")] = None,
+    port: Annotated[OptInt, typer.Option("--port", parser=port_number(),
+                                                  help="UDP port the router sends NMEA to, 1-65535 (5000).")] = None,
     sentences: Annotated[OptStr, typer.Option(
         "--sentences", help="Forward exactly these sentence ids (e.g. GPGGA,GPRMC), the others not.")] = None,
 ) -> int:

@@ -26,14 +26,44 @@ if TYPE_CHECKING:
     from panther_ops.secret import Secret
 
 
-def finite(value: float | None) -> float | None:
-    """Option callback: a number of seconds or a percentage must be finite (click's float
-    ranges let ``nan`` through, and ``inf`` means "forever")."""
-    import math
+def _number_parser(name: str, parse: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    """An option's ``parser=`` around a `core.parse.numbers` helper: its refusal as click's
+    "Invalid value for '--opt'" (exit 2). ``name`` is click's type name (the metavar)."""
 
-    if value is not None and not math.isfinite(value):
-        raise typer.BadParameter(f"{value} is not a finite number")
-    return value
+    def convert(value: Any) -> Any:
+        from panther_ops.core.parse.numbers import NumberError
+
+        try:
+            return parse(value)
+        except NumberError as exc:
+            raise typer.BadParameter(f"{value!r} is not {exc}") from None
+
+    convert.__name__ = name
+    return convert
+
+
+def whole_number(low: int, high: int | None = None) -> Callable[[Any], int]:
+    """``parser=`` of an integer option or argument (a count, an id): ASCII digits, from
+    ``low`` to ``high`` (click's ``int`` takes any script's digits and ``1_000``)."""
+    from panther_ops.core.parse.numbers import whole
+
+    return _number_parser("integer", lambda value: whole(value, low, high))
+
+
+def port_number() -> Callable[[Any], int]:
+    """``parser=`` of a TCP/UDP port option: 1-65535 in ASCII digits."""
+    from panther_ops.core.parse.numbers import port
+
+    return _number_parser("integer", port)
+
+
+def real_number(low: float | None = None, high: float | None = None) -> Callable[[Any], float]:
+    """``parser=`` of a decimal option (seconds, Hz, degrees): ASCII digits, finite, from
+    ``low`` to ``high`` when given (click's ``float`` takes ``nan``, ``inf``, ``1_0`` and any
+    script's digits)."""
+    from panther_ops.core.parse.numbers import decimal
+
+    return _number_parser("float", lambda value: decimal(value, low, high))
 
 
 OptStr = Optional[str]  # noqa: UP045 - typer needs Optional on Python 3.10
@@ -55,28 +85,29 @@ All = Annotated[bool, typer.Option("--all", help="Every robot of the inventory."
 Json = Annotated[bool, typer.Option("--json", help="One versioned JSON document on stdout (docs/json.md).")]
 Forks = Annotated[
     Optional[int],  # noqa: UP045
-    typer.Option("--forks", "-f", min=1, max=500,
-                 help="Robots worked on at once (default: the inventory's settings.forks, else 32)."),
+    typer.Option("--forks", "-f", parser=whole_number(1, 500),
+                 help="Robots worked on at once, 1-500 (default: the inventory's settings.forks, else 32)."),
 ]
 Canary = Annotated[
-    int, typer.Option("--canary", min=0, help="Run N robots first; stop if one of them fails.")
+    int, typer.Option("--canary", parser=whole_number(0), help="Run N robots first; stop if one of them fails.")
 ]
 MaxFail = Annotated[
     Optional[float],  # noqa: UP045
-    typer.Option("--max-fail", min=0, max=100, callback=finite,
-                 help="Stop starting robots once more than PCT % failed."),
+    typer.Option("--max-fail", parser=real_number(0, 100),
+                 help="Stop starting robots once more than PCT % failed (0-100)."),
 ]
 Yes = Annotated[bool, typer.Option("--yes", "-y", help="Apply without asking.")]
 DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; write nothing anywhere.")]
 NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
 Settle = Annotated[
-    float, typer.Option("--settle", min=0, callback=finite,
+    float, typer.Option("--settle", parser=real_number(0),
                         help="Seconds the recreated container must stay up, unrestarted.")
 ]
 Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
 Lines = Annotated[
     Optional[int],  # noqa: UP045
-    typer.Option("--lines", "-n", min=0, help="Last N lines of each robot (default 100; 0 with -f: only new)."),
+    typer.Option("--lines", "-n", parser=whole_number(0),
+                 help="Last N lines of each robot (default 100; 0 with -f: only new)."),
 ]
 Follow = Annotated[bool, typer.Option("--follow", "-f", help="Keep printing new lines (one robot; Ctrl-C ends).")]
 Timestamps = Annotated[bool, typer.Option("--timestamps", "-t", help="Docker's timestamp on each line.")]

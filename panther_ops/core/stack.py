@@ -18,7 +18,7 @@ UGV_REPO = "husarion/husarion-ugv"
 
 _TAG = re.compile(
     r"^(?P<distro>[a-z]+)-(?P<major>\d+)\.(?P<minor>\d+)\.(?P<patch>\d+)"
-    r"(?:-(?P<date>\d{8}))?(?:-(?P<suffix>[A-Za-z0-9._-]+))?$"
+    r"(?:-(?P<date>\d{8}))?(?:-(?P<suffix>[A-Za-z0-9._-]+))?$", re.ASCII  # \d: 0-9, not other scripts' digits
 )
 
 
@@ -141,7 +141,7 @@ def parse_image(image: str) -> Stack:
 
 def parse_version(text: str) -> tuple[int, int, int]:
     """Parse ``2.1.1`` (as written in an inventory's ``stack:``)."""
-    m = re.fullmatch(r"(\d+)\.(\d+)\.(\d+)", text.strip())
+    m = re.fullmatch(r"([0-9]+)\.([0-9]+)\.([0-9]+)", text.strip())
     if not m:
         raise ValueError(f"{text!r} is not a version X.Y.Z")
     return (int(m[1]), int(m[2]), int(m[3]))

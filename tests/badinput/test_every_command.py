@@ -45,9 +45,9 @@ ALLOWED: dict[tuple[str, str], set[int]] = {
 def _garbage(param: Any) -> list[str]:
     kind = param.type.name
     if "integer" in kind or kind.startswith("int"):
-        return ["many", "1e99"]
+        return ["many", "1e99", "５", "1_0"]  # other scripts' digits, '_': int() takes them, snap/compose not
     if "float" in kind:
-        return ["abc", "nan"]
+        return ["abc", "nan", "１.５", "1_0"]
     if kind == "path":
         return ["{tmp}/missing/none.yaml"]
     return [GARBAGE]

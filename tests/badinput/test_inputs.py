@@ -372,11 +372,6 @@ DESIRED = [
                                     "launch_args.led_config_file and launch_args.animations_config_path",
                                     "one launch argument"],
                    robot="launch_args: {led_config_file: /config/a.yaml, animations_config_path: /config/b.yaml}"),
-    *desired_cases("launch-alias-merged", ["[robots.r1.desired.launch_args.user_led_animations_path]",
-                                           "groups.field.desired.launch_args.user_led_animations_file",
-                                           "robots.r1.desired.launch_args.user_led_animations_path"],
-                   group="launch_args: {user_led_animations_file: /config/a.yaml}",
-                   robot="launch_args: {user_led_animations_path: /config/b.yaml}"),
     *desired_cases("controller-alias", ["[robots.r1.desired.controller.controller.linear.x.max_velocity]",
                                         "controller.linear.x.max_velocity and "
                                         "controller.controller.linear.x.max_velocity", "one controller limit"],

@@ -114,8 +114,8 @@ def test_container_port_and_namespace_on_204(capsys: pytest.CaptureFixture[str],
 
 
 @pytest.mark.parametrize(("argv", "says"), [
-    (["--port", "70000"], "--port 70000"),
-    (["--port", "0"], "--port 0"),
+    (["--port", "70000"], "'--port': '70000' is not a port"),  # the option's parser: ASCII digits, 1-65535
+    (["--port", "0"], "'--port': '0' is not a port"),
     (["--namespace", "my robot"], "--namespace"),
     (["--ip", "10.15.20"], "--ip"),
 ])

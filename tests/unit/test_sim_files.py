@@ -145,3 +145,69 @@ def test_a_file_that_is_not_text_is_refused_naming_it(tmp_path: Path, capsys: py
     assert code == 2 and str(bad) in err and "not UTF-8 text" in err
     assert bad.read_bytes() == b"components:\n  - type: \xff\xfe\n"
     assert not (tmp_path / "components.yaml.panther-ops.bak").exists()
+
+
+def test_world_set_checks_the_values_it_does_not_change(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 23, finding 2: a latitude already in the file is checked when only the longitude
+    changes (200, or written in degrees-minutes-seconds), naming the key and the fix; the
+    edit that sets the bad value itself goes through."""
+    f = tmp_path / "w.sdf"
+    for bad, says in (("200", "latitude_deg='200' is not a number from -90 to 90 (decimal degrees); fix: "
+                              f"panther-ops sim world set {f} --latitude VALUE"),
+                      ("53°11'52\"N", f"is degrees, minutes and seconds: Gazebo reads decimal degrees; fix: "
+                                      f"panther-ops sim world set {f} --latitude 53.197778")):
+        content = WORLD.replace("<latitude_deg>53.1978", f"<latitude_deg>{bad}")
+        f.write_text(content)
+        (tmp_path / "w.sdf.panther-ops.bak").unlink(missing_ok=True)
+        code, _out, err = run(capsys, "sim", "world", "set", str(f), "--longitude", "21.0122", "--yes")
+        assert code == 2 and f"{f}: world file refused (1 error)" in err and says in err, err
+        assert f.read_text() == content and not (tmp_path / "w.sdf.panther-ops.bak").exists()
+        code, _out, err = run(capsys, "sim", "world", "set", str(f), "--latitude", "53.197778", "--yes")
+        assert code == 0, err
+        assert f.read_text() == WORLD.replace("<latitude_deg>53.1978", "<latitude_deg>53.197778")
+
+
+def test_world_show_names_what_is_wrong(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "w.sdf"
+    f.write_text(WORLD.replace("<latitude_deg>53.1978", "<latitude_deg>200"))
+    code, out, err = run(capsys, "sim", "world", "show", str(f))
+    assert code == 3 and "latitude_deg: 200" in out
+    assert "warning: spherical_coordinates.latitude_deg='200' is not a number from -90 to 90" in err
+    code, out, _ = run(capsys, "sim", "world", "show", str(f), "--json")
+    assert code == 3 and "-90 to 90" in json.loads(out)["problems"][0]
+    f.write_text(WORLD)
+    code, out, _ = run(capsys, "sim", "world", "show", str(f), "--json")
+    assert code == 0 and json.loads(out)["problems"] == []
+
+
+def test_world_set_edits_the_block_gazebo_reads_not_a_commented_one(tmp_path: Path,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "w.sdf"
+    old = "    <!-- <spherical_coordinates><latitude_deg>1</latitude_deg></spherical_coordinates> -->\n"
+    content = WORLD.replace("    <spherical_coordinates>", old + "    <spherical_coordinates>", 1)
+    f.write_text(content)
+    assert run(capsys, "sim", "world", "set", str(f), "--latitude", "10", "--yes")[0] == 0
+    assert f.read_text() == content.replace("<latitude_deg>53.1978", "<latitude_deg>10")
+    bare = '<sdf version="1.6">\n  <!-- <world name="old">\n  </world> -->\n  <world name="w">\n  </world>\n</sdf>\n'
+    f.write_text(bare)
+    assert run(capsys, "sim", "world", "set", str(f), "--elevation", "3", "--yes")[0] == 0
+    text = f.read_text()
+    head = bare.split('  <world name="w">', maxsplit=1)[0]
+    assert text.startswith(head + '  <world name="w">\n    <spherical_coordinates>\n')
+    assert "<elevation>3</elevation>" in text
+
+
+def test_components_xyz_in_ascii_digits(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 23, finding 3: the components file kind and `sim gps add --xyz` take ASCII digits
+    only (float() takes '０.1', '1_0'; xacro and the URDF parser do not)."""
+    f = tmp_path / "c.yaml"
+    for xyz in ("０.1 0 0", "1_0 0 0", "0.1\u30000 0"):
+        content = f"components:\n  - type: LDR06\n    parent_link: cover_link\n    xyz: {xyz}\n"
+        f.write_text(content)
+        code, _out, err = run(capsys, "sim", "gps", "add", str(f), "--yes")
+        assert code == 2 and "components[0].xyz=" in err and f.read_text() == content, xyz
+    f.write_text(COMPONENTS.read_text())
+    code, _out, err = run(capsys, "sim", "gps", "add", str(f), "--xyz", "０.2 0 0", "--yes")
+    assert code == 2 and "--xyz '０.2 0 0'" in err and f.read_text() == COMPONENTS.read_text()
+    assert run(capsys, "sim", "gps", "add", str(f), "--xyz", "0.2  -1e-1 .05", "--yes")[0] == 0
+    assert "    xyz: 0.2 -1e-1 .05\n" in f.read_text()

@@ -80,3 +80,38 @@ def test_inventory_desired_webui_is_checked(tmp_path: Path) -> None:
     assert f"{path}:7 [robots.r1.desired.webui.ros.domain-id]" in str(exc.value)
     assert "ros.domain-id='300' is not allowed: a whole number from 0 to 232" in str(exc.value)
     assert exc.value.exit_code is ExitCode.USAGE
+
+
+@pytest.mark.parametrize("value", ["８０８１", "\u0668\u0660\u0668\u0661", "8_081", " 8081x"])
+def test_numbers_in_ascii_digits_only(value: str) -> None:
+    """Issue 23, finding 3: the configure hook's ``^[0-9]+$`` is ASCII; re's ``\\d`` was not."""
+    for key in ("webui.port", "ros.domain-id"):
+        with pytest.raises(SettingError, match="ASCII digits") as exc:
+            validate({key: value})
+        assert exc.value.key == key
+
+
+def test_one_key_named_twice_is_refused_naming_both() -> None:
+    """Issue 23, finding 4: ``port`` and ``webui.port`` in one block; the later one was kept."""
+    from panther_ops.core.kinds.webui_settings import SettingConflict
+
+    for settings, says in (({"port": 8081, "webui.port": 8082}, "port=8081 and webui.port=8082 both set webui.port"),
+                           ({"ros.namespace": "a", "namespace": "a"}, "both set ros.namespace"),
+                           ({"domain_id": 1, "ros.domain-id": 2}, "both set ros.domain-id")):
+        with pytest.raises(SettingConflict, match=says):
+            validate(settings)
+
+
+def test_a_robots_key_replaces_its_groups_other_name_for_it(tmp_path: Path) -> None:
+    """Across blocks (a group's ``port``, the robot's ``webui.port``) the robot's is the one kept,
+    without a conflict: only one name of a setting reaches the plan."""
+    path = tmp_path / "fleet.yaml"
+    path.write_text("groups:\n  g:\n    desired:\n      webui: {port: 8081, layout: panther}\n"
+                    "      controller: {linear.x.max_velocity: 1.0}\n"
+                    "robots:\n  r1:\n    host: a\n    groups: [g]\n    desired:\n      webui: {webui.port: 8082}\n"
+                    "      controller: {controller.linear.x.max_velocity: 1.5}\n"
+                    "  r2:\n    host: b\n    groups: [g]\n")
+    robots = load_inventory(str(path)).robots
+    assert robots["r1"].desired["webui"] == {"layout": "panther", "webui.port": 8082}
+    assert robots["r1"].desired["controller"] == {"controller.linear.x.max_velocity": 1.5}
+    assert robots["r2"].desired["webui"] == {"port": 8081, "layout": "panther"}

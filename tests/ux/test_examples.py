@@ -57,6 +57,7 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
                 tmp_path / "battery_plugin_config.yaml")
     (tmp_path / "my_world.sdf").write_text(WORLD)
     (tmp_path / "w.sdf").write_text(WORLD)
+    (tmp_path / "dms.sdf").write_text(WORLD.replace("53.1978", "53°11'52\"N"))  # docs/gps.md: refused, with the fix
     (tmp_path / "bad_battery.yaml").write_text(BAD_BATTERY)
     wh01_20 = ROOT / "templates/config/panther-2.0/panther_controller/config/WH01_controller.yaml"
     (tmp_path / "no_prefix_controller.yaml").write_text(  # docs/configuration.md: the IMU under a namespace

@@ -33,12 +33,16 @@ KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) o
 
 
 def _parse_value(text: str) -> Any:
+    """A controller limit's value as typed: true/false, a number in ASCII digits, else the text
+    (which the limit's validator refuses, naming it)."""
+    from panther_ops.core.parse.numbers import NumberError, ascii_int, decimal
+
     lowered = text.strip().lower()
     if lowered in ("true", "false"):
         return lowered == "true"
     try:
-        return float(text) if any(c in text for c in ".eE") else int(text)
-    except ValueError:
+        return decimal(text.strip()) if any(c in text for c in ".eE") else ascii_int(text.strip(), signed=True)
+    except NumberError:
         return text
 
 

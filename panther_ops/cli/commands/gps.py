@@ -9,7 +9,18 @@ import typer
 from panther_ops.cli.context import Fleet
 from panther_ops.cli.gps_router import Address, router_app
 from panther_ops.cli.gps_router import credentials as _credentials
-from panther_ops.cli.options import GATED, READ, TARGETS, Json, OptFloat, OptInt, shared
+from panther_ops.cli.options import (
+    GATED,
+    READ,
+    TARGETS,
+    Json,
+    OptFloat,
+    OptInt,
+    port_number,
+    real_number,
+    shared,
+    whole_number,
+)
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.nmea import Fix
@@ -24,8 +35,9 @@ app.add_typer(router_app, name="router")
 @app.command("listen")
 def listen(
     udp: Annotated[str, typer.Option("--udp", help="HOST:PORT of this machine to receive NMEA on, e.g. 0.0.0.0:5000.")],
-    count: Annotated[OptInt, typer.Option("--count", "-n", min=1, help="Stop after N fixes (GGA sentences).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", min=0.1,
+    count: Annotated[OptInt, typer.Option("--count", "-n", parser=whole_number(1),
+                                                         help="Stop after N fixes (GGA sentences).")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", parser=real_number(0.1),
                                               help="Stop after SECONDS (default: none; Ctrl-C stops).")] = None,
     json_out: Json = False,
 ) -> int:
@@ -58,7 +70,8 @@ def listen(
     return code
 
 
-Port = Annotated[int, typer.Option("--port", help="UDP port the router forwards NMEA to (default 5000).")]
+Port = Annotated[int, typer.Option("--port", parser=port_number(),
+                                   help="UDP port the router forwards NMEA to, 1-65535 (default 5000).")]
 Ip = Annotated[str, typer.Option("--ip", help="Built-in Computer address the driver listens on (default 10.15.20.2).")]
 Namespace = Annotated[
     Optional[str],  # noqa: UP045
@@ -142,8 +155,10 @@ def disable(fleet: Fleet) -> int:
 @shared(*READ)
 def status(
     fleet: Fleet,
-    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
-    window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds to listen (3).")] = 3.0,
+    port: Annotated[int, typer.Option("--port", parser=port_number(),
+                                      help="The robot's NMEA port, 1-65535 (5000).")] = 5000,
+    window: Annotated[float, typer.Option("--window", parser=real_number(0.5, 60),
+                                          help="Seconds to listen, 0.5-60 (3).")] = 3.0,
     router: Annotated[
         bool, typer.Option("--router", help="Also read the router's forwarding (credentials as for gps router).")
     ] = False,
@@ -175,9 +190,11 @@ def status(
 @shared(*TARGETS, "json_out")
 def watch(
     fleet: Fleet,
-    port: Annotated[int, typer.Option("--port", min=1, max=65535, help="The robot's NMEA port (5000).")] = 5000,
-    window: Annotated[float, typer.Option("--window", min=0.5, max=60, help="Seconds per refresh (2).")] = 2.0,
-    count: Annotated[OptInt, typer.Option("--count", "-n", min=1,
+    port: Annotated[int, typer.Option("--port", parser=port_number(),
+                                      help="The robot's NMEA port, 1-65535 (5000).")] = 5000,
+    window: Annotated[float, typer.Option("--window", parser=real_number(0.5, 60),
+                                          help="Seconds per refresh, 0.5-60 (2).")] = 2.0,
+    count: Annotated[OptInt, typer.Option("--count", "-n", parser=whole_number(1),
                                           help="Stop after N refreshes (needed with --json).")] = None,
     router: Annotated[bool, typer.Option("--router", help="Also read the router's forwarding each time.")] = False,
     address: Address = "10.15.20.1",

@@ -8,7 +8,7 @@ from typing import Annotated, Any, Optional
 import typer
 
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import TARGETS, WRITE, Json, OptStr, shared
+from panther_ops.cli.options import TARGETS, WRITE, Json, OptStr, shared, whole_number
 
 app = typer.Typer(help="LED animations: check, preview as a GIF, deploy, test on a robot.", no_args_is_help=True)
 
@@ -40,7 +40,8 @@ def validate(
 @app.command("preview")
 def preview(
     file: Annotated[Path, typer.Argument(help="Animations file (user animations or led_config).")],
-    anim_id: Annotated[int, typer.Option("--id", help="Animation id to draw.")],
+    anim_id: Annotated[int, typer.Option("--id", parser=whole_number(0, 65535),
+                                                help="Animation id to draw (0-65535).")],
     out: Annotated[Path, typer.Option("--out", help="GIF to write.")] = Path("animation.gif"),
     led_config: LedConfig = None,
     param: Annotated[OptStr, typer.Option(
@@ -51,18 +52,16 @@ def preview(
 
     Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
     """
-    import math
-
+    from panther_ops.core.parse.numbers import NumberError, decimal
     from panther_ops.errors import UsageError
     from panther_ops.manager import render_preview
 
     if param is not None:
         try:
-            level = float(param)
-        except ValueError:
-            level = math.nan
-        if not 0.0 <= level <= 1.0:
-            raise UsageError(f"--param {param!r} is not allowed", hint="a battery level from 0 to 1, e.g. 0.3")
+            decimal(param, 0, 1)
+        except NumberError:
+            raise UsageError(f"--param {param!r} is not allowed",
+                             hint="a battery level from 0 to 1, e.g. 0.3") from None
     if out.suffix.lower() != ".gif" or out.is_dir() or not out.parent.is_dir():
         raise UsageError(f"--out {out}: not a GIF file path in an existing directory",
                          hint="e.g. --out anim.gif")
@@ -93,7 +92,8 @@ def deploy(
 @shared(*TARGETS, "json_out")
 def test(
     fleet: Fleet,
-    anim_id: Annotated[int, typer.Argument(help="Animation id to show.")],
+    anim_id: Annotated[int, typer.Argument(parser=whole_number(0, 65535),
+                                                   help="Animation id to show (0-65535, the message's uint16).")],
     param: Annotated[str, typer.Option("--param", help="Animation parameter.")] = "",
     repeating: Annotated[bool, typer.Option("--repeating", help="Keep repeating it.")] = False,
 ) -> int:
@@ -105,8 +105,6 @@ def test(
     from panther_ops.core.manager_ops.lights import set_animation
     from panther_ops.errors import UsageError
 
-    if not 0 <= anim_id <= 65535:
-        raise UsageError(f"animation id {anim_id} is not allowed", hint="0-65535 (the message's uint16)")
     if any(ord(c) < 32 or ord(c) == 127 for c in param):
         raise UsageError(f"--param {param!r} holds a control character", hint="one line of printable text")
 

@@ -21,7 +21,7 @@ from panther_ops.cli.options import (
     OptPath,
     OptStr,
     Timestamps,
-    finite,
+    real_number,
     shared,
 )
 
@@ -34,9 +34,9 @@ def run(
     scenario: Annotated[OptStr, typer.Option(
         "--scenario", help="A shipped scenario (charging, low_battery, ...) or a scenario YAML file (timed events); "
         "default: charging.")] = None,
-    duration: Annotated[OptFloat, typer.Option("--duration", min=0.1, callback=finite,
+    duration: Annotated[OptFloat, typer.Option("--duration", parser=real_number(0.1),
                                                help="Simulated seconds (default: the scenario's).")] = None,
-    speed: Annotated[float, typer.Option("--speed", min=0.1, callback=finite,
+    speed: Annotated[float, typer.Option("--speed", parser=real_number(0.1),
                                          help="Simulated seconds per real second.")] = 1.0,
     xml: Annotated[bool, typer.Option("--xml", help="Run the shipped BT.CPP XML trees instead of the Python trees.")]
     = False,

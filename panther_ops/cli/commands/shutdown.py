@@ -26,7 +26,7 @@ from panther_ops.cli.commands.shutdown_inputs import (
     usage_error,
 )
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, TARGETS, OptFloat, OptInt, OptPath, OptStr, finite, shared
+from panther_ops.cli.options import READ, TARGETS, OptFloat, OptInt, OptPath, OptStr, port_number, real_number, shared
 from panther_ops.cli.views.shutdown import finish_hosts, print_findings, print_plan, print_steps
 
 if TYPE_CHECKING:
@@ -144,8 +144,9 @@ def setup(
     host: Annotated[str, typer.Option("--host", help="Address of the user computer on the robot's LAN.")],
     user: Annotated[OptStr, typer.Option("--user", "-u", help="User on the computer (SSH era; default "
                                          "husarion).")] = None,
-    port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+    port: Annotated[OptInt, typer.Option("--port", parser=port_number(),
+                                                  help="SSH port (22) or husarion-shutdown port (3003).")] = None,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", parser=real_number(),
                                               help="The host's timeout in the hosts file.")] = None,
     ask_password: Annotated[bool, typer.Option("--ask-password", help="Ask the user's password (login once and "
                                                "sudo on the computer); never on the command line, never "

@@ -18,7 +18,7 @@ from panther_ops.cli.commands.shutdown_inputs import (
     usage_error,
 )
 from panther_ops.cli.context import Fleet
-from panther_ops.cli.options import READ, WRITE, OptFloat, OptInt, OptStr, finite, shared
+from panther_ops.cli.options import READ, WRITE, OptFloat, OptInt, OptStr, port_number, real_number, shared
 from panther_ops.cli.views.shutdown import print_list, print_validated
 
 hosts_app = typer.Typer(help="The shutdown hosts file: the robot's (-r ROBOT) or a local FILE.", no_args_is_help=True)
@@ -174,10 +174,11 @@ def hosts_add(
     file: FileArg = None,
     ip: Annotated[str, typer.Option("--ip", help="Address or host name of the computer.")] = "",
     user: Annotated[OptStr, typer.Option("--user", "-u", help="SSH user on the computer (SSH hosts).")] = None,
-    port: Annotated[OptInt, typer.Option("--port", help="SSH port (22) or husarion-shutdown port (3003).")] = None,
+    port: Annotated[OptInt, typer.Option("--port", parser=port_number(),
+                                                  help="SSH port (22) or husarion-shutdown port (3003).")] = None,
     command: Annotated[OptStr, typer.Option("--command", help="Command run over SSH (default: sudo shutdown "
                                             "now).")] = None,
-    timeout: Annotated[OptFloat, typer.Option("--timeout", callback=finite,
+    timeout: Annotated[OptFloat, typer.Option("--timeout", parser=real_number(),
                                               help="Seconds to wait for the host to go down (default 5).")] = None,
     no_ping: Annotated[bool, typer.Option("--no-ping-for-success", help="Done at the response (no pinging).")] = False,
     http: Annotated[bool, typer.Option("--http", help="A husarion-shutdown (HTTP) host (2.2.1+ robots).")] = False,
@@ -229,7 +230,8 @@ def hosts_remove(
     file: FileArg = None,
     ip: Annotated[str, typer.Option("--ip", help="Address of the host to remove.")] = "",
     user: Annotated[OptStr, typer.Option("--user", "-u", help="Only the entry of this user.")] = None,
-    port: Annotated[OptInt, typer.Option("--port", help="Only the entry of this port.")] = None,
+    port: Annotated[OptInt, typer.Option("--port", parser=port_number(),
+                                                  help="Only the entry of this port.")] = None,
     power_budget: PowerBudget = 15.0,
 ) -> int:
     """Remove a host's entries (every entry of --ip, narrowed by --user/--port).

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
-from panther_ops.cli.options import OptPath, OptStr, finite
+from panther_ops.cli.options import OptPath, OptStr, real_number
 
 if TYPE_CHECKING:
     from panther_ops.secret import Secret
@@ -19,7 +19,7 @@ FileArg = Annotated[
 ]
 PowerBudget = Annotated[
     float,
-    typer.Option("--power-budget", min=0.1, callback=finite,
+    typer.Option("--power-budget", parser=real_number(0.1),
                  help="Seconds the robot's hardware gives its computers before it cuts "
                  "the power (a timeout above it is warned)."),
 ]

@@ -9,7 +9,7 @@ from typing import Annotated, Any, Optional
 
 import typer
 
-from panther_ops.cli.options import DryRun, Json, Yes
+from panther_ops.cli.options import DryRun, Json, Yes, real_number
 
 app = typer.Typer(help="Simulation files: the ANT02 (GPS) component, a world's spherical coordinates, the battery "
                        "plugin.", no_args_is_help=True)
@@ -93,27 +93,33 @@ def gps_add(
 
 @world_app.command("show")
 def world_show(file: File, json_out: Json = False) -> int:
-    """The world's <spherical_coordinates> (surface_model must be EARTH_WGS84)."""
-    from panther_ops.core.sim.world import read_coordinates
+    """The world's <spherical_coordinates> (surface_model must be EARTH_WGS84), and what the
+    world file kind's validator finds wrong in it (a latitude out of range, degrees-minutes-
+    seconds instead of decimal degrees...), each with its fix: exit 3 then."""
+    from panther_ops.core.sim.world import problems, read_coordinates
 
-    found = read_coordinates(_read(file), str(file))
+    text = _read(file)
+    found = read_coordinates(text, str(file))
+    wrong = problems(text, str(file))
     if json_out:
         from panther_ops.cli.render import emit_json
 
-        emit_json({"schema": 1, "command": "sim world show", "file": str(file), "spherical_coordinates": found})
+        emit_json({"schema": 1, "command": "sim world show", "file": str(file), "spherical_coordinates": found,
+                   "problems": wrong})
     elif not found["present"]:
         sys.stdout.write(f"{file}: no <spherical_coordinates> (NavSat needs one: panther-ops sim world set)\n")
     else:
         for k, v in found.items():
             if k not in ("present", "surface_model_ok"):
                 sys.stdout.write(f"{k}: {v}\n")
-        if not found["surface_model_ok"]:
-            sys.stderr.write("warning: surface_model is not EARTH_WGS84\n")
-    return 0 if found.get("surface_model_ok", True) else 3
+    if not json_out:
+        for problem in wrong:
+            sys.stderr.write(f"warning: {problem}\n")
+    return 3 if wrong else 0
 
 
 def _opt(name: str, help_: str) -> Any:
-    return typer.Option(f"--{name}", help=help_)
+    return typer.Option(f"--{name}", parser=real_number(), help=help_)
 
 
 @world_app.command("set")

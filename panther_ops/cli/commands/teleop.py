@@ -7,15 +7,14 @@ from typing import Annotated
 import typer
 
 from panther_ops.cli import context
-from panther_ops.cli.options import Robots, finite
+from panther_ops.cli.options import Robots, real_number
 
 MIN_RATE_HZ = 10.0
 """The manual's minimum frequency (the robot stops when no command arrived for 1 s)."""
 
 
 def _rate(value: float) -> float:
-    """--rate: a finite number of Hz, at least the manual's 10 (checked before anything is contacted)."""
-    finite(value)
+    """--rate: at least the manual's 10 Hz (checked before anything is contacted)."""
     if value < MIN_RATE_HZ:
         raise typer.BadParameter(f"{value:g} Hz is below {MIN_RATE_HZ:g} Hz (the manual's minimum repeat_rate)")
     return value
@@ -24,7 +23,7 @@ def _rate(value: float) -> float:
 def teleop(
     ctx: typer.Context,
     robot: Robots = None,
-    rate: Annotated[float, typer.Option("--rate", callback=_rate,
+    rate: Annotated[float, typer.Option("--rate", parser=real_number(), callback=_rate,
                                         help="publishing rate in Hz, the manual's repeat_rate (at least 10).")] = 10.0,
 ) -> int:
     """The manual's keyboard teleoperation, on this terminal, over the robot's connection: a

@@ -158,18 +158,33 @@ def set_(
 
 def _wanted(settings: list[str], dds_file: Path | None) -> tuple[dict[str, str], tuple[str, bytes] | None]:
     """KEY=VALUE arguments and the DDS profile, validated (UsageError: nothing is sent)."""
-    from panther_ops.core.kinds.webui_settings import SettingError, dds_profile, validate
+    from panther_ops.core.kinds.webui_settings import (
+        SettingConflict,
+        SettingError,
+        canonical_key,
+        dds_profile,
+        validate,
+    )
     from panther_ops.errors import UsageError
 
     pairs: dict[str, str] = {}
-    for item in settings:
-        key, sep, value = item.partition("=")
-        if not sep:
-            raise UsageError(f"{item!r} is not KEY=VALUE", hint="e.g. webui.port=8081")
-        pairs[key.strip()] = value
+    given: dict[str, str] = {}  # the snap's key -> the argument that set it
     dds = None
     try:
+        for item in settings:
+            key, sep, value = item.partition("=")
+            if not sep:
+                raise UsageError(f"{item!r} is not KEY=VALUE", hint="e.g. webui.port=8081")
+            snap_key = canonical_key(key.strip())
+            if snap_key in given:  # the same key twice (or as its short name): which one is meant?
+                raise SettingConflict(snap_key, given[snap_key], item)
+            given[snap_key] = item
+            pairs[key.strip()] = value
         if dds_file is not None:
+            if "ros.transport" in given:
+                raise SettingConflict("ros.transport", given["ros.transport"], f"--dds-file {dds_file}",
+                                      "--dds-file uploads the profile and selects it as the transport: leave "
+                                      "ros.transport out, or drop --dds-file to select another transport")
             try:
                 data = dds_file.read_bytes()
             except OSError as exc:

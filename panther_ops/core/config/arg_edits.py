@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from panther_ops.core.config.arg_rules import canonical_args, check_args, raise_for_errors
-from panther_ops.core.config.launch_args import UnknownArgError, ValidatedArg, spec, validate_arg
+from panther_ops.core.config.launch_args import LaunchArgError, UnknownArgError, ValidatedArg, spec, validate_arg
 from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_NAME, ArgSpec
 from panther_ops.core.stack import Stack
 
@@ -85,7 +85,15 @@ def set_launch_args(
     context = canonical_args(stack, {**current, **values})
     if robot_model is not None:
         context.setdefault("robot_model", robot_model)
+    given: dict[str, str] = {}  # the argument's catalogue key -> the name it was given as
     for key, value in values.items():
+        found = _BY_NAME.get(key) or (_ALIAS_NOTES[key][0] if key in _ALIAS_NOTES else None)
+        if found is not None:  # one argument under two of its names (a rename, the manual's alias)
+            if found.key in given:
+                first = given[found.key]
+                raise LaunchArgError(f"{first}={values[first]} and {key}={value} both set the launch argument "
+                                     f"{found.name_for(stack)}", hint="keep one of them")
+            given[found.key] = key
         va = validate_arg(stack, key, value, force=force, context=context)
         validated.append(va)
         warnings.extend(va.warnings)

@@ -21,7 +21,7 @@ from panther_ops.core.fleet.services import service_containers
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
 
-_DURATION_PART = re.compile(r"(\d+(?:\.\d+)?)([smhd])")
+_DURATION_PART = re.compile(r"([0-9]+(?:\.[0-9]+)?)([smhd])")
 
 
 _UNIT_S = {"s": 1.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
@@ -33,11 +33,13 @@ def parse_duration(text: str) -> float:
     Raises:
         UsageError: anything else.
     """
+    from panther_ops.core.parse.numbers import decimal
+
     t = text.strip().lower()
-    if re.fullmatch(r"\d+(?:\.\d+)?", t):
-        return float(t)
-    if t and re.fullmatch(r"(?:\d+(?:\.\d+)?[smhd])+", t):
-        return sum(float(n) * _UNIT_S[u] for n, u in _DURATION_PART.findall(t))
+    if re.fullmatch(r"[0-9]+(?:\.[0-9]+)?", t):
+        return decimal(t)
+    if t and re.fullmatch(r"(?:[0-9]+(?:\.[0-9]+)?[smhd])+", t):
+        return sum(decimal(n) * _UNIT_S[u] for n, u in _DURATION_PART.findall(t))
     raise UsageError(f"{text!r} is not a duration", hint="e.g. 90s, 10m, 1h30m, 2d")
 
 

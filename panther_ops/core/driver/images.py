@@ -14,14 +14,14 @@ from panther_ops.errors import OpsError, UsageError
 DRIVER_REPOS = (PANTHER_REPO, UGV_REPO)
 HUB_URL = "https://hub.docker.com/v2/namespaces/husarion/repositories/{repo}/tags?page_size=100"
 """Docker Hub's tag list (what Husarion's configurator asks); ``{repo}`` is panther / husarion-ugv."""
-HUB_TAG = re.compile(r"^humble-\d+\.\d+\.\d+-\d{8}(-stable)?$")
+HUB_TAG = re.compile(r"^humble-\d+\.\d+\.\d+-\d{8}(-stable)?$", re.ASCII)
 """Released Humble driver tags (the configurator's filter, for Humble)."""
 HUB_TIMEOUT_S = 5.0
 NEWEST_HUMBLE = "husarion/husarion-ugv:humble-2.2.2-20250702"
 _TAG_WORD = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,127}$")
 _TAG = re.compile(
     r"^(?P<distro>[a-z]+)-(?P<major>\d+)\.(?P<minor>\d+)\.(?P<patch>\d+)"
-    r"(?:-(?P<date>\d{8}))?(?:-(?P<suffix>[A-Za-z0-9._-]+))?$"
+    r"(?:-(?P<date>\d{8}))?(?:-(?P<suffix>[A-Za-z0-9._-]+))?$", re.ASCII  # \d: 0-9, not other scripts' digits
 )
 
 

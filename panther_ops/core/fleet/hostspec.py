@@ -43,7 +43,7 @@ def check_host(value: str) -> str:
     name = value[:-1] if value.endswith(".") else value
     if not all(_LABEL.match(label) for label in name.split(".")):
         raise HostSpecError(f"host {value!r} is not an IP address or hostname")
-    if re.fullmatch(r"[\d.]+", name):
+    if re.fullmatch(r"[0-9.]+", name):
         raise HostSpecError(f"host {value!r} is not a valid IPv4 address")
     return value
 
@@ -85,9 +85,13 @@ def parse_jump(value: str) -> JumpSpec:
     else:
         host, port_text = rest, None
     if port_text is not None:
-        if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
-            raise HostSpecError(f"jump {value!r}: port {port_text!r} is not 1-65535")
-        port = int(port_text)
+        from panther_ops.core.parse.numbers import NumberError
+        from panther_ops.core.parse.numbers import port as parse_port
+
+        try:
+            port = parse_port(port_text)
+        except NumberError:
+            raise HostSpecError(f"jump {value!r}: port {port_text!r} is not 1-65535 (ASCII digits)") from None
     try:
         check_host(host)
     except HostSpecError as exc:

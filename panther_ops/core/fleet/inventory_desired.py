@@ -325,15 +325,22 @@ def image_value(value: Any) -> str:
 
 def webui_block(value: Any) -> dict[str, Any]:
     """``desired.webui``: the snap's keys (or their short names) with its configure hook's rules."""
-    from panther_ops.core.kinds.webui_settings import SettingError, validate
+    from panther_ops.core.kinds.webui_settings import SettingError, canonical_key, validate
 
     path: KeyPath = ("webui",)
     webui = _mapping(path, value, "a mapping of WebUI settings (docs/remote.md)")
+    seen: dict[str, str] = {}
     for key, setting in webui.items():
         try:
             validate({key: setting})
         except SettingError as bad:
             raise DesiredError((*path, key), str(bad)) from None
+        name = canonical_key(str(key))
+        if name in seen:  # `port` and `webui.port`: which one is meant is not known
+            first = seen[name]
+            raise DesiredError((*path, key), f"{first}={webui[first]!r} and {key}={setting!r} both set {name}",
+                               "keep one of them (in desired.webui)", other=(*path, first))
+        seen[name] = str(key)
     return dict(webui)
 
 

@@ -21,7 +21,7 @@ from panther_ops.core.fleet.inventory_values import (
     BadValue,
     address_value,
     check_secrets,
-    deep_merge,
+    merge_desired,
     plain,
     port_value,
     positive_seconds,
@@ -305,13 +305,13 @@ class _Loader:
         own = self.fields(doc, f, f"robots.{name}")
         merged: dict[str, Any] = {**self.defaults, **own}
         groups = merged.get("groups", ())
-        desired: dict[str, Any] = deep_merge({}, self.defaults.get("desired", {}))
+        desired: dict[str, Any] = merge_desired({}, self.defaults.get("desired", {}))
         vars_: dict[str, Any] = dict(self.defaults.get("vars", {}))
         for g in groups:
             gd = self.groups.get(g, {})
-            desired = deep_merge(desired, plain(gd.get("desired", {})))
+            desired = merge_desired(desired, plain(gd.get("desired", {})))
             vars_.update(plain(gd.get("vars", {})))
-        desired = deep_merge(desired, own.get("desired", {}))
+        desired = merge_desired(desired, own.get("desired", {}))
         vars_.update(own.get("vars", {}))
         self.check_merged(name, doc, f, desired, groups)
         transport = merged.get("transport", "ssh")

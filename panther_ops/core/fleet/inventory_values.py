@@ -70,7 +70,7 @@ POSIX_USER = re.compile(r"^[a-z_][a-z0-9_-]{0,31}\$?$")
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,62}$")
 
 
-VERSION = re.compile(r"^\d+\.\d+\.\d+$")
+VERSION = re.compile(r"^[0-9]+\.[0-9]+\.[0-9]+$")
 
 
 HOST = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.:-]{0,252}$")
@@ -190,6 +190,47 @@ def deep_merge(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
             out[k] = deep_merge(out[k], v)
         else:
             out[k] = v
+    return out
+
+
+def setting_name(block: str, key: str) -> str:
+    """The one name of a setting of ``desired.<block>`` that can be written several ways
+    (``desired.webui``: ``port`` is ``webui.port``; ``desired.controller``:
+    ``linear.x.max_velocity`` is ``controller.linear.x.max_velocity``; ``desired.launch_args``:
+    ``led_config_file`` is ``animations_config_path``, one catalogue key); other blocks' keys,
+    and keys that are not a setting (refused where they are used), as they are."""
+    if block == "webui":
+        from panther_ops.core.kinds.webui_settings import SettingError, canonical_key
+
+        try:
+            return canonical_key(key)
+        except SettingError:
+            return key
+    if block == "launch_args":
+        from panther_ops.core.kinds.arg_catalogue import catalogue_key
+
+        return catalogue_key(key) or key
+    if block == "controller":
+        from panther_ops.core.kinds.controller_limits import ControllerError, parse_limit_key
+
+        try:
+            return parse_limit_key(key).dotted
+        except ControllerError:
+            return key
+    return key
+
+
+def merge_desired(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
+    """``over``'s desired block (a robot's, a group's) over ``base``: `deep_merge`, where a
+    setting ``over`` names one way replaces the same setting ``base`` names another way (a
+    group's ``port`` and a robot's ``webui.port``: the robot's is the one kept)."""
+    out = deep_merge(base, over)
+    for block, given in over.items():
+        before = base.get(block)
+        if isinstance(given, dict) and isinstance(before, dict):
+            names = {setting_name(block, k) for k in given}
+            kept = {k: v for k, v in before.items() if k in given or setting_name(block, k) not in names}
+            out[block] = deep_merge(kept, given)
     return out
 
 

@@ -158,15 +158,19 @@ def _as_bool(key: LimitKey, value: Any) -> bool:
 
 
 def _as_float(key: LimitKey, value: Any) -> float:
+    """A limit's number: a YAML number, or its text in ASCII digits (`core.parse.numbers`)."""
+    from panther_ops.core.parse.numbers import NumberError, decimal
+
     if isinstance(value, bool):
         raise ControllerError(f"{key.dotted}={value!r} is not a number")
     try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ControllerError(f"{key.dotted}={value!r} is not a number ({key.unit})") from None
-    if not math.isfinite(number):
+        return decimal(value.strip() if isinstance(value, str) else value)
+    except NumberError:
+        pass
+    text = str(value).strip().lower().lstrip("+-")
+    if (isinstance(value, float) and not math.isfinite(value)) or text in ("nan", "inf", "infinity"):
         raise ControllerError(f"{key.dotted}={value!r} must be a finite number ({key.unit})")
-    return number
+    raise ControllerError(f"{key.dotted}={value!r} is not a number ({key.unit}; ASCII digits, e.g. 1.5)")
 
 
 def limit_value(key: str | LimitKey, value: Any) -> tuple[LimitKey, bool | float]:

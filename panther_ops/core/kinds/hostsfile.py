@@ -258,16 +258,23 @@ def _unprintable(text: str) -> str | None:
 
 
 def _number(value: Any) -> float | None:
-    if isinstance(value, bool):
+    """A number of seconds: a YAML number or its text in ASCII digits (`core.parse.numbers`)."""
+    from panther_ops.core.parse.numbers import NumberError, decimal
+
+    try:
+        return decimal(value.strip() if isinstance(value, str) else value)
+    except NumberError:
         return None
-    if isinstance(value, (int, float)):
-        return float(value)
-    if isinstance(value, str):
-        try:
-            return float(value.strip())
-        except ValueError:
-            return None
-    return None
+
+
+def _port(value: Any) -> int | None:
+    """A port: a YAML integer or its text in ASCII digits, 1-65535 (the manager's int())."""
+    from panther_ops.core.parse.numbers import NumberError, port
+
+    try:
+        return port(value.strip() if isinstance(value, str) else value)
+    except NumberError:
+        return None
 
 
 class _Checker:
@@ -368,11 +375,10 @@ class _Checker:
 
     def port(self, raw: Mapping[str, Any], http: bool, where: str, path: str) -> int | None:
         value = raw.get("port", DEFAULT_HTTP_PORT if http else DEFAULT_SSH_PORT)
-        n = _number(value)
-        if n is None or not n.is_integer() or not 1 <= n <= 65535:
-            self.add("error", f"{where}.port", f"{value!r} is not a TCP port (1-65535)", f"{path}.port")
-            return None
-        return int(n)
+        n = _port(value)
+        if n is None:
+            self.add("error", f"{where}.port", f"{value!r} is not a TCP port (1-65535, ASCII digits)", f"{path}.port")
+        return n
 
     def timeout(self, raw: Mapping[str, Any], where: str, path: str) -> float | None:
         value = raw.get("timeout", DEFAULT_TIMEOUT)
@@ -508,8 +514,8 @@ def _key_of(raw: Any) -> tuple[str, str, int] | None:
     if not isinstance(raw, Mapping):
         return None
     http = "username" not in raw
-    n = _number(raw.get("port", DEFAULT_HTTP_PORT if http else DEFAULT_SSH_PORT))
-    return (str(raw.get("ip")), "" if http else str(raw.get("username")), int(n) if n is not None else -1)
+    n = _port(raw.get("port", DEFAULT_HTTP_PORT if http else DEFAULT_SSH_PORT))
+    return (str(raw.get("ip")), "" if http else str(raw.get("username")), n if n is not None else -1)
 
 
 def _load(text: str, source: str) -> YamlDocument:

@@ -32,7 +32,7 @@ BUTTONS = ("dead_man_switch", "fast_mode", "slow_mode", "e_stop_reset", "e_stop_
 E_STOP = ("present", "topic", "reset_srv", "trigger_srv")
 TOP = ("linear_velocity_factor", "angular_velocity_factor", "button_index_map", "input_index_map", "e_stop",
        "cmd_vel_topic", "cmd_vel_stamped")
-_INPUT = re.compile(r"^!?[AB]\d{1,2}$")
+_INPUT = re.compile(r"^!?[AB][0-9]{1,2}$")
 _HINT = ("a joy2twist parameters file: joy2twist_node: ros__parameters: {linear_velocity_factor, "
          "angular_velocity_factor, button_index_map, e_stop}")
 

@@ -32,11 +32,13 @@ class FileKind(str, Enum):
     BATTERY = "battery"
     JOY2TWIST = "joy2twist"
     COMPOSE = "compose"
+    WORLD = "world"
 
 
-PUSHABLE: tuple[FileKind, ...] = tuple(k for k in FileKind if k is not FileKind.COMPOSE)
+PUSHABLE: tuple[FileKind, ...] = tuple(k for k in FileKind if k not in (FileKind.COMPOSE, FileKind.WORLD))
 """The kinds `config push --as` and `config pull` take (compose.yaml itself is edited by the
-commands that change it: config set/unset, gps enable, driver update...)."""
+commands that change it: config set/unset, gps enable, driver update...; a Gazebo world lives
+on the simulation's machine, edited by `sim world set`)."""
 
 
 @dataclass(frozen=True)
@@ -65,7 +67,7 @@ Validator = Callable[[str, bytes, "Path | None", Target, bool], list[str]]
 
 
 def _registry() -> dict[FileKind, Validator]:
-    from panther_ops.core.kinds import bt, compose, controller, hosts, joy2twist, lights, simple
+    from panther_ops.core.kinds import bt, compose, controller, hosts, joy2twist, lights, simple, world
 
     return {
         FileKind.CONTROLLER: controller.check_controller,
@@ -79,6 +81,7 @@ def _registry() -> dict[FileKind, Validator]:
         FileKind.SHUTDOWN_HOSTS: hosts.check_shutdown_hosts,
         FileKind.COMPOSE: compose.check_compose,
         FileKind.JOY2TWIST: joy2twist.check_joy2twist,
+        FileKind.WORLD: world.check_world,
     }
 
 

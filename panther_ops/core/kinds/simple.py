@@ -14,7 +14,7 @@ from panther_ops.core.stack import Family
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _PATHISH = re.compile(r"^[A-Za-z0-9_./-]+$")
 _COMPONENT_TYPE = re.compile(r"^[A-Z]{3}[0-9]{2}$")
-_TRIPLE = re.compile(r"^\s*\S+\s+\S+\s+\S+\s*$")
+_WORD = re.compile(r"\S+", re.ASCII)
 
 
 def _positive(doc: dict[str, Any], key: str, errors: list[str], *, required: bool = False) -> None:
@@ -105,14 +105,24 @@ def check_components(source: str, data: bytes, local: Path | None, target: Targe
     return []
 
 
+def triple(value: Any) -> str | None:
+    """``"x y z"`` (a components entry's ``xyz`` / ``rpy``) as three finite numbers in ASCII
+    digits separated by ASCII spaces, normalised to single spaces; None when it is not (the
+    URDF parser reads no other)."""
+    from panther_ops.core.parse.numbers import NumberError, decimal
+
+    parts = _WORD.findall(value) if isinstance(value, str) else []
+    try:
+        for part in parts:
+            decimal(part)
+    except NumberError:
+        return None
+    return " ".join(parts) if len(parts) == 3 else None
+
+
 def _triple(where: str, value: Any) -> list[str]:
-    if isinstance(value, str) and _TRIPLE.match(value):
-        try:
-            numbers = [float(x) for x in value.split()]
-        except ValueError:
-            numbers = []
-        if len(numbers) == 3 and all(math.isfinite(n) for n in numbers):
-            return []
+    if triple(value) is not None:
+        return []
     return [f"{where}={value!r} must be three numbers separated by spaces, e.g. \"0.0 0.0 0.0\""]
 
 

@@ -100,6 +100,20 @@ class SettingError(Exception):
         return f"{self.key}={self.value!r} is not allowed: {self.allowed}"
 
 
+class SettingConflict(SettingError):
+    """Two names given for one key (a snap key and its inventory short name, or a key and the
+    option that also sets it): which one was meant is not known, so neither is used."""
+
+    def __init__(self, key: str, first: str, second: str, keep: str = "") -> None:
+        super().__init__(key, "", keep)
+        self.first = first
+        self.second = second
+
+    def __str__(self) -> str:
+        keep = self.allowed or "keep one of them"
+        return f"{self.first} and {self.second} both set {self.key}: {keep}"
+
+
 def canonical_key(key: str) -> str:
     """The snap's key for ``key`` (a snap key or an inventory alias)."""
     if key in DEFAULTS:
@@ -114,11 +128,17 @@ def validate(settings: Mapping[str, object], dds_profiles: Collection[str] | Non
 
     ``dds_profiles``: the profile names present in the snap's common directory
     (``dds-config-<name>.xml``); None when unknown (a custom transport is then checked for its
-    form only, its presence when it is applied). Raises :class:`SettingError` on the first bad one.
+    form only, its presence when it is applied). Raises :class:`SettingError` on the first bad one,
+    :class:`SettingConflict` when two of the given names are the same key (``port`` and
+    ``webui.port``).
     """
     out: dict[str, str] = {}
+    named: dict[str, str] = {}
     for raw_key, given in settings.items():
         key = canonical_key(str(raw_key))
+        if key in named:
+            raise SettingConflict(key, named[key], f"{raw_key}={given}")
+        named[key] = f"{raw_key}={given}"
         raw = int(given) if isinstance(given, bool) and key == "ros.localhost-only" else given  # YAML true/false
         if isinstance(raw, bool) or raw is None or isinstance(raw, (list, dict)):
             raise SettingError(key, str(raw), "a single value")

@@ -22,15 +22,14 @@ _TYPE = re.compile(r"^[A-Z]{3}[0-9]{2}$")
 
 
 def check_triple(value: Any, what: str) -> str:
-    """``"x y z"``: three numbers separated by spaces (UsageError otherwise)."""
-    parts = str(value).split()
-    try:
-        if len(parts) != 3:
-            raise ValueError
-        [float(p) for p in parts]
-    except ValueError:
-        raise UsageError(f"{what} {value!r}: three numbers separated by spaces, e.g. \"0.185 -0.12 0.0\"") from None
-    return " ".join(parts)
+    """``"x y z"``: three numbers in ASCII digits separated by spaces (the file kind's
+    `triple`), normalised; UsageError otherwise."""
+    from panther_ops.core.kinds.simple import triple
+
+    text = triple(str(value))
+    if text is None:
+        raise UsageError(f"{what} {value!r}: three numbers separated by spaces, e.g. \"0.185 -0.12 0.0\"")
+    return text
 
 
 def validate_components(text: str, path: str) -> None:

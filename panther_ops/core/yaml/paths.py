@@ -79,6 +79,6 @@ def path_key(parts: Sequence[PathPart]) -> tuple[PathPart, ...]:
 def as_index(part: PathPart) -> int | None:
     if isinstance(part, int):
         return part
-    if re.fullmatch(r"-?\d+", part):
+    if re.fullmatch(r"-?[0-9]+", part):
         return int(part)
     return None
