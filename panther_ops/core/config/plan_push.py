@@ -69,9 +69,16 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
     """The plan of pushing ``bundle`` as ``kind`` to the robot whose compose.yaml is ``raw``."""
     cfg = parse_config(raw, reads.stack)
     target = Target(cfg.stack, wheel_of(cfg))
-    warnings = list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),  # once per stack and wheel
-                                 lambda: check_file(kind, str(bundle.main), bundle.data,
+    main_data, translated = bundle.data, list[str]()
+    if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack, then its check
+        from panther_ops.core.config.animation_types import for_stack
+
+        text, translated = for_stack(bundle.data.decode(), cfg.stack)
+        main_data = text.encode()
+    warnings = list(_CHECKED.get((kind, str(bundle.main), main_data, target, force),  # once per stack and wheel
+                                 lambda: check_file(kind, str(bundle.main), main_data,
                                                     local=bundle.main, target=target, force=force)))
+    warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
     if kind is FileKind.JOY2TWIST:
         from panther_ops.core.config.gamepad import plan_joy2twist
 
@@ -93,14 +100,7 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
         if cfg.tree_mounted and reads.file(cf.robot_path) is not None:
             name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
             arg = ""
-        main_data = bundle.data
         extra = {}
-        if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack
-            from panther_ops.core.config.animation_types import for_stack
-
-            text, translated = for_stack(main_data.decode(), cfg.stack)
-            main_data = text.encode()
-            warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
         if kind is FileKind.USER_ANIMATIONS and bundle.extra:
             main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
             extra = {f"../{k}": v for k, v in bundle.extra.items()}
