@@ -33,7 +33,7 @@ from panther_ops.conformance import catalogue
 from panther_ops.conformance.digest import Leaves, diff, leaves
 from panther_ops.conformance.reasons import own, reason_for
 from panther_ops.conformance.validate import run_validator
-from panther_ops.core.config.files import config_files
+from panther_ops.core.config.files import config_files, family_dirs
 from panther_ops.core.fleet.templates import templates_dir
 from panther_ops.core.stack import Family, Generation, Stack, stack_from_version
 from panther_ops.errors import OpsError
@@ -96,6 +96,19 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
         upstream = f"{pkgs.get(cf.package, cf.package)}/config/{cf.filename}"
         pairs.append(Pair(None if cf.template is None else f"config/{cf.template}",
                           upstream if upstream in present else None, cf.note))
+    paired = {p.template for p in pairs}
+    covered = {p.upstream for p in pairs if p.upstream}  # an overlay's file shadows the base's: first wins
+    for directory in family_dirs(stack):  # the release's other files (what `config pull` hands out by path)
+        root = templates_dir() / "config" / directory
+        for path in sorted(q for q in root.rglob("*") if q.is_file() and q.suffix in (".yaml", ".xml", ".btproj")):
+            rel = path.relative_to(root).as_posix()
+            template = f"config/{directory}/{rel}"
+            package, _, rest = rel.partition("/")
+            upstream = f"{pkgs.get(package, package)}/{rest}"
+            if template not in paired and upstream in present and upstream not in covered:
+                pairs.append(Pair(template, upstream))
+                paired.add(template)
+                covered.add(upstream)
     manager = f"{stack.package_prefix}_manager"
     for path in sorted((templates_dir() / "behavior_trees").iterdir()):
         name = BT_NAMES.get(path.name, path.name) if stack.family is Family.HUSARION_UGV else path.name

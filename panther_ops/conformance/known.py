@@ -26,30 +26,11 @@ FINDINGS: dict[str, str] = {
 """Label -> what it is: the findings of issue #24 that known failures belong to."""
 
 KNOWN: dict[str, tuple[str, str]] = {
-    # 1. real 2.2 files refused
-    "2.2.*:defaults:husarion_ugv_description/config/WH0[1245].yaml":
-        ("finding 1", "mount_point_offset, no wheel_separation"),
-    "2.2.*:defaults:husarion_ugv_lights/config/panther_animations.yaml":
-        ("finding 1", "priority 0, images in the image"),
-    "2.2.*:defaults:husarion_ugv_lights/config/lynx_animations.yaml":
-        ("finding 1", "the Lynx's animations, same causes"),
-    "2.2.*:defaults:husarion_ugv_manager/behavior_trees/LightsBT.btproj": ("finding 1", "Parallel and Delay"),
-    # 5. templates
-    "2.2.*:templates:*/husarion_ugv_lights/config/panther_animations.yaml": ("finding 5", "the 2.1 file renamed"),
-    "2.2.*:templates:config/husarion-ugv-2.2/husarion_ugv_lights/config/panther_driver.yaml":
-        ("finding 5", "wrapped in ros__parameters; upstream's is flat"),
-    "2.2.*:templates:(none) -> husarion_ugv_description/config/WH0[24].yaml": ("finding 5", "no template"),
-    "2.2.*:templates:(none) -> husarion_ugv_controller/config/WH05_controller.yaml": ("finding 5", "no template"),
-    "2.2.2:tree:panther": ("finding 5", "the demo's tree lacks files the image copies"),
-    "2.0.4:templates:config/panther-2.0/panther_manager/config/*_manager_config.yaml":
-        ("finding 5", "node names 2.0.2-2.0.4 no longer have"),
     # 9. joy2twist
     "2.2.2:templates:(none) -> husarion_ugv_bringup/config/joy2twist_*.yaml": ("finding 9", "no template"),
     # found by the conformance tool, not in the issue
     "*:templates:behavior_trees/*": ("new", "templates/behavior_trees differ from every release's; config pull "
                                      "bt-lights/bt-safety presents them as the image's default"),
-    "2.2.*:templates:config/husarion-ugv-2.2/husarion_ugv_description/config/WH05.yaml":
-        ("new", "inertia.iyy is not upstream's"),
     "2.2.*:templates:(none) -> husarion_ugv_gazebo/config/battery_plugin.yaml":
         ("new", "no template of 2.2's simulated battery (--as battery)"),
     "2.2.*:templates:(none) -> husarion_ugv_lights/config/lynx_animations.yaml":

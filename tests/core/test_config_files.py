@@ -91,7 +91,7 @@ def test_family_specific_shapes() -> None:
     anim22 = config_file(s22, ConfigKind.ANIMATIONS)
     assert anim22.filename == "panther_animations.yaml" and "husarion_ugv_lights::" in anim22.template_text()
     driver = yaml.safe_load(config_file(s22, ConfigKind.LIGHTS_DRIVER).template_text())
-    assert driver["/**"]["lights_driver"]["ros__parameters"]["channel_1_num_led"] == 46
+    assert driver["channel_1_num_led"] == 46  # flat: the driver is a ComposableNode (no ros__parameters)
     assert yaml.safe_load(config_file(s22, ConfigKind.USER_ANIMATIONS).template_text())["user_animations"] == []
     mgr = yaml.safe_load(config_file(s21, ConfigKind.SAFETY_MANAGER).template_text())
     assert mgr["/**"]["safety_manager"]["ros__parameters"]["cpu"]["temp"]["fan_on"] == 75.0
@@ -115,7 +115,7 @@ def test_files_a_stack_does_not_have() -> None:
         config_file(s22, ConfigKind.BATTERY_PLUGIN)
     with pytest.raises(UsageError):
         config_file(s20, ConfigKind.WHEEL, wheel_type="WH05")
-    missing = config_file(s22, ConfigKind.WHEEL, wheel_type="WH02")
+    missing = config_file(s22, ConfigKind.ANIMATIONS, robot_model="lynx")  # lynx_animations.yaml: no template
     assert missing.template is None
     with pytest.raises(UsageError, match="no default"):
         missing.template_text()

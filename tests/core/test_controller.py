@@ -109,8 +109,10 @@ def test_set_unset_and_check() -> None:
     assert any("exceeds" in w for w in config.check())
 
 
-def test_no_default_for_custom_or_wh05() -> None:
+def test_no_default_for_custom_or_wh05_before_22() -> None:
     with pytest.raises(UsageError, match="custom"):
         ctl.default_controller_text(S211, "custom")
     with pytest.raises(UsageError):
-        config_file(S222, ConfigKind.CONTROLLER, wheel_type="WH05")
+        config_file(S211, ConfigKind.CONTROLLER, wheel_type="WH05")
+    # husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH05_controller.yaml (the Lynx wheels)
+    assert "wheel_radius: 0.144" in ctl.default_controller_text(S222, "WH05")

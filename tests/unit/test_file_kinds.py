@@ -156,7 +156,9 @@ def test_apply_migrates_too(demo: Path, capsys: pytest.CaptureFixture[str]) -> N
 def test_a_custom_wheel_file_refuses_the_change_with_the_fix(demo: Path, tmp_path: Path,
                                                              capsys: pytest.CaptureFixture[str]) -> None:
     wheel = tmp_path / "my_wheel.yaml"
-    wheel.write_text("wheel_radius: 0.2\nwheel_separation: 0.7\nmass: 3.0\n")
+    wheel.write_text("wheel_radius: 0.2\nwheel_width: 0.14\nwheel_separation: 0.7\nmass: 3.0\n"  # every key 2.1.1's
+                     "inertia: {ixx: 0.02, iyy: 0.03, izz: 0.02}\ninertia_y_offset: 0.0\n"  # URDF reads
+                     "mesh_package: panther_description\nfolder_path: meshes/WH01\nmecanum: false\n")
     assert run(capsys, "-i", str(demo), "config", "push", str(wheel), "--as", "wheel", "-r", "panther-01",
                "--yes")[0] == 0
     before = (demo / "robots/panther-01/home/husarion/compose.yaml").read_bytes()

@@ -213,6 +213,9 @@ def _as_ugv(demo: Path, version: str, gamepad_service: bool) -> Path:
     """panther-03 on husarion_ugv ``version``: with 2.2.0's gamepad_controller service (its
     docker/demo/compose.hardware.yaml: ~/config/common/joy2twist.yaml at /joy2twist.yaml), or without."""
     compose = home(demo, "panther-03") / "compose.yaml"
+    # the 2.2.0 and 2.2.1 images do not copy joy2twist_panther.yaml into ~/config (husarion_ugv_ros@2.2.1:
+    # docker/utils/update_config_directory.sh); the demo's 2.2.2 tree has it
+    (home(demo, "panther-03") / TREE).unlink(missing_ok=True)
     doc = yaml.safe_load(compose.read_text())
     driver = doc["services"]["husarion_ugv_ros"]
     driver["image"] = f"husarion/husarion-ugv:humble-{version}-20250331"

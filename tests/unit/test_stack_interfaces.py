@@ -19,16 +19,17 @@ from panther_ops.core.kinds import FileKind
 from tests.unit.test_manager_deploy import ctxs, make_fleet  # noqa: F401 - fixture
 
 EXAMPLE = template_path("lights", "user_animations.example.yaml")
-UGV_STYLE = """user_animations:
+LED_21 = template_path("lights", "led_config.yaml")
+LED_22 = template_path("config", "husarion-ugv-2.2", "husarion_ugv_lights", "config", "panther_animations.yaml")
+PORTABLE = """user_animations:
   - id: 30
-    name: UGV_STYLE
+    name: OWN_IMAGE
     priority: 3
     animations:
-      - {type: husarion_ugv_lights::ChargingAnimation, segments: all, animation: {duration: 2}}
       - type: 'husarion_ugv_lights::ImageAnimation'   # kept comment
         segments: rear
         animation:
-          image: $(find husarion_ugv_lights)/animations/panther/triangle01_red.png
+          image: {image}
           duration: 2
 """
 
@@ -38,41 +39,62 @@ def _main_file(plan: Any) -> str:
     return str(edit.after.decode())
 
 
-@pytest.mark.parametrize(("robot", "package", "find"), [
-    ("r20", "panther_lights", "$(find panther_lights)/animations/"),
-    ("r21", "panther_lights", "$(find panther_lights)/animations/"),
-    ("r22", "husarion_ugv_lights", "$(find husarion_ugv_lights)/animations/panther/"),
-])
+def _types(text: str, key: str) -> set[str]:
+    return {a["type"] for anim in yaml.safe_load(text)[key] for a in anim["animations"]}
+
+
+@pytest.mark.parametrize(("robot", "package"), [
+    ("r20", "panther_lights"), ("r21", "panther_lights"), ("r22", "husarion_ugv_lights")])
 def test_pushed_animations_use_the_robots_animation_types(ctxs: Any, tmp_path: Path, robot: str,  # noqa: F811
-                                                           package: str, find: str) -> None:
+                                                           package: str) -> None:
+    """ImageAnimation exists in both lights packages: a file with its own images is written with the
+    robot's package (panther_ros@2.1.1 / husarion_ugv_ros@2.2.0:*_lights/plugins.xml), as text."""
     _tmp, cs = ctxs
-    ugv = tmp_path / "ugv_style.yaml"
-    ugv.write_text(UGV_STYLE)
-    # user animations files (the manual's example, a 2.2-style one) and a led config, each as its own kind
-    led = Path(__file__).resolve().parents[2] / "templates" / "lights" / "led_config.yaml"
-    for source, kind, key in ((EXAMPLE, FileKind.USER_ANIMATIONS, "user_animations"),
-                              (ugv, FileKind.USER_ANIMATIONS, "user_animations"),
-                              (led, FileKind.LED, "led_animations")):
-        plan = plan_push(cs[robot], kind, read_bundle(kind, source))
-        text = _main_file(plan)
-        types = {a["type"] for anim in yaml.safe_load(text)[key] for a in anim["animations"]}
-        assert types <= {f"{package}::ImageAnimation", f"{package}::ChargingAnimation"}, (robot, kind, types)
-        images = [a["animation"]["image"] for anim in yaml.safe_load(text)[key]
-                  for a in anim["animations"] if "image" in a["animation"]]
-        assert images and all(i.startswith(find) for i in images), images
-        other = "husarion_ugv_lights::" if package == "panther_lights" else "panther_lights::"
-        assert other not in text
-        if source == ugv:
-            assert "# kept comment" in text  # rewritten as text: comments and layout stay
+    from PIL import Image
+
+    image = tmp_path / "mine.png"
+    Image.new("RGBA", (46, 10), (255, 0, 0, 255)).save(image)
+    own = tmp_path / "own.yaml"
+    own.write_text(PORTABLE.format(image=image))
+    text = _main_file(plan_push(cs[robot], FileKind.USER_ANIMATIONS, read_bundle(FileKind.USER_ANIMATIONS, own)))
+    assert _types(text, "user_animations") == {f"{package}::ImageAnimation"}
+    assert "# kept comment" in text  # rewritten as text: comments and layout stay
+    # each release's own stock file goes to a robot of that release as it is
+    stock = (LED_22 if package == "husarion_ugv_lights" else LED_21)
+    text = _main_file(plan_push(cs[robot], FileKind.LED, read_bundle(FileKind.LED, stock)))
+    assert {t.split("::")[0] for t in _types(text, "led_animations")} == {package}
+
+
+@pytest.mark.parametrize(("robot", "source", "kind", "said"), [
+    # 2.2 ships other images, under animations/panther/, and no ChargingAnimation
+    ("r22", EXAMPLE, FileKind.USER_ANIMATIONS, "no package panther_lights on husarion_ugv 2.2"),
+    ("r22", LED_21, FileKind.LED, "unknown animation type 'panther_lights::ChargingAnimation' on husarion_ugv 2.2"),
+    # 2.0/2.1 have no MovingImageAnimation nor husarion_ugv_lights
+    ("r21", LED_22, FileKind.LED, "unknown animation type 'husarion_ugv_lights::MovingImageAnimation'"),
+    ("r20", LED_22, FileKind.LED, "no package husarion_ugv_lights on panther_ros 2.0-2.1"),
+])
+def test_another_releases_stock_animations_are_refused_with_the_reason(
+        ctxs: Any, robot: str, source: Path, kind: FileKind, said: str) -> None:  # noqa: F811
+    from panther_ops.core.kinds import FileKindError
+
+    _tmp, cs = ctxs
+    with pytest.raises(FileKindError) as exc:
+        plan_push(cs[robot], kind, read_bundle(kind, source))
+    assert said in str(exc.value)
 
 
 def test_lights_deploy_on_a_22_robot_writes_husarion_ugv_types(tmp_path: Path,
                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    from PIL import Image
+
     inv = make_fleet(tmp_path, {"r22": ("husarion-ugv-2.2.2.yaml", {})})
     assert inv.robots["r22"]
+    image = tmp_path / "mine.png"
+    Image.new("RGBA", (46, 10), (0, 0, 255, 255)).save(image)
+    own = tmp_path / "own.yaml"
+    own.write_text(PORTABLE.format(image=image).replace("husarion_ugv_lights::", "panther_lights::"))
     capsys.readouterr()
-    code = main(["-i", str(tmp_path / "inv.yaml"), "lights", "deploy", str(EXAMPLE), "-r", "r22", "--yes",
-                 "--json"])
+    code = main(["-i", str(tmp_path / "inv.yaml"), "lights", "deploy", str(own), "-r", "r22", "--yes", "--json"])
     out = capsys.readouterr().out
     assert code == 0, out
     doc = json.loads(out)
@@ -81,7 +103,11 @@ def test_lights_deploy_on_a_22_robot_writes_husarion_ugv_types(tmp_path: Path,
                if "user_animations" in p.read_text()]
     assert len(written) == 1
     text = written[0].read_text()
-    assert "type: husarion_ugv_lights::ImageAnimation" in text and "panther_lights::" not in text
+    assert "type: 'husarion_ugv_lights::ImageAnimation'" in text and "panther_lights::" not in text
+    # the manual's 2.1 example names panther_lights' images, which a 2.2 image does not have
+    code = main(["-i", str(tmp_path / "inv.yaml"), "lights", "deploy", str(EXAMPLE), "-r", "r22", "--yes"])
+    assert code == 2
+    assert "no package panther_lights on husarion_ugv 2.2" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize(("version", "msgs", "driver_topic", "lights"), [

@@ -127,7 +127,9 @@ def test_config_pull_bt_lights_falls_back_to_the_template(demo: Path, tmp_path: 
     code, out, err = run(capsys, "-i", str(demo), "config", "pull", "bt-lights", "-r", "panther-01")
     assert code == 0, err
     assert out == template_path("behavior_trees", "PantherLightsBT.btproj").read_text()
-    assert "no custom project is mounted, the robot runs its image's default" in err
+    # panther-ops' own project is not presented as the image's (issue 24, finding 5)
+    assert "panther-ops' own PantherLightsBT.btproj" in err and "not the image's default" in err
+    assert "panther_ros@2.1.1:panther_manager/behavior_trees/PantherLightsBT.btproj" in err
 
 
 def test_shutdown_check_on_a_demo_robot_is_skipped(demo: Path, capsys: Capsys) -> None:
@@ -151,7 +153,8 @@ def test_pull_says_which_content_a_demo_robot_uses(demo: Path, capsys: Capsys) -
     code, _, err = run(capsys, "-i", str(demo), "config", "pull", "controller", "-r", "panther-01")
     assert code == 0
     assert "not found in the image" not in err
-    assert "the robot uses its image's default, which this template reproduces (a demo robot has no image)" in err
+    assert "panther-ops' template for panther_ros 2.1.1" in err and "(a demo robot has no image)" in err
+    assert "the image's file is panther_ros@2.1.1:panther_controller/config/WH01_controller.yaml" in err
 
 
 # -- finding 8: refusals name the way forward -------------------------------------------------------------

@@ -22,19 +22,28 @@ LedConfig = Annotated[
 def validate(
     file: Annotated[Path, typer.Argument(help="A user animations file (user_animations:) or a led_config.")],
     led_config: LedConfig = None,
+    stack: Annotated[OptStr, typer.Option(
+        "--stack", help="Check with the lights rules of this release (e.g. 2.1.1, 2.2.2); default: the release "
+        "whose lights package the file's animation types name.")] = None,
     json_out: Json = False,
 ) -> int:
-    """Check animations: IDs 0-19 reserved and unique, user priority 2-3 only, duration x repeat
-    <= 10 s, brightness 0-1, images that exist (absolute or $(find pkg)), hex colours, segments
-    and segments_map names defined, channels present in panels, led_range inside its panel.
-    Every rule has its own message; exit 2 when the file would be refused.
+    """Check animations with the rules of the robot's release: IDs 0-19 reserved and unique, the
+    release's priorities (1-3 on panther_ros, user animations 2-3; 0-3 on husarion_ugv 2.2, user
+    animations 1-3), duration x repeat <= 10 s, brightness 0-1 (panther_ros), the release's
+    animation types, stock images the release ships ($(find <lights package>)/...) or absolute
+    paths, hex colours, segments and segments_map names defined, channels present in panels,
+    led_range inside its panel. Every rule has its own message; exit 2 when the file would be refused.
 
-    Example: panther-ops lights validate my_awesome_user_animations.yaml
+    Example: panther-ops lights validate my_awesome_user_animations.yaml --stack 2.1.1
     """
     from panther_ops.cli.views.findings import report_findings
+    from panther_ops.core.stack import stack_option
     from panther_ops.manager import validate_animations
+    from panther_ops.manager.lights.releases import release_for
 
-    return report_findings(str(file), validate_animations(file, led_config), json_out=json_out, what="animations")
+    release = release_for(stack_option(stack).version) if stack is not None else None
+    return report_findings(str(file), validate_animations(file, led_config, release), json_out=json_out,
+                           what="animations")
 
 
 @app.command("preview")

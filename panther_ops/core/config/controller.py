@@ -30,7 +30,7 @@ def default_controller_text(stack: Stack, wheel_type: str) -> str:
     """The stack's default ``<wheel_type>_controller.yaml`` (from ``templates/config``).
 
     Raises:
-        UsageError: no template (custom wheels, WH05).
+        UsageError: no template (custom wheels; WH05 before husarion_ugv 2.2).
     """
     return config_file(stack, ConfigKind.CONTROLLER, wheel_type=wheel_type).template_text()
 

@@ -2,9 +2,11 @@
 
 Facts: panther-stack.md sections 1.3-1.9 and 2.2. Templates live in
 ``templates/config/<family dir>/<package>/config/<file>``: ``panther-2.0`` (panther_ros
-2.0.x), ``panther-2.1`` (2.1.1-2.1.2), ``husarion-ugv-2.2`` (2.2.1+), with overlay
-directories for the versions that differ (``panther-2.0.0`` for 2.0.0-2.0.1,
-``panther-2.1.0``, ``husarion-ugv-2.2.0``).
+2.0.2-2.0.4, written from 2.0.4), ``panther-2.1`` (2.1.1-2.1.2, from 2.1.1),
+``husarion-ugv-2.2`` (2.2.1+, from husarion_ugv_ros 2.2.2), with overlay directories for the
+versions that differ (``panther-2.0.0`` for 2.0.0-2.0.1, ``panther-2.1.0``,
+``husarion-ugv-2.2.0``). Each template names the upstream file it is written from in its
+header (``Source: <repo>@<tag>:<path>``, `template_source`); templates/config/README.md lists them.
 
 Where a customised copy goes: on 2.2 the robot keeps its configuration in
 ``/home/husarion/config/<package>/config/<file>``, mounted at ``/config`` in the container
@@ -15,6 +17,7 @@ launch argument (manual: "Modification of configuration files").
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
@@ -23,6 +26,9 @@ from panther_ops.core.fleet.templates import read_template, template_path
 from panther_ops.core.stack import Family, Generation, Stack
 from panther_ops.errors import UsageError
 
+_SOURCE = re.compile(r"(?:Source:\s*|\b)((?:panther_ros|husarion_ugv_ros)@\d+\.\d+\.\d+:[^\s)]+)")
+_HEADER = 1000
+"""Characters of a template that hold its header comment."""
 ROBOT_CONFIG_DIR = "/home/husarion/config"
 CONTAINER_CONFIG_DIR = "/config"
 WHEEL_TYPES = ("WH01", "WH02", "WH04", "WH05")
@@ -102,9 +108,21 @@ class ConfigFile:
         return read_template("config", *self.template.split("/"))
 
 
+def template_source(text: str) -> str | None:
+    """The upstream file a template is written from (``repo@tag:path`` in its header comment),
+    or None: the template does not name one (panther-ops' own, or not traced yet)."""
+    match = _SOURCE.search(text[:_HEADER])
+    return match.group(1) if match else None
+
+
 def _pkg(stack: Stack, name: str) -> str:
     prefix = "husarion_ugv" if stack.family is Family.HUSARION_UGV else "panther"
     return f"{prefix}_{name}"
+
+
+def family_dirs(stack: Stack) -> tuple[str, ...]:
+    """The template directories of ``stack``, the version's overlay first."""
+    return _FAMILY_DIRS[stack.generation]
 
 
 def _exists(stack: Stack, package: str, filename: str) -> str | None:
@@ -121,12 +139,16 @@ def _wheel(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
     ugv = stack.family is Family.HUSARION_UGV
     if wheel_type not in WHEEL_TYPES or (wheel_type == "WH05" and not ugv):
         raise UsageError(f"no wheel config {wheel_type!r} on {stack.label()}")
-    note = "husarion_ugv 2.2: no WH02/WH04 templates (mount_point_offset not in the facts)" if ugv else ""
-    return _pkg(stack, "description"), f"{wheel_type}.yaml", "wheel_config_path", note
+    return _pkg(stack, "description"), f"{wheel_type}.yaml", "wheel_config_path", ""
+
+
+def controller_wheel_types(stack: Stack) -> tuple[str, ...]:
+    """Wheel types the stack ships a controller file for (WH05, Lynx: husarion_ugv 2.2)."""
+    return WHEEL_TYPES if stack.family is Family.HUSARION_UGV else WHEEL_TYPES[:3]
 
 
 def _controller(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
-    if wheel_type not in WHEEL_TYPES[:3]:
+    if wheel_type not in controller_wheel_types(stack):
         raise UsageError(
             f"no default controller config for {wheel_type!r} on {stack.label()}",
             hint="custom wheels: start from WH01_controller.yaml",
@@ -189,12 +211,8 @@ def _manager(base: str) -> Callable[[Stack, str, str], _Spec]:
     def spec(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
         if stack.version < (2, 0, 2):
             raise UsageError(f"{base} exists from panther_ros 2.0.2; this robot runs {stack.label()}")
-        if stack.family is Family.HUSARION_UGV:
-            raise UsageError(
-                f"husarion_ugv 2.2 defines {base} parameters in code (generate_parameter_library); no template"
-            )
         filename = f"{base}.yaml" if stack.version >= (2, 1, 1) else f"{base}_config.yaml"
-        return "panther_manager", filename, None, ""
+        return _pkg(stack, "manager"), filename, None, ""
 
     return spec
 
@@ -244,7 +262,7 @@ def config_files(stack: Stack, *, robot_model: str = "panther") -> list[ConfigFi
         if kind is ConfigKind.WHEEL:
             wheel_types = WHEEL_TYPES
         elif kind is ConfigKind.CONTROLLER:
-            wheel_types = WHEEL_TYPES[:3]
+            wheel_types = controller_wheel_types(stack)
         for wheel_type in wheel_types:
             try:
                 out.append(config_file(stack, kind, wheel_type=wheel_type or "WH01", robot_model=robot_model))

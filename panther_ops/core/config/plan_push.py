@@ -82,7 +82,7 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
     if kind is FileKind.JOY2TWIST:
         from panther_ops.core.config.gamepad import plan_joy2twist
 
-        warnings = _checked(reads, cfg, kind, bundle, force)
+        warnings = _checked(reads, cfg, kind, bundle.main, bundle.data, force)
         return plan_joy2twist(reads, cfg, bundle.main.name, bundle.data, warnings)
     pushed = push_onto(reads, cfg, kind, bundle, force=force)
     plan = compose_plan(reads.robot, cfg, pushed.summary, pushed.warnings, [pushed.verify],
@@ -91,24 +91,31 @@ def plan_push(raw: ComposeRead, reads: Reads, kind: FileKind, bundle: Bundle, *,
     return plan
 
 
-def _checked(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, force: bool) -> list[str]:
-    """The file through its kind's one validator, for this robot's stack and wheel (once each)."""
+def _checked(reads: Reads, cfg: RobotConfig, kind: FileKind, main: Path, data: bytes, force: bool) -> list[str]:
+    """The file (``data``, as it will be written) through its kind's one validator, for this
+    robot's stack, wheel and namespace (once each)."""
     namespace = None
     if kind is FileKind.CONTROLLER:  # its IMU broadcaster must read the IMU under the driver's namespace
         from panther_ops.core.config.namespace import driver_namespace
 
         namespace = driver_namespace(reads, cfg)[0]
     target = Target(cfg.stack, wheel_of(cfg), namespace)
-    return list(_CHECKED.get((kind, str(bundle.main), bundle.data, target, force),
-                             lambda: check_file(kind, str(bundle.main), bundle.data,
-                                                local=bundle.main, target=target, force=force)))
+    return list(_CHECKED.get((kind, str(main), data, target, force),
+                             lambda: check_file(kind, str(main), data, local=main, target=target, force=force)))
 
 
 def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *, force: bool = False) -> Pushed:
     """Push ``bundle`` as ``kind`` (not joy2twist) onto the robot ``cfg`` describes: the files
     to write, checked by their kind's validator; the mount and the launch argument are made in
     ``cfg`` (the caller's plan writes compose.yaml)."""
-    warnings = _checked(reads, cfg, kind, bundle, force)
+    main_data, translated = bundle.data, list[str]()
+    if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack, then its check
+        from panther_ops.core.config.animation_types import for_stack
+
+        text, translated = for_stack(bundle.data.decode(), cfg.stack)
+        main_data = text.encode()
+    warnings = _checked(reads, cfg, kind, bundle.main, main_data, force)
+    warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
     forced = [w for w in warnings if w.endswith("(forced)")]
     if kind in BT_ARGS:
         pkg = f"{cfg.stack.package_prefix}_manager"
@@ -126,14 +133,7 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:
             name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
             arg = ""
-        main_data = bundle.data
         extra = {}
-        if kind in (FileKind.USER_ANIMATIONS, FileKind.LED):  # animation types of this stack
-            from panther_ops.core.config.animation_types import for_stack
-
-            text, translated = for_stack(main_data.decode(), cfg.stack)
-            main_data = text.encode()
-            warnings += [f"{bundle.main.name}: {t} for {cfg.stack.label()}" for t in translated]
         if kind is FileKind.USER_ANIMATIONS and bundle.extra:
             main_data = _rewrite_images(main_data.decode(), posixpath.dirname(container_dir)).encode()
             extra = {f"../{k}": v for k, v in bundle.extra.items()}

@@ -10,7 +10,9 @@ else set the argument to the pushed file. A BT project brings the XML files its 
 animations file brings the images it references.
 
 pull: the file in use: the mounted one, else the 2.2 tree's (where the stack reads it from the
-tree), else the default inside the robot's own image, else panther-ops' template for that version.
+tree), else the default inside the robot's own image, else panther-ops' template for that
+version, said as such: the upstream file the template is written from (its ``Source:``), or
+that it is panther-ops' own.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import re
 from pathlib import Path
 
 from panther_ops.core.config import plan_push as planner
-from panther_ops.core.config.files import config_file
+from panther_ops.core.config.files import ROBOT_CONFIG_DIR, config_file, family_dirs, template_source
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plan_push import BT_ARGS, BT_TEMPLATES, KINDS, Bundle, wheel_of
 from panther_ops.core.config.robot import read_compose, read_config
@@ -30,6 +32,7 @@ from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import running_containers
 from panther_ops.core.kinds import PUSHABLE, FileKind, check_file
+from panther_ops.core.stack import Family, Stack
 from panther_ops.errors import InputError, UsageError
 
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
@@ -112,6 +115,58 @@ def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool 
     return read_and_plan(ctx, lambda reads: planner.plan_push(raw, reads, kind, bundle, force=force))
 
 
+def stock_bt_project(stack: Stack, kind: FileKind) -> tuple[str, str]:
+    """(manager package, file name) of the stock BT project of ``kind`` on ``stack``
+    (panther_ros@2.0.4 / 2.1.1:panther_manager/behavior_trees/Panther{Lights,Safety}BT.btproj;
+    husarion_ugv_ros@2.2.0 / 2.2.2:husarion_ugv_manager/behavior_trees/{Lights,Safety}BT.btproj)."""
+    which = "Lights" if kind is FileKind.BT_LIGHTS else "Safety"
+    prefix = "" if stack.family is Family.HUSARION_UGV else "Panther"
+    return f"{stack.package_prefix}_manager", f"{prefix}{which}BT.btproj"
+
+
+def _upstream(stack: Stack, package: str, rel: str) -> str:
+    repo = "husarion_ugv_ros" if stack.family is Family.HUSARION_UGV else "panther_ros"
+    return f"{repo}@{stack.version_str}:{package}/{rel}"
+
+
+def _template_note(stack: Stack, text: str, why: str, upstream: str) -> str:
+    """Where a template pulled in place of the robot's file comes from, said plainly."""
+    source = template_source(text)
+    traced = f"written from {source}" if source else "not traced to an upstream file"
+    return (f"panther-ops' template for {stack.label()}, {traced}: the image's file is {upstream}, which could "
+            f"not be read ({why})")
+
+
+def _bt_pull(ctx: RobotContext, cfg: RobotConfig, kind: FileKind) -> tuple[bytes, str]:
+    arg = BT_ARGS[kind]
+    current = cfg.compose.args.get(arg)
+    host = cfg.host_path_of(current) if current else None
+    if host and (data := _read(ctx, host)) is not None:
+        return data, f"{host} (mounted, {arg})"
+    package, name = stock_bt_project(cfg.stack, kind)
+    if kind is FileKind.BT_LIGHTS and cfg.tree_mounted:  # 2.2 reads the Lights project from common_dir_path
+        tree = f"{ROBOT_CONFIG_DIR}/{package}/behavior_trees/{name}"
+        if (data := _read(ctx, tree)) is not None:
+            return data, f"{tree} (config tree)"
+    from_image = _from_image(ctx, cfg, package, name, "behavior_trees")
+    if from_image is not None:
+        return from_image
+    upstream = _upstream(cfg.stack, package, f"behavior_trees/{name}")
+    why = ("a demo robot has no image" if ctx.robot.transport == "local"
+           else "the driver container could not be read")
+    from panther_ops.core.fleet.templates import template_file, template_path
+
+    for directory in family_dirs(cfg.stack):
+        path = template_path("config", directory, package, "behavior_trees", name)
+        if path.is_file():
+            data = path.read_bytes()
+            return data, _template_note(cfg.stack, data.decode(), why, upstream)
+    project = template_file("behavior_trees", BT_TEMPLATES[kind])
+    return project.read_bytes(), (f"panther-ops' own {BT_TEMPLATES[kind]} (templates/behavior_trees/, the project "
+                                  f"panther-ops' manager runs), not the image's default ({upstream}), which could "
+                                  f"not be read: {why}")
+
+
 def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     """The file of ``kind`` in use on the robot, and where it came from."""
     cfg = read_config(ctx)
@@ -120,16 +175,7 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
 
         return read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
     if kind in BT_ARGS:
-        arg = BT_ARGS[kind]
-        current = cfg.compose.args.get(arg)
-        host = cfg.host_path_of(current) if current else None
-        if host and (data := _read(ctx, host)) is not None:
-            return data, f"{host} (mounted, {arg})"
-        from panther_ops.core.fleet.templates import template_file
-
-        project = template_file("behavior_trees", BT_TEMPLATES[kind])
-        return project.read_bytes(), (f"panther-ops' template {BT_TEMPLATES[kind]} (templates/behavior_trees/): "
-                                      f"no custom project is mounted, the robot runs its image's default")
+        return _bt_pull(ctx, cfg, kind)
     cf = config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(cfg))
     if cf.launch_arg:
         name = spec(cf.launch_arg).name_for(cfg.stack)
@@ -145,11 +191,13 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
         return from_image
     why = ("a demo robot has no image" if ctx.robot.transport == "local"
            else "the driver container could not be read")
-    return cf.template_text().encode(), (f"panther-ops' template for {cfg.stack.label()}: the robot uses its "
-                                         f"image's default, which this template reproduces ({why})")
+    text = cf.template_text()
+    upstream = _upstream(cfg.stack, cf.package, f"config/{cf.filename}")
+    return text.encode(), _template_note(cfg.stack, text, why, upstream)
 
 
-def _from_image(ctx: RobotContext, cfg: RobotConfig, package: str, filename: str) -> tuple[bytes, str] | None:
+def _from_image(ctx: RobotContext, cfg: RobotConfig, package: str, filename: str,
+                subdir: str = "config") -> tuple[bytes, str] | None:
     """The default file inside the running driver container (docker SDK on the same connection)."""
     import io
     import tarfile
@@ -157,7 +205,7 @@ def _from_image(ctx: RobotContext, cfg: RobotConfig, package: str, filename: str
     client = ctx.transport.docker()
     if client is None:
         return None
-    path = f"/ros2_ws/install/{package}/share/{package}/config/{filename}"
+    path = f"/ros2_ws/install/{package}/share/{package}/{subdir}/{filename}"
     try:
         containers = running_containers(client, cfg.service, posixpath.dirname(cfg.compose_path))
         if not containers:

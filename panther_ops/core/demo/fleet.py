@@ -85,6 +85,25 @@ ROBOT_HW_CONFIG_CORRECT=true
 SYSTEM_BUILD_VERSION=v2.2.0
 """
 
+CONFIG_TREE_2_2_2 = (
+    "husarion_ugv_bringup/config/joy2twist_panther.yaml",
+    *(f"husarion_ugv_controller/config/{w}_controller.yaml" for w in ("WH01", "WH02", "WH04", "WH05")),
+    "husarion_ugv_lights/config/user_animations.yaml",
+    "husarion_ugv_lights/config/panther_animations.yaml",
+    *(f"husarion_ugv_localization/config/{n}.yaml" for n in
+      ("enu_localization", "enu_localization_with_gps", "relative_localization", "relative_localization_with_gps")),
+    "husarion_ugv_manager/behavior_trees/lights.xml",
+    "husarion_ugv_manager/behavior_trees/LightsBT.btproj",
+    "husarion_ugv_manager/config/shutdown_hosts.yaml",
+    "husarion_ugv_description/config/components.yaml",
+)
+"""What the husarion_ugv 2.2.2 image copies into ~/config (mounted at /config) for a Panther
+(ROBOT_MODEL_NAME=panther): husarion_ugv_ros@2.2.2:docker/utils/update_config_directory.sh
+copies joy2twist_${ROBOT_MODEL_NAME}.yaml, the whole husarion_ugv_controller/config and
+husarion_ugv_localization/config directories (less nmea_navsat.yaml), user_animations.yaml,
+${ROBOT_MODEL_NAME}_animations.yaml, lights.xml, LightsBT.btproj, shutdown_hosts.yaml and
+components.yaml. The demo's 2.2.2 robot gets these files from templates/config-tree/husarion-ugv-2.2/."""
+
 COMMON_ENV_22 = """\
 # env configuration including namespace, domain id, DDS, etc.
 ROS_DOMAIN_ID=0
@@ -125,8 +144,12 @@ def _lay_out(root: Path, robot: DemoRobot) -> None:
     if robot.compose_template.startswith("husarion-ugv"):
         (run / "robot_config.env").write_text(ENV_22.format(serial=robot.serial))
         tree = template_path("config-tree", "husarion-ugv-2.2")
-        if tree.is_dir():
-            shutil.copytree(tree, home / "config")
+        for rel in CONFIG_TREE_2_2_2:
+            (home / "config" / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(tree / rel, home / "config" / rel)
+        if (tree / "common" / ".env").is_file():
+            (home / "config" / "common").mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(tree / "common" / ".env", home / "config" / "common" / ".env")
         common = home / "config" / "common"
         common.mkdir(parents=True, exist_ok=True)
         if not (common / ".env").exists():

@@ -33,15 +33,20 @@ def on_disk(source: str, data: bytes, local: Path | None, check: Callable[[Path]
         return check(path)
 
 
-def _animations(source: str, data: bytes, local: Path | None, what: str, key: str, hint: str) -> list[str]:
+def _animations(source: str, data: bytes, local: Path | None, target: Target, what: str, key: str,
+                hint: str) -> list[str]:
+    """The manager's `validate_animations` with the lights rules of the robot's release (of the
+    release the file's types name while no robot is known)."""
+    from panther_ops.manager.lights.releases import release_for
     from panther_ops.manager.lights.validate import validate_animations
 
     doc = load_mapping(source, data, what)
     if key not in doc:
         raise FileKindError(source, what, [f"error no '{key}' list (anim-list-missing) {source}"], hint=hint)
+    release = release_for(target.stack.version) if target.stack is not None else None
 
     def check(path: Path) -> list[str]:
-        errors, warnings = split(validate_animations(path))
+        errors, warnings = split(validate_animations(path, release=release))
         if errors:
             raise FileKindError(source, what, errors, hint=f"panther-ops lights validate {source}")
         return warnings
@@ -50,11 +55,11 @@ def _animations(source: str, data: bytes, local: Path | None, what: str, key: st
 
 
 def check_user_animations(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
-    return _animations(source, data, local, "animations", "user_animations",
+    return _animations(source, data, local, target, "animations", "user_animations",
                        "a user animations file lists its animations under user_animations:")
 
 
 def check_led(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
-    return _animations(source, data, local, "animations", "led_animations",
+    return _animations(source, data, local, target, "animations", "led_animations",
                        "a led config has panels, segments, segments_map and led_animations "
                        "(user animations: --as user-animations)")

@@ -67,11 +67,11 @@ Validator = Callable[[str, bytes, "Path | None", Target, bool], list[str]]
 
 
 def _registry() -> dict[FileKind, Validator]:
-    from panther_ops.core.kinds import bt, compose, controller, hosts, joy2twist, lights, simple, world
+    from panther_ops.core.kinds import bt, compose, controller, hosts, joy2twist, lights, simple, wheel, world
 
     return {
         FileKind.CONTROLLER: controller.check_controller,
-        FileKind.WHEEL: simple.check_wheel,
+        FileKind.WHEEL: wheel.check_wheel,
         FileKind.COMPONENTS: simple.check_components,
         FileKind.BATTERY: simple.check_battery,
         FileKind.LED: lights.check_led,

@@ -1,4 +1,5 @@
-"""Wheel, components and battery files: their keys, types and ranges (panther-stack.md 1.4-1.7)."""
+"""Components and battery files: their keys, types and ranges (panther-stack.md 1.4-1.7); the wheel
+file is `wheel.py`."""
 
 from __future__ import annotations
 
@@ -12,7 +13,6 @@ from panther_ops.core.kinds.registry import FileKindError, Target
 from panther_ops.core.stack import Family
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_PATHISH = re.compile(r"^[A-Za-z0-9_./-]+$")
 _COMPONENT_TYPE = re.compile(r"^[A-Z]{3}[0-9]{2}$")
 _WORD = re.compile(r"\S+", re.ASCII)
 
@@ -31,43 +31,6 @@ def _unknown(doc: dict[str, Any], allowed: tuple[str, ...], where: str, errors: 
     for key in doc:
         if key not in allowed:
             errors.append(f"{where}{key}: unknown key (allowed: {', '.join(allowed)})")
-
-
-WHEEL_KEYS = ("wheel_radius", "wheel_width", "wheel_separation", "wheel_separation_x", "wheel_separation_y",
-              "mass", "inertia", "inertia_y_offset", "mount_point_offset", "mesh_package", "folder_path", "mecanum")
-
-
-def check_wheel(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
-    what = "wheel file"
-    doc = load_mapping(source, data, what)
-    errors: list[str] = []
-    _unknown(doc, WHEEL_KEYS, "", errors)
-    _positive(doc, "wheel_radius", errors, required=True)
-    _positive(doc, "wheel_width", errors)
-    _positive(doc, "mass", errors)
-    for key in ("wheel_separation", "wheel_separation_x", "wheel_separation_y"):
-        _positive(doc, key, errors)
-    if not any(k in doc for k in ("wheel_separation", "wheel_separation_y")):
-        errors.append("wheel_separation (or wheel_separation_y for mecanum wheels) is required")
-    for key in ("inertia_y_offset", "mount_point_offset"):
-        if key in doc and (not is_number(doc[key]) or not math.isfinite(float(doc[key]))):
-            errors.append(f"{key}={doc[key]!r} must be a finite number")
-    inertia = doc.get("inertia")
-    if "inertia" in doc:
-        if not isinstance(inertia, dict):
-            errors.append(f"inertia={inertia!r} must be a mapping {{ixx, iyy, izz}}")
-        else:
-            _unknown(inertia, ("ixx", "iyy", "izz"), "inertia.", errors)
-            for key in ("ixx", "iyy", "izz"):
-                _positive(inertia, key, errors, required=True)
-    if "mecanum" in doc and not isinstance(doc["mecanum"], bool):
-        errors.append(f"mecanum={doc['mecanum']!r} is not a boolean; allowed: true, false")
-    for key in ("mesh_package", "folder_path"):
-        if key in doc and not (isinstance(doc[key], str) and _PATHISH.match(doc[key]) and ".." not in doc[key]):
-            errors.append(f"{key}={doc[key]!r} must be a package name or a relative path (letters, digits, _ . / -)")
-    if errors:
-        raise FileKindError(source, what, errors)
-    return []
 
 
 COMPONENT_KEYS = ("type", "parent_link", "xyz", "rpy", "device_namespace", "name")

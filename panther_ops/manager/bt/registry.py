@@ -76,6 +76,10 @@ def _script(kind: str, cls: type[scripting.Script]) -> NodeType:
 
 REGISTRY: dict[str, NodeType] = {
     **{tag: _control(cls) for tag, cls in controls.CONTROLS.items()},
+    "Parallel": NodeType("control", lambda name, ctx, ports, children: controls.Parallel(name, children, ctx, ports),
+                         controls.Parallel.PORTS, children=(1, None)),
+    "Delay": _decorator(decorators.Delay,
+                        decorators.Delay.PORTS),
     "ForceSuccess": _decorator(lambda n, c, ctx, p: decorators.ForceSuccess(n, c)),
     "ForceFailure": _decorator(lambda n, c, ctx, p: decorators.ForceFailure(n, c)),
     "Inverter": _decorator(lambda n, c, ctx, p: decorators.Inverter(n, c)),

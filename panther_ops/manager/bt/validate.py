@@ -169,6 +169,24 @@ def _node(element: ET.Element, walk: _Walk, where: str) -> None:
                                    f"{count}", where))
     _ports(element, kind, walk, where)
     _scripts(element, walk, where, node_type.scripts)
+    if kind == "Parallel":
+        _parallel(element, count, walk, where)
+
+
+def _parallel(element: ET.Element, children: int, walk: _Walk, where: str) -> None:
+    """BT.CPP refuses a Parallel whose counts its children cannot reach (LogicError at its first
+    tick, BehaviorTree/BehaviorTree.CPP@4.6.2:src/controls/parallel_node.cpp)."""
+    from panther_ops.manager.nodes.controls import Parallel
+
+    for port, what in (("success_count", "succeed"), ("failure_count", "fail")):
+        value = element.get(port, str(Parallel.PORTS[port].default))
+        try:
+            count = int(convert(value, "int"))
+        except ScriptError:
+            continue  # a reference, or a value _ports already reported
+        if children < Parallel.threshold(count, children):
+            walk.findings.append(error("bt-parallel-count", f"<Parallel> {port}={count} with {children} "
+                                       f"children: it can never {what}", where))
 
 
 @lru_cache(maxsize=4)

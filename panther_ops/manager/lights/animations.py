@@ -80,7 +80,8 @@ def _image_frames(path: Path, mtime: float, color: int | None, num_led: int,
 def image_frames(part: AnimationPart, num_led: int, frequency: float) -> Frames:
     """Frames of an ImageAnimation part for a segment of `num_led` LEDs."""
     if part.image is None:
-        raise LightsConfigError("ImageAnimation without a resolved image")
+        raise LightsConfigError(f"image {part.image_ref or '(none)'} is in the robot's image, not on this computer: "
+                                "it cannot be drawn here")
     try:
         mtime = part.image.stat().st_mtime
         frames = _image_frames(part.image, mtime, parse_color(part.params.get("color")),
@@ -138,6 +139,9 @@ def part_frames(part: AnimationPart, num_led: int, frequency: float, param: str 
     """Frames of any animation part for one segment."""
     if part.is_charging:
         return charging_frames(part, num_led, frequency, param)
+    if part.is_moving:
+        raise LightsConfigError(f"{part.type} is played by the robot's lights controller; panther-ops does not "
+                                "draw it")
     return image_frames(part, num_led, frequency)
 
 

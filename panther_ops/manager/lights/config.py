@@ -1,8 +1,9 @@
 """LED configuration: panels, segments, segments_map and animation descriptions, with checks.
 
-The checks are the manual's rules ("LED Animations" section) and the lights controller's:
-each rule has its own finding code and message. `load_led_config` raises on the first
-error; `validate_animations` (in `validate.py`) reports them all.
+The checks are the manual's rules ("LED Animations" section) and the lights controller's of
+the robot's release (`releases.py`: plugin types, priorities, stock images, each with its
+source): each rule has its own finding code and message. `load_led_config` raises on the
+first error; `validate_animations` (in `validate.py`) reports them all.
 """
 
 from __future__ import annotations
@@ -16,13 +17,13 @@ from typing import Any
 
 from panther_ops.manager.errors import LightsConfigError
 from panther_ops.manager.findings import Finding, error, has_errors, warning
-from panther_ops.manager.paths import LIGHTS, default_led_config
+from panther_ops.manager.lights.releases import PACKAGES, PANTHER_ROS, RELEASES, LightsRelease
 from panther_ops.manager.yaml_io import read_yaml
 
-IMAGE_TYPES = {"panther_lights::ImageAnimation", "husarion_ugv_lights::ImageAnimation"}
-CHARGING_TYPES = {"panther_lights::ChargingAnimation", "husarion_ugv_lights::ChargingAnimation"}
-OWN_PACKAGES = {"panther_lights", "husarion_ugv_lights"}
-ROBOT_MODEL_DIRS = {"panther", "lynx"}
+IMAGE_TYPES = {r.plugin(t) for r in RELEASES for t in r.types if t != "ChargingAnimation"}
+CHARGING_TYPES = {r.plugin("ChargingAnimation") for r in RELEASES if "ChargingAnimation" in r.types}
+MOVING_TYPES = {r.plugin("MovingImageAnimation") for r in RELEASES if "MovingImageAnimation" in r.types}
+OWN_PACKAGES = set(PACKAGES)
 MAX_DISPLAY_SECONDS = 10.0
 FIRST_USER_ID = 20
 DEFAULT_PRIORITY = 3
@@ -32,6 +33,11 @@ _RANGE = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*$")
 _FIND = re.compile(r"^\$\(find\s+([A-Za-z0-9_]+)\)(/.*)$")
 _PLUGIN = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)::[A-Za-z_][A-Za-z0-9_]*$")
 _HEX = re.compile(r"^(0x|#)?[0-9a-fA-F]{1,6}$")
+_MOVING_PARAMS: dict[str, str] = {"center_offset": "int16", "object_width": "int16", "start_offset": "float",
+                                  "splash_duration": "float", "default_image_position": "float",
+                                  "image_mirrored": "bool", "position_mirrored": "bool"}
+"""MovingImageAnimation's optional parameters and the type it reads them as
+(husarion_ugv_ros@2.2.0:husarion_ugv_lights/src/animation/moving_image_animation.cpp)."""
 
 
 @dataclass(frozen=True)
@@ -66,16 +72,25 @@ class Segment:
 
 @dataclass(frozen=True)
 class AnimationPart:
-    """One animation of an ID, on one segments group."""
+    """One animation of an ID, on one segments group.
+
+    ``image`` is None for an image that is only in the robot's image (a stock image of a
+    release whose images panther-ops does not ship): checked by name, not drawable here.
+    """
 
     type: str
     segments: tuple[str, ...]
     params: Mapping[str, Any]
     image: Path | None = None
+    image_ref: str = ""
 
     @property
     def is_charging(self) -> bool:
         return self.type in CHARGING_TYPES
+
+    @property
+    def is_moving(self) -> bool:
+        return self.type in MOVING_TYPES
 
 
 @dataclass(frozen=True)
@@ -104,23 +119,33 @@ def _where(source: str, path: str) -> str:
     return f"{source}: {path}" if path else source
 
 
-def resolve_image(text: str) -> tuple[Path | None, Finding | None]:
+def resolve_image(text: str, release: LightsRelease = PANTHER_ROS) -> tuple[Path | None, Finding | None]:
     """An image path: absolute, or ``$(find pkg)/...``.
 
-    ``$(find panther_lights)`` and ``$(find husarion_ugv_lights)`` resolve to the shipped
-    templates/lights (2.2's ``animations/panther/x.png`` to ``animations/x.png``); other
-    packages are looked up in AMENT_PREFIX_PATH. A package that is not installed here is the
-    robot's (its image or workspace): the finding is then a warning that the image was not
-    checked, with the reason.
+    ``$(find <lights package>)/...`` must name the release's own package and one of the images
+    it ships (`releases.py`); such an image resolves to panther-ops' drawing of the same name
+    where it has one (panther_lights' names, in templates/lights), else to None: it is in the
+    robot's image. Other packages are looked up in AMENT_PREFIX_PATH; a package that is not
+    installed here is the robot's (its image or workspace): the finding is then a warning that
+    the image was not checked, with the reason.
     """
     match = _FIND.match(text)
     if match:
         package, rest = match.groups()
         if package in OWN_PACKAGES:
-            path = LIGHTS / rest.lstrip("/")
-            if not path.exists() and path.parent.name in ROBOT_MODEL_DIRS:
-                path = path.parent.parent / path.name  # 2.2's animations/<model>/: same images
-            return path, None
+            if package != release.package:
+                return None, error("anim-image-package",
+                                   f"image {text}: there is no package {package} on {release.name} "
+                                   f"(its lights package is {release.package})")
+            rel = rest.lstrip("/")
+            if rel not in release.images:
+                model = "animations/panther/" if "animations/panther/" in release.image_dirs() else "animations/"
+                names = sorted(i.rsplit("/", 1)[1] for i in release.images if i.startswith(model))
+                return None, error("anim-image-not-found",
+                                   f"image {text} is not one of the images {package} ships on {release.name} "
+                                   f"({release.image_dirs()}; {model}: {', '.join(names)})")
+            local = release.local_images / rel if release.local_images is not None else None
+            return (local if local is not None and local.is_file() else None), None
         for prefix in filter(None, os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
             share = Path(prefix) / "share" / package
             if share.is_dir():
@@ -132,6 +157,12 @@ def resolve_image(text: str) -> tuple[Path | None, Finding | None]:
         return None, error("anim-image-path",
                            f"image path '{text}' must be absolute or start with $(find <package>)")
     return Path(text), None
+
+
+def _or(values: tuple[int, ...]) -> str:
+    """``1, 2 or 3``."""
+    text = [str(v) for v in values]
+    return text[0] if len(text) == 1 else f"{', '.join(text[:-1])} or {text[-1]}"
 
 
 def parse_color(value: Any) -> int | None:
@@ -235,10 +266,14 @@ def _check_timing(params: Mapping[str, Any], where: str, findings: list[Finding]
     return ok
 
 
-def _check_looks(params: Mapping[str, Any], where: str, findings: list[Finding]) -> bool:
+def _check_looks(params: Mapping[str, Any], where: str, findings: list[Finding],
+                 release: LightsRelease = PANTHER_ROS) -> bool:
     """Brightness and colour rules."""
     ok = True
-    if "brightness" in params:
+    if "brightness" in params and not release.reads_brightness:
+        findings.append(warning("anim-brightness-ignored", f"brightness is not read on {release.name} "
+                                "(removed in husarion_ugv_lights 2.2.0): give the image's colours, or color", where))
+    elif "brightness" in params:
         try:
             brightness = float(params["brightness"])
         except (TypeError, ValueError):
@@ -254,13 +289,13 @@ def _check_looks(params: Mapping[str, Any], where: str, findings: list[Finding])
     return ok
 
 
-def _check_image(params: Mapping[str, Any], where: str,
-                 findings: list[Finding]) -> tuple[bool, Path | None]:
+def _check_image(params: Mapping[str, Any], where: str, findings: list[Finding],
+                 release: LightsRelease = PANTHER_ROS, kind: str = "ImageAnimation") -> tuple[bool, Path | None]:
     """Image path rules: present, absolute or $(find pkg), existing."""
     if not params.get("image"):
-        findings.append(error("anim-image-missing-key", "an ImageAnimation needs 'image'", where))
+        findings.append(error("anim-image-missing-key", f"an {kind.rsplit(':', 1)[-1]} needs 'image'", where))
         return False, None
-    image, problem = resolve_image(str(params["image"]))
+    image, problem = resolve_image(str(params["image"]), release)
     if problem is not None:
         findings.append(Finding(problem.severity, problem.code, problem.message, where))
         return problem.severity.value != "error", None
@@ -274,25 +309,44 @@ def _check_image(params: Mapping[str, Any], where: str,
     return True, image
 
 
-def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> AnimationPart | None:
+def _check_moving(params: Mapping[str, Any], where: str, findings: list[Finding]) -> None:
+    """MovingImageAnimation's optional parameters: a value of another type is ignored on the robot."""
+    for name, kind in _MOVING_PARAMS.items():
+        if name not in params:
+            continue
+        value = params[name]
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        fits = {"int16": isinstance(value, int) and not isinstance(value, bool) and -32768 <= value <= 32767,
+                "float": number, "bool": isinstance(value, bool)}[kind]
+        if not fits:
+            findings.append(warning("anim-param-ignored", f"{name}={value!r} is not a{'n' if kind[0] == 'i' else ''} "
+                                    f"{kind}: MovingImageAnimation ignores it and uses its default", where))
+
+
+def _type_rule(kind: str, release: LightsRelease, where: str, findings: list[Finding]) -> str:
+    """'stock', 'custom' (another package's plugin) or 'bad' (an error was added)."""
+    if kind in release.plugins:
+        return "stock"
+    plugin = _PLUGIN.match(kind)
+    if plugin and plugin.group(1) not in OWN_PACKAGES:  # the manual allows animation plugins
+        findings.append(warning("anim-type-custom", f"custom animation type '{kind}': played by its "
+                                "plugin on the robot, not checked here (and not drawn by a preview)", where))
+        return "custom"
+    findings.append(error("anim-type-unknown", f"unknown animation type '{kind}' on {release.name} (known: "
+                          f"{', '.join(release.plugins)} [{release.source}], or a plugin's <package>::<Class>)",
+                          where))
+    return "bad"
+
+
+def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding],
+          release: LightsRelease = PANTHER_ROS) -> AnimationPart | None:
     if not isinstance(raw, Mapping) or not isinstance(raw.get("animation"), Mapping):
         findings.append(error("anim-part-invalid", "each entry of 'animations' needs 'type', "
                               "'segments' and an 'animation' mapping", where))
         return None
     kind, group, params = str(raw.get("type", "")), str(raw.get("segments", "")), raw["animation"]
-    ok, custom = True, False
-    if kind not in IMAGE_TYPES | CHARGING_TYPES:
-        plugin = _PLUGIN.match(kind)
-        if plugin and plugin.group(1) not in OWN_PACKAGES:  # the manual allows animation plugins
-            findings.append(warning("anim-type-custom", f"custom animation type '{kind}': played by its "
-                                    "plugin on the robot, not checked here (and not drawn by a preview)",
-                                    where))
-            custom = True
-        else:
-            findings.append(error("anim-type-unknown", f"unknown animation type '{kind}' (known: "
-                                  "panther_lights::ImageAnimation, panther_lights::ChargingAnimation, "
-                                  "or a plugin's <package>::<Class>)", where))
-            ok = False
+    rule = _type_rule(kind, release, where, findings)
+    ok = rule != "bad"
     if group not in layout.segments_map:
         findings.append(error("anim-segments-unknown", f"segments '{group}' is not a group of "
                               f"segments_map ({', '.join(layout.segments_map) or 'none'})", where))
@@ -300,20 +354,23 @@ def _part(raw: Any, layout: LedConfig, where: str, findings: list[Finding]) -> A
     timing = _check_timing(params, where, findings)
     if timing is None:
         return None
-    ok = _check_looks(params, where, findings) and timing and ok
+    ok = _check_looks(params, where, findings, release) and timing and ok
     image: Path | None = None
-    if kind in IMAGE_TYPES:
-        image_ok, image = _check_image(params, where, findings)
+    if kind in IMAGE_TYPES | MOVING_TYPES and rule == "stock":
+        image_ok, image = _check_image(params, where, findings, release, kind)
         ok = ok and image_ok
-    if not ok or custom:  # a plugin's animation is played by the robot's lights controller only
+    if kind in MOVING_TYPES and rule == "stock":
+        _check_moving(params, where, findings)
+    if not ok or rule == "custom":  # a plugin's animation is played by the robot's lights controller only
         return None
-    return AnimationPart(kind, layout.segments_map[group], dict(params), image)
+    return AnimationPart(kind, layout.segments_map[group], dict(params), image, str(params.get("image", "")))
 
 
 def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool,
-                     taken: Mapping[int, str] | None = None,
+                     taken: Mapping[int, str] | None = None, release: LightsRelease = PANTHER_ROS,
                      ) -> tuple[dict[int, AnimationDesc], list[Finding]]:
-    """Animation descriptions (``led_animations`` or ``user_animations``) with their rules."""
+    """Animation descriptions (``led_animations`` or ``user_animations``) with the rules of
+    ``release``'s lights controller."""
     findings: list[Finding] = []
     descs: dict[int, AnimationDesc] = {}
     seen: dict[int, str] = dict(taken or {})
@@ -344,12 +401,14 @@ def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool
                                   f"{seen[anim_id]}; IDs must be unique", where))
         seen.setdefault(anim_id, name)
         priority = raw.get("priority", DEFAULT_PRIORITY)
-        if user and priority == 1:
-            findings.append(error("anim-priority-reserved", "priority 1 is reserved for system "
-                                  "animations; user animations use priority 2 or 3", where))
-        elif priority not in (1, 2, 3) or isinstance(priority, bool):
-            findings.append(error("anim-priority-invalid", f"priority {priority!r} is not 1, 2 "
-                                  "or 3", where))
+        allowed = release.user_priorities() if user else release.priorities
+        if user and priority == release.user_forbidden_priority and not isinstance(priority, bool):
+            findings.append(error("anim-priority-reserved", f"priority {priority} is reserved for system "
+                                  f"animations on {release.name}; user animations use priority "
+                                  f"{_or(allowed)}", where))
+        elif priority not in release.priorities or isinstance(priority, bool):
+            findings.append(error("anim-priority-invalid", f"priority {priority!r} is not "
+                                  f"{_or(release.priorities)} ({release.name})", where))
         try:
             timeout = float(raw.get("timeout", DEFAULT_TIMEOUT))
         except (TypeError, ValueError):
@@ -362,7 +421,7 @@ def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool
                                   "'animations' list", where))
             continue
         count = len(findings)
-        parts = [_part(p, layout, f"{where} animations[{j}]", findings)
+        parts = [_part(p, layout, f"{where} animations[{j}]", findings, release)
                  for j, p in enumerate(parts_raw)]
         if not has_errors(findings[count:]) and all(p is not None for p in parts):
             descs[anim_id] = AnimationDesc(anim_id, name, int(priority), timeout,
@@ -371,14 +430,15 @@ def parse_animations(entries: Any, layout: LedConfig, source: str, *, user: bool
 
 
 def check_led_config(path: str | Path | None = None, user_animations: str | Path | None = None,
-                     ) -> tuple[LedConfig, list[Finding]]:
+                     release: LightsRelease = PANTHER_ROS) -> tuple[LedConfig, list[Finding]]:
     """Parse and check a led_config (default: the shipped one) and an optional user file."""
-    source = str(path or default_led_config())
+    source = str(path or release.default_led_config)
     doc = read_yaml(source, LightsConfigError) or {}
     if not isinstance(doc, Mapping):
         raise LightsConfigError(f"{source}: expected a mapping")
     layout, findings = parse_layout(doc, source)
-    descs, more = parse_animations(doc.get("led_animations") or [], layout, source, user=False)
+    descs, more = parse_animations(doc.get("led_animations") or [], layout, source, user=False,
+                                   release=release)
     findings += more
     if user_animations is not None:
         user_doc = read_yaml(user_animations, LightsConfigError) or {}
@@ -386,17 +446,17 @@ def check_led_config(path: str | Path | None = None, user_animations: str | Path
             raise LightsConfigError(f"{user_animations}: expected a mapping with 'user_animations'")
         taken = {i: f"{d.name} in {source}" for i, d in descs.items()}
         user, more = parse_animations(user_doc.get("user_animations") or [], layout,
-                                      str(user_animations), user=True, taken=taken)
+                                      str(user_animations), user=True, taken=taken, release=release)
         findings += more
         descs = {**descs, **user}
     config = LedConfig(layout.panels, layout.segments, layout.segments_map, descs, source)
     return config, findings
 
 
-def load_led_config(path: str | Path | None = None,
-                    user_animations: str | Path | None = None) -> LedConfig:
+def load_led_config(path: str | Path | None = None, user_animations: str | Path | None = None,
+                    release: LightsRelease = PANTHER_ROS) -> LedConfig:
     """A checked LedConfig; raise LightsConfigError with every error found."""
-    config, findings = check_led_config(path, user_animations)
+    config, findings = check_led_config(path, user_animations, release)
     if has_errors(findings):
         raise LightsConfigError("\n".join(str(f) for f in findings))
     return config

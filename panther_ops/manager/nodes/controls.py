@@ -4,6 +4,10 @@
 * `ReactiveSequence` / `ReactiveFallback` re-tick every child from the first one each tick
   and halt a child that was running when an earlier one takes over.
 * A skipped child is passed over; when all children were skipped the composite is skipped.
+* `Parallel` ticks every child not yet completed, every tick, and decides by counting
+  successes and failures against its ``success_count`` / ``failure_count`` ports
+  (BehaviorTree/BehaviorTree.CPP@4.6.2:src/controls/parallel_node.cpp, a standard node the
+  husarion_ugv 2.2 Lights tree uses).
 """
 
 from __future__ import annotations
@@ -15,7 +19,18 @@ from typing import ClassVar
 import py_trees
 from py_trees.common import Status
 
-from panther_ops.manager.nodes.base import Outcome, TickGen, finish, halt, tick_child
+from panther_ops.manager.errors import ScriptError
+from panther_ops.manager.nodes.base import (
+    NodeContext,
+    Outcome,
+    Ports,
+    PortSpec,
+    TickGen,
+    bind_ports,
+    finish,
+    halt,
+    tick_child,
+)
 
 Children = SequenceOf[py_trees.behaviour.Behaviour] | None
 
@@ -133,6 +148,76 @@ class ReactiveFallback(ReactiveComposite, py_trees.composites.Selector):
     """BT.CPP ReactiveFallback: every tick from the first child; a success ends it."""
 
     passes, decides = Status.FAILURE, Status.SUCCESS
+
+
+class Parallel(BtComposite, py_trees.composites.Parallel):
+    """BT.CPP Parallel: each tick, every child that has not completed in this round is ticked.
+
+    SUCCESS once ``success_count`` children succeeded (a negative count: all but ``-n - 1``;
+    with a negative count a skipped child counts as a success), FAILURE once ``failure_count``
+    children failed or success has become impossible; then the children are reset. SKIPPED when
+    every child ticked this time was skipped; else RUNNING.
+    """
+
+    MEMORY = False
+    PORTS: ClassVar[dict[str, PortSpec]] = {
+        "success_count": PortSpec("int", -1, "number of children that need to succeed to trigger a SUCCESS"),
+        "failure_count": PortSpec("int", 1, "number of children that need to fail to trigger a FAILURE"),
+    }
+
+    def __init__(self, name: str, children: Children, ctx: NodeContext, ports: dict[str, object]) -> None:
+        py_trees.composites.Parallel.__init__(
+            self, name, policy=py_trees.common.ParallelPolicy.SuccessOnAll(synchronise=False), children=children)
+        self._bt_init()
+        self.ports = Ports(f"Parallel '{name}'", self.PORTS, ports)
+        bind_ports(self, ctx, self.ports)
+        self.completed: set[int] = set()
+        self.successes = 0
+        self.failures = 0
+
+    def initialise(self) -> None:
+        self.completed.clear()
+        self.successes = self.failures = 0
+
+    @staticmethod
+    def threshold(count: int, children: int) -> int:
+        """A port's count as a number of children (negative: counted from the number of children)."""
+        return count if count >= 0 else max(children + count + 1, 0)
+
+    def run_children(self) -> TickGen:
+        try:
+            success_count = int(self.ports.get("success_count"))
+            failure_count = int(self.ports.get("failure_count"))
+        except ScriptError as exc:
+            self.feedback_message = f"port error: {exc}"
+            return Status.FAILURE
+        total = len(self.children)
+        need_success = self.threshold(success_count, total)
+        need_failure = self.threshold(failure_count, total)
+        if total < need_success or total < need_failure:
+            self.feedback_message = (f"{total} children cannot reach success_count {success_count} / "
+                                     f"failure_count {failure_count}")
+            return Status.FAILURE
+        skipped = 0
+        for i, child in enumerate(self.children):
+            if i not in self.completed:
+                self.current_child = child
+                outcome = yield from tick_child(child)
+                if outcome is None:
+                    skipped += 1
+                elif outcome == Status.SUCCESS:
+                    self.completed.add(i)
+                    self.successes += 1
+                elif outcome == Status.FAILURE:
+                    self.completed.add(i)
+                    self.failures += 1
+            if self.successes >= need_success or (success_count < 0 and self.successes + skipped >= need_success):
+                self.initialise()
+                return Status.SUCCESS
+            if total - self.failures < need_success or self.failures == need_failure:
+                self.initialise()
+                return Status.FAILURE
+        return None if skipped == total else Status.RUNNING
 
 
 def run_outcome(node: py_trees.behaviour.Behaviour) -> Outcome:

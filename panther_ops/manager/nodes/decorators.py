@@ -152,6 +152,48 @@ class TickAfterTimeout(BtDecorator):
         return outcome
 
 
+class Delay(BtDecorator):
+    """BT.CPP Delay: RUNNING for ``delay_msec`` milliseconds of the injected clock, then the
+    child's outcome; the delay starts over once the child completes or the node is halted
+    (BehaviorTree/BehaviorTree.CPP@4.6.2:src/decorators/delay_node.cpp, a standard node the
+    husarion_ugv 2.2 Lights tree uses). A skipped child does not restart the delay.
+    """
+
+    PORTS: ClassVar[dict[str, PortSpec]] = {
+        "delay_msec": PortSpec("int", description="Tick the child after a few milliseconds"),
+    }
+
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, ctx: NodeContext,
+                 ports: dict[str, Any]) -> None:
+        super().__init__(name=name, child=child)
+        self.ctx = ctx
+        self.ports = Ports(f"Delay '{name}'", self.PORTS, ports)
+        bind_ports(self, ctx, self.ports)
+        self.until: float | None = None
+
+    def decide(self) -> TickGen:
+        now = self.ctx.clock.now()
+        if self.until is None:
+            try:
+                msec = int(self.ports.get("delay_msec"))
+            except ScriptError as exc:
+                self.feedback_message = f"port error: {exc}"
+                return Status.FAILURE
+            self.until = now + max(msec, 0) / 1000.0
+        if now < self.until:
+            self.feedback_message = f"child in {self.until - now:.2f} s"
+            return Status.RUNNING
+        self.feedback_message = ""
+        outcome = yield from tick_child(self.decorated)
+        if outcome in (Status.SUCCESS, Status.FAILURE):
+            self.until = None
+        return outcome
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID and not self.skipped:  # halted: the next tick starts over
+            self.until = None
+
+
 class RunOnce(BtDecorator):
     """Tick the child until it completes once; then skip (``then_skip``) or repeat its result."""
 
