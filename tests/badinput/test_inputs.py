@@ -105,6 +105,20 @@ SELECTORS = [
          files={"hosts.yaml": "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"}),
 ]
 
+ROOT = Path(__file__).resolve().parents[2]
+COMPOSE_01 = "demo/robots/panther-01/home/husarion/compose.yaml"
+BASH_C_DRIVER = (ROOT / "templates/compose/panther-2.1.1.yaml").read_text().replace(
+    "    command: ros2 launch panther_bringup bringup.launch.py\n",
+    '    command: bash -c "ros2 launch panther_bringup bringup.launch.py namespace:=panther"\n').encode()
+"""panther-01's compose.yaml with the driver run as the gamepad is in husarion/panther-docker's files
+(`bash -c "ros2 launch ..."`): a value its double quotes would change cannot be written in it."""
+assert b"bash -c \"ros2 launch panther_bringup" in BASH_C_DRIVER
+
+
+def bash_c_case(cid: str, args: list[str], names: list[str], inventory: str | None = None) -> Case:
+    return Case(cid, args, names, files={COMPOSE_01: BASH_C_DRIVER}, inventory=inventory)
+
+
 LAUNCH_ARGS = [
     Case("arg-newline", ["config", "set", "wheel_type", "WH02\nrm -rf ~", *R1], ["wheel_type", "'\\n'"]),
     Case("arg-newline-forced", ["config", "set", "wheel_type", "WH02\nx", *R1, "--force"], ["wheel_type", "'\\n'"]),
@@ -126,6 +140,21 @@ LAUNCH_ARGS = [
     Case("arg-unset-injection-key", ["config", "unset", "a;id", *R1], ["a;id"]),
     Case("arg-controller-key", ["config", "get", "controller.linear.q.max_velocity", "-r", "panther-01"],
          ["controller.linear.q.max_velocity"]),
+    bash_c_case("arg-bash-c-dollar", ["config", "set", "components_config_path", "$(find panther_description)/x.yaml",
+                                      *R1],
+                ["compose.yaml:38", "components_config_path", "'$(find panther_description)/x.yaml'",
+                 "double-quoted bash -c script", "a dollar sign ($)"]),
+    bash_c_case("arg-bash-c-double-quote", ["config", "set", "battery_config_path", '/config/a"b.yaml', *R1],
+                ["battery_config_path", "'/config/a\"b.yaml'", 'a double quote (")']),
+    bash_c_case("arg-bash-c-backslash", ["config", "set", "battery_config_path", "/config/a\\b.yaml", *R1],
+                ["battery_config_path", "'/config/a\\\\b.yaml'", "a backslash (\\)"]),
+    bash_c_case("arg-bash-c-backquote", ["config", "set", "battery_config_path", "/config/`id`.yaml", *R1],
+                ["battery_config_path", "'/config/`id`.yaml'", "a backquote (`)"]),
+    bash_c_case("arg-bash-c-apply", ["apply", "--all", "--yes"],
+                ["components_config_path", "'$(find panther_description)/config/components.yaml'", "a dollar sign"],
+                inventory="version: 1\nrobots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n"
+                "    desired: {{launch_args: {{components_config_path: "
+                "\"$(find panther_description)/config/components.yaml\"}}}}\n"),
     Case("arg-apply-newline", ["apply", "--all", "--yes"], ["namespace", "'\\n'"],
          inventory="version: 1\nrobots:\n  r1:\n    transport: local\n    root: {demo}/robots/panther-01\n"
          "    desired: {{launch_args: {{namespace: \"a\\nb\"}}}}\n"),

@@ -95,8 +95,12 @@ def test_command_errors() -> None:
     with pytest.raises(ComposeError, match="has no command"):
         c.command()
     c = compose("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n"
-                "    command: bash -c 'ros2 launch panther_bringup bringup.launch.py'\n")
+                "    command: bash -c 'exec ros2 launch panther_bringup bringup.launch.py'\n")
     with pytest.raises(InputError, match="not `ros2 launch"):
+        c.set_arg("wheel_type", "WH02")
+    c = compose("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n"
+                "    command: bash -c '. /x.sh && ros2 launch panther_bringup bringup.launch.py'\n")
+    with pytest.raises(InputError, match="more than one command"):
         c.set_arg("wheel_type", "WH02")
     with pytest.raises(UsageError):
         compose(C21).set_arg("bad name", "x")
@@ -257,3 +261,82 @@ def test_multiline_commands() -> None:
     assert c.text().endswith("      bringup.launch.py a:=1\n      b:=2\n")
     c.unset_arg("b")
     assert c.text() == plain
+
+
+# ------------------------------------------------ bash -c "ros2 launch ..." (husarion/panther-docker's gamepad)
+
+PARAMS = "$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml"
+UPSTREAM_GAMEPAD = (f'bash -c "ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:={PARAMS} '
+                    'namespace:=panther"')
+"""The gamepad's command of husarion/panther-docker@2.0.4 and @2.1.1:demo/compose.minimal-setup.yaml."""
+
+
+def test_the_templates_run_the_gamepad_as_upstream_does() -> None:
+    for text in (C20, C21):
+        c = compose(text)
+        assert c.service("gamepad_controller")["command"] == UPSTREAM_GAMEPAD + "\n"
+        cmd = c.command("gamepad_controller")
+        assert cmd.form is CommandForm.BLOCK and cmd.shell == ("bash", "-c")
+        assert cmd.argv[:2] == ("bash", "-c") and cmd.words[:4] == ("ros2", "launch", "joy2twist",
+                                                                    "gamepad_controller.launch.py")
+        assert cmd.args == {"joy2twist_params_file": PARAMS, "namespace": "panther"}
+
+
+def test_an_argument_is_edited_inside_the_script_and_restored_byte_for_byte() -> None:
+    c = compose(C21)
+    assert c.set_arg("joy2twist_params_file", "/config/joy2twist/config/pad.yaml", "gamepad_controller") is True
+    assert c.set_arg("use_sim_time", "True", "gamepad_controller") is True
+    assert changed_lines(c.diff()) == [
+        f"-      {UPSTREAM_GAMEPAD}",
+        '+      bash -c "ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:=/config/joy2twist/'
+        'config/pad.yaml namespace:=panther use_sim_time:=True"']
+    assert c.command("gamepad_controller").args["joy2twist_params_file"] == "/config/joy2twist/config/pad.yaml"
+    assert c.unset_arg("use_sim_time", "gamepad_controller") is True
+    assert c.set_arg("joy2twist_params_file", PARAMS, "gamepad_controller") is True  # the file's own word again
+    assert c.text() == C21
+    assert c.set_arg("namespace", "panther", "gamepad_controller") is False
+
+
+@pytest.mark.parametrize("value", ['/config/a"b.yaml', "$(find joy2twist)/x.yaml", "/config/`id`.yaml",
+                                   "/config/a\\b.yaml", "/config/it's.yaml"])
+def test_a_value_the_scripts_quotes_cannot_hold_is_refused_and_nothing_changes(value: str) -> None:
+    c = compose(C20)
+    with pytest.raises(InputError) as exc:
+        c.set_arg("joy2twist_params_file", value, "gamepad_controller")
+    assert f"joy2twist_params_file: the value {value!r}" in exc.value.message
+    assert "double-quoted bash -c script" in exc.value.message and ":42 [command]" in exc.value.message
+    assert c.text() == C20 and not c.changed
+
+
+@pytest.mark.parametrize(("command", "after"), [
+    ('command: bash -c "ros2 launch panther_bringup bringup.launch.py wheel_type:=WH01"\n',
+     'command: bash -c "ros2 launch panther_bringup bringup.launch.py wheel_type:=WH02 use_ekf:=False"\n'),
+    ("command: bash -c 'ros2 launch panther_bringup bringup.launch.py wheel_type:=WH01'\n",
+     "command: bash -c 'ros2 launch panther_bringup bringup.launch.py wheel_type:=WH02 use_ekf:=False'\n"),
+    ('command: ["bash", "-c", "ros2 launch panther_bringup bringup.launch.py wheel_type:=WH01"]\n',
+     'command: ["bash", "-c", "ros2 launch panther_bringup bringup.launch.py wheel_type:=WH02 use_ekf:=False"]\n'),
+    ("command:\n      - bash\n      - -c\n      - ros2 launch panther_bringup bringup.launch.py wheel_type:=WH01\n",
+     "command:\n      - bash\n      - -c\n      - ros2 launch panther_bringup bringup.launch.py wheel_type:=WH02 "
+     "use_ekf:=False\n"),
+    ('command: >\n      bash -c "ros2 launch panther_bringup bringup.launch.py\n      wheel_type:=WH01"\n',
+     'command: >\n      bash -c "ros2 launch panther_bringup bringup.launch.py\n      wheel_type:=WH02\n'
+     '      use_ekf:=False"\n'),
+])
+def test_every_form_of_a_bash_c_driver_command_is_read_and_edited(command: str, after: str) -> None:
+    head = "services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n    "
+    c = compose(head + command)
+    assert c.args == {"wheel_type": "WH01"}
+    assert c.command().shell == ("bash", "-c")
+    assert c.set_arg("wheel_type", "WH02") and c.set_arg("use_ekf", "False")
+    assert c.text() == head + after
+    assert c.args == {"wheel_type": "WH02", "use_ekf": "False"}
+    assert c.unset_arg("use_ekf") and c.set_arg("wheel_type", "WH01")
+    assert c.text() == head + command
+
+
+def test_a_script_of_several_commands_is_refused() -> None:
+    # a more indented line keeps its line break in a folded block: the shell runs two commands
+    c = compose("services:\n  panther_ros:\n    image: husarion/panther:humble-2.1.1-20240828\n    command: >\n"
+                '      bash -c "ros2 launch panther_bringup bringup.launch.py\n        wheel_type:=WH01"\n')
+    with pytest.raises(InputError, match=r"compose.yaml:4 \[command\]: the bash -c script holds '\\n'"):
+        c.set_arg("wheel_type", "WH02")

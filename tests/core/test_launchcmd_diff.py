@@ -8,7 +8,12 @@ from panther_ops.core.config.launchcmd import (
     CommandSyntaxError,
     Token,
     arg_word,
+    check_script_word,
+    launch_words,
     parse_launch_argv,
+    put_arg,
+    remove_args,
+    script_span,
     shell_quote,
     shell_tokens,
     split_arg,
@@ -85,3 +90,66 @@ def test_a_created_or_removed_file_is_dev_null_in_its_header() -> None:
     emptied = unified_diff("a\n", "", "/home/husarion/config/x.yaml")  # the file stays, empty
     assert emptied.splitlines()[:2] == ["--- a/home/husarion/config/x.yaml", "+++ b/home/husarion/config/x.yaml"]
     assert unified_diff(None, None, "x") == ""
+
+
+# ------------------------------------------------ the script of bash -c "..." (upstream's gamepad)
+
+UPSTREAM_SCRIPT = ("ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:=$(ros2 pkg prefix "
+                   "joy2twist)/share/joy2twist/config/joy2twist_panther.yaml namespace:=panther")
+"""husarion/panther-docker@2.0.4 and @2.1.1:demo/compose.minimal-setup.yaml, the gamepad's bash -c script."""
+
+
+def test_the_script_of_bash_c_is_read_with_its_substitution_kept() -> None:
+    argv = words(f'bash -c "{UPSTREAM_SCRIPT}"')
+    assert argv == ["bash", "-c", UPSTREAM_SCRIPT]
+    shell, launch = launch_words(argv)
+    assert shell == ("bash", "-c")
+    assert launch[4] == ("joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/joy2twist/config/"
+                         "joy2twist_panther.yaml")  # shlex would split $(...) in two words
+    assert parse_launch_argv(launch)[:3] == ("joy2twist", "gamepad_controller.launch.py", {
+        "joy2twist_params_file": "$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml",
+        "namespace": "panther"})
+    assert launch_words(["/bin/sh", "-c", "ros2 launch p f.py"])[1] == ["ros2", "launch", "p", "f.py"]
+    assert launch_words(["ros2", "launch", "p", "f.py"]) == ((), ["ros2", "launch", "p", "f.py"])
+    assert launch_words(["bash", "-c", "ros2 launch p f.py", "$0"])[0] == ()  # not only a script: argv as is
+    for script in ("ros2 launch p f.py; rm -rf /", ". /x.sh && ros2 launch p f.py", "ros2 launch p f.py > /log",
+                   "ros2 launch p f.py a:=`id`", "ros2 launch p f.py\n  a:=1"):
+        with pytest.raises(InputError, match="more than one command"):
+            launch_words(["bash", "-c", script], path="compose.yaml", line=3)
+    assert launch_words(["bash", "-c", "ros2 launch p f.py 'a:=x;y' b:=$(c | d)"])[1][4:] == ["a:=x;y", "b:=$(c | d)"]
+
+
+def test_put_and_remove_inside_a_script_round_trip() -> None:
+    text = f'bash -c "{UPSTREAM_SCRIPT}"'
+    start, end, quote = script_span(text)
+    assert (text[start:end], quote) == (UPSTREAM_SCRIPT, '"')
+    script = text[start:end]
+    new = put_arg(script, "joy2twist_params_file", lambda like: arg_word("joy2twist_params_file", "/config/p.yaml",
+                                                                         like))
+    assert new == UPSTREAM_SCRIPT.replace("$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml",
+                                          "/config/p.yaml")
+    added = put_arg(script, "use_sim", lambda like: arg_word("use_sim", "True", like))
+    assert added == UPSTREAM_SCRIPT + " use_sim:=True"
+    assert remove_args(added, "use_sim") == UPSTREAM_SCRIPT
+    lines = "ros2 launch p f.py\n        a:=1"  # a script over lines of a folded block: a line of its own
+    assert put_arg(lines, "b", lambda like: "b:=2") == lines + "\n        b:=2"
+    assert remove_args(lines + "\n        b:=2", "b") == lines
+    with pytest.raises(InputError, match="edit this one by hand"):
+        script_span('bash -c "ros2 launch p f.py a:=\\"x\\""')  # escapes: not the script as written
+    with pytest.raises(InputError, match="edit this one by hand"):
+        script_span("bash -c ros2' launch p f.py'")
+
+
+@pytest.mark.parametrize(("value", "named"), [
+    ('a"b', 'a double quote (")'), ("$(find p)/x.yaml", "a dollar sign ($)"), ("a`id`", "a backquote (`)"),
+    ("a\\b", "a backslash (\\)"), ("it's", "quoted for the shell it needs a backslash (\\)")])
+def test_a_word_the_double_quotes_would_change_is_refused_naming_the_value(value: str, named: str) -> None:
+    word = arg_word("p", value)
+    with pytest.raises(InputError) as exc:
+        check_script_word(word, '"', name="p", value=value, path="compose.yaml", line=7)
+    assert f"launch argument p: the value {value!r}" in exc.value.message and named in exc.value.message
+    assert "compose.yaml:7" in exc.value.message
+    check_script_word(word, None, name="p", value=value)  # the script of a list command: no outer quotes
+    check_script_word(arg_word("p", "/config/a b.yaml"), '"', name="p", value="/config/a b.yaml")  # 'a b' kept
+    with pytest.raises(InputError, match="single quote"):
+        check_script_word("p:='a b'", "'", name="p", value="a b")

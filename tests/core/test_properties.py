@@ -21,6 +21,7 @@ from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.yaml.diff import changed_lines, unified_diff
 from panther_ops.core.yaml.document import PathPart, YamlDocument
 from panther_ops.core.yaml.render import Folded
+from panther_ops.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
 INPUTS = sorted(
@@ -142,6 +143,11 @@ def test_compose_set_then_unset_arg_restores(path: Path) -> None:
         for name, value in [("zz_test_arg", "1"), ("wheel_config_path", "$(find panther_description)/config/WH02.yaml")]:
             if name in args:
                 continue
+            if "$" in value and compose.command(service).shell:  # inside bash -c "...": the shell would expand it
+                with pytest.raises(InputError, match=r"wheel_config_path: the value '\$\(find"):
+                    compose.set_arg(name, value, service)
+                assert compose.text() == text, (service, name)
+                continue
             assert compose.set_arg(name, value, service) is True
             assert compose.command(service).args[name] == value
             assert compose.set_arg(name, value, service) is False
@@ -149,6 +155,11 @@ def test_compose_set_then_unset_arg_restores(path: Path) -> None:
             assert compose.text() == text, (service, name)
         for name, value in args.items():
             assert compose.set_arg(name, value, service) is False
+            if "$" in value and compose.command(service).shell:
+                with pytest.raises(InputError, match=f"{name}: the value"):
+                    compose.set_arg(name, value + "_x", service)
+                assert compose.text() == text, (service, name)
+                continue
             assert compose.set_arg(name, value + "_x", service) is True
             assert compose.set_arg(name, value, service) is True
             assert compose.text() == text, (service, name)

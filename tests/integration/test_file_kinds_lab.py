@@ -1,5 +1,6 @@
 """Issue 11 on the lab: a wheel type change migrates a mounted custom controller file (finding 7),
-and a pushed file that its validator refuses leaves the robot untouched (finding 1)."""
+and a pushed file that its validator refuses leaves the robot untouched (finding 1). Issue 24: the
+gamepad runs as upstream's compose file has it (bash -c) and takes a pushed parameters file."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ from typing import Any
 import pytest
 import yaml
 
+from tests.badinput.test_file_kinds import JOY2TWIST
+from tests.integration.labtools import containers
 from tests.integration.test_config_lab import COMPOSE, driver_state, pristine, robot_of, run_cli
 
 pytestmark = pytest.mark.lab
@@ -64,3 +67,30 @@ def test_a_refused_push_leaves_the_robot_as_it_was(lab: Any, pristine: None, tmp
     assert "'10.15.20.5; touch x' is not an IP address or host name" in err
     assert lab.read_bytes(name, COMPOSE) == before
     assert lab.sh(name, "find /home/husarion -xdev | sort").stdout == listing
+
+
+def test_the_gamepad_runs_upstreams_bash_c_and_takes_a_pushed_file(lab: Any, pristine: None, tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """The gamepad of husarion/panther-docker@2.1.1:demo/compose.minimal-setup.yaml runs `bash -c "ros2 launch
+    ... joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/..."`; `config push --as joy2twist` edits the
+    argument inside the script, and the check after the recreate reads the script's words."""
+    name = robot_of(lab, "2.1.1")
+    before = containers(lab, name)["gamepad_controller"]
+    assert before["cmd"][:2] == ["bash", "-c"] and before["state"] == "running" and before["restarts"] == 0
+    launched = lab.docker(name, "logs", "gamepad_controller", check=True).stdout
+    assert ("joy2twist_params_file:=/opt/ros/humble/share/joy2twist/config/joy2twist_panther.yaml "
+            "namespace:=panther") in launched  # the shell expanded $(ros2 pkg prefix joy2twist): the file exists
+    mine = tmp_path / "pad.yaml"
+    mine.write_text(JOY2TWIST)
+    code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "config", "push", str(mine), "--as",
+                              "joy2twist", "-r", name, "--yes", "--settle", "2", "--json")
+    assert code == 0, doc
+    assert doc["robots"][0]["outcome"] == "changed", doc
+    after = containers(lab, name)["gamepad_controller"]
+    assert after["cmd"][:2] == ["bash", "-c"]
+    assert "joy2twist_params_file:=/config/joy2twist/config/pad.yaml" in after["cmd"][2].split()
+    assert after["mounts"]["/config/joy2twist/config/pad.yaml"] == "/home/husarion/config/joy2twist/config/pad.yaml"
+    assert after["state"] == "running" and after["restarts"] == 0
+    inside = lab.docker(name, "exec", "gamepad_controller", "cat", "/config/joy2twist/config/pad.yaml",
+                        check=True).stdout
+    assert inside == JOY2TWIST

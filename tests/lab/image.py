@@ -6,6 +6,12 @@ image with its release's `/version.txt` (what the real Dockerfiles write: the pa
 husarion_ugv package version, husarion/husarion_ugv_ros@2.2.2:docker/Dockerfile.hardware,
 husarion/panther-docker@2.1.2:Dockerfile.hardware), the `ros2` stand-in answering that
 release's interfaces; the other images (joy2twist) without one.
+
+The gamepad of husarion/panther-docker@2.0.4 and @2.1.1:demo/compose.minimal-setup.yaml runs
+`bash -c "ros2 launch joy2twist ... joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/
+joy2twist/config/joy2twist_panther.yaml ..."`: the image has a `bash` stand-in (busybox sh,
+data/bash-standin.sh) and that file (data/joy2twist_panther.yaml, written from
+husarion/joy2twist's), since the ros2 stand-in fails a launch whose `*_file:=` is missing.
 """
 
 from __future__ import annotations
@@ -46,6 +52,9 @@ def with_version(rootfs: bytes, version: str) -> bytes:
                 tar.addfile(member, src.extractfile(member) if member.isfile() else None)
         tar_file(tar, VERSION_FILE, f"{version}\n".encode())
     return out.getvalue()
+
+JOY2TWIST_DEFAULT = "opt/ros/humble/share/joy2twist/config/joy2twist_panther.yaml"
+"""Where `$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml` is in the image."""
 
 
 def find_static_busybox() -> Path:
@@ -118,6 +127,9 @@ def build_rootfs(dest: Path) -> Path:
             "opt",
             "opt/ros",
             "opt/ros/humble",
+            "opt/ros/humble/share",
+            "opt/ros/humble/share/joy2twist",
+            "opt/ros/humble/share/joy2twist/config",
             "root/.ssh",
             "config",
         ):
@@ -126,13 +138,15 @@ def build_rootfs(dest: Path) -> Path:
         tar_dir(tar, "tmp", 0o1777)
         tar_file(tar, "bin/busybox", busybox.read_bytes(), 0o755)
         for a in applets:
-            if a == "busybox":
+            if a in ("busybox", "bash"):
                 continue
             ti = tarfile.TarInfo(f"bin/{a}")
             ti.type = tarfile.SYMTYPE
             ti.linkname = "busybox"
             tar.addfile(ti)
         tar_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
+        tar_file(tar, "bin/bash", (DATA / "bash-standin.sh").read_bytes(), 0o755)
+        tar_file(tar, JOY2TWIST_DEFAULT, (DATA / "joy2twist_panther.yaml").read_bytes())
         tar_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
         tar_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")
         tar_file(tar, "etc/group", b"root:x:0:\n")

@@ -249,6 +249,19 @@ def test_argv_matches_lets_compose_interpolate() -> None:
     assert not argv_matches(["ros2", "launch", "b"], ["ros2", "launch", "a"])
 
 
+def test_argv_matches_compares_a_bash_c_script_word_by_word() -> None:
+    """husarion/panther-docker's gamepad: the container's Cmd keeps `$(ros2 pkg prefix ...)` as written."""
+    script = ("ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:=$(ros2 pkg prefix "
+              "joy2twist)/share/joy2twist/config/joy2twist_panther.yaml namespace:=panther")
+    compose = ["bash", "-c", script]
+    assert argv_matches(["bash", "-c", script], compose)
+    assert argv_matches(["bash", "-c", script.replace(" namespace", "   namespace")], compose)
+    assert not argv_matches(["bash", "-c", script.replace("namespace:=panther", "namespace:=other")], compose)
+    assert not argv_matches(["bash", "-c", script.replace("$(ros2 pkg prefix joy2twist)", "/opt")], compose)
+    assert not argv_matches(script.split(), compose)
+    assert argv_matches(["bash", "-c", "ros2 launch a b.py ns:=robot7"], ["bash", "-c", "ros2 launch a b.py ns:=${NS}"])
+
+
 # ------------------------------------------------------------------ local images
 
 

@@ -12,6 +12,9 @@ from pathlib import Path
 import pytest
 import yaml
 
+from panther_ops.core.fleet.pipeline import watch_services
+from panther_ops.core.fleet.plan import RobotPlan, Verify
+from panther_ops.core.fleet.services import WORKING_DIR_LABEL
 from tests.badinput.test_file_kinds import JOY2TWIST
 from tests.clirun import run
 
@@ -69,6 +72,74 @@ def test_push_writes_the_config_tree_file_on_2_2(demo: Path, tmp_path: Path,
     assert (home(demo, "panther-03") / TREE).read_text() == JOY2TWIST
     assert (home(demo, "panther-03") / "compose.yaml").read_bytes() == compose_before
     assert not (home(demo, "panther-03") / "config/joy2twist").exists()
+
+
+UPSTREAM_PARAMS = "$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml"
+UPSTREAM_COMMAND = ('    command: >\n      bash -c "ros2 launch joy2twist gamepad_controller.launch.py '
+                    f'joy2twist_params_file:={UPSTREAM_PARAMS} namespace:=panther"\n')
+"""The gamepad's command of husarion/panther-docker@2.0.4 and @2.1.1:demo/compose.minimal-setup.yaml."""
+
+
+def upstream_gamepad(demo: Path, robot: str) -> Path:
+    """The robot's compose.yaml with the gamepad's command (its last key) written as upstream's."""
+    compose = home(demo, robot) / "compose.yaml"
+    text = compose.read_text()
+    start = text.index("    command: >\n", text.index("  gamepad_controller:"))
+    assert yaml.safe_load(text[start:].replace("    command", "command", 1))  # the command, then nothing
+    compose.write_text(text[:start] + UPSTREAM_COMMAND)
+    return compose
+
+
+@pytest.mark.parametrize("robot", ["panther-01", "panther-02"])
+def test_push_onto_upstreams_bash_c_command_edits_inside_the_script(
+        demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str], robot: str) -> None:
+    compose = upstream_gamepad(demo, robot)
+    before = compose.read_text()
+    code, out, err = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                         "-r", robot, "--yes", "--json")
+    assert code == 0, out + err
+    assert json.loads(out)["robots"][0]["outcome"] == "changed"
+    assert compose.read_text() == before.replace(
+        f"joy2twist_params_file:={UPSTREAM_PARAMS} ", "joy2twist_params_file:=/config/joy2twist/config/pad.yaml ") + (
+        "    volumes:\n      - /home/husarion/config/joy2twist/config/pad.yaml:/config/joy2twist/config/pad.yaml:ro\n")
+    assert (home(demo, robot) / PUSHED).read_text() == JOY2TWIST
+    code, out, err = run(capsys, "-i", str(demo), "config", "pull", "joy2twist", "-r", robot)
+    assert code == 0 and out == JOY2TWIST
+    assert "joy2twist_params_file:=/config/joy2twist/config/pad.yaml" in err
+    code, out, _ = run(capsys, "-i", str(demo), "config", "push", str(pad(tmp_path)), "--as", "joy2twist",
+                       "-r", robot, "--yes", "--json")
+    assert code == 0 and json.loads(out)["robots"][0]["outcome"] == "ok"
+
+
+class _Container:
+    def __init__(self, cmd: list[str]) -> None:
+        self.attrs = {"Config": {"Cmd": cmd, "Labels": {WORKING_DIR_LABEL: "/home/husarion"}},
+                      "State": {"Status": "running", "Running": True}, "RestartCount": 0}
+
+
+class _Client:
+    def __init__(self, cmd: list[str]) -> None:
+        self.containers = self
+        self.cmd = cmd
+
+    def list(self, **_: object) -> list[_Container]:
+        return [_Container(self.cmd)]
+
+
+def test_the_check_after_recreate_looks_inside_the_bash_c_script() -> None:
+    """docker's Cmd of upstream's gamepad is ["bash", "-c", "<script>"]: the words are the script's."""
+    script = ("ros2 launch joy2twist gamepad_controller.launch.py joy2twist_params_file:=/config/joy2twist/config/"
+              "pad.yaml namespace:=panther")
+    plan = RobotPlan("panther-01", "joy2twist", [], ("gamepad_controller",), verify=[Verify(
+        "gamepad_controller", ("joy2twist_params_file:=/config/joy2twist/config/pad.yaml",),
+        (f"joy2twist_params_file:={UPSTREAM_PARAMS}",))])
+    assert watch_services(_Client(["bash", "-c", script]), plan, 0, "/home/husarion") is None
+    old = script.replace("/config/joy2twist/config/pad.yaml", UPSTREAM_PARAMS)
+    assert watch_services(_Client(["bash", "-c", old]), plan, 0, "/home/husarion") == (
+        "service gamepad_controller: container command lacks joy2twist_params_file:=/config/joy2twist/config/pad.yaml")
+    plan.verify[0] = Verify("gamepad_controller", (), (f"joy2twist_params_file:={UPSTREAM_PARAMS}",))
+    assert watch_services(_Client(["bash", "-c", old]), plan, 0, "/home/husarion") == (
+        f"service gamepad_controller: container command still has joy2twist_params_file:={UPSTREAM_PARAMS}")
 
 
 def test_pull_returns_what_was_pushed(demo: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

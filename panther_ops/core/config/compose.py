@@ -13,9 +13,11 @@ environment methods to edit the anchor itself (every service merging it changes)
 The driver's ``command`` may be a one-line string, a folded ``>`` / literal ``|`` block or
 a list (flow ``[...]`` or block); `set_arg` / `unset_arg` keep that form: a one-line string
 stays one line (quoting kept), a block gets a new line at the indentation of the argument
-lines, a list is edited item by item (a new argument is appended at the end).
+lines, a list is edited item by item (a new argument is appended at the end). A command
+``bash -c "ros2 launch ..."`` (husarion/panther-docker@2.0.4 and @2.1.1:demo/
+compose.minimal-setup.yaml's gamepad) is edited inside its script (`launchcmd`).
 
-Size (~720 lines): one class over one document, the compose model every feature edits
+Size (~790 lines): one class over one document, the compose model every feature edits
 (services, image, command and its launch arguments, volumes, environment); each part goes
 through the same document and merge-key rules, which is why they are kept in one place.
 """
@@ -32,7 +34,13 @@ from panther_ops.core.config.launchcmd import (
     LaunchCommand,
     Token,
     arg_word,
+    check_script_word,
+    launch_words,
     parse_launch_argv,
+    put_arg,
+    remove_args,
+    remove_word,
+    script_span,
     shell_tokens,
     split_arg,
 )
@@ -131,24 +139,6 @@ def _env_value(value: Any) -> str | None:
     if isinstance(value, bool):
         return "true" if value else "false"
     return str(value)
-
-
-def _remove_word(text: str, tok: Token) -> str:
-    """Remove a word; its whole line when it is alone on a line that is not the first."""
-    line_start = text.rfind("\n", 0, tok.start) + 1
-    line_end = text.find("\n", tok.end)
-    line_end = len(text) if line_end < 0 else line_end
-    alone = not text[line_start : tok.start].strip() and not text[tok.end : line_end].strip()
-    if alone and line_start > 0:
-        return text[: line_start - 1] + text[line_end:]
-    start = tok.start
-    while start > line_start and text[start - 1] in " \t":
-        start -= 1
-    end = tok.end
-    if start == line_start:
-        while end < line_end and text[end] in " \t":
-            end += 1
-    return text[:start] + text[end:]
 
 
 class ComposeFile:
@@ -377,8 +367,10 @@ class ComposeFile:
             raise ComposeError(
                 f"services.{name}.command is not a string or a list", path=self.path, line=info.line
             )
-        package, launch_file, args, options = parse_launch_argv(argv, path=self.path, line=info.line)
-        return LaunchCommand(form, info.style, tuple(argv), package, launch_file, args, options, info.line)
+        shell, words = launch_words(argv, path=self.path, line=info.line)
+        package, launch_file, args, options = parse_launch_argv(words, path=self.path, line=info.line)
+        return LaunchCommand(form, info.style, tuple(argv), package, launch_file, args, options, info.line,
+                             shell, tuple(words))
 
     @property
     def args(self) -> dict[str, str]:
@@ -403,6 +395,8 @@ class ComposeFile:
         if cmd.args.get(name) == value:
             return False
         path = self._command_path(svc)
+        if cmd.shell:
+            return self._edit_script(svc, cmd, name, value, self._word_for(svc, name, value, raw))
         if cmd.form is CommandForm.LIST:
             return self._set_list_arg(path, name, value)
         word = self._word_for(svc, name, value, raw)
@@ -424,26 +418,42 @@ class ComposeFile:
         return None
 
     def _original_words(self) -> dict[tuple[str, str], tuple[str, str]]:
-        """``(service, arg) -> (value, word text)`` of the string/block commands as loaded."""
+        """``(service, arg) -> (value, word text)`` of the string/block commands (and of the
+        ``bash -c`` scripts) as loaded."""
         if self._words is None:
             self._words = {}
             probe = ComposeFile.parse(self.original, self.path)
             for svc in probe.services():
-                path = probe._command_path(svc)
-                value = probe.doc.get(path, None)
-                if not isinstance(value, str):
-                    continue
-                info = probe.doc.info(path)
-                text = info.raw if info.style is None else value
                 try:
-                    tokens = shell_tokens(text)
+                    text = probe._words_text(svc)
+                    tokens = [] if text is None else shell_tokens(text)
                 except InputError:
                     continue
                 for tok in tokens:
                     parsed = split_arg(tok.value)
-                    if parsed is not None:
+                    if parsed is not None and text is not None:
                         self._words[(svc, parsed[0])] = (parsed[1], text[tok.start : tok.end])
         return self._words
+
+    def _words_text(self, svc: str) -> str | None:
+        """The text the launch words of ``svc`` are written in: the command string (its raw
+        text when plain), or the script of ``bash -c``; None for a plain list or no command.
+
+        Raises:
+            InputError: a script that cannot be split, or cannot be edited in place.
+        """
+        path = self._command_path(svc)
+        value = self.doc.get(path, None)
+        if isinstance(value, list):
+            return str(value[2]) if launch_words([str(v) for v in value])[0] else None
+        if not isinstance(value, str):
+            return None
+        info = self.doc.info(path)
+        text = info.raw if info.style is None else value
+        if not launch_words([t.value for t in shell_tokens(text)])[0]:
+            return text
+        start, end, _ = script_span(text)
+        return text[start:end]
 
     def unset_arg(self, name: str, service: str | None = None) -> bool:
         """Remove every ``name:=...`` from the launch command; False when absent."""
@@ -451,6 +461,8 @@ class ComposeFile:
         if name not in cmd.args:
             return False
         path = self._command_path(self._svc(service))
+        if cmd.shell:
+            return self._edit_script(self._svc(service), cmd, name, None)
         if cmd.form is CommandForm.LIST:
             items = self.doc.get(path)
             for i in range(len(items) - 1, -1, -1):
@@ -463,7 +475,7 @@ class ComposeFile:
             for tok in reversed(shell_tokens(value)):
                 parsed = split_arg(tok.value)
                 if parsed is not None and parsed[0] == name:
-                    value = _remove_word(value, tok)
+                    value = remove_word(value, tok)
             return self.doc.set(path, value)
         return self._edit_block(path, name, None)
 
@@ -487,6 +499,10 @@ class ComposeFile:
         else:
             end = tokens[-1].end if tokens else len(text)
             new = text[:end] + " " + (word or arg_word(name, value)) + text[end:]
+        return self._set_command_text(path, new)
+
+    def _set_command_text(self, path: tuple[PathPart, ...], new: str) -> bool:
+        """Set a one-line command string; a note when its YAML quoting has to change."""
         before_style = self.doc.info(path).style
         changed = self.doc.set(path, new)
         after_style = self.doc.info(path).style
@@ -497,6 +513,52 @@ class ComposeFile:
             )
         return changed
 
+    def _edit_script(self, svc: str, cmd: LaunchCommand, name: str, value: str | None,
+                     word: str | None = None) -> bool:
+        """Set (or with ``value`` None remove) ``name:=`` inside the script of a ``bash -c``
+        command, keeping the rest of the command as written.
+
+        A new word is quoted for the script's shell (`arg_word`) and refused when the script's
+        own quotes would not keep it as written (`check_script_word`); the word the file had
+        for this value when loaded is written back as it was.
+
+        Raises:
+            InputError: a value the script's quotes cannot hold, or a script not written as
+                one quoted string (`script_span`).
+        """
+        path = self._command_path(svc)
+        original = self._original_words().get((svc, name))
+
+        def edit(script: str, quote: str | None) -> str:
+            if value is None:
+                return remove_args(script, name)
+
+            def make(like: Token | None) -> str:
+                new = word or arg_word(name, value, like)
+                if original != (value, new):
+                    check_script_word(new, quote, name=name, value=value, path=self.path, line=cmd.line)
+                return new
+
+            return put_arg(script, name, make)
+
+        expected = dict(cmd.args)
+        if value is None:
+            expected.pop(name, None)
+        else:
+            expected[name] = value
+        if cmd.form is CommandForm.LIST:
+            item = (*path, len(cmd.argv) - 1)
+            return self.doc.set(item, edit(str(self.doc.get(item)), None))
+        if cmd.form is CommandForm.STRING:
+            text = self.doc.get(path)
+            start, end, quote = script_span(text, path=self.path, line=cmd.line)
+            return self._set_command_text(path, text[:start] + edit(text[start:end], quote) + text[end:])
+        info = self.doc.info(path)
+        body_start = self._block_body(path)
+        region = self.doc.text[body_start : info.end]
+        start, end, quote = script_span(region, path=self.path, line=cmd.line)
+        return self._replace_block(path, region[:start] + edit(region[start:end], quote) + region[end:], expected)
+
     @staticmethod
     def _last_arg(tokens: list[Token], name: str) -> Token | None:
         for tok in reversed(tokens):
@@ -504,6 +566,11 @@ class ComposeFile:
             if parsed is not None and parsed[0] == name:
                 return tok
         return None
+
+    def _block_body(self, path: tuple[PathPart, ...]) -> int:
+        """Where the text of a ``>`` / ``|`` block (or multi-line plain) command starts."""
+        info = self.doc.info(path)
+        return self.doc.text.find("\n", info.start) + 1 if info.style in ("|", ">") else info.start
 
     def _edit_block(
         self, path: tuple[PathPart, ...], name: str, value: str | None, word: str | None = None
@@ -514,7 +581,7 @@ class ComposeFile:
         """
         info = self.doc.info(path)
         text = self.doc.text
-        body_start = text.find("\n", info.start) + 1 if info.style in ("|", ">") else info.start
+        body_start = self._block_body(path)
         region = text[body_start : info.end]
         tokens = shell_tokens(region)
         before = self.command(str(path[1]))
@@ -525,7 +592,7 @@ class ComposeFile:
             for tok in reversed(tokens):
                 parsed = split_arg(tok.value)
                 if parsed is not None and parsed[0] == name:
-                    new_region = _remove_word(new_region, tok)
+                    new_region = remove_word(new_region, tok)
         else:
             target = self._last_arg(tokens, name)
             if target is not None:
@@ -538,16 +605,21 @@ class ComposeFile:
                 line = text[line_start : body_start + last.start]
                 indent = line[: len(line) - len(line.lstrip(" "))]
                 new_region = region[: last.end] + "\n" + indent + (word or arg_word(name, value)) + region[last.end :]
+        return self._replace_block(path, new_region, expected)
+
+    def _replace_block(self, path: tuple[PathPart, ...], new_region: str, expected: dict[str, str]) -> bool:
+        """Write a block command's new text, checked: its launch args must be ``expected``."""
+        info = self.doc.info(path)
 
         def check(new_value: Any) -> bool:
             if not isinstance(new_value, str):
                 return False
-            argv = [t.value for t in shell_tokens(new_value)]
-            args = parse_launch_argv(argv)[2]
+            words = launch_words([t.value for t in shell_tokens(new_value)])[1]
+            args = parse_launch_argv(words)[2]
             return list(args.items()) == list(expected.items())
 
         try:
-            return self.doc.replace_span(body_start, info.end, new_region, path=path, check=check)
+            return self.doc.replace_span(self._block_body(path), info.end, new_region, path=path, check=check)
         except DocumentError as exc:
             raise ComposeError(
                 f"cannot edit the launch command in place: {exc.message}", path=self.path, line=info.line

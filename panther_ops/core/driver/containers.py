@@ -18,6 +18,7 @@ from panther_ops.core.driver.images import HubTag, local_images, newer_tags
 from panther_ops.core.driver.planners import compose_argv
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import service_containers
+from panther_ops.core.parse.shell_words import CommandSyntaxError, command_words
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
 
@@ -43,11 +44,23 @@ def parse_duration(text: str) -> float:
     raise UsageError(f"{text!r} is not a duration", hint="e.g. 90s, 10m, 1h30m, 2d")
 
 
+_INTERPOLATED = re.compile(r"\$[{$A-Za-z_]")
+"""A word compose interpolates (``${VAR}``, ``$VAR``, ``$$``); ``$(...)`` it leaves to the shell."""
+
+
 def argv_matches(running: list[str], compose: list[str]) -> bool:
-    """The container's command is compose.yaml's (a word with ``$`` is interpolated by compose)."""
-    if len(running) != len(compose):
+    """The container's command is compose.yaml's (a word compose interpolates matches any word).
+
+    A ``bash -c "..."`` command is compared word by word inside its script: the script of
+    husarion/panther-docker's gamepad holds ``$(ros2 pkg prefix joy2twist)``, which the
+    container's ``Cmd`` keeps as written (the shell expands it)."""
+    try:
+        (shell_a, words_a), (shell_b, words_b) = command_words(running), command_words(compose)
+    except CommandSyntaxError:
+        (shell_a, words_a), (shell_b, words_b) = ((), running), ((), compose)
+    if shell_a != shell_b or len(words_a) != len(words_b):
         return False
-    return all(a == b or "$" in b for a, b in zip(running, compose, strict=True))
+    return all(a == b or _INTERPOLATED.search(b) for a, b in zip(words_a, words_b, strict=True))
 
 
 @dataclass

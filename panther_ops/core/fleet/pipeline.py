@@ -26,6 +26,7 @@ from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
+from panther_ops.core.parse.shell_words import has_word
 from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_apply, scripts_backup
@@ -420,11 +421,11 @@ def watch_services(client: Any, plan: RobotPlan, settle_s: float, working_dir: s
                 return f"service {v.service}: no container of the project in {working_dir} after recreate"
             c = ctrs[0]
             state = c.attrs.get("State", {})
-            cmd = c.attrs.get("Config", {}).get("Cmd") or []
-            missing = [x for x in v.cmd_contains if x not in cmd]
+            cmd = [str(x) for x in c.attrs.get("Config", {}).get("Cmd") or []]
+            missing = [x for x in v.cmd_contains if not has_word(cmd, x)]
             if missing:
                 return f"service {v.service}: container command lacks {', '.join(missing)}"
-            present = [x for x in v.cmd_lacks if x in cmd]
+            present = [x for x in v.cmd_lacks if has_word(cmd, x)]
             if present:
                 return f"service {v.service}: container command still has {', '.join(present)}"
             status, restarts = state.get("Status", "?"), int(c.attrs.get("RestartCount", 0))

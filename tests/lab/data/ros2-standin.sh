@@ -40,6 +40,9 @@
 # "No animation with ID: N".
 # An E-stop or lights service of another namespace, name or type is never answered: like the
 # real CLI, the command waits (`waiting for service to become available...`) until it is killed.
+# `ros2 pkg prefix <pkg>` prints the install prefix and nothing else (ros2/ros2cli@9fce6a08381b:
+# ros2pkg/ros2pkg/verb/prefix.py prints get_prefix_path), /opt/ros/humble for every package: the
+# gamepad's `joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/...` names a file of the image.
 LOG=/var/log/ros2-standin.log
 STATE=/var/lib/ros2-standin
 echo "ros2 $*" >> "$LOG"
@@ -232,15 +235,15 @@ if [ "${1:-}" = run ] && [ "${2:-}" = teleop_twist_keyboard ]; then
     echo "Package 'teleop_twist_keyboard' not found" >&2
     exit 1
 fi
+if [ "${1:-}" = pkg ]; then  # only the prefix on stdout: `$(ros2 pkg prefix joy2twist)/share/...` is a path
+    if [ "${2:-}" = prefix ] && [ -n "${3:-}" ]; then
+        echo "/opt/ros/humble"
+    fi
+    exit 0
+fi
 echo "[ros2-standin] ros2 $*"
 case "${1:-}" in
     launch | run) ;;
-    pkg)
-        if [ "${2:-}" = prefix ] && [ -n "${3:-}" ]; then
-            echo "/opt/ros/humble"
-        fi
-        exit 0
-        ;;
     *) exit 0 ;;
 esac
 missing=0
