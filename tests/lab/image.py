@@ -1,12 +1,17 @@
 """The lab's container image: a busybox-static root file system with a `ros2` stand-in.
 
-Built once per lab as a ~2 MB tarball, then `docker import`ed into each robot's dockerd and
-tagged with every image name the compose templates use (nothing can be pulled here).
+Built once per lab as a ~3 MB tarball, then `docker import`ed into each robot's dockerd and
+tagged with every image name the compose templates use (nothing can be pulled here). It holds
+`nmea-listen` (data/nmea-listen.c, compiled here once per source: gcc, libc6-dev), the NMEA
+driver stand-in that the driver's `ros2` runs with `launch_nmea_gps:=True` and the nmea-gps
+stand-in image runs as its node.
 """
 
 from __future__ import annotations
 
+import hashlib
 import io
+import os
 import shutil
 import struct
 import subprocess
@@ -71,9 +76,29 @@ def tar_file(tar: tarfile.TarFile, name: str, data: bytes, mode: int = 0o644) ->
     tar.addfile(ti, io.BytesIO(data))
 
 
-def build_rootfs(dest: Path) -> Path:
-    """Write the image's root file system as a tarball to `dest` (~2 MB)."""
+def nmea_listener(cache: Path) -> Path:
+    """`nmea-listen`, statically linked, compiled once per source into ``cache``."""
+    src = DATA / "nmea-listen.c"
+    key = hashlib.sha256(src.read_bytes()).hexdigest()[:12]
+    out = cache / f"nmea-listen-{key}"
+    if out.is_file():
+        return out
+    cache.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_suffix(f".{os.getpid()}.tmp")
+    cp = subprocess.run(["gcc", "-static", "-Os", "-o", str(tmp), str(src)], capture_output=True, text=True,
+                        check=False)
+    if cp.returncode != 0:
+        tmp.unlink(missing_ok=True)
+        raise LabError(f"compiling nmea-listen failed (apt-get install gcc libc6-dev): {cp.stderr.strip()}")
+    tmp.replace(out)
+    return out
+
+
+def build_rootfs(dest: Path, cache: Path | None = None) -> Path:
+    """Write the image's root file system as a tarball to `dest` (~3 MB); `nmea-listen` is
+    compiled into ``cache`` (default: beside `dest`)."""
     busybox = find_static_busybox()
+    listener = nmea_listener(cache or dest.parent)
     applets = subprocess.run([str(busybox), "--list"], capture_output=True, text=True, check=True).stdout.split()
 
     dest.parent.mkdir(parents=True, exist_ok=True)
@@ -113,6 +138,7 @@ def build_rootfs(dest: Path) -> Path:
             ti.linkname = "busybox"
             tar.addfile(ti)
         tar_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
+        tar_file(tar, "usr/bin/nmea-listen", listener.read_bytes(), 0o755)
         tar_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
         tar_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")
         tar_file(tar, "etc/group", b"root:x:0:\n")

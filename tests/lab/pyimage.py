@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from ._sys import LabError
+from .files import DATA
 from .image import IMPORT_CHANGES, build_rootfs, find_static_busybox, tar_dir, tar_file
 
 PYTHON_TAG = "panther-ops-lab/python:3.10"
@@ -105,6 +106,10 @@ def _package_sources(module: str) -> list[tuple[str, Path]]:
             if "__pycache__" not in p.parts]
 
 
+STAND_INS = ("ros2-standin.sh", "ros_entrypoint.sh", "nmea-listen.c")
+"""The usual image's own files (tests/lab/data) the Python image carries: part of its key."""
+
+
 def cache_key(python: Path) -> str:
     st, bb = python.stat(), find_static_busybox().stat()
     versions = []
@@ -113,7 +118,8 @@ def cache_key(python: Path) -> str:
             versions.append(f"{dist}={importlib.metadata.version(dist)}")
         except importlib.metadata.PackageNotFoundError:
             versions.append(f"{dist}=?")
-    raw = f"{BUILDER} {python} {st.st_size} {st.st_mtime} {bb.st_size} {' '.join(versions)}"
+    stand_ins = hashlib.sha256(b"".join((DATA / n).read_bytes() for n in STAND_INS)).hexdigest()[:12]
+    raw = f"{BUILDER} {python} {st.st_size} {st.st_mtime} {bb.st_size} {stand_ins} {' '.join(versions)}"
     return hashlib.sha256(raw.encode()).hexdigest()[:12]
 
 
@@ -148,7 +154,7 @@ def _build(python: Path, dest: Path) -> None:
     binaries = [python, *exts] + ([libpython] if libpython and libpython.is_file() else [])
     libs = {lib for lib in _ldd(binaries) if "python3.10" not in lib.name}
     with tempfile.TemporaryDirectory() as tmpdir:
-        busybox_tar = build_rootfs(Path(tmpdir) / "busybox.tar")
+        busybox_tar = build_rootfs(Path(tmpdir) / "busybox.tar", dest.parent)
         with tarfile.open(busybox_tar) as src, tarfile.open(dest, "w") as tar:
             for member in src.getmembers():
                 if member.name == "etc/lab-image":
