@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import socket
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import pytest
@@ -218,3 +218,55 @@ def test_a_failed_enable_leaves_the_operators_own_nmea_gps_project_alone(
     finally:
         lab.exec(old, ["bash", "-lc", "cd ~/handmade && docker compose down; cd && rm -rf ~/handmade"], user=USER,
                  timeout=120)
+
+
+def test_status_confirms_the_fix_from_the_robots_fix_topic(lab: Any, restored: None,
+                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """After `gps enable` the NMEA driver holds the port (2.0.4: the nmea-gps service; 2.2.2:
+    launch_nmea_gps on the driver): `gps status` asks the robot's own /panther/gps/fix in the
+    driver container. Without NMEA: a failed verdict naming the topic and the container; with
+    GGA sentences arriving: the fix they carry (issue 24, finding 9)."""
+    from tests.lab.nmea import Sender, sentences
+
+    inv = str(lab.inventory_path)
+    names = [robot_of(lab, "2.0.4"), robot_of(lab, "2.2.2")]
+    use_nmea_image(lab, names[0])
+    target = [a for n in names for a in ("-r", n)]
+    code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", *target, "--yes", "--settle", "1", "--json")
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 2, (doc, err)
+    deadline = time.monotonic() + 10
+    while not all(5000 in udp_ports(lab, n) for n in names):  # each NMEA driver holds its port
+        assert time.monotonic() < deadline, {n: udp_ports(lab, n) for n in names}
+        time.sleep(0.2)
+
+    code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "status", *target, "--window", "1", "--json")
+    assert code == 3, (doc, err)
+    for r in doc["robots"]:
+        d = r["data"]
+        assert (r["outcome"], d["verdict"]) == ("failed", "no fix message"), r
+        driver = lab.robot(r["robot"]).driver_container
+        assert f"nothing published on /panther/gps/fix within 6 s (asked in container {driver})" in r["message"], r
+        assert d["source"] == "ros topic /panther/gps/fix" and d["container"] == driver
+
+    lat, lon = 52.2296756, 21.0122287
+    # a GGA sentence per datagram: the driver reads a datagram's lines split at "\n" and drops
+    # one still ending in "\r", so of a CRLF burst only its last sentence (data/nmea-listen.c)
+    gga = (sentences(lat, lon)[0] + "\r\n").encode()
+
+    def to(ip: str) -> Callable[[], tuple[str, int]]:
+        return lambda: (ip, 5000)
+
+    senders = [Sender(to(lab.robot(n).ip), lat, lon, period=0.5, payload=lambda: gga).start() for n in names]
+    try:
+        code, doc, _, err = run_cli(capsys, "-i", inv, "gps", "status", *target, "--window", "1", "--json")
+    finally:
+        for s in senders:
+            s.stop()
+    assert code == 0, (doc, err)
+    for r in doc["robots"]:
+        d = r["data"]
+        assert (r["outcome"], d["verdict"], d["source"]) == ("ok", "fix", "ros topic /panther/gps/fix"), r
+        assert abs(d["fix"]["lat"] - lat) < 1e-7 and abs(d["fix"]["lon"] - lon) < 1e-7, d["fix"]
+        assert d["fix"]["status"] == 0 and d["fix"]["altitude_m"] == pytest.approx(154.9), d["fix"]
+        assert f"{lat:.7f} {lon:.7f}, alt 154.9 m, status 0 (fix) on /panther/gps/fix" in r["message"]
+    assert {r["data"]["driver"]["mode"] for r in doc["robots"]} == {"service", "argument"}

@@ -1,6 +1,6 @@
 """The lab's container image: a busybox-static root file system with a `ros2` stand-in.
 
-Built once per lab as a ~2 MB tarball, then `docker import`ed into each robot's dockerd under
+Built once per lab as a ~3 MB tarball, then `docker import`ed into each robot's dockerd under
 every image name the compose templates use (nothing can be pulled here): each stack's driver
 image with its release's `/version.txt` (what the real Dockerfiles write: the panther /
 husarion_ugv package version, husarion/husarion_ugv_ros@2.2.2:docker/Dockerfile.hardware,
@@ -12,11 +12,17 @@ The gamepad of husarion/panther-docker@2.0.4 and @2.1.1:demo/compose.minimal-set
 joy2twist/config/joy2twist_panther.yaml ..."`: the image has a `bash` stand-in (busybox sh,
 data/bash-standin.sh) and that file (data/joy2twist_panther.yaml, written from
 husarion/joy2twist's), since the ros2 stand-in fails a launch whose `*_file:=` is missing.
+
+The image also holds `nmea-listen` (data/nmea-listen.c, compiled here once per source: gcc,
+libc6-dev), the NMEA driver stand-in that the driver's `ros2` runs with `launch_nmea_gps:=True` and the nmea-gps
+stand-in image runs as its node.
 """
 
 from __future__ import annotations
 
+import hashlib
 import io
+import os
 import shutil
 import struct
 import subprocess
@@ -100,9 +106,29 @@ def tar_file(tar: tarfile.TarFile, name: str, data: bytes, mode: int = 0o644) ->
     tar.addfile(ti, io.BytesIO(data))
 
 
-def build_rootfs(dest: Path) -> Path:
-    """Write the image's root file system as a tarball to `dest` (~2 MB)."""
+def nmea_listener(cache: Path) -> Path:
+    """`nmea-listen`, statically linked, compiled once per source into ``cache``."""
+    src = DATA / "nmea-listen.c"
+    key = hashlib.sha256(src.read_bytes()).hexdigest()[:12]
+    out = cache / f"nmea-listen-{key}"
+    if out.is_file():
+        return out
+    cache.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_suffix(f".{os.getpid()}.tmp")
+    cp = subprocess.run(["gcc", "-static", "-Os", "-o", str(tmp), str(src)], capture_output=True, text=True,
+                        check=False)
+    if cp.returncode != 0:
+        tmp.unlink(missing_ok=True)
+        raise LabError(f"compiling nmea-listen failed (apt-get install gcc libc6-dev): {cp.stderr.strip()}")
+    tmp.replace(out)
+    return out
+
+
+def build_rootfs(dest: Path, cache: Path | None = None) -> Path:
+    """Write the image's root file system as a tarball to `dest` (~3 MB); `nmea-listen` is
+    compiled into ``cache`` (default: beside `dest`)."""
     busybox = find_static_busybox()
+    listener = nmea_listener(cache or dest.parent)
     applets = subprocess.run([str(busybox), "--list"], capture_output=True, text=True, check=True).stdout.split()
 
     dest.parent.mkdir(parents=True, exist_ok=True)
@@ -147,6 +173,7 @@ def build_rootfs(dest: Path) -> Path:
         tar_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
         tar_file(tar, "bin/bash", (DATA / "bash-standin.sh").read_bytes(), 0o755)
         tar_file(tar, JOY2TWIST_DEFAULT, (DATA / "joy2twist_panther.yaml").read_bytes())
+        tar_file(tar, "usr/bin/nmea-listen", listener.read_bytes(), 0o755)
         tar_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
         tar_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")
         tar_file(tar, "etc/group", b"root:x:0:\n")

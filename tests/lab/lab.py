@@ -453,7 +453,7 @@ class Lab:
         self._cgroups = _cgroup_mounts()
         self._rlimits_ok = can_raise_rlimits()
         if self.docker_enabled:
-            self._rootfs = build_rootfs(d / "image" / "rootfs.tar").read_bytes()
+            self._rootfs = build_rootfs(d / "image" / "rootfs.tar", self.base / ".images").read_bytes()
 
         # network: bridge, host routes, namespaces, jump bridges
         run(["ip", "link", "add", st.bridge, "type", "bridge"])

@@ -4,8 +4,10 @@ The real image runs ROS 2's nmea_navsat_driver, which cannot run here. The stand
 lab's busybox root file system with a `ros2` that accepts the real image's two command forms
 (the manual's `ros2 launch /husarion_utils/nmea_navsat.launch.py robot_namespace:=NS` and
 `ros2 run nmea_navsat_driver nmea_socket_driver --ros-args -p port:=N`) and listens on that
-UDP port with `nmea-listen`, a 40-line static C program compiled here (busybox has no UDP
-listener). Labelled `org.panther-ops.lab=nmea-stand-in`.
+UDP port with `nmea-listen`, a small static C program compiled here (busybox has no UDP
+listener; tests/lab/image.py) that publishes a NavSatFix per GGA sentence by
+nmea_navsat_driver's rules, served to the driver's `ros2 topic echo` stand-in (see
+data/nmea-listen.c). Labelled `org.panther-ops.lab=nmea-stand-in`.
 
 `use_nmea_image(lab, "r01")` imports it into that robot's dockerd under the real image name.
 """
@@ -13,14 +15,12 @@ listener). Labelled `org.panther-ops.lab=nmea-stand-in`.
 from __future__ import annotations
 
 import hashlib
-import subprocess
 import tarfile
 from pathlib import Path
 from typing import Any
 
-from ._sys import LabError
 from .files import DATA
-from .image import build_rootfs, find_static_busybox, tar_dir, tar_file
+from .image import build_rootfs, find_static_busybox, nmea_listener, tar_dir, tar_file
 
 NMEA_IMAGE = "husarion/nmea-gps:humble-2.0.1-20240617"
 LABEL = "org.panther-ops.lab"
@@ -33,31 +33,15 @@ CHANGES = (
 )
 
 
-def _listener(cache: Path) -> Path:
-    src = DATA / "nmea-listen.c"
-    key = hashlib.sha256(src.read_bytes()).hexdigest()[:12]
-    out = cache / f"nmea-listen-{key}"
-    if out.is_file():
-        return out
-    cache.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_suffix(".tmp")
-    cp = subprocess.run(["gcc", "-static", "-Os", "-o", str(tmp), str(src)], capture_output=True, text=True,
-                        check=False)
-    if cp.returncode != 0:
-        raise LabError(f"compiling nmea-listen failed (apt-get install gcc libc6-dev): {cp.stderr.strip()}")
-    tmp.replace(out)
-    return out
-
-
 def nmea_rootfs(cache: Path) -> Path:
     """The stand-in's root file system tarball (built once per inputs, cached in ``cache``)."""
-    listener = _listener(cache)
+    listener = nmea_listener(cache)
     ros2 = (DATA / "nmea-gps-ros2-standin.sh").read_bytes()
     key = hashlib.sha256(listener.read_bytes() + ros2 + find_static_busybox().read_bytes()).hexdigest()[:12]
     dest = cache / f"nmea-gps-{key}.tar"
     if dest.is_file():
         return dest
-    base = build_rootfs(cache / f"nmea-base-{key}.tar")
+    base = build_rootfs(cache / f"nmea-base-{key}.tar", cache)
     tmp = dest.with_suffix(".tmp")
     with tarfile.open(base) as src, tarfile.open(tmp, "w") as tar:
         for member in src.getmembers():
@@ -65,7 +49,6 @@ def nmea_rootfs(cache: Path) -> Path:
                 continue
             tar.addfile(member, src.extractfile(member) if member.isfile() else None)
         tar_file(tar, "usr/bin/ros2", ros2, 0o755)
-        tar_file(tar, "usr/bin/nmea-listen", listener.read_bytes(), 0o755)
         tar_dir(tar, "husarion_utils")
         tar_file(tar, "husarion_utils/nmea_navsat.launch.py", b"# stand-in: the lab's nmea-gps image has no ROS 2\n")
     tmp.replace(dest)

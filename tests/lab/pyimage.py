@@ -110,6 +110,10 @@ def _package_sources(module: str) -> list[tuple[str, Path]]:
             if "__pycache__" not in p.parts]
 
 
+STAND_INS = ("ros2-standin.sh", "ros_entrypoint.sh", "nmea-listen.c", "bash-standin.sh", "joy2twist_panther.yaml")
+"""The usual image's own files (tests/lab/data) the Python image carries: part of its key."""
+
+
 def cache_key(python: Path) -> str:
     st, bb = python.stat(), find_static_busybox().stat()
     versions = []
@@ -119,7 +123,8 @@ def cache_key(python: Path) -> str:
         except importlib.metadata.PackageNotFoundError:
             versions.append(f"{dist}=?")
     standins = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(STANDIN_PACKAGES.rglob("*.py")))).hexdigest()
-    raw = f"{BUILDER} {python} {st.st_size} {st.st_mtime} {bb.st_size} {' '.join(versions)} {standins}"
+    stand_ins = hashlib.sha256(b"".join((DATA / n).read_bytes() for n in STAND_INS)).hexdigest()[:12]
+    raw = f"{BUILDER} {python} {st.st_size} {st.st_mtime} {bb.st_size} {' '.join(versions)} {standins} {stand_ins}"
     return hashlib.sha256(raw.encode()).hexdigest()[:12]
 
 
@@ -154,7 +159,7 @@ def _build(python: Path, dest: Path) -> None:
     binaries = [python, *exts] + ([libpython] if libpython and libpython.is_file() else [])
     libs = {lib for lib in _ldd(binaries) if "python3.10" not in lib.name}
     with tempfile.TemporaryDirectory() as tmpdir:
-        busybox_tar = build_rootfs(Path(tmpdir) / "busybox.tar")
+        busybox_tar = build_rootfs(Path(tmpdir) / "busybox.tar", dest.parent)
         with tarfile.open(busybox_tar) as src, tarfile.open(dest, "w") as tar:
             for member in src.getmembers():
                 if member.name == "etc/lab-image":

@@ -164,7 +164,7 @@ def _robot_script(tmp_path: Path, stack: str = "2.2", **engine: str) -> tuple[in
     import os
     import subprocess
 
-    from panther_ops.core.remote.estop.calls import ROBOT_SCRIPT
+    from panther_ops.core.containers.driver_exec import ROBOT_SCRIPT
 
     fake = tmp_path / "engine"
     (fake / "bin").mkdir(parents=True, exist_ok=True)

@@ -114,7 +114,8 @@ def enable(
     Plan, diff, confirm, backup, atomic write, recreate, verify, roll back: like config set.
     A robot already set up reports ok. The fix topic: /<ns>/gps/fix. With --router the
     router's forwarding (GNSS and forwarding on, --ip:--port, udp) is part of the same plan,
-    applied after the driver (credentials as for `gps router`).
+    applied after the driver (credentials as for `gps router`). Then `gps status` confirms
+    the fix from the robot's fix topic.
 
     Examples:
       panther-ops gps enable --all --dry-run
@@ -167,8 +168,11 @@ def status(
     """Per robot: is NMEA arriving at its UDP port (listened to on the robot for --window
     seconds, decoded here with pynmea2: sentences per second, fix quality, satellites, HDOP,
     position, age), and a verdict: fix, data but no fix, router not forwarding, forwarding to
-    wrong host/port (with --router), no data, or port busy (the NMEA driver or gpsd holds the
-    port). `ok` only with a fix; `failed` (exit 3) otherwise. Demo robots answer with a
+    wrong host/port (with --router), no data, or port busy. Once the NMEA driver of
+    compose.yaml holds the port (after gps enable), the robot's own fix topic decides
+    (/<ns>/gps/fix echoed once in the driver container, --window + 5 s): fix with its
+    position, data but no fix (status -1), or no fix message; where gpsd holds it, gpsd's
+    view. `ok` only with a fix; `failed` (exit 3) otherwise. Demo robots answer with a
     recorded NMEA file.
 
     Examples:

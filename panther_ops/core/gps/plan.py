@@ -35,6 +35,7 @@ from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse
 from panther_ops.core.fleet.inventory_desired import IP_RULE, nmea_ip, nmea_namespace
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.gps.fix_topic import service_topic
 from panther_ops.core.gps.udp_address import check_port
 from panther_ops.core.parse.ros_names import RosNameError, namespace
 from panther_ops.core.stack import Family
@@ -204,8 +205,9 @@ def _enable_service(cfg: RobotConfig, namespace: str, opts: GpsOptions) -> Chang
         compose.remove_service(SERVICE)
         compose.add_service(SERVICE, want)
     where = f"udp {opts.ip}:{opts.port}"
+    topic = service_topic(want)
     data = {"mode": "service", "service": SERVICE, "namespace": namespace, "port": opts.port, "ip": opts.ip}
-    return Change(f"add service {SERVICE} ({IMAGE}, {where}, /{namespace}/gps/fix)",
+    return Change(f"add service {SERVICE} ({IMAGE}, {where}, {topic})",
                   f"service {SERVICE} already runs the NMEA driver ({where})", (SERVICE,),
                   [service_check(namespace, opts)], [], [], data)
 

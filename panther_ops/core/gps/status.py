@@ -7,9 +7,16 @@ decodes with pynmea2 (`core.gps.nmea`). With ``--router`` the router's forwardin
 are read too (REST API, `core.gps.router`), which tells "router not forwarding" and
 "forwarding to a wrong host/port" apart from "no data".
 
+Once a listener holds the port nothing can be captured: where gpsd runs, its view decides;
+where compose.yaml runs the NMEA driver (the ``nmea-gps`` service or ``launch_nmea_gps``),
+the robot's own fix topic does (``ros2 topic echo --once`` in the driver container,
+`core.gps.fix_echo`).
+
 Verdicts: ``fix``, ``data but no fix``, ``router not forwarding``, ``forwarding to wrong
-host/port``, ``no data``, ``port busy`` (a listener -- the NMEA driver or gpsd -- holds the
-port: nothing captured). Demo robots answer from a recorded NMEA file.
+host/port``, ``no data``, ``no fix message`` (the NMEA driver holds the port and published
+nothing within the window), ``port busy`` (a listener that is neither gpsd nor the NMEA
+driver of compose.yaml holds the port: nothing captured). Demo robots answer from a
+recorded NMEA file.
 """
 
 from __future__ import annotations
@@ -35,6 +42,7 @@ NOT_FORWARDING = "router not forwarding"
 WRONG_TARGET = "forwarding to wrong host/port"
 NO_DATA = "no data"
 BUSY = "port busy"
+NO_MESSAGE = "no fix message"
 
 CAPTURE = r"""
 import base64, json, socket, sys, time
@@ -102,10 +110,18 @@ def driver_mode(ctx: RobotContext) -> dict[str, Any]:
     except OpsError as exc:
         return {"mode": "unknown", "detail": exc.message}
     if SERVICE in cfg.compose.services():
-        return {"mode": "service", "service": SERVICE}
-    if cfg.compose.args.get("launch_nmea_gps", "").lower() == "true":
-        return {"mode": "argument", "service": cfg.service}
-    return {"mode": "off"}
+        found = {"mode": "service", "service": SERVICE}
+    elif cfg.compose.args.get("launch_nmea_gps", "").lower() == "true":
+        found = {"mode": "argument", "service": cfg.service}
+    else:
+        return {"mode": "off"}
+    from panther_ops.core.gps.fix_topic import TopicError, fix_topic
+
+    try:
+        found["topic"] = fix_topic(cfg, found["mode"], found["service"])
+    except TopicError as exc:
+        found["topic_error"] = str(exc)
+    return found
 
 
 Captured = tuple[dict[str, Any], list[tuple[float, bytes]], float]
@@ -185,7 +201,10 @@ def status_task(opts: StatusOptions) -> Any:
 
         data["gpsd"] = view = gpsd_view(ctx)
         if info.get("bind") != "ok":
-            result = _busy(ctx, opts, data, view, router, info)
+            if (not view or not view.get("running")) and data["driver"]["mode"] in ("service", "argument"):
+                result = _from_topic(ctx, opts, data, router, info)
+            else:
+                result = _busy(ctx, opts, data, view, router, info)
             result.warnings[:0] = warnings
             return result
         fixes: list[Fix] = []
@@ -218,4 +237,41 @@ def _busy(ctx: RobotContext, opts: StatusOptions, data: dict[str, Any], view: di
         v, why = verdict(None, 0, router, (info.get("lan_ip"), opts.port))
         why = f"gpsd has no data; {why}"
     data.update({"verdict": v, "detail": why, "source": "gpsd"})
+    return RobotResult(ctx.robot.name, Outcome.OK if v == FIX else Outcome.FAILED, f"{v}: {why}", data=data)
+
+
+def _from_topic(ctx: RobotContext, opts: StatusOptions, data: dict[str, Any], router: dict[str, Any] | None,
+                info: dict[str, Any]) -> RobotResult:
+    """The port is the NMEA driver's (compose.yaml runs it): its fix topic decides."""
+    from panther_ops.core.gps import fix_echo
+    from panther_ops.core.gps.fix_topic import STATUS
+
+    driver = data["driver"]
+    lan_ip = info.get("lan_ip")
+    data.update({"port": opts.port, "router": router, "robot_lan_ip": lan_ip, "fix": None})
+    if "topic" not in driver:  # compose.yaml names no ROS topic: nothing to ask
+        why = f"udp :{opts.port}: {info.get('bind')}; the fix topic cannot be asked: {driver.get('topic_error')}"
+        data.update({"verdict": BUSY, "detail": why})
+        return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"{BUSY}: {why}", data=data)
+    wait = fix_echo.timeout_s(opts.window_s)
+    got = fix_echo.ask(ctx, driver["topic"], wait)
+    topic, fix, tail = fix_echo.answer(got, driver["topic"])
+    where = f"container {got.container}" if got.container else "the driver container"
+    data.update({"source": f"ros topic {topic}", "topic": topic, "container": got.container, "window_s": wait,
+                 "fix": fix.to_json() if fix else None})
+    if fix is not None and fix.has_fix:
+        v = FIX
+        why = (f"{fix.lat:.7f} {fix.lon:.7f}, alt {fix.altitude_m:.1f} m, "
+               f"status {fix.status} ({STATUS.get(fix.status, 'unknown')}) on {topic}")
+    elif fix is not None:
+        v, why = NO_FIX, f"{topic}: status {fix.status} (no fix): the NMEA driver gets NMEA without a position fix"
+    else:
+        v, why = verdict(None, 0, router, (lan_ip, opts.port))
+        if v == NO_DATA:
+            v = NO_MESSAGE
+            why = (f"nothing published on {topic} within {wait} s (asked in {where})"
+                   + (f": {tail}" if tail else "") + ("" if router else " (router not read: --router)"))
+        else:
+            why += f"; nothing published on {topic} within {wait} s (asked in {where})"
+    data.update({"verdict": v, "detail": why})
     return RobotResult(ctx.robot.name, Outcome.OK if v == FIX else Outcome.FAILED, f"{v}: {why}", data=data)

@@ -12,6 +12,7 @@ from panther_ops.core.gps.status import (
     FIX,
     NO_DATA,
     NO_FIX,
+    NO_MESSAGE,
     NOT_FORWARDING,
     WRONG_TARGET,
     StatusOptions,
@@ -27,7 +28,8 @@ _FIXES = {
     NOT_FORWARDING: ("fail", "panther-ops gps router set -r ROBOT --enable (or gps enable --router)"),
     WRONG_TARGET: ("fail", "panther-ops gps router set -r ROBOT --hostname 10.15.20.2 --port 5000"),
     NO_DATA: ("fail", "panther-ops gps status -r ROBOT --router tells why (router credentials needed)"),
-    BUSY: ("warn", "the NMEA driver holds the port: check /<namespace>/gps/fix on the robot"),
+    NO_MESSAGE: ("fail", "panther-ops gps status -r ROBOT --router tells whether NMEA reaches the robot"),
+    BUSY: ("warn", "a listener other than compose.yaml's NMEA driver holds the port (ss -ulpn on the robot)"),
 }
 
 

@@ -43,6 +43,23 @@
 # `ros2 pkg prefix <pkg>` prints the install prefix and nothing else (ros2/ros2cli@9fce6a08381b:
 # ros2pkg/ros2pkg/verb/prefix.py prints get_prefix_path), /opt/ros/humble for every package: the
 # gamepad's `joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/...` names a file of the image.
+#
+# The GPS fix (sensor_msgs/msg/NavSatFix), published by the lab's NMEA driver stand-in
+# (nmea-listen: in the nmea-gps service's container, or started by this driver's launch):
+#   ros2 topic echo --once <topic> sensor_msgs/msg/NavSatFix
+#       -> the next fix published on <topic>, as the real CLI prints it, then `---`; a topic
+#       nobody publishes (no listener, another namespace, no NMEA arriving) waits until killed.
+#   The stand-in's stand-in for DDS discovery: nmea-listen serves each fix it publishes, with
+#   its topic, to the clients waiting on 127.0.0.1:11811 (both containers run with
+#   network_mode host: the robot's network namespace); this script waits there with busybox nc.
+# `ros2 launch ... launch_nmea_gps:=True` (panther_ros 2.1.1, husarion_ugv 2.2) also runs the
+# NMEA driver as the real bringup does (localization.launch.py includes nmea_navsat.launch.py):
+# nmea-listen on the parameters file's port (nmea_params_path:= (2.2) or params_file:= (2.1.1),
+# else the package's, port 5000), publishing <ns>/<device_namespace>/fix (device_namespace:=,
+# 2.1.1 only, default gps) with frame_id <ns>/gps (tf_prefix = the namespace)
+# (husarion_ugv_ros@2.1.1:panther_localization/launch/nmea_navsat.launch.py and
+# config/nmea_navsat_params.yaml; @2.2.2:husarion_ugv_localization/launch/nmea_navsat.launch.py
+# and config/nmea_navsat.yaml).
 LOG=/var/log/ros2-standin.log
 STATE=/var/lib/ros2-standin
 echo "ros2 $*" >> "$LOG"
@@ -65,6 +82,21 @@ EOF
 wait_forever() {
     trap 'exit 130' INT TERM
     while :; do sleep 1; done
+}
+
+echo_fix() {  # $1 the topic: the next NavSatFix nmea-listen publishes on it, else wait until killed
+    f=/tmp/ros2-standin-fix.$$
+    nc 127.0.0.1 11811 < /dev/null > "$f" 2>/dev/null &
+    nc=$!
+    trap 'kill "$nc" 2>/dev/null; rm -f "$f"; exit 130' INT TERM
+    wait "$nc"
+    if [ "$(head -n 1 "$f")" = "$1" ]; then
+        tail -n +2 "$f"
+        rm -f "$f"
+        exit 0
+    fi
+    rm -f "$f"
+    wait_forever
 }
 
 live_publishers() {
@@ -150,6 +182,7 @@ case "${1:-}" in
         done
         case "${2:-}" in
             echo)
+                case " $* " in *" sensor_msgs/msg/NavSatFix "*) echo_fix "$topic" ;; esac
                 if [ "$topic" = "$P/hardware/e_stop" ]; then
                     echo "data: $(e_stop_state)"
                     echo "---"
@@ -273,10 +306,26 @@ if [ "$missing" != 0 ]; then
 fi
 echo "[INFO] [launch]: All log files can be found below /root/.ros/log"
 echo "[ros2-standin] running (stand-in of the driver)"
+gps= params= dev=gps nmea=
+for a in "$@"; do
+    case "$a" in
+        launch_nmea_gps:=*) gps=$(echo "${a#*:=}" | tr 'A-Z' 'a-z') ;;
+        nmea_params_path:=* | params_file:=*) params=${a#*:=} ;;
+        device_namespace:=*) dev=${a#*:=} ;;
+    esac
+done
+case " $* " in *" husarion_ugv_bringup "*) dev=gps ;; esac  # 2.2 fixes it: no argument
+if [ "$gps" = true ] || [ "$gps" = 1 ]; then
+    port=
+    [ -f "$params" ] && port=$(sed -n 's/^ *port: *\([0-9][0-9]*\).*/\1/p' "$params" | head -n 1)
+    /usr/bin/nmea-listen "${port:-5000}" "$P/$dev/fix" "${P#/}${P:+/}gps" &
+    nmea=$!
+fi
 child=
 stop() {
     echo "[ros2-standin] signal received, shutting down"
     [ -n "$child" ] && kill "$child" 2>/dev/null
+    [ -n "$nmea" ] && kill "$nmea" 2>/dev/null
     exit 0
 }
 trap stop INT TERM

@@ -13,6 +13,10 @@ process (2.0), else its ``ROBOT_NAMESPACE``: compose.yaml's environment (2.1), t
 (2.2)). Nothing is read before: one command per robot, so a trigger costs one round trip.
 Every ROS 2 command the robot runs is bounded by ``timeout``.
 
+The way in (the robot script, the exec in the driver container, its sections) is the shared
+engine's (:mod:`panther_ops.core.containers.driver_exec`); the E-stop's own part is
+:data:`CONTAINER_SCRIPT`.
+
 A demo robot (a directory) has no driver: it answers from a recording in its directory
 (:data:`DEMO_RECORDING`), the same ROS 2 CLI texts a robot prints; trigger and reset are
 not called there.
@@ -24,9 +28,10 @@ import json
 from dataclasses import dataclass, field
 from typing import Any
 
+from panther_ops.core.containers import driver_exec
+from panther_ops.core.containers.driver_exec import NAMESPACE_SH
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop import answers
-from panther_ops.core.stack import DRIVER_ENV_FILES, DRIVER_SERVICES
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
@@ -40,76 +45,11 @@ ROS_TIMEOUT_S = 10
 DEMO_RECORDING = "/var/lib/panther-ops-demo/ros.json"
 """Where a demo robot keeps the recorded answers of its driver (inside its directory)."""
 
-DRIVERS = tuple(zip(DRIVER_SERVICES, DRIVER_ENV_FILES, strict=True))
-"""The driver's container and compose service name (as compose.yaml's) and the environment
-file the Built-in Computer's OS writes for that stack (2.2+, up to 2.1)."""
-
-#: On the robot: an exec in the running driver container (named husarion_ugv_ros or
-#: panther_ros, else the container of that compose service), made with the docker engine's
-#: API on its socket (what `docker exec` sends, without starting the docker CLI twice per
-#: robot). $1 the exec's JSON (the container script and its arguments), then pairs of a
-#: name and its stack's environment file (:data:`DRIVERS`).
-#: Few processes (the shell, then curl twice: the exec made, then started in its place): the
-#: name whose environment file exists is asked for first (the other only when it has no
-#: container: one more curl, and the engine logs the miss), the answers are read with the
-#: shell's own expansions; only when neither name has a running container is the compose
-#: service looked up. The output is the engine's multiplexed stream (8-byte frame headers),
-#: or its error.
-ROBOT_SCRIPT = r"""body=$1; shift
-sock=/var/run/docker.sock
-case "${DOCKER_HOST:-}" in unix://*) sock=${DOCKER_HOST#unix://} ;; esac
-likely= other=
-while [ $# -ge 2 ]; do
-    if [ -e "$2" ]; then likely="$likely $1"; else other="$other $1"; fi
-    shift 2
-done
-id= why=
-exec_in() {  # $1 a container: id set when the engine made the exec, else its words kept in why
-    out=$(curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' -d "$body" \
-        "http://docker/containers/$1/exec") || exit 4
-    case $out in
-        *'"Id":"'*) id=${out#*'"Id":"'}; id=${id%%'"'*} ;;
-        *"No such container"*) return 1 ;;
-        *) why="$why $out"; return 1 ;;
-    esac
-}
-for c in $likely $other; do
-    exec_in "$c" && break
-done
-if [ -z "$id" ]; then
-    for svc in $likely $other; do
-        out=$(curl -sS --unix-socket "$sock" -G \
-            --data-urlencode "filters={\"label\":[\"com.docker.compose.service=$svc\"]}" \
-            http://docker/containers/json) || exit 4
-        case $out in '[{"Id":"'*) ;; *) continue ;; esac
-        c=${out#'[{"Id":"'}; c=${c%%'"'*}
-        exec_in "$c" && break
-    done
-fi
-if [ -z "$id" ]; then
-    echo "no running driver container (named or a compose service$likely$other)${why:+:$why}" >&2
-    exit 3
-fi
-echo "@@container $c" >&2
-exec curl -sS --unix-socket "$sock" -H 'Content-Type: application/json' -d '{"Detach":false,"Tty":false}' \
-    "http://docker/exec/$id/start"
-"""
-
 #: In the driver container (after the image's entrypoint sourced ROS): $1 timeout, $2 the
 #: namespace ('' = the launch's `namespace:=` argument of the container's main process, else
 #: ROBOT_NAMESPACE), then the actions in order.
 CONTAINER_SCRIPT = r"""t=$1 ns=$2; shift 2
-if [ -z "$ns" ] && [ -r /proc/1/cmdline ]; then
-    set -f
-    for w in $(tr '\000' ' ' < /proc/1/cmdline); do
-        case $w in namespace:=*) ns=${w#namespace:=} ;; esac
-    done
-    set +f
-fi
-[ -n "$ns" ] || ns=${ROBOT_NAMESPACE:-}
-ns=${ns#/}; ns=${ns%/}; p=${ns:+/$ns}
-echo "@@ns ${p:-/}"
-for a in "$@"; do
+""" + NAMESPACE_SH + r"""for a in "$@"; do
     echo "@@$a"
     case $a in
         status) timeout "$t" ros2 topic echo --once "$p/hardware/e_stop" std_msgs/msg/Bool 2>&1 ;;
@@ -134,9 +74,7 @@ def command(namespace: str, actions: tuple[str, ...], timeout: int = ROS_TIMEOUT
     unknown = [a for a in actions if a not in ACTIONS]
     if unknown:
         raise ValueError(f"unknown E-stop actions {unknown}")
-    argv = ["/ros_entrypoint.sh", "sh", "-c", CONTAINER_SCRIPT, "sh", str(timeout), namespace, *actions]
-    body = json.dumps({"AttachStdout": True, "AttachStderr": True, "Cmd": argv}, separators=(",", ":"))
-    return Command.sh(ROBOT_SCRIPT, body, *(word for pair in DRIVERS for word in pair))
+    return driver_exec.command(CONTAINER_SCRIPT, [str(timeout), namespace, *actions])
 
 
 def is_demo(ctx: RobotContext) -> bool:
@@ -148,15 +86,7 @@ def ask(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
     a demo robot answers from its recording (only ``status`` and ``publishers`` are recorded)."""
     if is_demo(ctx):
         return recorded(ctx, actions)
-    res = ctx.transport.run(command(ctx.robot.namespace or "", actions), timeout=ROS_TIMEOUT_S * len(actions) + 30)
-    out, err = answers.docker_stream(res.raw_stdout)
-    got = answers.split(out)
-    stderr = "\n".join(ln for ln in res.stderr.splitlines() if not ln.startswith("@@container "))
-    if not got.sections:
-        why = (stderr or err or out).strip()[-300:]
-        raise RemoteStateError(f"the driver did not answer (exit {res.exit_status}): {why}",
-                               hint="panther-ops driver status")
-    return answers.Answers(got.namespace, got.sections, container_of(res.stderr))
+    return driver_exec.ask(ctx, command(ctx.robot.namespace or "", actions), ROS_TIMEOUT_S * len(actions) + 30)
 
 
 def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
@@ -170,14 +100,6 @@ def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
         raise TransportError(ctx.robot.name, f"{DEMO_RECORDING}: not JSON ({exc})") from None
     sections = {a: answers.Section(a, str(raw[a]), 0) for a in actions if a in raw}
     return answers.Answers(str(raw.get("namespace", "/")), sections)
-
-
-def container_of(stderr: str) -> str | None:
-    """The driver container the robot script used (its ``@@container`` line on stderr)."""
-    for line in stderr.splitlines():
-        if line.startswith("@@container "):
-            return line.split(" ", 1)[1].strip() or None
-    return None
 
 
 @dataclass
