@@ -109,7 +109,7 @@ HOSTS_FILE = [  # a shutdown hosts file: a port in other digits (the manager's i
 
 WEBUI_SET = [  # webui set: checked before any robot is contacted
     Case("webui-set-port-fullwidth", ["webui", "set", f"webui.port={FW_8081}", *R1],
-         [f"webui.port='{FW_8081}'", "1 to 65535 in ASCII digits"]),
+         [f"webui.port='{FW_8081}'", "1 to 65535 (ASCII digits 0-9)"]),
     Case("webui-set-port-short-name-fullwidth", ["webui", "set", f"port={FW_8081}", *R1],
          [f"webui.port='{FW_8081}'", "ASCII digits"]),
     Case("webui-set-domain-arabic-indic", ["webui", "set", "ros.domain-id=\u0663", *R1],
@@ -148,14 +148,15 @@ DESIRED_BAD: dict[str, tuple[str, list[str]]] = {
     "webui-transport-twice": ("{webui: {transport: udp, ros.transport: shm}}", ["both set ros.transport"]),
     "controller-limit-twice": ("{controller: {linear.x.max_velocity: 1.0, controller.linear.x.max_velocity: 1.5}}",
                                ["desired.controller.controller.linear.x.max_velocity",
-                                "both set controller.linear.x.max_velocity"]),
+                                "controller.linear.x.max_velocity and controller.controller.linear.x.max_velocity "
+                                "are one controller limit"]),
 }
 DESIRED = [Case(f"desired-{cid}-{'-'.join(w.strip('-') for w in cmd)}", list(cmd), names, inventory=desired(block))
            for cid, (block, names) in DESIRED_BAD.items() for cmd in DESIRED_COMMANDS]
 # a launch argument under two of its names: refused when planned (the catalogue knows the names)
 DESIRED += [Case(f"desired-launch-arg-twice-{'-'.join(w.strip('-') for w in cmd)}", list(cmd),
-                 ["user_animations_file=/config/a.yaml", "user_led_animations_file=/config/b.yaml",
-                  "both set the launch argument user_led_animations_file", "keep one"],
+                 ["launch_args.user_animations_file and launch_args.user_led_animations_file are one launch "
+                  "argument", "keep one"],
                  inventory=desired("{launch_args: {user_animations_file: /config/a.yaml, "
                                    "user_led_animations_file: /config/b.yaml}}"))
             for cmd in DESIRED_COMMANDS[:3]]

@@ -23,10 +23,10 @@ from panther_ops.manager.sim.scenario import ScenarioPlayer
 
 
 @pytest.mark.parametrize(("value", "charge", "scale"), [
-    (70.0, 0.7, "percent (2.0.x)"),
-    (0.7, 0.7, "fraction (2.1.1+)"),
-    (100, 1.0, "percent (2.0.x)"),
-    (0.05, 0.05, "fraction (2.1.1+)"),
+    (70.0, 0.7, "percent (2.0.0)"),
+    (0.7, 0.7, "fraction (2.0.1+)"),
+    (100, 1.0, "percent (2.0.0)"),
+    (0.05, 0.05, "fraction (2.0.1+)"),
 ])
 def test_initial_charge_in_either_scale(value: float, charge: float, scale: str) -> None:
     plugin = BatteryPlugin.from_params({"initial_charge_percentage": value})
@@ -157,8 +157,8 @@ def test_simulation_cleans_its_temporary_hosts_file(tmp_path: Path) -> None:
 REPO = Path(__file__).resolve().parents[2]
 
 
-@pytest.mark.parametrize(("version", "scale"), [("panther-2.0", "percent (2.0.x)"),
-                                                ("panther-2.1", "fraction (2.1.1+)")])
+@pytest.mark.parametrize(("version", "scale"), [("panther-2.0", "fraction (2.0.1+)"),
+                                                ("panther-2.1", "fraction (2.0.1+)")])
 def test_the_projects_battery_plugin_files_in_both_scales(version: str, scale: str) -> None:
     path = REPO / "templates/config" / version / "panther_gazebo/config/battery_plugin_config.yaml"
     if not path.is_file():

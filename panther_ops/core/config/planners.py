@@ -36,14 +36,14 @@ def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], forc
     warnings: list[str] = []
     contains: list[str] = []
     lacks: list[str] = []
+    for key in unsets:  # first: the sets are checked against the command as it will be
+        unset_launch_arg(cfg.compose, key)
+        lacks.append(key)
     if sets:
         change = set_launch_args(cfg.compose, {k: _value_text(v) for k, v in sets.items()}, force=force,
                                  robot_model=robot_model)
         warnings.extend(change.warnings)
         contains.extend(f"{a.name}:={a.value}" for a in change.args)
-    for key in unsets:
-        unset_launch_arg(cfg.compose, key)
-        lacks.append(key)
     cmd = cfg.compose.command()
     lacks = [f"{name}:={cmd.args[name]}" for name in lacks if name in cmd.args]
     return warnings, Verify(cfg.service, tuple(contains), tuple(lacks))

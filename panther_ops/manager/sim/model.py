@@ -59,7 +59,7 @@ class BatteryPlugin:
             plugin = cls(
                 simulate_discharging=bool(params.get("simulate_discharging", False)),
                 initial_charge=raw / 100.0 if raw > 1.0 else raw,
-                charge_scale="percent (2.0.x)" if raw > 1.0 else "fraction (2.1.1+)",
+                charge_scale="percent (2.0.0)" if raw > 1.0 else "fraction (2.0.1+)",
                 charging_time=float(params.get("charging_time", 6.0)),
                 power_load=float(params.get("power_load", 120.0)),
                 capacity=float(params.get("capacity", 20.0)),
