@@ -66,7 +66,7 @@ NAMESPACES = [
 ]
 # the whole compose file is checked, namespaces no command changed included: every command that writes it
 BAD_ENV = _compose_01("ROBOT_NAMESPACE=panther", "ROBOT_NAMESPACE=e-stop")
-BAD_GAMEPAD = _compose_01("        namespace:=panther", "        namespace:=2panther")
+BAD_GAMEPAD = _compose_01(' namespace:=panther"', ' namespace:=2panther"')  # inside the gamepad's bash -c
 WRITES_COMPOSE = {
     "config-set": ["config", "set", "wheel_type", "WH02", *R1],
     "config-push": ["config", "push", "{tmp}/WH01_controller.yaml", "--as", "controller", *R1],
