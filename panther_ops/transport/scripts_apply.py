@@ -162,14 +162,17 @@ WRITE_KEY = "write"
 READ_KEPT = (
     RESOLVE + 'f="$r$p"; '
     'printf "%s\\n" "$HOME"; if [ ! -f "$f" ]; then echo "no such file: $p" >&2; exit 44; fi; '
-    'tar -c -b 1 -h -f - -C "${f%/*}/" -- "${f##*/}" || exit 1; printf "%s\\n" "$2"; '
+    'tar --warning=no-file-changed -c -b 1 -h -f - -C "${f%/*}/" -- "${f##*/}"; [ $? -le 1 ] || exit 1; '
+    'printf "%s\\n" "$2"; '
     'IFS= read -r req || exit 0; [ "$req" = apply ] || exit 0; IFS= read -r n || exit 0; set --; '
     'while [ "$n" -gt 0 ]; do IFS= read -r a || exit 0; set -- "$@" "$a"; n=$((n-1)); done; '
 ) + _APPLY_FN + 'apply_ "$@"'
 """Read compose.yaml ($1; $HOME on the first line, then the file as a one-member tar archive,
-which carries its mode and mtime), print the mark $2, then wait: a request ``apply``, the
-number of arguments and one per line, then the bytes APPLY reads, carries out the write in
-this same session; the end of input ends it."""
+which carries its mode and mtime; GNU tar's exit 1, "file changed as we read it", is a read
+that another writer's rename overtook: the opened file is the old one, whole (writes rename,
+never edit in place), and the go-ahead's compare then refuses the write), print the mark $2,
+then wait: a request ``apply``, the number of arguments and one per line, then the bytes APPLY
+reads, carries out the write in this same session; the end of input ends it."""
 
 
 @dataclass(frozen=True)

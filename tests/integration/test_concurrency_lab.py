@@ -103,8 +103,9 @@ def test_a_rollback_never_overwrites_a_change_made_after_it(lab: Any) -> None:
                               "--force", "--settle", "6", "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True)
         # B is loaded and waits for its cue: it writes within a fraction of A's recreate
+        # --force: A's unmounted path is in the command B edits, which B would refuse otherwise
         b = subprocess.Popen([sys.executable, "-c", _CUED, "-i", inv, "config", "set", "use_ekf", "False", "-r",
-                              name, "--yes", "--no-restart", "--json"], stdin=subprocess.PIPE,
+                              name, "--yes", "--no-restart", "--force", "--json"], stdin=subprocess.PIPE,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         deadline = time.monotonic() + 60
         while "/nonexistent/controller.yaml" not in lab.read(name, COMPOSE):

@@ -110,7 +110,8 @@ def test_bad_input_changes_nothing(lab: Any, capsys: pytest.CaptureFixture[str])
     inv = str(lab.inventory_path)
     n = robot_of(lab, "2.1.1")
     before = lab.read(n, COMPOSE)
-    for argv in (["--port", "70000"], ["--namespace", "a b"], ["--port", "5001"]):
+    # (--port 5001 on 2.1.1 is no bad input since issue 24 finding 4: its NMEA launch file takes params_file)
+    for argv in (["--port", "70000"], ["--namespace", "a b"], ["--port", "５００１"], ["--ip", "10.15.20.256"]):
         code, _doc, _, err = run_cli(capsys, "-i", inv, "gps", "enable", "-r", n, "--yes", *argv)
         assert code == 2 and err, argv
     assert lab.read(n, COMPOSE) == before

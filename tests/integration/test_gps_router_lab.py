@@ -114,7 +114,7 @@ def test_bad_input_and_wrong_password(router_lab: tuple[Any, Router], env: Path,
     lab, router = router_lab
     base = ["-i", str(lab.inventory_path), "gps", "router", "set", "-r", "r01", "--address", router.ip, "--yes"]
     before = router.state()
-    for argv, says in ((["--port", "70000"], "--port 70000"), (["--hostname", "bad host"], "--hostname"),
+    for argv, says in ((["--port", "70000"], "'--port': '70000' is not a port"), (["--hostname", "bad host"], "--hostname"),
                        (["--sentences", "GPGGA,GPXYZ"], "unknown sentence id 'GPXYZ'"), ([], "nothing to set")):
         code, _doc, text = cli(capsys, *base, *argv)
         assert code == 2 and says in text, (argv, text)
