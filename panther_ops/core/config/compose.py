@@ -35,6 +35,7 @@ from panther_ops.core.config.launchcmd import (
     Token,
     arg_word,
     check_script_word,
+    last_arg,
     launch_words,
     parse_launch_argv,
     put_arg,
@@ -493,7 +494,7 @@ class ComposeFile:
     def _set_string_arg(self, path: tuple[PathPart, ...], name: str, value: str, word: str | None) -> bool:
         text = self.doc.get(path)
         tokens = shell_tokens(text)
-        target = self._last_arg(tokens, name)
+        target = last_arg(tokens, name)
         if target is not None:
             new = text[: target.start] + (word or arg_word(name, value, target)) + text[target.end :]
         else:
@@ -559,14 +560,6 @@ class ComposeFile:
         start, end, quote = script_span(region, path=self.path, line=cmd.line)
         return self._replace_block(path, region[:start] + edit(region[start:end], quote) + region[end:], expected)
 
-    @staticmethod
-    def _last_arg(tokens: list[Token], name: str) -> Token | None:
-        for tok in reversed(tokens):
-            parsed = split_arg(tok.value)
-            if parsed is not None and parsed[0] == name:
-                return tok
-        return None
-
     def _block_body(self, path: tuple[PathPart, ...]) -> int:
         """Where the text of a ``>`` / ``|`` block (or multi-line plain) command starts."""
         info = self.doc.info(path)
@@ -594,7 +587,7 @@ class ComposeFile:
                 if parsed is not None and parsed[0] == name:
                     new_region = remove_word(new_region, tok)
         else:
-            target = self._last_arg(tokens, name)
+            target = last_arg(tokens, name)
             if target is not None:
                 expected[name] = value
                 new_region = region[: target.start] + (word or arg_word(name, value, target)) + region[target.end :]

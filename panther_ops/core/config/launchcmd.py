@@ -245,7 +245,8 @@ def check_script_word(
     )
 
 
-def _last_arg(tokens: list[Token], name: str) -> Token | None:
+def last_arg(tokens: list[Token], name: str) -> Token | None:
+    """The last ``name:=`` word among ``tokens`` (a later one wins, as in ros2 launch)."""
     for tok in reversed(tokens):
         parsed = split_arg(tok.value)
         if parsed is not None and parsed[0] == name:
@@ -258,7 +259,7 @@ def put_arg(text: str, name: str, word: Callable[[Token | None], str]) -> str:
     ``word(None)`` added after its last word: on a line of its own at that word's indentation
     when the last word begins its line, else after one space."""
     tokens = shell_tokens(text)
-    target = _last_arg(tokens, name)
+    target = last_arg(tokens, name)
     if target is not None:
         return text[: target.start] + word(target) + text[target.end :]
     if not tokens:
