@@ -24,9 +24,6 @@ from tests.integration.labtools import COMPOSE
 pytestmark = pytest.mark.lab
 
 TRIALS = 20
-_CUED = ("import sys; from panther_ops.cli.app import main; sys.stdin.readline(); "
-         "sys.exit(main(sys.argv[1:]))")
-"""An operator's panther-ops, loaded, that starts its command when a line arrives on stdin."""
 EDITS = (("wheel_type", "WH02"), ("use_ekf", "False"), ("disable_manager", "True"))
 
 
@@ -90,6 +87,8 @@ def test_a_rollback_never_overwrites_a_change_made_after_it(lab: Any) -> None:
     """Operator A's change fails its verify; while A watches the driver, operator B changes the
     same compose.yaml. A's rollback must not put A's old file back over B's change: it is
     refused, naming the file, and B's edit stays (before, the rollback wrote blindly)."""
+    import os
+    import signal
     import time
 
     from tests.integration.labtools import robot_of, robots_put_back
@@ -102,18 +101,23 @@ def test_a_rollback_never_overwrites_a_change_made_after_it(lab: Any) -> None:
                               "controller_config_path", "/nonexistent/controller.yaml", "-r", name, "--yes",
                               "--force", "--settle", "6", "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True)
-        # B is loaded and waits for its cue: it writes within a fraction of A's recreate
-        # --force: A's unmounted path is in the command B edits, which B would refuse otherwise
-        b = subprocess.Popen([sys.executable, "-c", _CUED, "-i", inv, "config", "set", "use_ekf", "False", "-r",
-                              name, "--yes", "--no-restart", "--force", "--json"], stdin=subprocess.PIPE,
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         deadline = time.monotonic() + 60
         while "/nonexistent/controller.yaml" not in lab.read(name, COMPOSE):
             assert a.poll() is None and time.monotonic() < deadline, "A's change never reached the robot"
-            time.sleep(0.02)
-        b_out, b_err = b.communicate("go\n", timeout=120)
-        assert b.returncode == 0, b_out + b_err
-        assert json.loads(b_out)["robots"][0]["outcome"] == "changed"
+            time.sleep(0.01)
+        # A has written and is recreating the driver (a docker compose up on the robot takes a
+        # second or more): A is held there, as a slow link would, while B writes, so B's change
+        # comes between A's write and A's rollback whatever the machine's load
+        os.kill(a.pid, signal.SIGSTOP)
+        try:
+            # --force: A's unmounted path is in the command B edits, which B would refuse otherwise
+            b = subprocess.run([sys.executable, "-m", "panther_ops.cli.app", "-i", inv, "config", "set", "use_ekf",
+                                "False", "-r", name, "--yes", "--no-restart", "--force", "--json"],
+                               capture_output=True, text=True, timeout=120, check=False)
+        finally:
+            os.kill(a.pid, signal.SIGCONT)
+        assert b.returncode == 0, b.stdout + b.stderr
+        assert json.loads(b.stdout)["robots"][0]["outcome"] == "changed"
         out, _ = a.communicate(timeout=120)
         res = json.loads(out)["robots"][0]
         assert res["outcome"] == "failed", res
