@@ -42,9 +42,9 @@ def test_dry_run_plans_per_stack(capsys: pytest.CaptureFixture[str], demo: Path)
     (d2,) = by["panther-02"]["diffs"]
     added = [ln[1:] for ln in d2["unified"].splitlines() if ln.startswith("+") and not ln.startswith("+++")]
     assert [ln for ln in d2["unified"].splitlines() if ln.startswith("-") and not ln.startswith("---")] == []
-    assert added == ["", "  nmea-gps:", "    image: husarion/nmea-gps:humble-2.0.1-20240617", "    network_mode: host",
-                     "    restart: always", "    command: >-", "      ros2 launch /husarion_utils/nmea_navsat.launch.py",
-                     "      robot_namespace:=panther"]
+    assert added == ["", "  nmea-gps:", "    image: husarion/nmea-gps:humble-2.0.1-20240617", "    <<: *common-config",
+                     "    network_mode: host", "    restart: always", "    command: >-",
+                     "      ros2 launch /husarion_utils/nmea_navsat.launch.py", "      robot_namespace:=panther"]
     # 2.2: the argument, the stack's boolean spelling
     (d3,) = by["panther-03"]["diffs"]
     assert "launch_gamepad:=true launch_nmea_gps:=true\n" in d3["unified"]
@@ -160,3 +160,35 @@ def test_desired_gps_in_config_diff_and_apply(capsys: pytest.CaptureFixture[str]
     inv.write_text(inv.read_text().replace("gps: {enabled: false}", "gps: {enabled: yes please}"))
     code, _doc, err = run(capsys, demo, "config", "diff", "-r", "panther-03")
     assert code == 2 and "desired.gps.enabled" in err
+
+
+def test_service_shares_the_drivers_dds_domain_and_rmw(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    """The manual's nmea-gps service alone runs on domain 0 with the image's default RMW: on a
+    robot whose driver has another ROS_DOMAIN_ID its /<ns>/gps/fix is never seen. The service
+    merges the driver's common-config, so both resolve to the same DDS settings."""
+    from panther_ops.core.config.compose import ComposeFile
+
+    path = demo / ROBOT_ROOT.format("panther-02") / "compose.yaml"
+    path.write_text(path.read_text().replace("ROS_DOMAIN_ID=${ROS_DOMAIN_ID:-0}", "ROS_DOMAIN_ID=42"))
+    code, doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-02", "--yes", "--json")
+    assert code == 0, doc
+    written = ComposeFile.parse(path.read_text())
+    env = written.environment("nmea-gps")
+    assert env == written.environment(written.driver_service())
+    assert env["ROS_DOMAIN_ID"] == "42" and env["RMW_IMPLEMENTATION"] == "rmw_cyclonedds_cpp"
+
+
+def test_service_copies_the_drivers_environment_when_it_merges_no_anchor(
+        capsys: pytest.CaptureFixture[str], demo: Path) -> None:
+    from panther_ops.core.config.compose import ComposeFile
+
+    path = demo / ROBOT_ROOT.format("panther-02") / "compose.yaml"
+    flat = path.read_text().replace("    <<: *common-config\n", "    network_mode: host\n    environment:\n"
+                                    "      - RMW_IMPLEMENTATION=rmw_cyclonedds_cpp\n      - ROS_DOMAIN_ID=7\n", 1)
+    assert flat != path.read_text()
+    path.write_text(flat)
+    code, doc, _ = run(capsys, demo, "gps", "enable", "-r", "panther-02", "--yes", "--json")
+    assert code == 0, doc
+    written = ComposeFile.parse(path.read_text())
+    assert written.merged_anchor("nmea-gps") is None
+    assert written.environment("nmea-gps") == {"RMW_IMPLEMENTATION": "rmw_cyclonedds_cpp", "ROS_DOMAIN_ID": "7"}

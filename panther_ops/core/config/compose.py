@@ -62,6 +62,10 @@ _SERVICE_NAME = re.compile(r"^[a-zA-Z0-9][a-zA-Z0-9_.-]*$")
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
+_MERGE = re.compile(r"<<:\s*\*([^\s,\]]+)")
+"""A merge key in a service's text: ``<<: *common-config``."""
+
+
 class ComposeError(InputError):
     """The compose file lacks what is needed (e.g. no driver service), or an edit is refused."""
 
@@ -702,13 +706,19 @@ class ComposeFile:
                 return (*anchor_path, "environment"), True
         return own, True
 
-    def _merged_anchor(self, name: str) -> tuple[PathPart, ...] | None:
-        """Path of the anchor the service merges with ``<<: *anchor`` (first one)."""
+    def merged_anchor(self, service: str | None = None) -> str | None:
+        """The anchor the service merges with ``<<: *anchor`` (the first one; the driver's
+        ``common-config`` in every upstream compose file), or None."""
+        name = service or self.driver_service()
         if not self.doc.exists(("services", name)):
             return None
-        raw = self.doc.info(("services", name)).raw
-        m = re.search(r"<<:\s*\*([^\s,\]]+)", raw)
-        return self.doc.anchor_path(m.group(1)) if m else None
+        m = _MERGE.search(self.doc.info(("services", name)).raw)
+        return m.group(1) if m else None
+
+    def _merged_anchor(self, name: str) -> tuple[PathPart, ...] | None:
+        """Path of the anchor the service merges with ``<<: *anchor`` (first one)."""
+        anchor = self.merged_anchor(name)
+        return self.doc.anchor_path(anchor) if anchor else None
 
     def environment(self, service: str | None = None) -> dict[str, str | None]:
         """The service's ``environment`` (inherited through ``<<`` included); None = unset value.

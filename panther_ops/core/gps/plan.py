@@ -6,7 +6,14 @@
   command ``ros2 launch /husarion_utils/nmea_navsat.launch.py robot_namespace:=<ns>``. With a
   port other than 5000 the service runs the image's ``nmea_socket_driver`` node with ``ip``
   and ``port`` parameters instead (the image's own demo form). Only that service is
-  recreated and checked.
+  recreated and checked. One addition to the manual's service: it merges the driver's
+  ``x-common-config`` (``<<: *common-config``; with no anchor, the driver's ``env_file`` and
+  ``environment`` are copied), so the GPS node runs on the driver's ``ROS_DOMAIN_ID`` and
+  ``RMW_IMPLEMENTATION`` (panther-docker@2.1.1:demo/compose.minimal-setup.yaml sets
+  ``rmw_cyclonedds_cpp``, which the nmea-gps image's base husarnet/ros installs:
+  husarnet/ros-docker:Dockerfile.ros). The manual's service alone publishes ``/<ns>/gps/fix``
+  on domain 0 with the image's default RMW, which a robot with another ``ROS_DOMAIN_ID``
+  never sees.
 - panther_ros 2.1.1+ and husarion_ugv 2.2: ``launch_nmea_gps:=True`` on the driver. A port
   other than 5000 needs the NMEA parameters file, passed by the argument the NMEA launch file
   (included by localization) declares: panther_ros 2.1.1's ``params_file``
@@ -43,6 +50,8 @@ from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 
 SERVICE = "nmea-gps"
+DDS_KEYS = ("env_file", "environment")
+"""The driver's settings the nmea-gps service shares when the driver merges no anchor."""
 IMAGE = "husarion/nmea-gps:humble-2.0.1-20240617"
 DEFAULT_PORT = 5000
 DEFAULT_IP = "10.15.20.2"
@@ -199,11 +208,15 @@ def _enable_service(cfg: RobotConfig, namespace: str, opts: GpsOptions) -> Chang
         raise UsageError("the driver already runs the NMEA driver (launch_nmea_gps:=True)",
                          hint="panther-ops gps disable first, or enable without --container")
     want = service_mapping(namespace, opts)
+    merge = compose.merged_anchor(cfg.service)
+    if merge is None:  # no anchor: the driver's DDS settings, copied
+        driver = compose.service(cfg.service)
+        want.update({key: driver[key] for key in DDS_KEYS if key in driver})
     try:
-        compose.add_service(SERVICE, want)  # False: already there as wanted
+        compose.add_service(SERVICE, want, merge=merge)  # False: already there as wanted
     except UsageError:  # there with another port or namespace: replaced
         compose.remove_service(SERVICE)
-        compose.add_service(SERVICE, want)
+        compose.add_service(SERVICE, want, merge=merge)
     where = f"udp {opts.ip}:{opts.port}"
     topic = service_topic(want)
     data = {"mode": "service", "service": SERVICE, "namespace": namespace, "port": opts.port, "ip": opts.ip}

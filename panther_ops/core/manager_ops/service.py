@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,19 +29,11 @@ from panther_ops.errors import UsageError
 
 EXISTS = "exists"
 """Fact: whether a path exists on the robot."""
-_ANCHOR = re.compile(r"<<:\s*\*([^\s,\]]+)")
 
 
 # ---------------------------------------------------------------------------------------
 # compose service
 # ---------------------------------------------------------------------------------------
-def _anchor(cfg: RobotConfig) -> str | None:
-    """The anchor the driver merges (``common-config``), if any."""
-    raw = cfg.compose.doc.info(("services", cfg.service)).raw
-    m = _ANCHOR.search(raw)
-    return m.group(1) if m else None
-
-
 def _ro(vol: Volume) -> str:
     if vol.read_only or not vol.source:
         return vol.spec()
@@ -97,7 +88,7 @@ def service_spec(reads: Reads, cfg: RobotConfig, lay: Layout, settings: ManagerS
     if settings.mode == "sim":
         argv.append(f"--sim --scenario {lay.container_config('scenario.yaml')}")
     mapping: dict[str, Any] = {"image": cfg.compose.driver_image, "container_name": SERVICE}
-    merge = _anchor(cfg)
+    merge = cfg.compose.merged_anchor(cfg.service)
     if merge is None:  # no anchor to merge: the driver's runtime settings, copied
         for key in ("network_mode", "ipc", "restart", "env_file", "environment"):
             if key in driver:
