@@ -12,8 +12,9 @@ Four checks per release, each a list of `Result` (one per item, so a fix flips o
 - ``templates``: every template equals its upstream file semantically, or each difference is
   listed in `reasons.REASONS`; every file of a kind has a template; every template is traced
   (an upstream file at some tag, or `reasons.OWN`). Which template stands for which file:
-  `template_pairs` (core/config/files.py per release, templates/behavior_trees for the
-  manager's projects, the demo's config tree, the compose file of husarion/panther-docker).
+  `template_pairs` (core/config/files.py per release, with each release's stock BT projects
+  under templates/config/<generation>/<pkg>/behavior_trees, the demo's config tree, the compose
+  file of husarion/panther-docker).
 - ``tree`` (the 2.2+ releases the demo fleet runs): the demo's config tree holds the files
   the image's ``update_config_directory`` copies into ``~/config`` on a Panther.
 
@@ -35,12 +36,10 @@ from panther_ops.conformance.reasons import own, reason_for
 from panther_ops.conformance.validate import run_validator
 from panther_ops.core.config.files import config_files, family_dirs
 from panther_ops.core.fleet.templates import templates_dir
-from panther_ops.core.stack import Family, Generation, Stack, stack_from_version
+from panther_ops.core.stack import Generation, Stack, stack_from_version
 from panther_ops.errors import OpsError
 
 TREE_TEMPLATE = "config-tree/husarion-ugv-2.2"
-BT_NAMES = {"PantherLightsBT.btproj": "LightsBT.btproj", "PantherSafetyBT.btproj": "SafetyBT.btproj"}
-"""templates/behavior_trees name -> husarion_ugv 2.2's name (2.0-2.1: the same name)."""
 PROXY_KINDS = frozenset({"controller", "wheel", "components", "shutdown-hosts", "battery", "joy2twist"})
 """Kinds whose validator reads only the file: an equal template stands for upstream's file."""
 
@@ -109,11 +108,6 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
                 pairs.append(Pair(template, upstream))
                 paired.add(template)
                 covered.add(upstream)
-    manager = f"{stack.package_prefix}_manager"
-    for path in sorted((templates_dir() / "behavior_trees").iterdir()):
-        name = BT_NAMES.get(path.name, path.name) if stack.family is Family.HUSARION_UGV else path.name
-        upstream = f"{pkgs.get(manager, manager)}/behavior_trees/{name}"
-        pairs.append(Pair(f"behavior_trees/{path.name}", upstream if upstream in present else None))
     if table.get("tree") and table["tag"] in demo_tags():
         root = templates_dir() / TREE_TEMPLATE
         for path in sorted(p for p in root.rglob("*") if p.is_file()):

@@ -36,6 +36,15 @@ the conformance report shows is a finding to fix, or to list here with its reaso
 OWN: dict[str, str] = {
     "config/README.md": "the templates' own documentation",
     "gps/demo.nmea": "recorded NMEA sentences the demo robots answer with (docs/gps.md)",
+    "behavior_trees/shutdown.xml": "panther-ops' Shutdown tree: `manager deploy` puts it in place of the stock "
+                                   "one before husarion_ugv 2.2.1 (ExecuteCommand, as 2.2.1+'s stock tree, "
+                                   "instead of ShutdownSingleHost localhost: an intended difference listed in "
+                                   "docs/manager.md and core/manager_ops/stock.py, shown by deploy's plan)",
+    "behavior_trees/*": "panther-ops' own trees (docs/manager.md, \"Why the release's own trees\"): the manual's "
+                        "behaviours, run by `manager run` and `bt validate`'s reference, the XML twin of "
+                        "panther_ops/manager/trees/*.py; neither deployed nor handed out as a release's "
+                        "default (`manager deploy` and `config pull` use the release's stock project, "
+                        "templates/config/<generation>/<pkg>/behavior_trees)",
     "manager/scenarios/*.yaml": "simulation scenarios of panther-ops' manager (docs/manager.md)",
     "lights/*": "panther-ops' manager's own LED configuration and animation images "
                 "(panther_ops/manager/paths.py), not an upstream default file",

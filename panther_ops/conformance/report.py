@@ -58,9 +58,9 @@ WHAT = """\
   2.2 robot's `~/config`), *variant* (tree, `wheel_type=WH02`, `robot_model=lynx`,
   `localization_mode=enu`, `fuse_gps=True`).
 - **Templates**: every template under `templates/` equals the upstream file it stands for
-  (`panther_ops/core/config/files.py` per release; `templates/behavior_trees` for the
-  manager's projects; the demo's 2.2 config tree) semantically: the same keys, the same
-  values and types (`2` and `2.0` differ), or each difference has a reason in
+  (`panther_ops/core/config/files.py` per release; each release's stock BT projects under
+  `templates/config/<generation>/<pkg>/behavior_trees`; the demo's 2.2 config tree)
+  semantically: the same keys, the same values and types (`2` and `2.0` differ), or each difference has a reason in
   `panther_ops/conformance/reasons.py`. Every file of a kind has a template. A template with
   no upstream counterpart is listed there as panther-ops' own. The compose templates are
   compared with husarion/panther-docker's `demo/compose.minimal-setup.yaml` at the same tag

@@ -187,7 +187,7 @@ def check(args: argparse.Namespace) -> int:
     clock = ManualClock()
     model = scenario.build_model() if scenario else PantherModel()
     io = SimRobotIO(model, clock, None, ScenarioPlayer(scenario) if scenario else None)
-    runtime = ManagerRuntime(config, io, clock, trees=trees, backends=sim_backends(io))
+    runtime = ManagerRuntime(config, io, clock, trees=trees, backends=sim_backends(io), interfaces=ros)
     try:
         report = runtime.tick()
     finally:
@@ -236,6 +236,7 @@ def run_sim(args: argparse.Namespace) -> int:
     scenario = load_scenario(path)
     base = _config(args)
     trees = _trees(args)
+    ros = interfaces(args)
     _say(f"{version_line()}: simulation mode, scenario {scenario.name} ({scenario.duration:g} s, "
          f"started over when it ends), trees {'from ' + args.lights_bt if args.lights_bt else 'built in'}")
     cycle = 0
@@ -252,7 +253,7 @@ def run_sim(args: argparse.Namespace) -> int:
             cycle += 1
             clock = ScaledClock(1.0)  # events are relative to the start of the run
             io = SimRobotIO(scenario.build_model(), clock, None, ScenarioPlayer(scenario))
-            runtime = ManagerRuntime(config, io, clock, trees=trees, backends=sim_backends(io))
+            runtime = ManagerRuntime(config, io, clock, trees=trees, backends=sim_backends(io), interfaces=ros)
             _say(f"run {cycle}: scenario {scenario.name}")
             seen = [0, 0.0]
 

@@ -51,6 +51,42 @@ class AnimationId(IntEnum):
 ANIMATION_ID_CONSTANTS: dict[str, int] = {f"{a.name}_ANIM_ID": int(a) for a in AnimationId}
 """E_STOP_ANIM_ID ... CHARGING_BATTERY_ANIM_ID, as the Lights tree's constant entries."""
 
+
+class AnimationId22(IntEnum):
+    """husarion_ugv_msgs/LEDAnimation IDs (husarion_ugv 2.2): other numbers than panther_msgs'.
+
+    Source: husarion/husarion_ugv_ros@2.2.2:husarion_ugv_lights/config/panther_animations.yaml
+    (each default animation's ``id`` and ``name``) and
+    husarion_ugv_manager/src/lights_manager_node.cpp (``CreateLightsInitialBlackboard``: the
+    ``<NAME>_ANIM_ID`` entries, ``LEDAnimationMsg::<NAME>``); the same at 2.2.0.
+    """
+
+    E_STOP = 0
+    READY = 1
+    ERROR = 2
+    NO_ERROR = 3
+    MANUAL_ACTION = 4
+    LOW_BATTERY = 5
+    CRITICAL_BATTERY = 6
+    CHARGING_BATTERY = 7
+    BATTERY_CHARGED = 8
+    CHARGER_INSERTED = 9
+    BATTERY_NOMINAL = 10
+    AUTONOMOUS_READY = 11
+    AUTONOMOUS_ACTION = 12
+    GOAL_ACHIEVED = 13
+    BLINKER_LEFT = 14
+    BLINKER_RIGHT = 15
+
+
+ANIMATION_ID_CONSTANTS_22: dict[str, int] = {f"{a.name}_ANIM_ID": int(a) for a in AnimationId22}
+"""The 2.2 Lights tree's animation constants (husarion_ugv_msgs numbers)."""
+
+DEAD_MAN_BUTTON_INDEX = 4
+"""2.2's lights manager: ``drive_state`` = ``joy.buttons[4]`` (the gamepad's dead man switch);
+husarion/husarion_ugv_ros@2.2.2:husarion_ugv_manager/include/husarion_ugv_manager/lights_manager_node.hpp
+``kDeadManButtonIndex``."""
+
 STATUS_CONSTANTS: dict[str, int] = {f"POWER_SUPPLY_STATUS_{s.name}": int(s) for s in PowerSupplyStatus}
 HEALTH_CONSTANTS: dict[str, int] = {f"POWER_SUPPLY_HEALTH_{h.name}": int(h) for h in PowerSupplyHealth}
 

@@ -2,7 +2,8 @@
 
 Lights gets battery_status / battery_health, the moving average of the battery percentage
 (``battery_percent``, starting at 1.0) and its rounded string (``battery_percent_round``),
-and e_stop_state. Safety gets battery_status / battery_health, ``bat_temp``, ``cpu_temp``,
+and e_stop_state; on husarion_ugv 2.2 also ``drive_state`` (the joy message's dead man
+button, as 2.2's lights manager). Safety gets battery_status / battery_health, ``bat_temp``, ``cpu_temp``,
 ``driver_temp`` (the hotter of the two drivers), e_stop_state, aux_state and fan_state.
 Battery values are not averaged while the status or health is UNKNOWN (as upstream).
 """
@@ -15,13 +16,14 @@ from collections.abc import Iterable
 from panther_ops.manager import keys
 from panther_ops.manager.blackboard import TreeBlackboard
 from panther_ops.manager.config import ManagerConfig
-from panther_ops.manager.constants import PowerSupplyHealth, PowerSupplyStatus
+from panther_ops.manager.constants import DEAD_MAN_BUTTON_INDEX, PowerSupplyHealth, PowerSupplyStatus
 from panther_ops.manager.moving_average import MovingAverage
 from panther_ops.manager.robot_io import (
     BatteryMsg,
     DriverStateMsg,
     EStopMsg,
     IOStateMsg,
+    JoyMsg,
     RobotMsg,
     SystemStatusMsg,
 )
@@ -64,6 +66,9 @@ class InputFeeder:
         elif isinstance(msg, SystemStatusMsg):
             if self.safety is not None:
                 self.safety.set(keys.CPU_TEMP, self.cpu_temp.roll(msg.cpu_temp))
+        elif isinstance(msg, JoyMsg):
+            if self.lights is not None and len(msg.buttons) > DEAD_MAN_BUTTON_INDEX:
+                self.lights.set(keys.DRIVE_STATE, bool(msg.buttons[DEAD_MAN_BUTTON_INDEX]))
         elif isinstance(msg, DriverStateMsg) and self.safety is not None:
             front = self.front_temp.roll(msg.front_temp)
             rear = self.rear_temp.roll(msg.rear_temp)

@@ -10,6 +10,10 @@ BATTERY_HEALTH = "battery_health"
 CHARGING_ANIM_PERCENT = "charging_anim_percent"
 CURRENT_ANIM_ID = "current_anim_id"
 E_STOP_STATE = "e_stop_state"
+# husarion_ugv 2.2's Lights tree (lights_manager_node.cpp CreateLightsInitialBlackboard, JoyCB)
+CURRENT_BATTERY_ANIM_ID = "current_battery_anim_id"
+CURRENT_ERROR_ANIM_ID = "current_error_anim_id"
+DRIVE_STATE = "drive_state"
 
 # Safety tree
 AUX_STATE = "aux_state"
@@ -26,6 +30,8 @@ SIGNAL_SHUTDOWN = "signal_shutdown"
 LIGHTS_INPUTS = (BATTERY_PERCENT, BATTERY_PERCENT_ROUND, BATTERY_STATUS, BATTERY_HEALTH,
                  E_STOP_STATE)
 LIGHTS_STATE = (CHARGING_ANIM_PERCENT, CURRENT_ANIM_ID)
+LIGHTS_STATE_22 = (CURRENT_BATTERY_ANIM_ID, CURRENT_ERROR_ANIM_ID, DRIVE_STATE)
+"""The entries 2.2's lights manager adds (``drive_state``: written from the ``joy`` topic)."""
 SAFETY_INPUTS = (AUX_STATE, BAT_TEMP, BATTERY_STATUS, BATTERY_HEALTH, CPU_TEMP, DRIVER_TEMP,
                  E_STOP_STATE, FAN_STATE)
 SAFETY_STATE = (FAN_TURNED_ON, SIGNAL_SHUTDOWN)

@@ -57,7 +57,14 @@ class DriverStateMsg:
     rear_temp: float
 
 
-RobotMsg = Union[BatteryMsg, EStopMsg, IOStateMsg, SystemStatusMsg, DriverStateMsg]  # noqa: UP007
+@dataclass(frozen=True)
+class JoyMsg:
+    """joy (sensor_msgs/Joy), read by husarion_ugv 2.2's lights manager: the buttons."""
+
+    buttons: tuple[int, ...]
+
+
+RobotMsg = Union[BatteryMsg, EStopMsg, IOStateMsg, SystemStatusMsg, DriverStateMsg, JoyMsg]  # noqa: UP007
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,7 @@ import py_trees
 from py_trees.common import Status
 
 from panther_ops.manager import keys
+from panther_ops.manager.adapters.interfaces import PANTHER_2_1, RosInterfaces
 from panther_ops.manager.blackboard import TreeBlackboard
 from panther_ops.manager.clock import Clock
 from panther_ops.manager.config import (
@@ -27,7 +28,7 @@ from panther_ops.manager.config import (
     safety_constants,
     shutdown_constants,
 )
-from panther_ops.manager.constants import LIGHTS_TREE, SAFETY_TREE, SHUTDOWN_TREE
+from panther_ops.manager.constants import ANIMATION_ID_CONSTANTS, LIGHTS_TREE, SAFETY_TREE, SHUTDOWN_TREE
 from panther_ops.manager.inputs import InputFeeder, ready
 from panther_ops.manager.nodes.base import NodeContext, was_skipped
 from panther_ops.manager.nodes.decorators import Guard
@@ -65,6 +66,15 @@ class TreeSource:
                    lambda ctx: safety.build(SAFETY_TREE, ctx),
                    lambda ctx: safety.build(SHUTDOWN_TREE, ctx),
                    f"{lights_project} + {safety_project}")
+
+
+def lights_entries(config: ManagerConfig, interfaces: RosInterfaces) -> dict[str, Any]:
+    """The Lights tree's initial blackboard as the stack's lights manager makes it: the
+    parameters' constants, the stack's animation numbers and state entries."""
+    out = {k: v for k, v in lights_constants(config.lights).items() if k not in ANIMATION_ID_CONSTANTS}
+    out.update(interfaces.animation_ids)
+    out.update(interfaces.lights_state)
+    return out
 
 
 class Mode(str, Enum):
@@ -146,8 +156,10 @@ class ManagerRuntime:
     """The three trees, their blackboards and the inputs, ticked on an injected clock."""
 
     def __init__(self, config: ManagerConfig, io: RobotIO, clock: Clock, *,
-                 trees: TreeSource | None = None, backends: ShutdownBackends | None = None) -> None:
+                 trees: TreeSource | None = None, backends: ShutdownBackends | None = None,
+                 interfaces: RosInterfaces | None = None) -> None:
         self.config = config
+        self.interfaces = interfaces or PANTHER_2_1
         self.io = io
         self.clock = clock
         self.trees = trees or TreeSource.python()
@@ -155,8 +167,7 @@ class ManagerRuntime:
         self.lights_bb = TreeBlackboard(LIGHTS_TREE)
         self.safety_bb = TreeBlackboard(SAFETY_TREE)
         self.shutdown_bb = TreeBlackboard(SHUTDOWN_TREE)
-        self.lights_bb.update(lights_constants(config.lights))
-        self.lights_bb.update({keys.CHARGING_ANIM_PERCENT: "", keys.CURRENT_ANIM_ID: -1})
+        self.lights_bb.update(lights_entries(config, self.interfaces))
         self.safety_bb.update(safety_constants(config.safety))
         self.safety_bb.update({keys.SIGNAL_SHUTDOWN: (False, ""), keys.FAN_TURNED_ON: False})
         self.shutdown_bb.update(shutdown_constants(config.safety))

@@ -152,6 +152,11 @@ def test_archive_runs_alone_on_python_310(tmp_path: Path) -> None:
 
 
 STACKS = {"panther-2.0.4.yaml": "2.0.4", "panther-2.1.1.yaml": "2.1.1", "husarion-ugv-2.2.2.yaml": "2.2.2"}
+STOCK_BT = {  # issue 24: the release's own stock projects (templates/config/<generation>/<pkg>/behavior_trees)
+    "panther-2.0.4.yaml": ("panther-2.0/panther_manager", "Panther"),
+    "panther-2.1.1.yaml": ("panther-2.1/panther_manager", "Panther"),
+    "husarion-ugv-2.2.2.yaml": ("husarion-ugv-2.2/husarion_ugv_manager", ""),
+}
 
 
 @pytest.mark.parametrize("template", list(CASES))
@@ -167,11 +172,15 @@ def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: s
     assert plan.verify[0].cmd_contains == (new_cmd.rsplit(" ", 1)[1],)
     paths = [e.path for e in plan.edits]
     assert paths[0] == f"{HOME}/compose.yaml"
+    stock_dir, prefix = STOCK_BT[template]
+    projects = (f"{prefix}LightsBT.btproj", "lights.xml", f"{prefix}SafetyBT.btproj", "safety.xml", "shutdown.xml")
     assert set(paths[1:]) == {f"{ROOT}/{bundle.version}/{ARCHIVE_NAME}", f"{ROOT}/config/manager.yaml",
-                              f"{ROOT}/deployed.json",
-                              *(f"{ROOT}/config/behavior_trees/{f}" for f in
-                                ("PantherLightsBT.btproj", "lights.xml", "PantherSafetyBT.btproj", "safety.xml",
-                                 "shutdown.xml"))}
+                              f"{ROOT}/deployed.json", *(f"{ROOT}/config/behavior_trees/{f}" for f in projects)}
+    uploaded = {e.path.rsplit("/", 1)[1]: e.after for e in plan.edits if "/behavior_trees/" in e.path}
+    for f in projects:  # the stock project of the release; the robot's power-off as 2.2.1+ does it before 2.2.1
+        own = f == "shutdown.xml" and template != "husarion-ugv-2.2.2.yaml"
+        source = template_path("behavior_trees", f) if own else template_path("config", stock_dir, "behavior_trees", f)
+        assert uploaded[f] == source.read_bytes(), f
     after = plan.edits[0].after.decode()  # type: ignore[union-attr]
     a, b = before.splitlines(), after.splitlines()
     assert b[: len(a)] == [new_cmd if line == old_cmd else line for line in a]  # only the driver's command
@@ -187,8 +196,8 @@ def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: s
     assert svc["command"].split() == [
         "python3", f"/opt/panther-ops/manager/{bundle.version}/{ARCHIVE_NAME}",
         "--config", "/opt/panther-ops/manager/config/manager.yaml",
-        "--lights-bt", "/opt/panther-ops/manager/config/behavior_trees/PantherLightsBT.btproj",
-        "--safety-bt", "/opt/panther-ops/manager/config/behavior_trees/PantherSafetyBT.btproj",
+        "--lights-bt", f"/opt/panther-ops/manager/config/behavior_trees/{prefix}LightsBT.btproj",
+        "--safety-bt", f"/opt/panther-ops/manager/config/behavior_trees/{prefix}SafetyBT.btproj",
         "--stack", STACKS[template],
         *(["--namespace", "panther"] if template == "panther-2.0.4.yaml" else [])]
     params = yaml.safe_load(next(e.after for e in plan.edits if e.path.endswith("manager.yaml")))  # type: ignore[arg-type]
@@ -305,7 +314,8 @@ def test_diffs_show_the_archive_in_one_line(ctxs: Any) -> None:
     diffs = {d.path: d.unified for d in plan.diffs}
     archive = next(p for p in diffs if p.endswith(ARCHIVE_NAME))
     assert len(diffs[archive].splitlines()) == 4 and "py_trees 2." in diffs[archive]
-    assert "copy of templates/behavior_trees/lights.xml" in diffs[f"{ROOT}/config/behavior_trees/lights.xml"]
+    assert ("panther_ros 2.1.1's stock lights.xml (templates/config/panther-2.1/panther_manager/behavior_trees)"
+            in diffs[f"{ROOT}/config/behavior_trees/lights.xml"])
     assert f"+  {SERVICE}:" in diffs[f"{HOME}/compose.yaml"]
     assert '+  "disable_manager_before": null,' in diffs[f"{ROOT}/deployed.json"]
 

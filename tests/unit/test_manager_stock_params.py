@@ -102,7 +102,7 @@ def test_the_plan_says_every_difference_and_the_desired_overrides(tmp_path: Path
                                  {"manager": {"params": {"cpu.temp.fan_on": 80}}})
     assert cfg.safety.cpu_fan_on_temp == 80  # the inventory wins
     diffs = plan.data["differences"]
-    intended = intended_differences(stock_manager((2, 2, 2)))
+    intended = intended_differences(stock_manager((2, 2, 2)), (2, 2, 2))
     assert diffs[: len(intended)] == list(intended) and "bt_server_port" in intended[-1]
     assert diffs[-1] == "cpu.temp.fan_on: 80 (desired.manager.params; the robot's stock manager: 75.0)"
     text = next(e.after for e in plan.edits if e.path.endswith("manager.yaml")).decode()  # type: ignore[union-attr]

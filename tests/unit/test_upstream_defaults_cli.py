@@ -94,8 +94,8 @@ def test_pull_says_where_a_template_comes_from(demo: Path, capsys: pytest.Captur
     # panther-ops' own files are not presented as the image's
     said = _source(capsys, demo, "user-animations", "panther-02")
     assert said.startswith("panther-ops' template for panther_ros 2.0.4, not traced to an upstream file")
-    said = _source(capsys, demo, "bt-lights", "panther-01")
-    assert "panther-ops' own PantherLightsBT.btproj" in said
-    assert "not the image's default (panther_ros@2.1.1:panther_manager/behavior_trees/PantherLightsBT.btproj)" \
-        in said
+    said = _source(capsys, demo, "bt-lights", "panther-01")  # the release's stock project (issue 24)
+    assert "written from panther_ros@2.1.1:panther_manager/behavior_trees/PantherLightsBT.btproj" in said
+    said = _source(capsys, demo, "bt-safety", "panther-02")  # 2.0.4: its own, not 2.1.1's
+    assert "written from panther_ros@2.0.4:panther_manager/behavior_trees/PantherSafetyBT.btproj" in said
     assert "(config tree)" in _source(capsys, demo, "bt-lights", "panther-03")

@@ -126,10 +126,10 @@ def test_manager_logs_on_a_demo_robot_is_skipped_like_driver_logs(demo: Path, ca
 def test_config_pull_bt_lights_falls_back_to_the_template(demo: Path, tmp_path: Path, capsys: Capsys) -> None:
     code, out, err = run(capsys, "-i", str(demo), "config", "pull", "bt-lights", "-r", "panther-01")
     assert code == 0, err
-    assert out == template_path("behavior_trees", "PantherLightsBT.btproj").read_text()
-    # panther-ops' own project is not presented as the image's (issue 24, finding 5)
-    assert "panther-ops' own PantherLightsBT.btproj" in err and "not the image's default" in err
-    assert "panther_ros@2.1.1:panther_manager/behavior_trees/PantherLightsBT.btproj" in err
+    # the release's stock project, written from upstream's (issue 24): not panther-ops' own trees
+    assert out == template_path("config", "panther-2.1", "panther_manager", "behavior_trees",
+                                "PantherLightsBT.btproj").read_text()
+    assert "written from panther_ros@2.1.1:panther_manager/behavior_trees/PantherLightsBT.btproj" in err
 
 
 def test_shutdown_check_on_a_demo_robot_is_skipped(demo: Path, capsys: Capsys) -> None:

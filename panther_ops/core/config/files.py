@@ -120,6 +120,14 @@ def _pkg(stack: Stack, name: str) -> str:
     return f"{prefix}_{name}"
 
 
+def stock_bt_project(stack: Stack, which: str) -> tuple[str, str]:
+    """(manager package, file name) of the stock ``which`` ("Lights" or "Safety") BT project on ``stack``
+    (panther_ros@2.0.4 / 2.1.1:panther_manager/behavior_trees/Panther{Lights,Safety}BT.btproj;
+    husarion_ugv_ros@2.2.0 / 2.2.2:husarion_ugv_manager/behavior_trees/{Lights,Safety}BT.btproj)."""
+    prefix = "" if stack.family is Family.HUSARION_UGV else "Panther"
+    return f"{stack.package_prefix}_manager", f"{prefix}{which}BT.btproj"
+
+
 def family_dirs(stack: Stack) -> tuple[str, ...]:
     """The template directories of ``stack``, the version's overlay first."""
     return _FAMILY_DIRS[stack.generation]

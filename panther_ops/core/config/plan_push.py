@@ -31,7 +31,6 @@ KINDS = {
     FileKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
 }
 BT_ARGS = {FileKind.BT_LIGHTS: "lights_bt_project_path", FileKind.BT_SAFETY: "safety_bt_project_path"}
-BT_TEMPLATES = {FileKind.BT_LIGHTS: "PantherLightsBT.btproj", FileKind.BT_SAFETY: "PantherSafetyBT.btproj"}
 
 @dataclass
 class Bundle:

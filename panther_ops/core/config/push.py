@@ -22,9 +22,9 @@ import re
 from pathlib import Path
 
 from panther_ops.core.config import plan_push as planner
-from panther_ops.core.config.files import ROBOT_CONFIG_DIR, config_file, family_dirs, template_source
+from panther_ops.core.config.files import ROBOT_CONFIG_DIR, config_file, family_dirs, stock_bt_project, template_source
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan_push import BT_ARGS, BT_TEMPLATES, KINDS, Bundle, wheel_of
+from panther_ops.core.config.plan_push import BT_ARGS, KINDS, Bundle, wheel_of
 from panther_ops.core.config.robot import read_compose, read_config
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import RobotPlan
@@ -115,15 +115,6 @@ def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool 
     return read_and_plan(ctx, lambda reads: planner.plan_push(raw, reads, kind, bundle, force=force))
 
 
-def stock_bt_project(stack: Stack, kind: FileKind) -> tuple[str, str]:
-    """(manager package, file name) of the stock BT project of ``kind`` on ``stack``
-    (panther_ros@2.0.4 / 2.1.1:panther_manager/behavior_trees/Panther{Lights,Safety}BT.btproj;
-    husarion_ugv_ros@2.2.0 / 2.2.2:husarion_ugv_manager/behavior_trees/{Lights,Safety}BT.btproj)."""
-    which = "Lights" if kind is FileKind.BT_LIGHTS else "Safety"
-    prefix = "" if stack.family is Family.HUSARION_UGV else "Panther"
-    return f"{stack.package_prefix}_manager", f"{prefix}{which}BT.btproj"
-
-
 def _upstream(stack: Stack, package: str, rel: str) -> str:
     repo = "husarion_ugv_ros" if stack.family is Family.HUSARION_UGV else "panther_ros"
     return f"{repo}@{stack.version_str}:{package}/{rel}"
@@ -143,7 +134,7 @@ def _bt_pull(ctx: RobotContext, cfg: RobotConfig, kind: FileKind) -> tuple[bytes
     host = cfg.host_path_of(current) if current else None
     if host and (data := _read(ctx, host)) is not None:
         return data, f"{host} (mounted, {arg})"
-    package, name = stock_bt_project(cfg.stack, kind)
+    package, name = stock_bt_project(cfg.stack, "Lights" if kind is FileKind.BT_LIGHTS else "Safety")
     if kind is FileKind.BT_LIGHTS and cfg.tree_mounted:  # 2.2 reads the Lights project from common_dir_path
         tree = f"{ROBOT_CONFIG_DIR}/{package}/behavior_trees/{name}"
         if (data := _read(ctx, tree)) is not None:
@@ -154,17 +145,15 @@ def _bt_pull(ctx: RobotContext, cfg: RobotConfig, kind: FileKind) -> tuple[bytes
     upstream = _upstream(cfg.stack, package, f"behavior_trees/{name}")
     why = ("a demo robot has no image" if ctx.robot.transport == "local"
            else "the driver container could not be read")
-    from panther_ops.core.fleet.templates import template_file, template_path
+    from panther_ops.core.fleet.templates import template_path
 
-    for directory in family_dirs(cfg.stack):
+    for directory in family_dirs(cfg.stack):  # the release's stock project (docs/conformance.md: equal)
         path = template_path("config", directory, package, "behavior_trees", name)
         if path.is_file():
             data = path.read_bytes()
             return data, _template_note(cfg.stack, data.decode(), why, upstream)
-    project = template_file("behavior_trees", BT_TEMPLATES[kind])
-    return project.read_bytes(), (f"panther-ops' own {BT_TEMPLATES[kind]} (templates/behavior_trees/, the project "
-                                  f"panther-ops' manager runs), not the image's default ({upstream}), which could "
-                                  f"not be read: {why}")
+    raise UsageError(f"{ctx.robot.name}: {upstream} could not be read ({why}) and panther-ops has no template "
+                     f"of it for {cfg.stack.label()}")
 
 
 def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:

@@ -7,8 +7,8 @@ verify, roll back):
   ``config/manager.yaml`` (the stock manager's parameter values of this robot — read in its
   image in ROS 2 mode, the release's stock values (`stock.py`) otherwise — with the inventory's
   ``desired.manager.params`` over them, the shutdown hosts file and the robot's own shutdown
-  command; the intended differences from the stock manager in its head), the BT projects of
-  ``templates/behavior_trees/``, in simulation ``config/scenario.yaml``, and
+  command; the intended differences from the stock manager in its head), the release's stock BT
+  projects (`projects.py`), in simulation ``config/scenario.yaml``, and
   ``deployed.json`` (what is deployed, and what ``remove`` must restore);
 * add the compose service ``panther_ops_manager``: the driver's image, the driver's
   ``x-common-config`` merge, the directory mounted read-only at ``/opt/panther-ops/manager``,
@@ -34,12 +34,11 @@ from panther_ops.core.config.planners import compose_plan, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.fleet.templates import template_file
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle
 from panther_ops.core.manager_ops.layout import Layout, _state_bytes, as_manager_plan, brief, parse_state, state_path
+from panther_ops.core.manager_ops.projects import deployed_projects
 from panther_ops.core.manager_ops.service import ServiceSpec, _check_params, _check_scenario, manager_yaml, service_spec
 from panther_ops.core.manager_ops.settings import (
-    BT_FILES,
     DISABLE_ARG,
     DISABLE_SINCE,
     ROBOT_DIR,
@@ -110,9 +109,10 @@ def plan_deploy(raw: ComposeRead, reads: Reads, desired: Mapping[str, Any], *, s
         texts = None if facts is None else {p: facts.param_texts.get(p) for p in stock.paths()}
     carried = robot_params(stock, texts, cfg.compose.driver_image)
     warnings += list(carried.notes)
-    differences = [*intended_differences(stock), *overrides(carried, settings.params)]
+    intended = intended_differences(stock, cfg.stack.version)
+    differences = [*intended, *overrides(carried, settings.params)]
     arg = _arg_name(cfg)
-    files, what = _deploy_files(cfg, lay, settings, spec, bundle, state, arg, carried, stock)
+    files, what = _deploy_files(cfg, lay, settings, spec, bundle, state, arg, carried, stock, intended)
     edits = _file_edits(reads, lay, files, state)
     _put_service(cfg, spec)
     driver_before = cfg.compose.service(cfg.service)
@@ -151,16 +151,17 @@ def plan_deploy(raw: ComposeRead, reads: Reads, desired: Mapping[str, Any], *, s
 
 def _deploy_files(cfg: RobotConfig, lay: Layout, settings: ManagerSettings, spec: ServiceSpec,
                   bundle: ManagerBundle, state: Mapping[str, Any] | None,
-                  arg: str, carried: CarriedParams, stock: StockManager) -> tuple[dict[str, bytes], dict[str, str]]:
+                  arg: str, carried: CarriedParams, stock: StockManager,
+                  intended: tuple[str, ...]) -> tuple[dict[str, bytes], dict[str, str]]:
     """Every file of the deployment (robot path -> content) and one-line descriptions of the copies."""
     files: dict[str, bytes] = {lay.archive: bundle.data,
                                lay.config("manager.yaml"): manager_yaml(settings, spec, bundle.version, carried,
-                                                                         stock)}
+                                                                         stock, intended)}
     what = {lay.archive: f"{ARCHIVE_NAME} {bundle.version}: panther_ops.manager + "
                          + ", ".join(f"{k} {v}" for k, v in bundle.dependencies.items())}
-    for bt in BT_FILES:
-        files[lay.config("behavior_trees", bt)] = template_file("behavior_trees", bt).read_bytes()
-        what[lay.config("behavior_trees", bt)] = f"copy of templates/behavior_trees/{bt}"
+    for name, (source, description) in deployed_projects(cfg.stack).files.items():
+        files[lay.config("behavior_trees", name)] = source.read_bytes()
+        what[lay.config("behavior_trees", name)] = description
     if settings.mode == "sim":
         source = scenario_path(settings.scenario)
         _check_scenario(source)

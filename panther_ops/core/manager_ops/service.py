@@ -12,6 +12,7 @@ from panther_ops.core.config.files import ConfigKind, config_file
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.manager_ops.layout import Layout
+from panther_ops.core.manager_ops.projects import deployed_projects
 from panther_ops.core.manager_ops.settings import (
     _SHARED_TARGETS,
     CONTAINER_DIR,
@@ -77,10 +78,11 @@ def service_spec(reads: Reads, cfg: RobotConfig, lay: Layout, settings: ManagerS
     hosts_file, hosts_source = _hosts_file(reads, cfg, settings, volumes)
     ugv_dbus = cfg.stack.family is Family.HUSARION_UGV and DBUS_SOCKET in volumes
     command = DBUS_POWEROFF if ugv_dbus else SSH_POWEROFF
+    projects = deployed_projects(cfg.stack)
     argv = [f"python3 {lay.container_archive}",
             f"--config {lay.container_config('manager.yaml')}",
-            f"--lights-bt {lay.container_config('behavior_trees', 'PantherLightsBT.btproj')}",
-            f"--safety-bt {lay.container_config('behavior_trees', 'PantherSafetyBT.btproj')}",
+            f"--lights-bt {lay.container_config('behavior_trees', projects.lights)}",
+            f"--safety-bt {lay.container_config('behavior_trees', projects.safety)}",
             f"--stack {cfg.stack.version_str}"]  # message package, topics and services of this stack
     namespace = reads.namespace or cfg.compose.args.get("namespace")
     if namespace:
@@ -138,14 +140,13 @@ def _check_hosts(reads: Reads, cfg: RobotConfig, path: str) -> None:
 
 
 def manager_yaml(settings: ManagerSettings, spec: ServiceSpec, version: str, carried: CarriedParams,
-                 stock: StockManager) -> bytes:
+                 stock: StockManager, intended: tuple[str, ...]) -> bytes:
     """``config/manager.yaml``: node-file shape, read by `load_manager_config`: the hosts file and
     the robot's power-off, the stock manager's values (``carried``), the inventory's
     ``desired.manager.params`` over them (later keys win); the intended differences from the
     stock manager said in its head (the plan shows the file in full)."""
     import yaml
 
-    from panther_ops.core.manager_ops.stock import intended_differences
     from panther_ops.manager.config import flatten
 
     params: dict[str, Any] = {"shutdown_hosts_path": spec.hosts_file,
@@ -157,7 +158,7 @@ def manager_yaml(settings: ManagerSettings, spec: ServiceSpec, version: str, car
             "the inventory's desired.manager.params over them. Set those in the inventory and deploy again:",
             "changes made here are overwritten.",
             f"Intended differences from the stock manager of {stock.releases} (docs/manager.md):",
-            *(f"- {d}" for d in intended_differences(stock))]
+            *(f"- {d}" for d in intended)]
     text = "".join(f"# {line}\n" for line in head)
     return (text + yaml.safe_dump({"/**": {"ros__parameters": params}}, sort_keys=False,
                                   default_flow_style=False, width=1000, allow_unicode=True)).encode()

@@ -36,9 +36,6 @@ DISABLE_ARG = "disable_manager"
 DISABLE_SINCE = (2, 0, 1)
 
 
-BT_FILES = ("PantherLightsBT.btproj", "lights.xml", "PantherSafetyBT.btproj", "safety.xml", "shutdown.xml")
-
-
 HOSTS_TARGET = "/etc/panther-ops/shutdown_hosts.yaml"
 
 

@@ -120,24 +120,35 @@ def stock_manager(version: tuple[int, int, int]) -> StockManager:
 
 
 INTENDED_DIFFERENCES = (
-    "fan: on at once when hot, off only through the 60 s FanOffDelay (the stock safety.xml of 2.0.4, 2.1.1 and "
-    "2.2.2 holds fan-on under the same TickAfterTimeout as fan-off, so a hot CPU could wait up to 60 s)",
     "SSH shutdowns check host keys (known_hosts mounted from the robot); the stock node (libssh) does not",
-    "the trees are panther-ops' (templates/behavior_trees, the same decisions), not the image's BT project files",
+    "the trees are the release's stock BT projects (templates/config/<generation>/<pkg>/behavior_trees, equal to "
+    "upstream's), not the robot's own: a project the robot was given in place of the stock one (a "
+    "lights_bt_project_path / safety_bt_project_path, 2.2's ~/config LightsBT.btproj) is not carried over",
 )
 """Where the deployed manager departs from the stock one on purpose, on every release
 (docs/manager.md, "Intended differences from the stock manager"); every deploy plan says them."""
 _DIFFERENCES_BY_FAMILY = {
     "panther_ros 2.0.1": ("battery temperature: E-stop and AUX off above 55 °C, shutdown above 62 °C (2.0.2+'s "
                           "kCriticalBatteryTemp and kFatalBatteryTemp); 2.0.1's manager_bt_config.yaml has "
-                          "high_bat_temp 55 and critical_bat_temp 59",),
+                          "high_bat_temp 55 and critical_bat_temp 59",
+                          "the trees are 2.0.2-2.0.4's stock projects: panther-ops has no template of 2.0.1's "
+                          "(husarion/panther_ros@2.0.1:panther_manager/behavior_trees, another Safety tree layout)"),
     "husarion_ugv 2.2.x": ("no Groot2 monitoring server (the stock nodes' bt_server_port 5555 / 6666)",),
 }
+OWN_SHUTDOWN = ("the robot powers itself off by ExecuteCommand {SHUTDOWN_LOCALHOST_COMMAND} (panther-ops' "
+                "templates/behavior_trees/shutdown.xml, as husarion_ugv 2.2.1+'s stock tree), not the stock "
+                "ShutdownSingleHost(localhost, husarion, 'sudo shutdown now'): host keys are checked here and "
+                "the robot's own is normally not in its known_hosts; the command is the same user's "
+                "'sudo shutdown now' over ssh (or D-Bus PowerOff on a 2.2 robot with the socket mounted)")
+"""Releases before husarion_ugv 2.2.1 (core/manager_ops/projects.py)."""
 
 
-def intended_differences(stock: StockManager) -> tuple[str, ...]:
-    """The intended differences from ``stock``'s manager."""
-    return INTENDED_DIFFERENCES + _DIFFERENCES_BY_FAMILY.get(stock.releases, ())
+def intended_differences(stock: StockManager, version: tuple[int, int, int]) -> tuple[str, ...]:
+    """The intended differences from ``stock``'s manager on a robot of ``version``."""
+    from panther_ops.core.manager_ops.projects import OWN_SHUTDOWN_BEFORE
+
+    own = (OWN_SHUTDOWN,) if version < OWN_SHUTDOWN_BEFORE else ()
+    return INTENDED_DIFFERENCES + own + _DIFFERENCES_BY_FAMILY.get(stock.releases, ())
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,10 @@ One table for everything that talks to a robot's ROS graph: the manager's ROS 2 
 * panther_ros 2.1.x: ``panther_msgs``; ``battery/battery_status``;
   ``hardware/motor_controllers_state`` (DriverState); ``lights/set_animation``.
 * husarion_ugv 2.2.x: ``husarion_ugv_msgs``; ``battery/battery_status``;
-  ``hardware/robot_driver_state`` (RobotDriverState: driver_states[]); ``lights/set_animation``.
+  ``hardware/robot_driver_state`` (RobotDriverState: driver_states[]); ``lights/set_animation``;
+  its lights manager also reads ``joy`` (``drive_state``) and gives its Lights tree the
+  husarion_ugv_msgs animation numbers and ``current_battery_anim_id``,
+  ``current_error_anim_id`` (husarion_ugv_ros@2.2.2:husarion_ugv_manager/src/lights_manager_node.cpp).
 
 Sources: panther_ros 2.0.x ``panther_manager/src/safety_manager_node.cpp`` and
 ``panther_lights`` controller node (2.1.0 renamed the ROS API, "Enhance ROS API names");
@@ -23,6 +26,10 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import Any
+
+from panther_ops.manager import keys
+from panther_ops.manager.constants import ANIMATION_ID_CONSTANTS, ANIMATION_ID_CONSTANTS_22
 
 Version = tuple[int, int, int]
 
@@ -42,6 +49,13 @@ class RosInterfaces:
     """``DriverState`` (``front``/``rear``) or ``RobotDriverState`` (``driver_states[]``)"""
     renamed_services: dict[str, str] = field(default_factory=dict)
     """tree name (2.1+ spelling) -> this stack's name"""
+    animation_ids: dict[str, int] = field(default_factory=lambda: dict(ANIMATION_ID_CONSTANTS))
+    """The Lights tree's ``<NAME>_ANIM_ID`` entries: this stack's LEDAnimation numbers."""
+    lights_state: dict[str, Any] = field(
+        default_factory=lambda: {keys.CHARGING_ANIM_PERCENT: "", keys.CURRENT_ANIM_ID: -1})
+    """The Lights tree's initial state entries, as this stack's lights manager sets them."""
+    joy: str | None = None
+    """The topic whose dead man button sets ``drive_state`` (2.2), or None."""
 
     def service(self, name: str) -> str:
         """The robot's name of a service the trees call by its 2.1+ name."""
@@ -64,7 +78,10 @@ PANTHER_2_0 = RosInterfaces(
 PANTHER_2_1 = RosInterfaces("panther_ros 2.1", "panther_msgs")
 HUSARION_UGV_2_2 = RosInterfaces(
     "husarion_ugv 2.2", "husarion_ugv_msgs", driver_state="hardware/robot_driver_state",
-    driver_state_type="RobotDriverState")
+    driver_state_type="RobotDriverState", animation_ids=dict(ANIMATION_ID_CONSTANTS_22),
+    lights_state={keys.CHARGING_ANIM_PERCENT: "", keys.CURRENT_ANIM_ID: -1, keys.CURRENT_BATTERY_ANIM_ID: -1,
+                  keys.CURRENT_ERROR_ANIM_ID: -1, keys.DRIVE_STATE: False},
+    joy="joy")
 
 
 def interfaces_for(version: Version) -> RosInterfaces:

@@ -22,6 +22,7 @@ from panther_ops.manager.robot_io import (
     DriverStateMsg,
     EStopMsg,
     IOStateMsg,
+    JoyMsg,
     RobotMsg,
     ServiceRequest,
     ServiceResult,
@@ -93,6 +94,11 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
         self.node.create_subscription(msgs.SystemStatus, names.system_status, self._system, 10)
         driver_cb = self._robot_driver if names.driver_state_type == "RobotDriverState" else self._driver
         self.node.create_subscription(getattr(msgs, names.driver_state_type), names.driver_state, driver_cb, 10)
+        if names.joy:  # 2.2's lights manager: drive_state from the dead man button
+            self.node.create_subscription(sensor.Joy, names.joy, self._joy, 10)
+
+    def _joy(self, msg: Any) -> None:
+        self.inbox.append(JoyMsg(tuple(int(b) for b in msg.buttons)))
 
     def _battery(self, msg: Any) -> None:
         self.inbox.append(BatteryMsg(float(msg.percentage), float(msg.temperature),
@@ -170,7 +176,7 @@ def run_on_ros2(config: ManagerConfig, *, trees: TreeSource | None = None, names
 
     io = Ros2RobotIO(namespace=namespace, interfaces=interfaces)
     backends = ShutdownBackends.real(known_hosts)
-    runtime = ManagerRuntime(config, io, MonotonicClock(), trees=trees, backends=backends)
+    runtime = ManagerRuntime(config, io, MonotonicClock(), trees=trees, backends=backends, interfaces=io.interfaces)
     try:
         runtime.run()
     finally:

@@ -27,14 +27,15 @@ from panther_ops.manager.config import (
     safety_constants,
     shutdown_constants,
 )
-from panther_ops.manager.constants import LIGHTS_TREE, SAFETY_TREE, SHUTDOWN_TREE
+from panther_ops.manager.constants import ANIMATION_ID_CONSTANTS_22, LIGHTS_TREE, SAFETY_TREE, SHUTDOWN_TREE
 from panther_ops.manager.errors import BtProjectError, ScriptError
 from panther_ops.manager.findings import Finding, error, warning
 from panther_ops.manager.nodes.base import REQUIRED, convert
 from panther_ops.manager.paths import BEHAVIOR_TREES
 
 KNOWN_NAMES: dict[str, set[str]] = {
-    LIGHTS_TREE: {*lights_constants(LightsParams()), *keys.LIGHTS_INPUTS, *keys.LIGHTS_STATE},
+    LIGHTS_TREE: {*lights_constants(LightsParams()), *keys.LIGHTS_INPUTS, *keys.LIGHTS_STATE,
+                  *ANIMATION_ID_CONSTANTS_22, *keys.LIGHTS_STATE_22},  # 2.2's stock Lights tree too
     SAFETY_TREE: {*safety_constants(SafetyParams()), *keys.SAFETY_INPUTS, *keys.SAFETY_STATE},
     SHUTDOWN_TREE: {*shutdown_constants(SafetyParams()), keys.SIGNAL_SHUTDOWN},
 }
