@@ -1,4 +1,5 @@
-"""docker SDK clients: over a robot's existing SSH connection, or a local socket.
+"""docker SDK clients: over a robot's existing SSH connection, or a local socket; the SDK's errors
+as panther-ops' own.
 
 The SSH variant opens a channel of the connection the transport already holds and runs
 ``docker system dial-stdio`` on it (what docker's own ssh helper runs), so docker traffic
@@ -7,11 +8,43 @@ goes through jump hosts and opens no second SSH connection.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
+
+from panther_ops.errors import OpsError
 
 if TYPE_CHECKING:
     import paramiko
     from docker import DockerClient
+
+
+class EngineError(OpsError):
+    """A docker engine request failed (the SDK's ``DockerException``)."""
+
+
+class EngineRefused(EngineError):
+    """The engine answered with an HTTP error (the SDK's ``APIError``)."""
+
+
+class NotInEngine(EngineRefused):
+    """The engine has no such container or image (the SDK's ``NotFound`` and ``ImageNotFound``)."""
+
+
+@contextmanager
+def engine_errors() -> Iterator[None]:
+    """The docker SDK's errors raised inside, as panther-ops' own (the cause kept): core
+    catches these and never imports docker."""
+    import docker.errors
+
+    try:
+        yield
+    except docker.errors.NotFound as exc:
+        raise NotInEngine(str(exc)) from exc
+    except docker.errors.APIError as exc:
+        raise EngineRefused(str(exc)) from exc
+    except docker.errors.DockerException as exc:
+        raise EngineError(str(exc)) from exc
 
 # The SDK's own default; lowered to what the engine speaks when it is older.
 _MAX_API = (1, 45)

@@ -1,4 +1,4 @@
-"""A command run on this machine (the simulation's tools: Gazebo's CLI), with a time limit."""
+"""A command run on this machine, with a time limit: the simulation's tools (Gazebo's CLI), ``ping``."""
 
 from __future__ import annotations
 
@@ -24,3 +24,14 @@ def run_local(argv: Sequence[str], *, timeout: float = 30.0) -> CommandResult:
         return CommandResult(shlex.join(argv), -1, "", f"no answer in {timeout:g} s", time.monotonic() - start)
     return CommandResult(shlex.join(argv), cp.returncode, cp.stdout.decode(errors="replace"),
                          cp.stderr.decode(errors="replace"), time.monotonic() - start, cp.stdout)
+
+
+def exit_status_here(argv: Sequence[str], *, timeout: float) -> int | None:
+    """Exit status of ``argv`` run here (no shell, output discarded); None when it outlived
+    ``timeout``. OSError when its program cannot run (not installed)."""
+    try:
+        done = subprocess.run(list(argv), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=timeout,
+                              check=False)
+    except subprocess.TimeoutExpired:
+        return None
+    return done.returncode

@@ -231,8 +231,8 @@ def test_setup_with_the_password_twice(r01_ready: Lab, c1_setup: list[tuple[int,
 def test_a_candidate_visudo_refuses_is_not_installed(r01_ready: Lab) -> None:
     from panther_ops.core.fleet.inventory_file import load_inventory
     from panther_ops.core.fleet.runner import open_transport
-    from panther_ops.core.shutdown.remote import RobotLink, TargetError, host_keys_from_text
     from panther_ops.core.shutdown.setup import SUDOERS_PATH, install_sudoers
+    from panther_ops.transport.lan import RobotLink, TargetError, host_keys_from_text
 
     lab = r01_ready
     inv = load_inventory(str(lab.inventory_path))

@@ -88,7 +88,7 @@ def _shutdown_file(fleet: Fleet, path: Path, via: str | None, identity: Path | N
     inv: Inventory | None = None
     link_robot: Robot | None = None
     if via is not None:  # the robot must exist and reach its LAN, dry run or not
-        from panther_ops.core.shutdown.remote import lan_robot
+        from panther_ops.core.shutdown.links import lan_robot
 
         inv = context.load(fleet.ctx)
         if via not in inv.robots:
@@ -119,13 +119,14 @@ def _shutdown_file(fleet: Fleet, path: Path, via: str | None, identity: Path | N
         return 2
     if inv is not None and link_robot is not None:
         from panther_ops.core.fleet.runner import Connections
-        from panther_ops.core.shutdown.remote import RobotLink, backends_via
+        from panther_ops.core.shutdown.links import backends_via
+        from panther_ops.transport.lan import RobotLink
 
         with Connections(inv) as conns:
             link = RobotLink(conns.get(link_robot), link_robot.name)
             done = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
     else:
-        from panther_ops.core.shutdown.remote import backends_here
+        from panther_ops.core.shutdown.links import backends_here
 
         done = shutdown_hosts(hosts, backends_here(str(known_hosts) if known_hosts else None,
                                                    str(identity) if identity else None),

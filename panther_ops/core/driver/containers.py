@@ -21,6 +21,7 @@ from panther_ops.core.fleet.services import service_containers
 from panther_ops.core.parse.shell_words import CommandSyntaxError, command_words
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport.docker_client import NotInEngine, engine_errors
 
 _DURATION_PART = re.compile(r"([0-9]+(?:\.[0-9]+)?)([smhd])")
 
@@ -129,11 +130,10 @@ def driver_container(client: Any, cfg: RobotConfig) -> Any | None:
     if found:
         return found[0]
     name = cfg.compose.service(service).get("container_name") or service
-    import docker.errors
-
     try:
-        return client.containers.get(str(name))
-    except docker.errors.NotFound:
+        with engine_errors():
+            return client.containers.get(str(name))
+    except NotInEngine:
         return None
 
 

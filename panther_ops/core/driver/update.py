@@ -18,6 +18,7 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
+from panther_ops.transport.docker_client import EngineRefused, NotInEngine, engine_errors
 
 
 def plan_update(ctx: RobotContext, target: TargetImage | None, *, force: bool = False, pull: bool = False) -> RobotPlan:
@@ -33,13 +34,12 @@ def _image_present(ctx: RobotContext, ref: str) -> bool | None:
     client, _why = engine(ctx)
     if client is None:
         return None
-    import docker.errors
-
     try:
-        client.images.get(ref)
-    except docker.errors.ImageNotFound:
+        with engine_errors():
+            client.images.get(ref)
+    except NotInEngine:
         return False
-    except docker.errors.APIError:
+    except EngineRefused:
         return None
     return True
 

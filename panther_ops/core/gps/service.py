@@ -12,6 +12,7 @@ from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.core.gps import plan as planner
 from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.results import Outcome, RobotResult
+from panther_ops.transport.docker_client import EngineError, engine_errors
 
 
 def plan_enable(ctx: RobotContext, opts: GpsOptions) -> RobotPlan:
@@ -36,14 +37,14 @@ def apply_gps(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotRe
     if client is None:
         result.warnings.append(f"no docker engine on this robot: the {service} container was not removed")
         return result
-    from docker.errors import DockerException
-
     try:
         gone = []
-        for c in service_containers(client, service, project_dir(ctx, plan.compose_file, plan.home), own_only=True):
-            c.remove(force=True)
-            gone.append(c.name)
-    except (DockerException, OSError) as exc:  # the file is written; the container stays
+        with engine_errors():
+            for c in service_containers(client, service, project_dir(ctx, plan.compose_file, plan.home),
+                                        own_only=True):
+                c.remove(force=True)
+                gone.append(c.name)
+    except (EngineError, OSError) as exc:  # the file is written; the container stays
         result.outcome = Outcome.FAILED
         result.message = f"{plan.summary}; removing the {service} container failed: {exc}"
         return result

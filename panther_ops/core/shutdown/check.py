@@ -23,12 +23,13 @@ from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, HostEntry
-from panther_ops.core.shutdown.remote import RobotLink, exec_on
+from panther_ops.core.shutdown.links import http_get, ping, robot_ip_towards
 from panther_ops.core.shutdown.robotfile import read_robot_hosts
 from panther_ops.errors import OpsError
 from panther_ops.manager.shutdown_executor import ShutdownHost, shutdown_path
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
+from panther_ops.transport.lan import LanSession, RobotLink, exec_on
 
 STALE_S = 3600
 """Age of the secret probe: far outside any replay window, so the service refuses it."""
@@ -126,7 +127,7 @@ def nopasswd_for(listing: str, resolved: str) -> bool | None:
     return verdict
 
 
-def sudo_without_password(client: Any, argv: list[str]) -> tuple[bool, str]:
+def sudo_without_password(client: LanSession, argv: list[str]) -> tuple[bool, str]:
     """(True, how) when ``sudo -n`` would run `argv` as root without a password: ``sudo -n -l
     CMD`` (permitted, and the listing needs no password), then the listing's last matching
     entry must be NOPASSWD (``sudo -l CMD`` alone also says yes to commands that need one)."""
@@ -162,7 +163,7 @@ def check_ssh(link: RobotLink, robot: str, host: ShutdownHost) -> HostCheck:
     c = HostCheck(label, "ssh")
     setup = f"panther-ops shutdown setup -r {robot} --host {host.ip} --user {host.username}"
     try:
-        if not link.ping(host.ip):
+        if not ping(link, host.ip):
             return c.fail("ping", f"{host.ip} does not answer ping from {robot}",
                           "is the computer on, and on the robot's LAN? (its address in the hosts file)")
         c.passed("ping")
@@ -228,7 +229,7 @@ def install_hint(ip: str, port: int, robot_ip: str | None) -> str:
 def probe_secret(link: RobotLink, host: ShutdownHost) -> tuple[bool, str]:
     """(accepted, what the service said) for a signed request an hour old."""
     ts = int(time.time() + link.clock_offset()) - STALE_S
-    status, body, error = link.http_get(host.ip, host.port, shutdown_path(host.secret or "", ts),
+    status, body, error = http_get(link, host.ip, host.port, shutdown_path(host.secret or "", ts),
                                         min(host.timeout, 10))
     text = body.strip()[:200]
     if status is None:
@@ -248,13 +249,13 @@ def check_http(link: RobotLink, robot: str, host: ShutdownHost) -> HostCheck:
     c = HostCheck(host.describe(), "http")
     robot_ip = None
     try:
-        if not link.ping(host.ip):
+        if not ping(link, host.ip):
             return c.fail("ping", f"{host.ip} does not answer ping from {robot}",
                           "is the computer on, and on the robot's LAN? (its address in the hosts file)")
         c.passed("ping")
-        status, _, error = link.http_get(host.ip, host.port, "/shutdown", min(host.timeout, 10))
+        status, _, error = http_get(link, host.ip, host.port, "/shutdown", min(host.timeout, 10))
         if status is None:
-            robot_ip = link.robot_ip_towards(host.ip)
+            robot_ip = robot_ip_towards(link, host.ip)
             return c.fail("service", f"nothing answers HTTP on {host.ip}:{host.port} ({error})",
                           install_hint(host.ip, host.port, robot_ip))
         if status == 200:

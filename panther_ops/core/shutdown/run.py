@@ -19,8 +19,8 @@ from collections.abc import Callable, Iterable
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
+from panther_ops.core.shutdown.links import backends_via
 from panther_ops.core.shutdown.plan_hosts import RobotShutdownPlan, shutdown_plan
-from panther_ops.core.shutdown.remote import RobotLink, backends_via
 from panther_ops.core.shutdown.robotfile import read_robot_hosts
 from panther_ops.errors import OpsError
 from panther_ops.manager.clock import Clock, MonotonicClock
@@ -34,6 +34,7 @@ from panther_ops.manager.shutdown_executor import (
 )
 from panther_ops.results import FleetResult, Outcome, RobotResult
 from panther_ops.transport.base import Command
+from panther_ops.transport.lan import RobotLink
 
 PING_INTERVAL = 0.05
 """Seconds between pings while a host goes down (the manager pings every tick, 30 Hz)."""

@@ -29,13 +29,13 @@ from __future__ import annotations
 import shlex
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Mode, add_host, new_entry
 from panther_ops.core.shutdown.check import install_hint, probe_secret, sudo_without_password
-from panther_ops.core.shutdown.remote import RobotLink, TargetError, exec_on
+from panther_ops.core.shutdown.links import http_get, ping, robot_ip_towards
 from panther_ops.core.shutdown.robotfile import plan_hosts_edit
 from panther_ops.core.stack import Stack
 from panther_ops.errors import OpsError
@@ -44,9 +44,7 @@ from panther_ops.results import Diff, Outcome, RobotResult
 from panther_ops.secret import Secret
 from panther_ops.transport.base import Command
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
-
-if TYPE_CHECKING:
-    import paramiko
+from panther_ops.transport.lan import Key, LanSession, RobotLink, TargetError, exec_on
 
 SUDOERS_PATH = "/etc/sudoers.d/panther-shutdown"
 CONTAINER_KEY = "/root/.ssh/id_rsa"
@@ -176,7 +174,7 @@ class _Stop(Exception):
     """A step failed: the report says which."""
 
 
-def install_sudoers(client: paramiko.SSHClient, user: str, *, login_user: str, password: Secret | None,
+def install_sudoers(client: LanSession, user: str, *, login_user: str, password: Secret | None,
                     content: str | None = None) -> tuple[bool, str]:
     """Install the drop-in on the computer: (changed, message). Raises TargetError.
 
@@ -242,7 +240,7 @@ def _fail(report: SetupReport, name: str, message: str, hint: str | None = None)
 
 
 def _reach(link: RobotLink, req: SetupRequest, report: SetupReport) -> None:
-    if not link.ping(req.ip):
+    if not ping(link, req.ip):
         raise _fail(report, "reach", f"{req.ip} does not answer ping from {link.name}",
                     "is the computer on, and on the robot's LAN?")
     report.add("reach", Outcome.OK, f"{req.ip} answers ping from {link.name}")
@@ -251,10 +249,10 @@ def _reach(link: RobotLink, req: SetupRequest, report: SetupReport) -> None:
 def _setup_http(link: RobotLink, req: SetupRequest, report: SetupReport, stack: Stack) -> dict[str, Any]:
     port = req.port or 3003
     _reach(link, req, report)
-    status, _, error = link.http_get(req.ip, port, "/shutdown", 10)
+    status, _, error = http_get(link, req.ip, port, "/shutdown", 10)
     if status is None:
         raise _fail(report, "service", f"husarion-shutdown does not answer on {req.ip}:{port} ({error})",
-                    install_hint(req.ip, port, link.robot_ip_towards(req.ip)))
+                    install_hint(req.ip, port, robot_ip_towards(link, req.ip)))
     if status == 200:
         raise _fail(report, "service", f"{req.ip}:{port} accepted an UNSIGNED shutdown request: not husarion-shutdown "
                     "or it does not check signatures")
@@ -332,11 +330,11 @@ def _setup_ssh(link: RobotLink, req: SetupRequest, report: SetupReport, stack: S
     return new_entry(req.ip, username=user, port=port, timeout=req.timeout)
 
 
-def _missing(client: paramiko.SSHClient) -> list[str]:
+def _missing(client: LanSession) -> list[str]:
     return [c for c in POWER_COMMANDS if not sudo_without_password(client, [c])[0]]
 
 
-def _sudoers(client: paramiko.SSHClient, req: SetupRequest, report: SetupReport, user: str) -> None:
+def _sudoers(client: LanSession, req: SetupRequest, report: SetupReport, user: str) -> None:
     if user == "root":
         report.add("sudoers", Outcome.OK, "root needs no sudo rule")
         return
@@ -357,7 +355,7 @@ def _sudoers(client: paramiko.SSHClient, req: SetupRequest, report: SetupReport,
 
 
 def _login(link: RobotLink, req: SetupRequest, user: str, port: int,
-           key: paramiko.PKey) -> tuple[paramiko.SSHClient, str]:
+           key: Key) -> tuple[LanSession, str]:
     tried = []
     for how, kwargs in (("the robot's key", {"pkey": key}),
                         ("the operator's key", {"key_files": req.operator_keys, "agent": req.use_agent}),
@@ -377,7 +375,7 @@ def _login(link: RobotLink, req: SetupRequest, user: str, port: int,
 
 
 def _login_robot_key(link: RobotLink, report: SetupReport, user: str, ip: str, port: int,
-                     key: paramiko.PKey) -> paramiko.SSHClient:
+                     key: Key) -> LanSession:
     try:
         client = link.open_ssh(ip, port, user, pkey=key, timeout=15)
     except TargetError as exc:

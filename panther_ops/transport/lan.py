@@ -1,38 +1,29 @@
-"""The robot as the way to its LAN, and the shutdown executor's backends "here" or "via the robot".
+"""The way to a host on the robot's LAN: the robot's SSH connection, its key and known_hosts.
 
 User computers sit on the robot's LAN (10.15.20.0/24 on a real Panther), which the operator
-usually cannot reach. Everything of a shutdown then goes through the robot's SSH connection
-(the one panther-ops already holds):
+usually cannot reach. Everything then goes through the robot's SSH connection (the one
+panther-ops already holds):
 
-* ping: ``ping -c 1 -W 1 IP`` run on the robot (the manager's availability check);
+* commands on the robot: its connection's ``run`` (what runs there, and how its answer is
+  judged, is core's: ``core/shutdown/links.py``);
 * SSH: a ``direct-tcpip`` channel of the robot's connection to IP:port, an SSH session over
   it that logs in with the robot's own key (``~/.ssh/id_rsa``, the one the driver container
   mounts) and verifies the host key against the robot's ``~/.ssh/known_hosts``
   (`paramiko.RejectPolicy`: an unknown host key is refused, never added);
-* HTTP: ``curl`` (or python3) on the robot, the request signed here with the robot's clock.
+* the robot's clock, against ours (the manager signs HTTP requests with it).
 
 The robot's private key is read into memory for the session only and never written here.
+TCP for the standard library's clients (a socket joined to a channel) is ``tunnel.py``'s.
 """
 
 from __future__ import annotations
 
 import io
-import subprocess
 import threading
 import time
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from panther_ops.errors import OpsError, UsageError
-from panther_ops.manager.shutdown_executor import (
-    CommandOutcome,
-    HttpShutdown,
-    ParamikoShutdown,
-    ShutdownBackends,
-    ShutdownHost,
-    SubprocessRunner,
-    ThreadDispatcher,
-    shutdown_path,
-)
 from panther_ops.secret import Secret
 from panther_ops.transport.base import Command, CommandResult, Transport
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
@@ -40,40 +31,26 @@ from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 if TYPE_CHECKING:
     import paramiko
 
-    from panther_ops.core.fleet.inventory import Inventory, Robot
+Key: TypeAlias = "paramiko.PKey"
+"""A private or public SSH key (what `fingerprint` and known_hosts take)."""
+KnownHosts: TypeAlias = "paramiko.HostKeys"
+"""A known_hosts file's entries: ``lookup(name)`` gives ``{key type: Key}``."""
+LanSession: TypeAlias = "paramiko.SSHClient"
+"""An open SSH session to a computer on the robot's LAN (`exec_on` runs commands on it)."""
 
 ROBOT_KEY = "~/.ssh/id_rsa"
 ROBOT_KNOWN_HOSTS = "~/.ssh/known_hosts"
-FIRST_PING_WAIT = 1.0
-"""The availability check: one echo, 1 s (as the manager's ``ping -c 1 -w 1``)."""
-WATCH_PING_WAIT = 0.25
-"""While waiting for a host to go down: a LAN host that still runs answers in milliseconds."""
-
-_PING = (
-    'ip=$1; w=$2; if [ "$w" = 1 ]; then ping -c 1 -W 1 "$ip" >/dev/null 2>&1; '
-    'else timeout "$w" ping -c 1 -W 1 "$ip" >/dev/null 2>&1; fi; rc=$?; '
-    '[ $rc = 124 ] && exit 1; exit $rc'
-)
-_HTTP_GET = (
-    'url=$1; t=$2; '
-    'if command -v curl >/dev/null 2>&1; then exec curl -s -S -m "$t" -w "\\n%{http_code}" "$url"; '
-    'elif command -v python3 >/dev/null 2>&1; then exec python3 -c "$3" "$url" "$t"; '
-    'else echo "neither curl nor python3 on the robot" >&2; exit 127; fi'
-)
-_PY_GET = (
-    "import sys,urllib.request,urllib.error\n"
-    "try:\n r=urllib.request.urlopen(sys.argv[1],timeout=float(sys.argv[2])); b=r.read(4096); c=r.status\n"
-    "except urllib.error.HTTPError as e:\n b=e.read(4096); c=e.code\n"
-    "except Exception as e:\n sys.stderr.write(str(e)+'\\n'); print('\\n000'); sys.exit(7)\n"
-    "sys.stdout.write(b.decode(errors='replace')+'\\n'+str(c))\n"
-)
 
 
 class TargetError(OpsError):
     """A user computer could not be reached or logged into (through the robot or from here)."""
 
 
-def load_private_key(text: str, where: str) -> paramiko.PKey:
+class SessionLost(TargetError):
+    """The session to a computer ended while a command ran (it went away, or the link broke)."""
+
+
+def load_private_key(text: str, where: str) -> Key:
     """An unencrypted private key (RSA, Ed25519 or ECDSA) from its text."""
     import paramiko
 
@@ -89,7 +66,7 @@ def load_private_key(text: str, where: str) -> paramiko.PKey:
     raise UsageError(f"{where} is not a private key paramiko can read ({errors[0]})")
 
 
-def host_keys_from_text(text: str) -> paramiko.HostKeys:
+def host_keys_from_text(text: str) -> KnownHosts:
     """A known_hosts file's entries (plain and hashed names) as paramiko HostKeys."""
     import paramiko
     from paramiko.hostkeys import HostKeyEntry
@@ -109,17 +86,10 @@ def host_keys_from_text(text: str) -> paramiko.HostKeys:
     return keys
 
 
-def _needs_ssh(name: str) -> UsageError:
+def needs_ssh(name: str) -> UsageError:
+    """The refusal for a robot that has no LAN to reach (a local demo robot)."""
     return UsageError(f"{name}: shutting hosts down needs a robot reached over SSH (not a local demo robot)",
                       hint="a demo robot has no LAN: use a robot of the lab or the fleet")
-
-
-def lan_robot(inventory: Inventory, name: str) -> Robot:
-    """The robot ``name`` whose LAN reaches the hosts (``--via``): one reached over SSH."""
-    (robot,) = inventory.select([name], [], False)[:1]
-    if robot.transport == "local":
-        raise _needs_ssh(robot.name)
-    return robot
 
 
 class RobotLink:
@@ -129,35 +99,17 @@ class RobotLink:
         from panther_ops.transport.ssh import SshTransport
 
         if not isinstance(transport, SshTransport):
-            raise _needs_ssh(name)
+            raise needs_ssh(name)
         self.transport = transport
         self.name = name
         self._lock = threading.Lock()
-        self._key: paramiko.PKey | None = None
-        self._known: paramiko.HostKeys | None = None
+        self._key: Key | None = None
+        self._known: KnownHosts | None = None
         self._offset: float | None = None
 
-    # -- commands on the robot ----------------------------------------------------------------
+    # -- the robot itself -----------------------------------------------------------------------
     def run(self, command: Command, *, timeout: float = 30.0, stdin: bytes | None = None) -> CommandResult:
         return self.transport.run(command, timeout=timeout, stdin=stdin)
-
-    def ping(self, ip: str, wait: float = FIRST_PING_WAIT) -> bool:
-        """Does `ip` answer one echo from the robot within `wait` seconds?"""
-        w = "1" if wait >= 1.0 else f"{wait:.2f}"
-        res = self.run(Command.sh(_PING, ip, w), timeout=wait + 10)
-        if res.exit_status in (0, 1):
-            return res.exit_status == 0
-        raise TargetError(f"{self.name}: ping {ip} on the robot failed (exit {res.exit_status}): {res.stderr.strip()}")
-
-    def http_get(self, ip: str, port: int, path: str, timeout: float) -> tuple[int | None, str, str]:
-        """(HTTP status or None, body, error) of ``GET http://ip:port/path`` made by the robot."""
-        host = f"[{ip}]" if ":" in ip else ip
-        url = f"http://{host}:{port}{path}"
-        res = self.run(Command.sh(_HTTP_GET, url, f"{timeout:g}", _PY_GET), timeout=timeout + 10)
-        body, _, code = res.stdout.rpartition("\n")
-        if res.exit_status != 0 or not code.isdigit() or code == "000":
-            return None, body, (res.stderr.strip() or f"exit {res.exit_status}")
-        return int(code), body, ""
 
     def clock_offset(self) -> float:
         """Robot time minus local time (the manager signs requests with the robot's clock)."""
@@ -174,14 +126,8 @@ class RobotLink:
                     self._offset = 0.0
             return self._offset
 
-    def robot_ip_towards(self, ip: str) -> str | None:
-        """The robot's own address on the way to `ip` (``ip route get``), for instructions."""
-        res = self.run(Command.of("ip", "-o", "route", "get", ip), timeout=10)
-        words = res.stdout.split()
-        return words[words.index("src") + 1] if res.ok and "src" in words[:-1] else None
-
     # -- the robot's key and known_hosts ----------------------------------------------------------
-    def key(self) -> paramiko.PKey:
+    def key(self) -> Key:
         """The robot's private key (``~/.ssh/id_rsa``), read once, kept in memory only."""
         with self._lock:
             if self._key is None:
@@ -193,7 +139,7 @@ class RobotLink:
                 self._key = load_private_key(text, f"{self.name}:{ROBOT_KEY}")
             return self._key
 
-    def known_hosts(self, reload: bool = False) -> paramiko.HostKeys:
+    def known_hosts(self, reload: bool = False) -> KnownHosts:
         """The robot's ``~/.ssh/known_hosts`` (empty when it has none)."""
         with self._lock:
             if self._known is None or reload:
@@ -204,7 +150,7 @@ class RobotLink:
                 self._known = host_keys_from_text(text)
             return self._known
 
-    def record_host_key(self, ip: str, port: int, key: paramiko.PKey) -> None:
+    def record_host_key(self, ip: str, port: int, key: Key) -> None:
         """Append the host key to the robot's known_hosts (created 0600)."""
         line = f"{known_hosts_name(ip, port)} {key.get_name()} {key.get_base64()}"
         res = self.run(Command.sh('umask 077; mkdir -p "$HOME/.ssh" && printf "%s\\n" "$1" >> "$HOME/.ssh/known_hosts"',
@@ -228,7 +174,7 @@ class RobotLink:
         except (paramiko.SSHException, OSError, EOFError) as exc:
             raise TargetError(f"{ip}:{port} not reachable from {self.name}: {exc or type(exc).__name__}") from None
 
-    def fetch_host_key(self, ip: str, port: int, timeout: float = 10.0) -> paramiko.PKey:
+    def fetch_host_key(self, ip: str, port: int, timeout: float = 10.0) -> Key:
         """The host key `ip` offers (handshake only, no login)."""
         import paramiko
 
@@ -243,9 +189,9 @@ class RobotLink:
             t.close()
         return key
 
-    def open_ssh(self, ip: str, port: int, username: str, *, pkey: paramiko.PKey | None = None,
+    def open_ssh(self, ip: str, port: int, username: str, *, pkey: Key | None = None,
                  password: Secret | None = None, key_files: tuple[str, ...] = (), agent: bool = False,
-                 host_keys: paramiko.HostKeys | None = None, timeout: float = 10.0) -> paramiko.SSHClient:
+                 host_keys: KnownHosts | None = None, timeout: float = 10.0) -> LanSession:
         """An SSH session to ip:port through the robot; the host key must be in `host_keys`
         (default: the robot's known_hosts)."""
         import paramiko
@@ -281,116 +227,18 @@ class RobotLink:
         return client
 
 
-def exec_on(client: paramiko.SSHClient, command: str, *, timeout: float = 30.0,
+def exec_on(client: LanSession, command: str, *, timeout: float = 30.0,
             stdin: bytes | None = None) -> tuple[int, str, str]:
     """Run a command on an open session: (exit status, stdout, stderr); -1 when the channel
-    closed without a status (the host went away)."""
+    closed without a status (the host went away). SessionLost when the session broke."""
+    import paramiko
+
     from panther_ops.transport.ssh import exec_channel
 
     t = client.get_transport()
     assert t is not None
-    status, out, err = exec_channel(t, command, timeout, stdin)
+    try:
+        status, out, err = exec_channel(t, command, timeout, stdin)
+    except (OSError, EOFError, paramiko.SSHException) as exc:
+        raise SessionLost(f"the session ended while a command ran: {exc or type(exc).__name__}") from None
     return status, out.decode(errors="replace"), err.decode(errors="replace")
-
-
-# ---------------------------------------------------------------------------------------------------
-# executor backends
-# ---------------------------------------------------------------------------------------------------
-class _TwoSpeedPinger:
-    """First ping of a host: the 1 s availability check; then short pings while it goes down."""
-
-    def __init__(self, first: float = FIRST_PING_WAIT, watch: float = WATCH_PING_WAIT) -> None:
-        self.first = first
-        self.watch = watch
-        self._seen: set[str] = set()
-        self._lock = threading.Lock()
-
-    def _wait_for(self, ip: str) -> float:
-        with self._lock:
-            first = ip not in self._seen
-            self._seen.add(ip)
-        return self.first if first else self.watch
-
-
-class LocalPinger(_TwoSpeedPinger):
-    """``ping`` on this machine."""
-
-    def is_reachable(self, ip: str) -> bool:
-        wait = self._wait_for(ip)
-        try:
-            done = subprocess.run(["ping", "-c", "1", "-W", "1", ip], stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.DEVNULL, timeout=wait + (0.5 if wait >= 1 else 0), check=False)
-        except subprocess.TimeoutExpired:
-            return False
-        if done.returncode in (0, 1):
-            return done.returncode == 0
-        raise OSError(f"ping {ip} exited {done.returncode}")
-
-
-class RobotPinger(_TwoSpeedPinger):
-    """``ping`` run on the robot."""
-
-    def __init__(self, link: RobotLink, first: float = FIRST_PING_WAIT, watch: float = WATCH_PING_WAIT) -> None:
-        super().__init__(first, watch)
-        self.link = link
-
-    def is_reachable(self, ip: str) -> bool:
-        return self.link.ping(ip, self._wait_for(ip))
-
-
-class RobotSshShutdown:
-    """The host's command over SSH through the robot, with the robot's key and known_hosts."""
-
-    def __init__(self, link: RobotLink) -> None:
-        self.link = link
-
-    def request(self, host: ShutdownHost) -> CommandOutcome:
-        import paramiko
-
-        try:
-            client = self.link.open_ssh(host.ip, host.port, host.username or "", pkey=self.link.key(),
-                                        timeout=host.timeout)
-        except OpsError as exc:
-            return CommandOutcome(False, error=exc.message)
-        try:
-            status, out, err = exec_on(client, host.command, timeout=host.timeout)
-        except (OSError, EOFError, paramiko.SSHException):
-            return CommandOutcome(True, error="connection closed while shutting down")
-        finally:
-            client.close()
-        if status not in (0, -1):
-            return CommandOutcome(False, out, f"command exited with {status}: {err.strip()}")
-        return CommandOutcome(True, out)
-
-
-class RobotHttpShutdown:
-    """The signed ``GET /shutdown`` made by the robot (curl), signed here with the robot's clock."""
-
-    def __init__(self, link: RobotLink) -> None:
-        self.link = link
-
-    def request(self, host: ShutdownHost) -> CommandOutcome:
-        ts = int(time.time() + self.link.clock_offset())
-        try:
-            status, body, error = self.link.http_get(host.ip, host.port, shutdown_path(host.secret or "", ts),
-                                                     host.timeout)
-        except OpsError as exc:
-            return CommandOutcome(False, error=exc.message)
-        if status is None:
-            return CommandOutcome(False, error=f"HTTP request failed: {error}")
-        if status != 200:
-            return CommandOutcome(False, body, f"HTTP {status}: {body.strip()[:200]}")
-        return CommandOutcome(True, body)
-
-
-def backends_via(link: RobotLink) -> ShutdownBackends:
-    """Everything through the robot's connection."""
-    return ShutdownBackends(RobotPinger(link), RobotSshShutdown(link), RobotHttpShutdown(link), SubprocessRunner(),
-                            ThreadDispatcher(workers=16))
-
-
-def backends_here(known_hosts: str | None = None, key_filename: str | None = None) -> ShutdownBackends:
-    """Everything from this machine: ping, paramiko (strict host keys), HTTP."""
-    return ShutdownBackends(LocalPinger(), ParamikoShutdown(known_hosts, key_filename), HttpShutdown(),
-                            SubprocessRunner(), ThreadDispatcher(workers=16))
-
