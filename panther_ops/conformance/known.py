@@ -35,8 +35,6 @@ KNOWN: dict[str, tuple[str, str]] = {
         ("new", "no template of 2.2's simulated battery (--as battery)"),
     "2.2.*:templates:(none) -> husarion_ugv_lights/config/lynx_animations.yaml":
         ("new", "no template of the Lynx's animations"),
-    "2.2.*:launch:wheel_type": ("new", "on a Lynx 2.2 defaults wheel_type to WH05; the catalogue says WH01 "
-                                "(related to finding 8)"),
 }
 """Result id pattern -> (label in `FINDINGS`, what in particular)."""
 

@@ -22,9 +22,9 @@ import re
 from pathlib import Path
 
 from panther_ops.core.config import plan_push as planner
-from panther_ops.core.config.files import ROBOT_CONFIG_DIR, config_file, family_dirs, template_source
+from panther_ops.core.config.files import ROBOT_CONFIG_DIR, family_dirs, template_source
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan_push import BT_ARGS, BT_TEMPLATES, KINDS, Bundle, wheel_of
+from panther_ops.core.config.plan_push import BT_ARGS, BT_TEMPLATES, Bundle, robot_file
 from panther_ops.core.config.robot import read_compose, read_config
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import RobotPlan
@@ -176,7 +176,7 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
         return read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
     if kind in BT_ARGS:
         return _bt_pull(ctx, cfg, kind)
-    cf = config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(cfg))
+    cf = read_and_plan(ctx, lambda reads: robot_file(reads, cfg, kind))  # of its wheel type and model
     if cf.launch_arg:
         name = spec(cf.launch_arg).name_for(cfg.stack)
         current = cfg.compose.args.get(name)
