@@ -78,3 +78,63 @@ def test_controller_edit_on_a_lynx_edits_the_wh05_file(demo: Path, capsys: pytes
     drive = doc["/**"]["drive_controller"]["ros__parameters"]
     assert drive["linear"]["x"]["max_velocity"] == 1.2 and drive["wheel_radius"] == 0.144
     assert (demo / TREE_CONTROLLER / "WH01_controller.yaml").read_bytes() == wh01
+
+
+# The Lynx's and 2.2's simulation files (conformance: no template of lynx_animations.yaml,
+# battery_plugin.yaml, 2.2.2's joy2twist_lynx.yaml): `config pull` hands out the template, which
+# its kind's validator accepts for that robot, and `config push` writes the Lynx's own file.
+
+def pulled(demo: Path, capsys: pytest.CaptureFixture[str], kind: str) -> tuple[str, str]:
+    code, out, err = run(capsys, "-i", str(demo), "config", "pull", kind, "-r", "panther-03")
+    assert code == 0, err
+    return out, err
+
+
+@pytest.mark.parametrize(("kind", "source"), [
+    ("led", "husarion_ugv_ros@2.2.2:husarion_ugv_lights/config/lynx_animations.yaml"),
+    ("joy2twist", "husarion_ugv_ros@2.2.2:husarion_ugv_bringup/config/joy2twist_lynx.yaml"),
+    ("battery", "husarion_ugv_ros@2.2.2:husarion_ugv_gazebo/config/battery_plugin.yaml"),
+])
+def test_pull_on_a_lynx_gives_its_template(demo: Path, capsys: pytest.CaptureFixture[str], kind: str,
+                                           source: str) -> None:
+    from panther_ops.core.kinds import FileKind, Target, check_file
+
+    lynx(demo)
+    if kind == "joy2twist":  # the tree holds the Panther's (the demo's image copied it): the Lynx's is not there
+        assert not (demo / ROBOT / "home/husarion/config/husarion_ugv_bringup/config/joy2twist_lynx.yaml").exists()
+    out, err = pulled(demo, capsys, kind)
+    assert f"written from {source}" in " ".join(err.split())
+    target = Target(stack_from_version("2.2.2"), "WH05")
+    check_file(FileKind(kind), "pulled", out.encode(), target=target)  # raises if refused
+    if kind == "led":
+        assert yaml.safe_load(out)["segments_map"]["left"] == ["fl", "rl"]
+    if kind == "joy2twist":
+        assert yaml.safe_load(out)["/**"]["ros__parameters"]["linear_velocity_factor"]["fast"] == 1.5
+
+
+def test_push_led_onto_a_lynx_writes_its_own_animations(demo: Path, tmp_path: Path,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    lynx(demo)
+    out, _ = pulled(demo, capsys, "led")
+    mine = tmp_path / "lynx_animations.yaml"
+    mine.write_text(out.replace("duration: 8", "duration: 9"))
+    lights = demo / ROBOT / "home/husarion/config/husarion_ugv_lights/config"
+    panther = (lights / "panther_animations.yaml").read_bytes()
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(mine), "--as", "led", "-r", "panther-03", "--yes")
+    assert code == 0, err
+    assert (lights / "panther_animations.yaml").read_bytes() == panther
+    assert "duration: 9" in (lights / "lynx_animations.yaml").read_text()
+
+
+def test_push_battery_onto_a_22_robot_is_refused(demo: Path, tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    """2.2's driver passes battery_config_path to the battery driver (husarion_ugv_battery/launch/
+    battery.launch.py); the plugin file is the simulation's (husarion_ugv_gazebo/launch/simulate_robot.launch.py)."""
+    out, _ = pulled(demo, capsys, "battery")
+    mine = tmp_path / "battery.yaml"
+    mine.write_text(out)
+    before = (demo / ROBOT / "home/husarion/compose.yaml").read_bytes()
+    code, _, err = run(capsys, "-i", str(demo), "config", "push", str(mine), "--as", "battery", "-r", "panther-03",
+                       "--yes")
+    assert code == 2 and "simulation only" in err
+    assert (demo / ROBOT / "home/husarion/compose.yaml").read_bytes() == before

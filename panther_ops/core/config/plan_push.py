@@ -19,7 +19,7 @@ from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, Target, check_file
-from panther_ops.errors import InputError
+from panther_ops.errors import InputError, UsageError
 
 KINDS = {
     FileKind.CONTROLLER: ConfigKind.CONTROLLER,
@@ -139,7 +139,10 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         extra = bundle.extra
     else:
         cf = robot_file(reads, cfg, kind)
-        arg = cf.launch_arg or ""
+        if cf.launch_arg is None:  # written, it would change nothing (husarion_ugv 2.2's simulated battery)
+            raise UsageError(f"--as {kind.value}: {cf.filename} is not the driver's on {cfg.stack.label()}: {cf.note}",
+                             hint="pass the file to the simulation's launch command instead")
+        arg = cf.launch_arg
         robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
         name = bundle.main.name
         if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:
