@@ -55,7 +55,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--docker-repo", action="append", default=[], type=Path, metavar="GIT_DIR",
                         help="a local git mirror of husarion/panther-docker: a tag it has adds the digest of "
                              "its demo/compose.minimal-setup.yaml to the table (templates/compose is compared "
-                             "with it); repeatable")
+                             "with it); repeatable. A release that holds its own docker/demo/compose.hardware.yaml "
+                             "(husarion_ugv_ros 2.2+) is compared with that one when no --docker-repo has the tag")
     parser.add_argument("--repo-name", metavar="OWNER/NAME",
                         help="the repository's name in the tables (default: from a mirror laid out as "
                              ".../OWNER+NAME/repo)")
@@ -94,7 +95,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.tag and not args.repo:
         print("scripts/conformance.py: --tag needs --repo (a local git mirror)", file=sys.stderr)
         return 2
-    from panther_ops.conformance.distil import distil, distil_compose
+    from panther_ops.conformance.distil import distil, distil_compose, own_compose
 
     fresh = {}
     for tag in args.tag:
@@ -102,8 +103,9 @@ def main(argv: list[str] | None = None) -> int:
             release = _release(args.repo, tag)
             table = distil(release, repo=args.repo_name)
             docker = _release(args.docker_repo, tag) if _has(args.docker_repo, tag) else None
-            if docker is not None:
-                table["compose"] = distil_compose(docker)
+            compose = distil_compose(docker) if docker is not None else own_compose(release, repo=args.repo_name)
+            if compose is not None:
+                table["compose"] = compose
         except UpstreamError as exc:
             print(f"scripts/conformance.py: {exc}", file=sys.stderr)
             return 2

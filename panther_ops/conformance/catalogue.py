@@ -8,6 +8,8 @@ same contexts as upstream's (`launch.CONTEXTS`):
   ``<common_dir_path>/dir/rel`` when the ``~/config`` tree is mounted (``common_dir_path``
   set), else the image's ``$(find pkg)/rel``;
 - ``{name}``: the value of argument ``name`` (the context's, else the catalogue default);
+- a default by robot model (`ArgSpec.model_defaults`): the one of the context's ``robot_model``
+  (else the catalogue's default model);
 - ``[_with_gps]``: present when ``fuse_gps`` is true (`OPTIONAL`);
 - anything else: the literal value.
 
@@ -51,11 +53,6 @@ def catalogue_default(spec: ArgSpec, stack: Stack, context: Mapping[str, str], _
                       ) -> str:
     """The catalogue's default of ``spec`` in ``context`` (see the module docstring)."""
     by_name = declared(stack)
-    text = spec.default_for(stack)
-    m = _TREE.match(text)
-    if m:
-        common = context.get("common_dir_path", "")
-        text = f"{common}/{m['tree']}" if common else m["image"]
 
     def value(name: str) -> str:
         if name in context:
@@ -64,6 +61,13 @@ def catalogue_default(spec: ArgSpec, stack: Stack, context: Mapping[str, str], _
         if other is None or name in _seen:
             return "{" + name + "}"
         return catalogue_default(other, stack, context, _seen | {spec.key})
+
+    model = value("robot_model") if spec.model_dependent(stack) else None
+    text = spec.default_for(stack, model)
+    m = _TREE.match(text)
+    if m:
+        common = context.get("common_dir_path", "")
+        text = f"{common}/{m['tree']}" if common else m["image"]
 
     def optional(o: re.Match[str]) -> str:
         switch = OPTIONAL.get(o[1])

@@ -14,7 +14,8 @@ Four checks per release, each a list of `Result` (one per item, so a fix flips o
   (an upstream file at some tag, or `reasons.OWN`). Which template stands for which file:
   `template_pairs` (core/config/files.py per release, with each release's stock BT projects
   under templates/config/<generation>/<pkg>/behavior_trees, the demo's config tree, the compose
-  file of husarion/panther-docker).
+  file of husarion/panther-docker or, 2.2+, husarion_ugv_ros's own
+  docker/demo/compose.hardware.yaml).
 - ``tree`` (the 2.2+ releases the demo fleet runs): the demo's config tree holds the files
   the image's ``update_config_directory`` copies into ``~/config`` on a Panther.
 
@@ -123,9 +124,10 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
                                                           f"{compose['path']}"))
             else:
                 pairs.append(Pair(f"compose/{path.name}", None,
-                                  "a robot's compose file comes from husarion/panther-docker (2.0-2.1) or "
-                                  "husarion/husarion-ugv-docker (2.2+); this table has no digest of it "
-                                  "(scripts/conformance.py --docker-repo)"))
+                                  "a robot's compose file comes from husarion/panther-docker's demo/compose."
+                                  "minimal-setup.yaml (2.0-2.1) or husarion_ugv_ros's docker/demo/compose."
+                                  "hardware.yaml (2.2+); this table has no digest of it (scripts/conformance.py "
+                                  "--docker-repo, or a --repo whose tag holds the latter)"))
     return pairs
 
 

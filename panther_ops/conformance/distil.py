@@ -79,10 +79,21 @@ def distil(release: GitRelease, *, repo: str | None = None) -> dict[str, Any]:
 
 COMPOSE_PATH = "demo/compose.minimal-setup.yaml"
 """The compose file of husarion/panther-docker a robot's compose.yaml is based on (templates/compose)."""
+OWN_COMPOSE_PATH = "docker/demo/compose.hardware.yaml"
+"""husarion_ugv_ros (2.2+) keeps the robot's compose file in its own repository, at this path."""
+
+
+def own_compose(release: GitRelease, *, repo: str | None = None) -> dict[str, Any] | None:
+    """The digest of the release's own compose file (`OWN_COMPOSE_PATH`, husarion_ugv_ros 2.2+),
+    or None: the release has none (panther_ros: husarion/panther-docker holds it)."""
+    if OWN_COMPOSE_PATH not in release.paths:
+        return None
+    return distil_compose(release, repo=repo, path=OWN_COMPOSE_PATH)
 
 
 def distil_compose(release: GitRelease, *, repo: str | None = None, path: str = COMPOSE_PATH) -> dict[str, Any]:
-    """The digest of the release's compose file (husarion/panther-docker at the same tag)."""
+    """The digest of the release's compose file (husarion/panther-docker's at the same tag, or
+    the release's own, `own_compose`), with the rules of `digest.compose_leaves`."""
     from panther_ops.conformance.digest import compose_leaves
 
     data = release.read(path)

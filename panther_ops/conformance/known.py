@@ -26,15 +26,6 @@ FINDINGS: dict[str, str] = {
 """Label -> what it is: the findings of issue #24 that known failures belong to."""
 
 KNOWN: dict[str, tuple[str, str]] = {
-    # 9. joy2twist
-    "2.2.2:templates:(none) -> husarion_ugv_bringup/config/joy2twist_*.yaml": ("finding 9", "no template"),
-    # found by the conformance tool, not in the issue
-    "2.2.*:templates:(none) -> husarion_ugv_gazebo/config/battery_plugin.yaml":
-        ("new", "no template of 2.2's simulated battery (--as battery)"),
-    "2.2.*:templates:(none) -> husarion_ugv_lights/config/lynx_animations.yaml":
-        ("new", "no template of the Lynx's animations"),
-    "2.2.*:launch:wheel_type": ("new", "on a Lynx 2.2 defaults wheel_type to WH05; the catalogue says WH01 "
-                                "(related to finding 8)"),
 }
 """Result id pattern -> (label in `FINDINGS`, what in particular)."""
 

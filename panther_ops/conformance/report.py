@@ -26,9 +26,11 @@ python scripts/conformance.py \\
     --tables tests/golden/upstream --report docs/conformance.md
 ```
 
-Each `--tag` is read from the first `--repo` that has it (and, when a `--docker-repo` has
-the same tag, its `demo/compose.minimal-setup.yaml` is digested for the compose templates).
-For each tag it parses bringup
+Each `--tag` is read from the first `--repo` that has it. The compose templates are
+compared with the robot's compose file of the same tag: husarion/panther-docker's
+`demo/compose.minimal-setup.yaml` when a `--docker-repo` has the tag (2.0-2.1), else the
+release's own `docker/demo/compose.hardware.yaml` (husarion_ugv_ros 2.2+); both are
+digested by the same rules. For each tag it parses bringup
 and the launch files it includes (`ast`, nothing is run), runs every kind's validator on
 the release's default files, writes the release's table `tests/golden/upstream/<tag>.json`
 and then this report. `python scripts/conformance.py --report docs/conformance.md` (no
@@ -63,13 +65,15 @@ WHAT = """\
   semantically: the same keys, the same values and types (`2` and `2.0` differ), or each difference has a reason in
   `panther_ops/conformance/reasons.py`. Every file of a kind has a template. A template with
   no upstream counterpart is listed there as panther-ops' own. The compose templates are
-  compared with husarion/panther-docker's `demo/compose.minimal-setup.yaml` at the same tag
-  (lists of volumes, devices... as sets; white space in strings collapsed).
+  compared with husarion/panther-docker's `demo/compose.minimal-setup.yaml` (2.0-2.1) or
+  husarion_ugv_ros's own `docker/demo/compose.hardware.yaml` (2.2+) at the same tag (lists
+  of volumes, devices... as sets; white space in strings collapsed).
 - **Config tree**: the demo's `templates/config-tree/husarion-ugv-2.2` holds the files the
   image's `update_config_directory` copies into `~/config` on a Panther.
 
-Not covered: the 2.2 compose template (its upstream, husarion/husarion-ugv-docker, has no
-local mirror), the 2.2 manager's parameter files
+Not covered: a compose template of 2.2.0 (panther-ops has none: its table holds the digest
+of 2.2.0's `docker/demo/compose.hardware.yaml`, for a template to come), the 2.2 manager's
+parameter files
 (`husarion_ugv_manager/config/*_manager.yaml`: panther-ops has no kind or template for them),
 the snap's hooks and the lab stand-ins.
 """

@@ -5,11 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from panther_ops.core.config.launch_args import spec
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import OpsError
-
-DEFAULT_WHEEL = {"panther": "WH01", "lynx": "WH05"}
 
 
 def target_for(tag: str, wheel_type: str | None, robot_model: str) -> Target:
@@ -18,7 +17,8 @@ def target_for(tag: str, wheel_type: str | None, robot_model: str) -> Target:
     Raises:
         OpsError: panther-ops does not support the release.
     """
-    return Target(stack_from_version(tag), wheel_type or DEFAULT_WHEEL.get(robot_model, "WH01"))
+    stack = stack_from_version(tag)
+    return Target(stack, wheel_type or spec("wheel_type").default_for(stack, robot_model))
 
 
 def run_validator(tag: str, kind: str, source: str, data: bytes, local: Path | None,

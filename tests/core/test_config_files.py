@@ -112,10 +112,11 @@ def test_files_a_stack_does_not_have() -> None:
         with pytest.raises(UsageError):
             config_file(s20, kind)
     with pytest.raises(UsageError):
-        config_file(s22, ConfigKind.BATTERY_PLUGIN)
-    with pytest.raises(UsageError):
         config_file(s20, ConfigKind.WHEEL, wheel_type="WH05")
-    missing = config_file(s22, ConfigKind.ANIMATIONS, robot_model="lynx")  # lynx_animations.yaml: no template
+    for old in ("2.1.1", "2.2.0"):  # bringup reads the gamepad's file from 2.2.2 (launch_gamepad)
+        with pytest.raises(UsageError):
+            config_file(stack_from_version(old), ConfigKind.JOY2TWIST)
+    missing = config_file(s22, ConfigKind.LIGHTS_DRIVER, robot_model="lynx")  # lynx_driver.yaml: no template
     assert missing.template is None
     with pytest.raises(UsageError, match="no default"):
         missing.template_text()

@@ -24,7 +24,7 @@ from panther_ops.conformance import launch
 from panther_ops.conformance.catalogue import catalogue_default, declared
 from panther_ops.conformance.checks import Result, check_release, load_tables, untraced_templates
 from panther_ops.conformance.digest import compose_leaves, diff, leaves
-from panther_ops.conformance.distil import distil
+from panther_ops.conformance.distil import distil, own_compose
 from panther_ops.conformance.known import FINDINGS, KNOWN, known
 from panther_ops.conformance.pyexpr import Unevaluable, evaluate
 from panther_ops.conformance.report import render
@@ -229,6 +229,37 @@ def test_distil_a_release_from_a_git_mirror(tmp_path: Path) -> None:
     assert (row["path"], row["kind"], row["verdict"]["accepted"]) == \
         ("husarion_ugv_description/config/WH01.yaml", "wheel", False)  # no wheel_separation: refused, recorded
     assert "0.1" not in json.dumps(row)
+
+
+def test_a_release_s_own_compose_file_is_digested(tmp_path: Path) -> None:
+    """husarion_ugv_ros 2.2+ holds the robot's compose file itself (docker/demo/compose.hardware.yaml):
+    without a --docker-repo that has the tag, scripts/conformance.py digests that one, by the compose
+    rules; a release without it (panther_ros) has none."""
+    repo = tmp_path / "husarion+husarion_ugv_ros" / "repo"
+    (repo / "docker" / "demo").mkdir(parents=True)
+    (repo / "docker" / "demo" / "compose.hardware.yaml").write_text(
+        "services:\n  husarion_ugv_ros:\n    env_file: [/x/.env]\n    command: >\n      ros2 launch a b.launch.py\n")
+    _git(repo, "init", "-q")
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-q", "-m", "release")
+    _git(repo, "tag", "2.2.2")
+    compose = own_compose(GitRelease(repo, "2.2.2"))
+    assert compose is not None
+    assert (compose["repo"], compose["path"]) == ("husarion/husarion_ugv_ros", "docker/demo/compose.hardware.yaml")
+    same = b"services:\n  husarion_ugv_ros:\n    env_file: [/x/.env]\n    command: ros2 launch a  b.launch.py\n"
+    assert {k: f"{t}:{h}" for k, (t, h) in compose_leaves(same).items()} == compose["leaves"]
+    _git(repo, "rm", "-q", "docker/demo/compose.hardware.yaml")
+    _git(repo, "commit", "-q", "-m", "older")
+    _git(repo, "tag", "2.1.1")
+    assert own_compose(GitRelease(repo, "2.1.1")) is None
+
+
+def test_the_2_2_compose_template_is_checked_against_husarion_ugv_ros() -> None:
+    table = next(t for t in _TABLES if t["tag"] == "2.2.2")
+    assert (table["compose"]["repo"], table["compose"]["path"]) == \
+        ("husarion/husarion_ugv_ros", "docker/demo/compose.hardware.yaml")
+    (result,) = [r for r in _RESULTS if r.id == "2.2.2:templates:compose/husarion-ugv-2.2.2.yaml"]
+    assert result.ok is True, result.details
 
 
 def test_script_help_and_bad_usage() -> None:

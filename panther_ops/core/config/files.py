@@ -46,6 +46,7 @@ class ConfigKind(str, Enum):
     MANAGER_BT = "manager_bt"
     LIGHTS_MANAGER = "lights_manager"
     SAFETY_MANAGER = "safety_manager"
+    JOY2TWIST = "joy2twist"
 
 
 _FAMILY_DIRS: dict[Generation, tuple[str, ...]] = {
@@ -199,14 +200,28 @@ def _shutdown_hosts(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
 
 
 def _battery_plugin(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
-    if stack.family is Family.HUSARION_UGV:
-        raise UsageError(
-            "husarion_ugv 2.2 renames the simulation battery file "
-            "(husarion_ugv_gazebo/config/battery_plugin.yaml); no template"
-        )
+    if stack.family is Family.HUSARION_UGV:  # no driver argument: the simulation's own
+        return "husarion_ugv_gazebo", "battery_plugin.yaml", None, (
+            "simulation only: husarion_ugv_gazebo's simulate_robot.launch.py reads it (its battery_config_path, "
+            "on the simulation's command); the driver's battery_config_path is the battery driver's parameters "
+            "(husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_gazebo/launch/simulate_robot.launch.py, "
+            "husarion_ugv_battery/launch/battery.launch.py)")
     note = ("simulation only; a 0-1 fraction from panther_ros 2.0.1 (panther_ros@2.0.4, @2.1.1:"
             "panther_gazebo/config/battery_plugin_config.yaml); 2.0.0 took percent: no template for it")
     return "panther_gazebo", "battery_plugin_config.yaml", "battery_config_path", note
+
+
+JOY2TWIST_SINCE = (2, 2, 2)
+"""The first version whose bringup launches the gamepad with its own parameters file
+(``launch_gamepad``; `core.config.gamepad`)."""
+
+
+def _joy2twist(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
+    if stack.family is not Family.HUSARION_UGV or stack.version < JOY2TWIST_SINCE:
+        raise UsageError(f"the gamepad parameters are bringup's from husarion_ugv 2.2.2; this robot runs "
+                         f"{stack.label()} (the gamepad's own container has its own)")
+    note = "read by bringup (launch_gamepad:=true) as joy2twist_${ROBOT_MODEL_NAME}.yaml under common_dir_path"
+    return _pkg(stack, "bringup"), f"joy2twist_{robot_model}.yaml", None, note
 
 
 def _manager_bt(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
@@ -237,6 +252,7 @@ _SPECS: dict[ConfigKind, Callable[[Stack, str, str], _Spec]] = {
     ConfigKind.MANAGER_BT: _manager_bt,
     ConfigKind.LIGHTS_MANAGER: _manager("lights_manager"),
     ConfigKind.SAFETY_MANAGER: _manager("safety_manager"),
+    ConfigKind.JOY2TWIST: _joy2twist,
 }
 
 

@@ -32,7 +32,7 @@ from __future__ import annotations
 import posixpath
 
 from panther_ops.core.config.compose import image_repo
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR
+from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, JOY2TWIST_SINCE, ROBOT_CONFIG_DIR
 from panther_ops.core.config.namespace import dotenv_value
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
@@ -63,7 +63,7 @@ def gamepad_service(cfg: RobotConfig) -> str:
                           "manual's compose.yaml has it, then push the parameters again")
 
 
-LAUNCHED_BY_DRIVER = (2, 2, 2)
+LAUNCHED_BY_DRIVER = JOY2TWIST_SINCE
 """The first version whose bringup launches the gamepad (``launch_gamepad``, see the module's text)."""
 
 
@@ -161,13 +161,16 @@ def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warni
     return plan
 
 
-def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str]:
+def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str] | None:
     """The gamepad parameters in use: the file mounted into the gamepad's service, or the
-    config tree's (husarion_ugv 2.2.2+, the driver launching the gamepad)."""
+    config tree's (husarion_ugv 2.2.2+, the driver launching the gamepad); None: the driver
+    (2.2.2+) uses its image's default (`files.config_file` of ``JOY2TWIST`` names it)."""
     if cfg.stack.family is Family.HUSARION_UGV and find_gamepad_service(cfg) is None:
         path = tree_path(cfg, robot_model(reads, cfg))
         if cfg.tree_mounted and (data := reads.file(path)) is not None:
             return data, f"{path} (config tree)"
+        if cfg.stack.version >= LAUNCHED_BY_DRIVER:
+            return None
         raise UsageError(f"{path} not found: the driver uses its image's default gamepad parameters",
                          hint="panther-ops has no template of the joy2twist file")
     service = gamepad_service(cfg)

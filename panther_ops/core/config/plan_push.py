@@ -11,7 +11,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigKind, config_file
+from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigFile, ConfigKind, config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.planners import compose_plan, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
@@ -19,7 +19,7 @@ from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, Target, check_file
-from panther_ops.errors import InputError
+from panther_ops.errors import InputError, UsageError
 
 KINDS = {
     FileKind.CONTROLLER: ConfigKind.CONTROLLER,
@@ -56,9 +56,21 @@ def _rewrite_images(text: str, target_dir: str) -> str:
     return _IMAGE.sub(sub, text)
 
 
-def wheel_of(cfg: RobotConfig) -> str:
-    wheel = cfg.compose.args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+def wheel_of(reads: Reads, cfg: RobotConfig) -> str:
+    """The robot's wheel type (its model's default when the command sets none); custom: WH01,
+    the file custom wheels start from."""
+    from panther_ops.core.config.robot_model import wheel_type_of
+
+    wheel = wheel_type_of(reads, cfg)
     return "WH01" if wheel == "custom" else wheel
+
+
+def robot_file(reads: Reads, cfg: RobotConfig, kind: FileKind) -> ConfigFile:
+    """The configuration file of ``kind`` (not a BT project, not joy2twist) on this robot: of its
+    stack, wheel type and model (a Lynx has its own animations)."""
+    from panther_ops.core.config.robot_model import robot_model_of
+
+    return config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(reads, cfg), robot_model=robot_model_of(reads, cfg))
 
 
 _CHECKED: Memo[list[str]] = Memo()
@@ -98,7 +110,7 @@ def _checked(reads: Reads, cfg: RobotConfig, kind: FileKind, main: Path, data: b
         from panther_ops.core.config.namespace import driver_namespace
 
         namespace = driver_namespace(reads, cfg)[0]
-    target = Target(cfg.stack, wheel_of(cfg), namespace)
+    target = Target(cfg.stack, wheel_of(reads, cfg), namespace)
     return list(_CHECKED.get((kind, str(main), data, target, force),
                              lambda: check_file(kind, str(main), data, local=main, target=target, force=force)))
 
@@ -125,8 +137,11 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         main_data = bundle.data
         extra = bundle.extra
     else:
-        cf = config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(cfg))
-        arg = cf.launch_arg or ""
+        cf = robot_file(reads, cfg, kind)
+        if cf.launch_arg is None:  # written, it would change nothing (husarion_ugv 2.2's simulated battery)
+            raise UsageError(f"--as {kind.value}: {cf.filename} is not the driver's on {cfg.stack.label()}: {cf.note}",
+                             hint="pass the file to the simulation's launch command instead")
+        arg = cf.launch_arg
         robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
         name = bundle.main.name
         if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:

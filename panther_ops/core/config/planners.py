@@ -78,13 +78,15 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
     """
     model = None
     if "wheel_type" in sets or "wheel_type" in unsets:
-        from panther_ops.core.config.robot_model import env_robot_model
+        from panther_ops.core.config.robot_model import env_robot_model, robot_model_of
         from panther_ops.core.config.wheel_change import needs_migration
 
         cfg = parse_config(raw, reads.stack)
         model = env_robot_model(reads, cfg.stack)  # WH05 is the Lynx wheel: the model decides
-        new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack)
-        if needs_migration(cfg, new_wheel):
+        running = str(sets.get("robot_model") or robot_model_of(reads, cfg))  # and the default wheel type
+        new_wheel = (str(sets["wheel_type"]) if "wheel_type" in sets
+                     else spec("wheel_type").default_for(cfg.stack, running))
+        if needs_migration(cfg, new_wheel, running):
             return _plan_wheel_change(reads, cfg, new_wheel, sets, unsets, force, model)
     key = (raw, reads.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force,
            everywhere, model)
@@ -191,8 +193,10 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
                      force: bool, migrated: Any = None) -> tuple[list[FileEdit], list[str], Verify, str]:
     """Edit (or create from the wheel type's default) the custom controller file; ``migrated``
     (a `wheel_change.WheelChange` of the same plan) is the file to edit when the wheel type changes."""
+    from panther_ops.core.config.robot_model import wheel_type_of
+
     args = cfg.compose.args
-    wheel = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+    wheel = wheel_type_of(reads, cfg)
     if wheel == "custom" and "controller_config_path" not in args:
         raise UsageError("wheel_type custom needs controller_config_path (and wheel_config_path)")
     warnings: list[str] = []

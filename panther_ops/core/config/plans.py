@@ -32,10 +32,12 @@ def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool
 
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     """``config get KEY``: the value in the command, or the stack's default."""
+    from panther_ops.core.config.robot_model import robot_model_of, wheel_type_of
+
     cfg = read_config(ctx)
     args = cfg.compose.args
     if key.startswith("controller."):
-        wheel = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+        wheel = read_and_plan(ctx, lambda reads: wheel_type_of(reads, cfg))
         cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
         cpath = args.get("controller_config_path")
         host = cfg.host_path_of(cpath) if cpath else (cf.robot_path if cfg.reads_from_tree(cf) else None)
@@ -60,5 +62,9 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
         value, source = read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))
         if source != "default":
             return {"key": key, "name": name, "value": value, "source": source, "stack": cfg.stack.label()}
+    if s.model_dependent(cfg.stack):  # wheel_type: WH05 on a Lynx
+        model = read_and_plan(ctx, lambda reads: robot_model_of(reads, cfg))
+        return {"key": key, "name": name, "value": s.default_for(cfg.stack, model),
+                "source": f"default for a {model}", "stack": cfg.stack.label()}
     return {"key": key, "name": name, "value": s.default_for(cfg.stack), "source": "default",
             "stack": cfg.stack.label()}

@@ -22,9 +22,17 @@ import re
 from pathlib import Path
 
 from panther_ops.core.config import plan_push as planner
-from panther_ops.core.config.files import ROBOT_CONFIG_DIR, config_file, family_dirs, stock_bt_project, template_source
+from panther_ops.core.config.files import (
+    ROBOT_CONFIG_DIR,
+    ConfigFile,
+    ConfigKind,
+    config_file,
+    family_dirs,
+    stock_bt_project,
+    template_source,
+)
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan_push import BT_ARGS, KINDS, Bundle, wheel_of
+from panther_ops.core.config.plan_push import BT_ARGS, Bundle, robot_file
 from panther_ops.core.config.robot import read_compose, read_config
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import RobotPlan
@@ -160,12 +168,17 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     """The file of ``kind`` in use on the robot, and where it came from."""
     cfg = read_config(ctx)
     if kind is FileKind.JOY2TWIST:
-        from panther_ops.core.config.gamepad import pull_joy2twist
+        from panther_ops.core.config.gamepad import pull_joy2twist, robot_model
 
-        return read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
+        got = read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
+        if got is not None:
+            return got
+        gamepad = read_and_plan(ctx, lambda reads: config_file(cfg.stack, ConfigKind.JOY2TWIST,
+                                                               robot_model=robot_model(reads, cfg)))
+        return _image_or_template(ctx, cfg, gamepad)
     if kind in BT_ARGS:
         return _bt_pull(ctx, cfg, kind)
-    cf = config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(cfg))
+    cf = read_and_plan(ctx, lambda reads: robot_file(reads, cfg, kind))  # of its wheel type and model
     if cf.launch_arg:
         name = spec(cf.launch_arg).name_for(cfg.stack)
         current = cfg.compose.args.get(name)
@@ -175,6 +188,11 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
                 return data, f"{host} (mounted, {name}:={current})"
     if cfg.reads_from_tree(cf) and (data := _read(ctx, cf.robot_path)) is not None:
         return data, f"{cf.robot_path} (config tree)"
+    return _image_or_template(ctx, cfg, cf)
+
+
+def _image_or_template(ctx: RobotContext, cfg: RobotConfig, cf: ConfigFile) -> tuple[bytes, str]:
+    """``cf`` inside the robot's image, else panther-ops' template of it, said as such."""
     from_image = _from_image(ctx, cfg, cf.package, cf.filename)
     if from_image is not None:
         return from_image

@@ -36,10 +36,11 @@ class WheelChange:
     summary: str = ""
 
 
-def needs_migration(cfg: RobotConfig, new_wheel: str) -> bool:
-    """The change of wheel type touches a custom controller or wheel file."""
+def needs_migration(cfg: RobotConfig, new_wheel: str, robot_model: str | None = None) -> bool:
+    """The change of wheel type touches a custom controller or wheel file (``robot_model``: the
+    robot's, which decides the default wheel type on husarion_ugv)."""
     args = cfg.compose.args
-    old = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+    old = args.get("wheel_type") or spec("wheel_type").default_for(cfg.stack, robot_model)
     changes = new_wheel not in (old, "custom")
     return changes and bool(args.get("controller_config_path") or args.get("wheel_config_path"))
 
@@ -51,10 +52,13 @@ def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | Non
         UsageError: a custom wheel file is mounted, or the controller file cannot be read
             as a controller file (the message says how to go on).
     """
-    if not needs_migration(cfg, new_wheel):
+    from panther_ops.core.config.robot_model import robot_model_of
+
+    model = robot_model_of(reads, cfg)
+    if not needs_migration(cfg, new_wheel, model):
         return None
     args = cfg.compose.args
-    old = args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+    old = args.get("wheel_type") or spec("wheel_type").default_for(cfg.stack, model)
     wheel_path = args.get("wheel_config_path")
     if wheel_path:
         raise UsageError(

@@ -111,8 +111,11 @@ def plan_restore_defaults(raw: ComposeRead, reads: Reads, *, hard: bool = False)
     warnings = []
     if args.get("wheel_type") == "custom" and {"controller_config_path", "wheel_config_path"} & set(drop):
         drop.append("wheel_type")
+        from panther_ops.core.config.robot_model import default_wheel_type
+
         warnings.append("wheel_type:=custom needs the controller/wheel files being removed: wheel_type is unset too "
-                        "(the stack's default, WH01, applies; set yours with panther-ops config set wheel_type)")
+                        f"(the stack's default for this robot, {default_wheel_type(reads, cfg)}, applies; set yours "
+                        "with panther-ops config set wheel_type)")
     for v in sorted(removed, key=lambda v: -v.index):
         cfg.compose.remove_volume(v.target, service)
     for k in drop:

@@ -66,6 +66,9 @@ class ArgSpec:
             that argument is set; None (or an older stack): from the image (``$(find <package>)``).
             A file in the tree that the stack reads from the image is not used unless the
             argument names it.
+        model_defaults: ``(from_version, robot_model, default)``: from that version on, the
+            default on a robot of that model (the launch files' ``robot_model``) instead of
+            ``default`` (``wheel_type``: WH05 on a Lynx).
     """
 
     key: str
@@ -81,6 +84,7 @@ class ArgSpec:
     sim_only_until: Version | None = None
     allow_none: bool = False
     tree_since: Version | None = None
+    model_defaults: tuple[tuple[Version, str, str], ...] = ()
 
     def available(self, stack: Stack) -> bool:
         v = stack.version
@@ -103,8 +107,17 @@ class ArgSpec:
                 out.extend(extra)
         return tuple(out)
 
-    def default_for(self, stack: Stack) -> str:
+    def default_for(self, stack: Stack, robot_model: str | None = None) -> str:
+        """The default on ``stack``, on a robot of ``robot_model`` (None: not known, the
+        model-independent default; panther_ros 2.0-2.1 have no model)."""
+        for since, model, value in self.model_defaults:
+            if robot_model == model and stack.version >= since:
+                return value
         return self.default(stack) if callable(self.default) else self.default
+
+    def model_dependent(self, stack: Stack) -> bool:
+        """The default on ``stack`` depends on the robot's model."""
+        return any(stack.version >= since for since, _, _ in self.model_defaults)
 
     def default_in_tree(self, stack: Stack) -> bool:
         """The stack reads this argument's default file under ``common_dir_path`` (the ~/config tree)."""
@@ -186,6 +199,10 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("WH01", "WH02", "WH04", "custom"),
         extra_choices=((_V2_2, ("WH05",)),),
         default="WH01",
+        # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/launch/controller.launch.py and
+        # husarion_ugv_description/launch/load_urdf.launch.py: default_wheel_type = {"lynx": "WH05",
+        # "panther": "WH01"}, indexed by robot_model
+        model_defaults=((_V2_2, "lynx", "WH05"),),
     ),
     # always the image's: panther_ros@2.0.4, @2.1.1:panther_controller/launch/controller.launch.py;
     # husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/launch/controller.launch.py (description_pkg)

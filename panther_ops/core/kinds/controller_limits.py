@@ -8,7 +8,10 @@ is ``panther_base_controller`` up to panther_ros 2.0.4 and ``drive_controller`` 
 
 The wheel types have upper limits (panther-stack.md 1.4; the shipped defaults equal them):
 WH01 2.0 m/s, 2.7 m/s², 4.0 rad/s, 5.74 rad/s²; WH02 and WH04 1.1 m/s, 1.5 m/s², 2.2 rad/s,
-3.2 rad/s². A value above the limit is refused with `LimitExceededError` naming it, unless
+3.2 rad/s²; WH05 (the Lynx's, husarion_ugv 2.2) 1.5 m/s, 2.1 m/s², 4.0 rad/s, 5.74 rad/s², the
+values of its stock file (husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/config/
+WH05_controller.yaml), where a Lynx without ``wheel_type:=`` runs WH05 (its model's default,
+`ArgSpec.model_defaults`). A value above the limit is refused with `LimitExceededError` naming it, unless
 ``force`` (then it is written with a warning).
 
 The rules shared by the controller file's validator (`controller.py`) and its editor
@@ -62,6 +65,7 @@ WHEEL_LIMITS: dict[str, WheelLimits] = {
     "WH01": WheelLimits(2.0, 2.7, 4.0, 5.74),
     "WH02": WheelLimits(1.1, 1.5, 2.2, 3.2),
     "WH04": WheelLimits(1.1, 1.5, 2.2, 3.2),
+    "WH05": WheelLimits(1.5, 2.1, 4.0, 5.74),
 }
 
 
