@@ -57,9 +57,28 @@ def _rewrite_images(text: str, target_dir: str) -> str:
     return _IMAGE.sub(sub, text)
 
 
+def robot_wheel(cfg: RobotConfig) -> str:
+    """The robot's ``wheel_type`` (``custom`` included)."""
+    return cfg.compose.args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+
+
 def wheel_of(cfg: RobotConfig) -> str:
-    wheel = cfg.compose.args.get("wheel_type", spec("wheel_type").default_for(cfg.stack))
+    """The wheel type whose stock files name the robot's (``WH01``'s for custom wheels)."""
+    wheel = robot_wheel(cfg)
     return "WH01" if wheel == "custom" else wheel
+
+
+def _stock_named(kind: FileKind, data: bytes, cfg: RobotConfig) -> bool:
+    """The file may take the name of the robot wheel type's stock file (``WH01_controller.yaml``
+    in the 2.2 tree): it describes those wheels, or states no kinematics. A custom wheel's file
+    (the manual's procedure) or another stock wheel's keeps its own name, pointed at by its
+    launch argument (what ``wheel_type:=custom`` needs)."""
+    if kind not in (FileKind.CONTROLLER, FileKind.WHEEL):
+        return True
+    from panther_ops.core.kinds.stock_wheels import limits_wheel, wheels_in
+
+    wheel = wheel_of(cfg)
+    return limits_wheel(wheels_in(kind is FileKind.CONTROLLER, data, cfg.stack), wheel) == wheel
 
 
 _CHECKED: Memo[list[str]] = Memo()
@@ -99,7 +118,7 @@ def _checked(reads: Reads, cfg: RobotConfig, kind: FileKind, main: Path, data: b
         from panther_ops.core.config.namespace import driver_namespace
 
         namespace = driver_namespace(reads, cfg)[0]
-    target = Target(cfg.stack, wheel_of(cfg), namespace)
+    target = Target(cfg.stack, robot_wheel(cfg), namespace)
     return list(_CHECKED.get((kind, str(main), data, target, force),
                              lambda: check_file(kind, str(main), data, local=main, target=target, force=force)))
 
@@ -130,7 +149,7 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         arg = cf.launch_arg or ""
         robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
         name = bundle.main.name
-        if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:
+        if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None and _stock_named(kind, main_data, cfg):
             name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
             arg = ""
         extra = {}
