@@ -84,7 +84,7 @@ def test_a_stock_wheels_file_keeps_that_wheels_limits(version: str) -> None:
     text = stock(version, ConfigKind.CONTROLLER, "WH01").decode()
     text = re.sub(r"(?m)^(\s+max_velocity): 2\.0\b", r"\1: 2.5", text, count=1)
     for robot in ("WH01", "WH02", "custom"):
-        with pytest.raises(FileKindError, match="exceeds the WH01 limit of 2.0"):
+        with pytest.raises(FileKindError, match=r"exceeds the WH01 limit of 2\.0"):
             check_file(FileKind.CONTROLLER, "c.yaml", text.encode(), target=Target(stack_from_version(version),
                                                                                    robot, ""))
 

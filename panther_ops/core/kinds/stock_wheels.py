@@ -89,7 +89,7 @@ class WheelsOfFile:
         return self.stock is None and bool(self.stated)
 
     def kind_text(self) -> str:
-        return {True: "mecanum", False: "non-mecanum"}.get(self.mecanum, "unknown") + " wheels"
+        return ("unknown" if self.mecanum is None else "mecanum" if self.mecanum else "non-mecanum") + " wheels"
 
 
 def wheel_file_wheels(doc: dict[str, Any], stack: Stack | None) -> WheelsOfFile:
