@@ -45,6 +45,8 @@ def test_wheel_type_change_migrates_the_custom_controller(lab: Any, pristine: No
     state = driver_state(lab, name)
     mounts = {m["Destination"]: m["Source"] for m in state["Mounts"]}
     assert mounts["/config/panther_controller/config/WH02_controller.yaml"] == f"{CONFIG}/WH02_controller.yaml"
+    assert "/config/panther_controller/config/my_controller.yaml" not in mounts  # unused: unmounted (finding 9)
+    assert "my_controller.yaml" not in lab.read(name, COMPOSE)
     cmd = state["Config"]["Cmd"]
     assert "wheel_type:=WH02" in cmd
     assert "controller_config_path:=/config/panther_controller/config/WH02_controller.yaml" in cmd
@@ -78,7 +80,7 @@ def test_the_gamepad_runs_upstreams_bash_c_and_takes_a_pushed_file(lab: Any, pri
     before = containers(lab, name)["gamepad_controller"]
     assert before["cmd"][:2] == ["bash", "-c"] and before["state"] == "running" and before["restarts"] == 0
     launched = lab.docker(name, "logs", "gamepad_controller", check=True).stdout
-    assert ("joy2twist_params_file:=/opt/ros/humble/share/joy2twist/config/joy2twist_panther.yaml "
+    assert ("joy2twist_params_file:=/ros2_ws/install/joy2twist/share/joy2twist/config/joy2twist_panther.yaml "
             "namespace:=panther") in launched  # the shell expanded $(ros2 pkg prefix joy2twist): the file exists
     mine = tmp_path / "pad.yaml"
     mine.write_text(JOY2TWIST)
@@ -94,3 +96,22 @@ def test_the_gamepad_runs_upstreams_bash_c_and_takes_a_pushed_file(lab: Any, pri
     inside = lab.docker(name, "exec", "gamepad_controller", "cat", "/config/joy2twist/config/pad.yaml",
                         check=True).stdout
     assert inside == JOY2TWIST
+
+
+def test_pull_joy2twist_reads_the_images_file_through_its_symlink(lab: Any, pristine: None,
+                                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    """panther_ros 2.1.1 (issue 24, finding 9): the gamepad uses its image's joy2twist_panther.yaml, which
+    husarion/joy2twist's --symlink-install build links from /ros2_ws/install/joy2twist/share/... to
+    /ros2_ws/src/joy2twist/config/; `config pull joy2twist` reads it from the running container."""
+    name = robot_of(lab, "2.1.1")
+    inside = lab.docker(name, "exec", "gamepad_controller", "cat",
+                        "/ros2_ws/src/joy2twist/config/joy2twist_panther.yaml", check=True).stdout
+    link = lab.docker(name, "exec", "gamepad_controller", "readlink",
+                      "/ros2_ws/install/joy2twist/share/joy2twist/config/joy2twist_panther.yaml", check=True).stdout
+    assert link.strip() == "/ros2_ws/src/joy2twist/config/joy2twist_panther.yaml"
+    code, _, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "config", "pull", "joy2twist", "-r", name)
+    assert code == 0, err
+    assert out == inside
+    note = " ".join(err.split())
+    assert ("/ros2_ws/install/joy2twist/share/joy2twist/config/joy2twist_panther.yaml (-> "
+            "/ros2_ws/src/joy2twist/config/joy2twist_panther.yaml) in gamepad_controller (the image's default)") in note

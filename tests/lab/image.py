@@ -11,7 +11,12 @@ The gamepad of husarion/panther-docker@2.0.4 and @2.1.1:demo/compose.minimal-set
 `bash -c "ros2 launch joy2twist ... joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/
 joy2twist/config/joy2twist_panther.yaml ..."`: the image has a `bash` stand-in (busybox sh,
 data/bash-standin.sh) and that file (data/joy2twist_panther.yaml, written from
-husarion/joy2twist's), since the ros2 stand-in fails a launch whose `*_file:=` is missing.
+husarion/joy2twist's), since the ros2 stand-in fails a launch whose `*_file:=` is missing. It is
+laid out as the real image has it: husarion/joy2twist@2f8ad45:Dockerfile copies the package to
+/ros2_ws/src/joy2twist and runs `colcon build --symlink-install` in /ros2_ws, so `ros2 pkg prefix
+joy2twist` is /ros2_ws/install/joy2twist and its share/joy2twist/config/joy2twist_panther.yaml is
+a symlink to /ros2_ws/src/joy2twist/config/joy2twist_panther.yaml (ament_cmake's symlink install
+of joy2twist/CMakeLists.txt's `install(DIRECTORY launch config ...)`).
 
 The image also holds `nmea-listen` (data/nmea-listen.c, compiled here once per source: gcc,
 libc6-dev), the NMEA driver stand-in that the driver's `ros2` runs with `launch_nmea_gps:=True` and the nmea-gps
@@ -59,8 +64,11 @@ def with_version(rootfs: bytes, version: str) -> bytes:
         tar_file(tar, VERSION_FILE, f"{version}\n".encode())
     return out.getvalue()
 
-JOY2TWIST_DEFAULT = "opt/ros/humble/share/joy2twist/config/joy2twist_panther.yaml"
-"""Where `$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml` is in the image."""
+JOY2TWIST_SOURCE = "ros2_ws/src/joy2twist/config/joy2twist_panther.yaml"
+"""Where the content of joy2twist's parameters file is in the image (the package's source)."""
+JOY2TWIST_DEFAULT = "ros2_ws/install/joy2twist/share/joy2twist/config/joy2twist_panther.yaml"
+"""`$(ros2 pkg prefix joy2twist)/share/joy2twist/config/joy2twist_panther.yaml`: a symlink to
+`/` + `JOY2TWIST_SOURCE` (colcon --symlink-install)."""
 
 
 def find_static_busybox() -> Path:
@@ -154,8 +162,15 @@ def build_rootfs(dest: Path, cache: Path | None = None) -> Path:
             "opt/ros",
             "opt/ros/humble",
             "opt/ros/humble/share",
-            "opt/ros/humble/share/joy2twist",
-            "opt/ros/humble/share/joy2twist/config",
+            "ros2_ws",
+            "ros2_ws/src",
+            "ros2_ws/src/joy2twist",
+            "ros2_ws/src/joy2twist/config",
+            "ros2_ws/install",
+            "ros2_ws/install/joy2twist",
+            "ros2_ws/install/joy2twist/share",
+            "ros2_ws/install/joy2twist/share/joy2twist",
+            "ros2_ws/install/joy2twist/share/joy2twist/config",
             "root/.ssh",
             "config",
         ):
@@ -172,7 +187,11 @@ def build_rootfs(dest: Path, cache: Path | None = None) -> Path:
             tar.addfile(ti)
         tar_file(tar, "usr/bin/ros2", (DATA / "ros2-standin.sh").read_bytes(), 0o755)
         tar_file(tar, "bin/bash", (DATA / "bash-standin.sh").read_bytes(), 0o755)
-        tar_file(tar, JOY2TWIST_DEFAULT, (DATA / "joy2twist_panther.yaml").read_bytes())
+        tar_file(tar, JOY2TWIST_SOURCE, (DATA / "joy2twist_panther.yaml").read_bytes())
+        link = tarfile.TarInfo(JOY2TWIST_DEFAULT)
+        link.type = tarfile.SYMTYPE
+        link.linkname = f"/{JOY2TWIST_SOURCE}"
+        tar.addfile(link)
         tar_file(tar, "usr/bin/nmea-listen", listener.read_bytes(), 0o755)
         tar_file(tar, "ros_entrypoint.sh", (DATA / "ros_entrypoint.sh").read_bytes(), 0o755)
         tar_file(tar, "etc/passwd", b"root:x:0:0:root:/root:/bin/sh\n")

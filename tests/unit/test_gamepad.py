@@ -18,6 +18,7 @@ from panther_ops.core.fleet.services import WORKING_DIR_LABEL
 from tests.badinput.test_file_kinds import JOY2TWIST
 from tests.clirun import run
 
+TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
 HOME = "home/husarion"
 PUSHED = "config/joy2twist/config/pad.yaml"
 TREE = "config/husarion_ugv_bringup/config/joy2twist_panther.yaml"
@@ -152,10 +153,20 @@ def test_pull_returns_what_was_pushed(demo: Path, tmp_path: Path, capsys: pytest
         assert where in err
 
 
-def test_pull_of_the_image_default_says_so(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, err = run(capsys, "-i", str(demo), "config", "pull", "joy2twist", "-r", "panther-01")
-    assert code != 0
-    assert "the image's default" in err and "joy2twist_params_file" in err
+@pytest.mark.parametrize("robot", ["panther-01", "panther-02"])
+def test_pull_of_the_image_default_gives_the_traced_template_saying_so(demo: Path, robot: str,
+                                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """panther_ros 2.0.4 / 2.1.1 (issue 24, finding 9): the gamepad uses its image's
+    joy2twist_panther.yaml; a demo robot has no container to read it from, so panther-ops' template
+    (husarion/joy2twist's file) is handed out, and the note says which file it stands for and why."""
+    code, out, err = run(capsys, "-i", str(demo), "config", "pull", "joy2twist", "-r", robot)
+    assert code == 0, err
+    assert out == (TEMPLATES / "joy2twist/joy2twist_panther.yaml").read_text()
+    assert yaml.safe_load(out)["/**"]["ros__parameters"]["button_index_map"]["dead_man_switch"] == 4
+    note = " ".join(err.split())
+    assert "husarion/joy2twist@2f8ad45:joy2twist/config/joy2twist_panther.yaml" in note
+    assert "/ros2_ws/install/joy2twist/share/joy2twist/config/joy2twist_panther.yaml" in note
+    assert "could not be read (a demo robot has no image)" in note
 
 
 def test_bad_file_is_refused_naming_the_key_and_nothing_changes(demo: Path, tmp_path: Path,

@@ -137,6 +137,14 @@ EXPECTED_EXIT = {
 }
 """Examples that show a refusal: their exit code."""
 
+AFTER = {
+    "panther-ops config set wheel_type custom -r panther-01 --yes": (
+        "panther-ops config push my_wheels.yaml --as wheel -r panther-01 --yes",
+        "panther-ops config push my_wheels_controller.yaml --as controller -r panther-01 --yes"),
+}
+"""Examples that continue the ones above them in their block (the manual's custom wheels:
+both files pushed, then ``wheel_type custom``): run alone, those run first."""
+
 
 def needs_a_robot(example: Example) -> str | None:
     for pattern, reason in NEEDS_A_ROBOT:

@@ -15,8 +15,9 @@ import pytest
 from panther_ops.cli.app import main
 from tests.badinput.test_file_kinds import JOY2TWIST
 from tests.sim_world import WORLD
+from tests.unit.test_custom_wheels import custom_controller, custom_wheel
 
-from .examples import EXPECTED_EXIT, ROOT, Example, doc_examples, help_examples, needs_a_robot
+from .examples import AFTER, EXPECTED_EXIT, ROOT, Example, doc_examples, help_examples, needs_a_robot
 from .termrun import on_pty, piped, plain
 
 EXAMPLES = help_examples() + doc_examples()
@@ -62,6 +63,8 @@ def workspace(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     wh01_20 = ROOT / "templates/config/panther-2.0/panther_controller/config/WH01_controller.yaml"
     (tmp_path / "no_prefix_controller.yaml").write_text(  # docs/configuration.md: the IMU under a namespace
         wh01_20.read_text().replace("      use_namespace_as_sensor_name_prefix: true\n", ""))
+    (tmp_path / "my_wheels.yaml").write_bytes(custom_wheel("2.1.1"))  # docs/configuration.md: custom wheels
+    (tmp_path / "my_wheels_controller.yaml").write_bytes(custom_controller("2.1.1"))
     (tmp_path / "pad.yaml").write_text(JOY2TWIST)
     (tmp_path / "bad_pad.yaml").write_text(JOY2TWIST.replace("dead_man_switch: 4", "dead_man_switch: LB"))
     (tmp_path / "bad_srv_pad.yaml").write_text(JOY2TWIST.replace("reset_srv: hardware/e_stop_reset",
@@ -101,6 +104,8 @@ def _argv(example: Example) -> list[str]:
 @pytest.mark.parametrize("example", ON_DEMO, ids=[f"{e.where}: {e.line}" for e in ON_DEMO])
 def test_example_runs_on_the_demo_fleet(example: Example, workspace: Path,
                                         capsys: pytest.CaptureFixture[str]) -> None:
+    for before in AFTER.get(example.line, ()):
+        _run(Example(example.where, before), workspace, capsys)
     _run(example, workspace, capsys)
 
 

@@ -47,9 +47,12 @@ class ControllerConfig:
     """A controller file under edit, for a given stack and wheel type."""
 
     def __init__(self, doc: YamlDocument, stack: Stack, wheel_type: str, *, force: bool = False) -> None:
+        from panther_ops.core.kinds.stock_wheels import controller_file_wheels, limits_wheel
+
         self.doc = doc
         self.stack = stack
-        self.wheel_type = wheel_type
+        self.wheel_type = limits_wheel(controller_file_wheels(doc.to_plain(), stack), wheel_type)
+        """the wheels whose limits apply: those the file's kinematics describe (`limits_wheel`)"""
         self.top, self.controller_key = locate(doc, stack, force=force)
 
     @classmethod

@@ -30,6 +30,7 @@ docker/demo/compose.hardware.yaml for humble-2.2.0 (and jazzy-2.3.0) still runs
 from __future__ import annotations
 
 import posixpath
+from dataclasses import dataclass
 
 from panther_ops.core.config.compose import image_repo
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, JOY2TWIST_SINCE, ROBOT_CONFIG_DIR
@@ -161,9 +162,32 @@ def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warni
     return plan
 
 
-def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str] | None:
+IMAGE_PREFIX = "/ros2_ws/install/joy2twist"
+"""``$(ros2 pkg prefix joy2twist)`` in a husarion/joy2twist image: it is built in /ros2_ws with
+``colcon build --symlink-install`` (husarion/joy2twist@2f8ad45:Dockerfile, unchanged since
+2023-02-28, so the same for the images humble-1.0.0-20240109 of panther-docker@2.0.4 and
+humble-1.0.0-20240725-stable of @2.1.1), so the package's prefix is /ros2_ws/install/joy2twist
+and its ``share/joy2twist/config/*.yaml`` are symlinks to /ros2_ws/src/joy2twist/config/
+(joy2twist/CMakeLists.txt installs ``config`` to ``share/joy2twist``)."""
+DEFAULT_PARAMS = "share/joy2twist/config/joy2twist.yaml"
+"""gamepad_controller.launch.py's default ``joy2twist_params_file`` (husarion/joy2twist@2f8ad45:
+joy2twist/launch/gamepad_controller.launch.py), under the package's prefix."""
+TEMPLATE_SOURCE = "husarion/joy2twist@2f8ad45:joy2twist/config/joy2twist_panther.yaml"
+
+
+@dataclass(frozen=True)
+class InImage:
+    """The gamepad parameters in use are the image's own file: ``path`` in ``service``'s container."""
+
+    service: str
+    path: str
+    arg: str
+
+
+def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str] | InImage | None:
     """The gamepad parameters in use: the file mounted into the gamepad's service, or the
-    config tree's (husarion_ugv 2.2.2+, the driver launching the gamepad); None: the driver
+    config tree's (husarion_ugv 2.2.2+, the driver launching the gamepad), or (`InImage`) the
+    image's file the command names, for the caller to read from the container; None: the driver
     (2.2.2+) uses its image's default (`files.config_file` of ``JOY2TWIST`` names it)."""
     if cfg.stack.family is Family.HUSARION_UGV and find_gamepad_service(cfg) is None:
         path = tree_path(cfg, robot_model(reads, cfg))
@@ -182,5 +206,8 @@ def pull_joy2twist(reads: Reads, cfg: RobotConfig) -> tuple[bytes, str] | None:
                 host = posixpath.normpath(cfg.resolve(v.source) + current[len(target):])
                 if (data := reads.file(host)) is not None:
                     return data, f"{host} (mounted into {service}, {ARG}:={current})"
+    path = (current or f"{IMAGE_PREFIX}/{DEFAULT_PARAMS}").replace("$(ros2 pkg prefix joy2twist)", IMAGE_PREFIX)
+    if posixpath.isabs(path) and "$" not in path and cfg.stack.family is Family.PANTHER_ROS:
+        return InImage(service, posixpath.normpath(path), f"{ARG}:={current}" if current else f"{ARG} (default)")
     raise UsageError(f"{service} uses {ARG}:={current or '(none)'}: the image's default, not a file on the robot",
                      hint="panther-ops has no template of the joy2twist file")

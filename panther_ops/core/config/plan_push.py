@@ -56,12 +56,17 @@ def _rewrite_images(text: str, target_dir: str) -> str:
     return _IMAGE.sub(sub, text)
 
 
-def wheel_of(reads: Reads, cfg: RobotConfig) -> str:
-    """The robot's wheel type (its model's default when the command sets none); custom: WH01,
-    the file custom wheels start from."""
+def robot_wheel(reads: Reads, cfg: RobotConfig) -> str:
+    """The robot's ``wheel_type`` (``custom`` included; its model's default when the command
+    sets none: WH05 on a Lynx)."""
     from panther_ops.core.config.robot_model import wheel_type_of
 
-    wheel = wheel_type_of(reads, cfg)
+    return wheel_type_of(reads, cfg)
+
+
+def wheel_of(reads: Reads, cfg: RobotConfig) -> str:
+    """The wheel type whose stock files name the robot's (``WH01``'s for custom wheels)."""
+    wheel = robot_wheel(reads, cfg)
     return "WH01" if wheel == "custom" else wheel
 
 
@@ -71,6 +76,19 @@ def robot_file(reads: Reads, cfg: RobotConfig, kind: FileKind) -> ConfigFile:
     from panther_ops.core.config.robot_model import robot_model_of
 
     return config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(reads, cfg), robot_model=robot_model_of(reads, cfg))
+
+
+def _stock_named(kind: FileKind, data: bytes, reads: Reads, cfg: RobotConfig) -> bool:
+    """The file may take the name of the robot wheel type's stock file (``WH01_controller.yaml``
+    in the 2.2 tree): it describes those wheels, or states no kinematics. A custom wheel's file
+    (the manual's procedure) or another stock wheel's keeps its own name, pointed at by its
+    launch argument (what ``wheel_type:=custom`` needs)."""
+    if kind not in (FileKind.CONTROLLER, FileKind.WHEEL):
+        return True
+    from panther_ops.core.kinds.stock_wheels import limits_wheel, wheels_in
+
+    wheel = wheel_of(reads, cfg)
+    return limits_wheel(wheels_in(kind is FileKind.CONTROLLER, data, cfg.stack), wheel) == wheel
 
 
 _CHECKED: Memo[list[str]] = Memo()
@@ -110,7 +128,7 @@ def _checked(reads: Reads, cfg: RobotConfig, kind: FileKind, main: Path, data: b
         from panther_ops.core.config.namespace import driver_namespace
 
         namespace = driver_namespace(reads, cfg)[0]
-    target = Target(cfg.stack, wheel_of(reads, cfg), namespace)
+    target = Target(cfg.stack, robot_wheel(reads, cfg), namespace)
     return list(_CHECKED.get((kind, str(main), data, target, force),
                              lambda: check_file(kind, str(main), data, local=main, target=target, force=force)))
 
@@ -144,7 +162,8 @@ def push_onto(reads: Reads, cfg: RobotConfig, kind: FileKind, bundle: Bundle, *,
         arg = cf.launch_arg
         robot_dir, container_dir = posixpath.dirname(cf.robot_path), posixpath.dirname(cf.container_path)
         name = bundle.main.name
-        if cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None:
+        in_tree = cfg.reads_from_tree(cf) and reads.file(cf.robot_path) is not None
+        if in_tree and _stock_named(kind, main_data, reads, cfg):
             name = cf.filename  # the tree's own file: read through common_dir_path, no argument needed
             arg = ""
         extra = {}

@@ -33,9 +33,12 @@ def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], forc
               robot_model: str | None = None) -> tuple[list[str], Verify]:
     """Apply argument changes to ``cfg.compose`` (in memory); returns warnings and the check.
     ``robot_model``: the robot's ROBOT_MODEL_NAME (`robot_model.env_robot_model`), where read."""
+    from panther_ops.core.config.stale_mounts import drop_unused_mounts
+
     warnings: list[str] = []
     contains: list[str] = []
     lacks: list[str] = []
+    before = dict(cfg.compose.args)
     for key in unsets:  # first: the sets are checked against the command as it will be
         unset_launch_arg(cfg.compose, key)
         lacks.append(key)
@@ -44,6 +47,7 @@ def edit_args(cfg: RobotConfig, sets: Mapping[str, Any], unsets: list[str], forc
                                  robot_model=robot_model)
         warnings.extend(change.warnings)
         contains.extend(f"{a.name}:={a.value}" for a in change.args)
+    warnings.extend(drop_unused_mounts(cfg, before))  # in the same plan and diff
     cmd = cfg.compose.command()
     lacks = [f"{name}:={cmd.args[name]}" for name in lacks if name in cmd.args]
     return warnings, Verify(cfg.service, tuple(contains), tuple(lacks))

@@ -31,6 +31,7 @@ from panther_ops.core.config.files import (
     stock_bt_project,
     template_source,
 )
+from panther_ops.core.config.gamepad import InImage
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.plan_push import BT_ARGS, Bundle, robot_file
 from panther_ops.core.config.robot import read_compose, read_config
@@ -170,9 +171,11 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     if kind is FileKind.JOY2TWIST:
         from panther_ops.core.config.gamepad import pull_joy2twist, robot_model
 
-        got = read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
-        if got is not None:
-            return got
+        found = read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
+        if isinstance(found, tuple):
+            return found
+        if isinstance(found, InImage):
+            return _joy2twist_from_image(ctx, cfg, found)
         gamepad = read_and_plan(ctx, lambda reads: config_file(cfg.stack, ConfigKind.JOY2TWIST,
                                                                robot_model=robot_model(reads, cfg)))
         return _image_or_template(ctx, cfg, gamepad)
@@ -206,24 +209,55 @@ def _image_or_template(ctx: RobotContext, cfg: RobotConfig, cf: ConfigFile) -> t
 def _from_image(ctx: RobotContext, cfg: RobotConfig, package: str, filename: str,
                 subdir: str = "config") -> tuple[bytes, str] | None:
     """The default file inside the running driver container (docker SDK on the same connection)."""
+    return _container_read(ctx, cfg, cfg.service, f"/ros2_ws/install/{package}/share/{package}/{subdir}/{filename}")
+
+
+def _container_read(ctx: RobotContext, cfg: RobotConfig, service: str, path: str) -> tuple[bytes, str] | None:
+    """A file inside ``service``'s running container (docker SDK on the same connection), its
+    symlinks followed (a ``colcon build --symlink-install`` image links ``install/<pkg>/share``
+    to ``src``); None when it cannot be read."""
     import io
     import tarfile
 
     client = ctx.transport.docker()
     if client is None:
         return None
-    path = f"/ros2_ws/install/{package}/share/{package}/{subdir}/{filename}"
     try:
-        containers = running_containers(client, cfg.service, posixpath.dirname(cfg.compose_path))
+        containers = running_containers(client, service, posixpath.dirname(cfg.compose_path))
         if not containers:
             return None
-        stream, _ = containers[0].get_archive(path)
-        buf = io.BytesIO(b"".join(stream))
-        with tarfile.open(fileobj=buf) as tar:
-            member = tar.next()
-            fh = tar.extractfile(member) if member else None
-            if fh is None:
-                return None
-            return fh.read(), f"{path} in {containers[0].name} (the image's default)"
-    except Exception:  # docker.errors.NotFound and friends: fall back to the template
+        at = path
+        for _ in range(8):  # a link to a link...: a loop ends here
+            stream, _ = containers[0].get_archive(at)
+            with tarfile.open(fileobj=io.BytesIO(b"".join(stream))) as tar:
+                member = tar.next()
+                if member is not None and member.issym():
+                    at = posixpath.normpath(posixpath.join(posixpath.dirname(at), member.linkname))
+                    continue
+                fh = tar.extractfile(member) if member is not None and member.isfile() else None
+                if fh is None:
+                    return None
+                shown = path if at == path else f"{path} (-> {at})"
+                return fh.read(), f"{shown} in {containers[0].name} (the image's default)"
         return None
+    except Exception:  # docker.errors.NotFound and friends: the caller falls back
+        return None
+
+
+def _joy2twist_from_image(ctx: RobotContext, cfg: RobotConfig, found: InImage) -> tuple[bytes, str]:
+    """The gamepad's parameters in its image (panther_ros 2.0-2.1: husarion/joy2twist), else
+    panther-ops' template of husarion/joy2twist's joy2twist_panther.yaml, saying so."""
+    from panther_ops.core.config.gamepad import TEMPLATE_SOURCE
+    from panther_ops.core.fleet.templates import read_template
+
+    got = _container_read(ctx, cfg, found.service, found.path)
+    if got is not None:
+        return got
+    why = ("a demo robot has no image" if ctx.robot.transport == "local"
+           else f"the {found.service} container could not be read")
+    if posixpath.basename(found.path) != posixpath.basename(TEMPLATE_SOURCE):
+        raise UsageError(f"{found.service} uses {found.path} of its image ({found.arg}), which could not be read "
+                         f"({why})", hint="panther-ops' template is joy2twist_panther.yaml only")
+    return read_template("joy2twist", "joy2twist_panther.yaml").encode(), (
+        f"panther-ops' template, written from {TEMPLATE_SOURCE}: the image's file is {found.path} in "
+        f"{found.service} ({found.arg}), which could not be read ({why})")

@@ -5,6 +5,12 @@ controller.<key>` makes, so a pushed file and a set value get the same message. 
 value must also have the type ROS declares: a double parameter written as an integer
 (``max_velocity: 2``) makes the controller refuse to load. The IMU broadcaster must read
 the sensor the robot's URDF declares under the robot's namespace (`controller_imu`).
+
+The limits checked are those of the wheels the file describes (`stock_wheels`): a stock wheel's
+kinematics, that wheel's limits; kinematics that are no stock wheel's are custom wheels (the
+manual's procedure: a file based on ``WH01_controller.yaml``), whose limits have no reference; a
+file that states no kinematics, the robot's wheel type's. A file for mecanum wheels onto a robot
+whose wheel type is not (or the other way round) gets a warning naming the fix.
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ from panther_ops.core.kinds.controller_limits import (
     validate_limit,
 )
 from panther_ops.core.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.stock_wheels import controller_file_wheels, limits_wheel, mismatch
 from panther_ops.core.stack import stack_from_version
 
 WHAT = "controller file"
@@ -42,6 +49,8 @@ AXES = (("linear", ("x", "y")), ("angular", ("z",)))
 class _Check:
     target: Target
     force: bool
+    wheel: str
+    """the wheel type whose limits apply (`stock_wheels.limits_wheel`)"""
     errors: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     hint: str | None = None
@@ -80,9 +89,8 @@ class _Check:
                                f"parameter; write {value}.0")
             return
         stack = self.target.stack
-        wheel = self.target.wheel_type or "custom"
         try:  # without a robot (stack None): types only, the limits are checked per robot
-            got = validate_limit(stack or stack_from_version("2.1.1"), wheel, dotted, value,
+            got = validate_limit(stack or stack_from_version("2.1.1"), self.wheel, dotted, value,
                                  force=self.force or stack is None)
         except LimitExceededError as exc:
             self.errors.append(exc.message)
@@ -108,8 +116,15 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
     plain = doc.to_plain()
     if not isinstance(plain, dict):
         raise FileKindError(source, WHAT, ["not a controller file: the top level is not a mapping"])
-    check = _Check(target, force)
+    wheels = controller_file_wheels(plain, target.stack)
+    check = _Check(target, force, limits_wheel(wheels, target.wheel_type))
     if target.stack is not None:
+        if wheels.custom:
+            check.warnings.append(f"custom wheels ({', '.join(wheels.stated)}: no stock wheel's of "
+                                  f"{target.stack.label()}): the limits are checked against no stock wheel's")
+        wrong = mismatch(WHAT, wheels, target.wheel_type)
+        if wrong:
+            check.warnings.append(wrong)
         imu = imu_findings(plain, target.stack, target.namespace)
         if force:
             check.warnings.extend(e + " (forced)" for e in imu.errors)
@@ -121,7 +136,7 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
             top, key = locate(doc, target.stack, force=force)
             check.warnings.extend(doc.notes)
             limits = file_limits(doc, top, key)
-            check.warnings.extend(w for w in limit_warnings(limits, target.wheel_type or "custom")
+            check.warnings.extend(w for w in limit_warnings(limits, check.wheel)
                                   if "exceeds" not in w)  # limits at zero
         except UsageError as exc:
             check.errors.append(exc.message)

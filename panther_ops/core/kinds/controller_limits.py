@@ -215,7 +215,7 @@ def validate_limit(
 
     if not lk.axis:  # cmd_vel_timeout: the watchdog's seconds, whatever the wheels
         return ValidatedLimit(lk, checked)
-    if lk.axis == "linear.y" and wheel_type != "WH02":
+    if lk.axis == "linear.y" and wheel_type not in ("WH02", "custom"):  # custom wheels may be mecanum
         refuse(f"{lk.dotted}: linear.y limits exist only for the mecanum wheels WH02 (this robot: {wheel_type})")
     if isinstance(checked, bool):
         return ValidatedLimit(lk, checked, tuple(warnings))

@@ -14,6 +14,11 @@ reads that the file lacks stops the description from building (the driver does n
   lynx/lynx_macro.urdf.xacro);
 * ``mecanum`` (2.1 and 2.2) is read only in simulation (inside ``<xacro:if value="${use_sim}">``
   of the same files): a file without it loads on a robot, not in the simulator.
+
+Values that are no stock wheel's (a custom radius, width, separation) are custom wheels, the
+manual's procedure (a file based on ``WH01.yaml``): accepted. A file for mecanum wheels onto a
+robot whose wheel type is not (or the other way round) is written with a warning naming the fix
+(`stock_wheels.mismatch`).
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from typing import Any
 
 from panther_ops.core.kinds.common import is_number, load_mapping
 from panther_ops.core.kinds.registry import FileKindError, Target
+from panther_ops.core.kinds.stock_wheels import mismatch, wheel_file_wheels
 from panther_ops.core.stack import Family, Stack
 
 WHAT = "wheel file"
@@ -108,4 +114,5 @@ def check_wheel(source: str, data: bytes, local: Path | None, target: Target, fo
     _values(doc, errors)
     if errors:
         raise FileKindError(source, WHAT, errors)
-    return warnings
+    wrong = mismatch(WHAT, wheel_file_wheels(doc, stack), target.wheel_type)
+    return [*warnings, wrong] if wrong else warnings

@@ -41,8 +41,10 @@
 # An E-stop or lights service of another namespace, name or type is never answered: like the
 # real CLI, the command waits (`waiting for service to become available...`) until it is killed.
 # `ros2 pkg prefix <pkg>` prints the install prefix and nothing else (ros2/ros2cli@9fce6a08381b:
-# ros2pkg/ros2pkg/verb/prefix.py prints get_prefix_path), /opt/ros/humble for every package: the
-# gamepad's `joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/...` names a file of the image.
+# ros2pkg/ros2pkg/verb/prefix.py prints get_prefix_path): /ros2_ws/install/<pkg> for a package
+# colcon installed in the image's workspace (isolated install: joy2twist, husarion/joy2twist@2f8ad45:
+# Dockerfile), else /opt/ros/humble: the gamepad's `joy2twist_params_file:=$(ros2 pkg prefix
+# joy2twist)/share/...` names a file of the image.
 #
 # The GPS fix (sensor_msgs/msg/NavSatFix), published by the lab's NMEA driver stand-in
 # (nmea-listen: in the nmea-gps service's container, or started by this driver's launch):
@@ -270,7 +272,7 @@ if [ "${1:-}" = run ] && [ "${2:-}" = teleop_twist_keyboard ]; then
 fi
 if [ "${1:-}" = pkg ]; then  # only the prefix on stdout: `$(ros2 pkg prefix joy2twist)/share/...` is a path
     if [ "${2:-}" = prefix ] && [ -n "${3:-}" ]; then
-        echo "/opt/ros/humble"
+        if [ -d "/ros2_ws/install/$3" ]; then echo "/ros2_ws/install/$3"; else echo "/opt/ros/humble"; fi
     fi
     exit 0
 fi
