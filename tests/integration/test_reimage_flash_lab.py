@@ -354,7 +354,7 @@ def test_buffered_fallback_where_o_direct_is_refused(loop_ready: None, tmp_path:
         target = mnt / "card.bin"
         target.write_bytes(b"\xff" * (6 * MIB))
         data = os.urandom(5 * MIB + 512)
-        fd, direct = blockdev._open(str(target), os.O_RDONLY, exclusive=False)
+        fd, direct = blockdev.open_device(str(target), os.O_RDONLY, exclusive=False)
         os.close(fd)
         assert direct is False
         w = blockdev.write_image(str(target), io.BytesIO(data), len(data), 512)
