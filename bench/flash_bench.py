@@ -79,6 +79,25 @@ def make_image(path: Path, size: int) -> None:
     Path(f"{path}.sha256").write_text(f"{digest}  {path.name}\n")
 
 
+def make_card_image(path: Path, size: int, used_mib: int) -> None:
+    """A card image as a Panther's: a DOS table, a 64 MiB FAT32 boot partition, an ext4 root
+    holding ``used_mib`` MiB of files (random bytes) in the rest; the rest is free space."""
+    tmp = path.parent / "card-tree"
+    (tmp / "usr").mkdir(parents=True)
+    for i in range(max(1, used_mib // 8)):
+        (tmp / "usr" / f"f{i}").write_bytes(os.urandom(8 * MIB))
+    with open(path, "wb") as fh:
+        fh.truncate(size)
+    subprocess.run(["sfdisk", "--quiet", str(path)], check=True, capture_output=True,
+                   input=b"label: dos\nstart=2048, size=131072, type=c\nstart=133120, type=83\n")
+    subprocess.run(["mkfs.vfat", "-F", "32", "--offset", "2048", str(path), "65536"], check=True, capture_output=True)
+    subprocess.run(["mkfs.ext4", "-q", "-F", "-E", f"offset={133120 * 512}", "-d", str(tmp), str(path),
+                    f"{(size // 512 - 133120) // 2}k"], check=True, capture_output=True)
+    shutil.rmtree(tmp)
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    Path(f"{path}.sha256").write_text(f"{digest}  {path.name}\n")
+
+
 def panther_ops() -> str:
     exe = Path(sys.executable).with_name("panther-ops")
     return str(exe) if exe.exists() else shutil.which("panther-ops") or "panther-ops"
@@ -93,6 +112,10 @@ def main() -> int:
     ap.add_argument("--card-write-mbs", type=float, default=40.0)
     ap.add_argument("--card-read-mbs", type=float, default=90.0)
     ap.add_argument("--xz", action="store_true", help="also the .img.xz (xz -dc | dd ..., xz -dc | cmp)")
+    ap.add_argument("--card-image", action="store_true",
+                    help="also a sparse card image (FAT boot + ext4 root with --used-mib of files): block-mapped "
+                         "panther-ops flash against dd + cmp and bmaptool copy (with its .bmap from bmaptool create)")
+    ap.add_argument("--used-mib", type=int, default=64)
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     if os.geteuid() != 0:
@@ -107,6 +130,10 @@ def main() -> int:
         if args.xz:
             xz.write_bytes(lzma.compress(img.read_bytes(), preset=1))
             Path(f"{xz}.sha256").write_text(f"{hashlib.sha256(xz.read_bytes()).hexdigest()}  {xz.name}\n")
+        card = Path(tmp) / "card.img"
+        if args.card_image:
+            make_card_image(card, size, args.used_mib)
+            subprocess.run(["bmaptool", "create", "-o", f"{tmp}/card.bmaptool.bmap", str(card)], check=True)
         backing = Path(tmp) / "card.bin"
         with open(backing, "wb") as fh:
             fh.truncate(size + 64 * MIB)
@@ -122,6 +149,13 @@ def main() -> int:
                 cases = [("img", f"{q(po)} reimage flash {q(str(img))} --device {dev} --yes",
                           f"dd if={q(str(img))} of={dev} bs=4M oflag=direct status=none && "
                           f"cmp -n {size} {q(str(img))} {dev}")]
+                if args.card_image:
+                    theirs = f"{tmp}/card.bmaptool.bmap"
+                    cases.append(("card.img (mapped)", f"{q(po)} reimage flash {q(str(card))} --device {dev} --yes",
+                                  f"dd if={q(str(card))} of={dev} bs=4M oflag=direct status=none && "
+                                  f"cmp -n {size} {q(str(card))} {dev}"))
+                    cases.append(("card.img vs bmaptool", f"{q(po)} reimage flash {q(str(card))} --device {dev} --yes",
+                                  f"bmaptool -q copy --bmap {q(theirs)} {q(str(card))} {dev}"))
                 if args.xz:
                     cases.append(("img.xz", f"{q(po)} reimage flash {q(str(xz))} --device {dev} --yes",
                                   f"xz -dc {q(str(xz))} | dd of={dev} bs=4M iflag=fullblock oflag=direct "
@@ -146,7 +180,8 @@ def main() -> int:
     if args.json:
         print(json.dumps({"rows": rows}, indent=2))
         return 0
-    print("| loop device | image | size | panther-ops flash+verify | dd + cmp | ratio (dd+cmp time / ours) |")
+    print("| loop device | image | size | panther-ops flash+verify | dd + cmp (bmaptool copy on its row) "
+          "| ratio (their time / ours) |")
     print("|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['mode']} | .{r['image']} | {r['mib']} MiB | {r['panther_ops_s']:.2f} s "

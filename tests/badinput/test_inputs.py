@@ -490,14 +490,21 @@ IMAGE = b"\x00" * 4096 + b"not a real card image" * 100
 GZ = gzip.compress(IMAGE)
 TRUNCATED_GZ = GZ[: len(GZ) // 2]
 ZEROS = "0" * 64
+OTHER_BMAP = (b'<?xml version="1.0" ?><bmap version="1.0"><ImageSize> 8192 </ImageSize><BlockSize> 4096 </BlockSize>'
+              b"<BlocksCount> 2 </BlocksCount><MappedBlocksCount> 1 </MappedBlocksCount>"
+              b"<BlockMap><Range> 1 </Range></BlockMap></bmap>")
+"""A good bmap (version 1.0: no checksums) of another image than x.img."""
 BAD_DEVICES = [("card-file", "{tmp}/card.bin"), ("no-device", "/dev/panther-ops-no-such-card"),
                ("char-device", "/dev/null")]
 
 
 def _image_cases(dev_id: str, dev: str) -> list[Case]:
     card = {"card.bin": b"card " * 100}
-    flash = ["reimage", "flash", "{tmp}/x.img", "--device", dev, "--yes"]
-    flash_gz = ["reimage", "flash", "{tmp}/x.img.gz", "--device", dev, "--yes"]
+    # --full: the image's checksum is checked before anything (block-mapped flashing checks it as it writes)
+    flash = ["reimage", "flash", "{tmp}/x.img", "--device", dev, "--yes", "--full"]
+    flash_gz = ["reimage", "flash", "{tmp}/x.img.gz", "--device", dev, "--yes", "--full"]
+    mapped = ["reimage", "flash", "{tmp}/x.img", "--device", dev, "--yes"]
+    ok_image = {**card, "x.img": IMAGE, "x.img.sha256": f"{hashlib.sha256(IMAGE).hexdigest()}  x.img\n"}
     verify = ["reimage", "verify", "{tmp}/x.img", "--device", dev]
     verify_gz = ["reimage", "verify", "{tmp}/x.img.gz", "--device", dev]
     gz = {**card, "x.img.gz": TRUNCATED_GZ,
@@ -522,6 +529,13 @@ def _image_cases(dev_id: str, dev: str) -> list[Case]:
              files={**card, "x.img": IMAGE}),
         Case(f"verify-wrong-sidecar-{dev_id}", verify, [f"{{tmp}}/x.img.sha256 says {ZEROS}"], files=wrong_sidecar),
         Case(f"verify-truncated-gz-{dev_id}", verify_gz, ["{tmp}/x.img.gz: not a readable .gz file"], files=gz),
+        Case(f"flash-bmap-not-xml-{dev_id}", mapped, ["{tmp}/x.img.bmap: not a bmap file (not XML"],
+             files={**ok_image, "x.img.bmap": "<bmap version='2.0'>"}),
+        Case(f"flash-bmap-other-image-{dev_id}", [*mapped, "--bmap", "{tmp}/other.bmap"],
+             ["{tmp}/other.bmap: the block map is of an image of 8192 bytes", "not this image's map"],
+             files={**ok_image, "other.bmap": OTHER_BMAP}),
+        Case(f"flash-bmap-missing-{dev_id}", [*mapped, "--bmap", "{tmp}/none.bmap"],
+             ["--bmap {tmp}/none.bmap: no such file"], files=ok_image),
     ]
 
 

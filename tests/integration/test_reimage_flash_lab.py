@@ -153,9 +153,9 @@ def test_flash_verifies_and_the_device_holds_the_image(
     image = images[name]
     dev = loop(300 * MIB)
     _mark(dev, (0, 200 * MIB))
-    code, doc, _, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--full", "--json")
     assert code == 0, err
-    assert doc["ok"] is True and doc["verify"]["first_difference"] is None
+    assert doc["ok"] is True and doc["verify"]["first_difference"] is None and doc["mode"] == "full"
     assert doc["image"]["bytes"] == IMAGE_BYTES and doc["write"]["bytes"] == IMAGE_BYTES
     assert doc["image"]["format"] == {"random": "raw", "disk": "raw", "disk.xz": "xz", "disk.gz": "gz"}[name]
     assert doc["device"]["path"] == dev and doc["device"]["bytes"] == 300 * MIB
@@ -174,12 +174,12 @@ def test_a_byte_changed_after_writing_fails_verify_naming_the_offset(
 ) -> None:
     image = images["disk.xz"]
     dev = loop(300 * MIB)
-    code, _, out, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes")
+    code, _, out, err = run_cli(capsys, "reimage", "flash", str(image), "--device", dev, "--yes", "--full")
     assert code == 0, err
     assert "verified:" in out
     # progress of both phases on stderr (plain lines: not a terminal)
     assert "writing: 256.0 MiB of 256.0 MiB (100%)" in err and "verifying: 256.0 MiB of 256.0 MiB (100%)" in err
-    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--full", "--json")
     assert code == 0 and doc["ok"] is True, err
     offset = 123 * MIB + 4567
     old = _device_bytes(dev, 1, offset)
@@ -189,11 +189,11 @@ def test_a_byte_changed_after_writing_fails_verify_naming_the_offset(
         os.fsync(fd)
     finally:
         os.close(fd)
-    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--json")
+    code, doc, _, err = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--full", "--json")
     assert code == 3, err
     assert doc["ok"] is False and doc["verify"]["first_difference"] == offset
     assert doc["verify"]["device_sha256"] != doc["verify"]["image_sha256"]
-    code, _, out, _ = run_cli(capsys, "reimage", "verify", str(image), "--device", dev)
+    code, _, out, _ = run_cli(capsys, "reimage", "verify", str(image), "--device", dev, "--full")
     assert code == 3
     assert f"VERIFY FAILED: {dev}: differs from the image: first difference at byte {offset}" in out
 
@@ -251,8 +251,8 @@ def test_refuses_a_mounted_device(
     with _mounted(loop, dev, tmp_path / "mnt") as mnt:
         err = _refused(capsys, images["random"], dev, "--yes")
         assert f"{dev} is mounted at {mnt}" in err and "nothing was written" in err
-        # a bad image and a bad device: the image is named first (docs/reimage.md), the device not
-        err = _refused(capsys, images["random"], dev, "--yes", "--sha256", "0" * 64)
+        # a bad image and a bad device: with --full the image is named first (docs/reimage.md)
+        err = _refused(capsys, images["random"], dev, "--yes", "--full", "--sha256", "0" * 64)
         assert f"{images['random']}: sha256 is " in err and "is mounted" not in err
     assert _unchanged(dev, marks)
 
@@ -301,7 +301,7 @@ def test_refuses_a_wrong_or_missing_checksum(
 ) -> None:
     dev = loop(300 * MIB)
     marks = _mark(dev, (0, 128 * MIB))
-    err = _refused(capsys, images["disk.xz"], dev, "--yes", "--sha256", "0" * 64)
+    err = _refused(capsys, images["disk.xz"], dev, "--yes", "--full", "--sha256", "0" * 64)
     assert f"{images['disk.xz']}: sha256 is " in err and f"but --sha256 says {'0' * 64}: refused" in err
     bare = tmp_path / "bare.img"  # no .sha256 beside it
     os.link(images["random"], bare)
@@ -322,8 +322,13 @@ def test_refuses_the_device_holding_root(images: dict[str, Path], capsys: pytest
     if parent:
         roots.append(f"/dev/{parent}")
     for dev in roots:
-        # a wrong checksum is named first, whatever the device: nothing about the disk is said
+        # with --full a wrong checksum is named first, whatever the device: nothing about the disk is said
+        err = _refused(capsys, images["random"], dev, "--yes", "--full", "--sha256", "0" * 64)
+        assert f"{images['random']}: sha256 is " in err and "root file system" not in err
+        # block-mapped (checked as it is written): the device is refused before anything is written
         err = _refused(capsys, images["random"], dev, "--yes", "--sha256", "0" * 64)
+        assert f"{dev} holds this machine's root file system (/)" in err
+        err = _refused(capsys, images["random"], dev, "--yes", "--full", "--sha256", "0" * 64)
         assert f"{images['random']}: sha256 is " in err and "root file system" not in err
         # a good image, and no --yes besides: two refusals stand between this test and the disk
         err = _refused(capsys, images["random"], dev)
@@ -354,7 +359,7 @@ def test_buffered_fallback_where_o_direct_is_refused(loop_ready: None, tmp_path:
         target = mnt / "card.bin"
         target.write_bytes(b"\xff" * (6 * MIB))
         data = os.urandom(5 * MIB + 512)
-        fd, direct = blockdev._open(str(target), os.O_RDONLY, exclusive=False)
+        fd, direct = blockdev.open_device(str(target), os.O_RDONLY, exclusive=False)
         os.close(fd)
         assert direct is False
         w = blockdev.write_image(str(target), io.BytesIO(data), len(data), 512)

@@ -108,6 +108,8 @@ ELSEWHERE = {
     # the RUTX11 router (credentials, REST API behind a robot's SSH): the lab's stand-in router
     "gps router show": "tests/integration/test_gps_router_lab.py",
     "gps router set": "tests/integration/test_gps_router_lab.py",
+    # a disk image with partitions and file systems, made with sfdisk/mkfs/mcopy by the test
+    "reimage bmap": "tests/unit/test_reimage_bmap.py",
     # NMEA from a sender: the test sends real datagrams over loopback
     "gps listen": "tests/unit/test_gps_listen.py",
 }

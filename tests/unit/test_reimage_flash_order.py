@@ -17,12 +17,15 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.transport import blockdev
+from panther_ops.transport import blockdev, mapped
 from panther_ops.transport.blockdev import DeviceFacts
 
 IMAGE = b"\x00" * 4096 + b"a card image" * 1000
 CARD = "/dev/panther-ops-test-card"
-YES = {"flash": ["--yes"], "verify": []}
+YES = {"flash": ["--yes", "--full"], "verify": ["--full"]}
+"""The order checksum-first holds for --full (every byte written: the image's sha256 is checked
+before anything is written). Block-mapped flashing checks it as the image is read for the write
+(tests/integration/test_reimage_bmap_lab.py)."""
 
 
 @pytest.fixture
@@ -42,6 +45,8 @@ def asked(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     monkeypatch.setattr(blockdev, "device_facts", facts)
     for name in ("write_image", "compare_bytes", "compare"):
         monkeypatch.setattr(blockdev, name, never)
+    for name in ("write_mapped", "device_span_hashes", "first_difference"):
+        monkeypatch.setattr(mapped, name, never)
     return calls
 
 
@@ -83,7 +88,8 @@ def test_a_compressed_image_is_not_decompressed_before_its_checksum_matched(
     measured: list[str] = []
     real = blockdev.gz_size
     monkeypatch.setattr(blockdev, "gz_size", lambda path, progress=None: measured.append(path) or real(path))
-    code, err = _run(capsys, "reimage", "flash", str(image), "--device", CARD, "--yes", "--sha256", "0" * 64)
+    code, err = _run(capsys, "reimage", "flash", str(image), "--device", CARD, "--yes", "--full",
+                     "--sha256", "0" * 64)
     assert code == 2 and f"{image}: sha256 is " in err
     assert measured == [] and asked == []
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import sys
-from typing import Annotated, Optional
+from collections.abc import Callable
+from typing import Annotated, Any, Optional
 
 import typer
 
@@ -21,20 +23,35 @@ Sha256 = Annotated[
 ]
 
 
+BmapOpt = Annotated[
+    Optional[str],  # noqa: UP045
+    typer.Option("--bmap", help="The image's block map (bmaptool's .bmap; default: IMAGE.bmap etc. beside it, "
+                 "else computed from the image)."),
+]
+Full = Annotated[bool, typer.Option("--full", help="Write (or compare) every byte of the image, without a block map.")]
+
+
 @app.command("flash")
 def flash(
     image: ImageArg,
     device: Device,
     sha256: Sha256 = None,
+    bmap: BmapOpt = None,
+    full: Full = False,
     yes: Annotated[bool, typer.Option("--yes", "-y", help="Erase the device without asking.")] = False,
     json_out: Json = False,
 ) -> int:
-    """Write IMAGE to the card in this machine's reader, then read it back and compare.
+    """Write IMAGE to the card in this machine's reader, then read it back and check it.
 
-    The image's sha256 is checked first (--sha256 or IMAGE.sha256), whatever the device; then
-    the device must be a whole block device, unmounted, not holding this machine's root, at
-    least the image's size. The first MiB (partition table) is written last. Exit 2: refused, nothing written;
-    exit 3: the card does not read back as the image.
+    Only the image's mapped blocks are written and read back: the map is a bmaptool .bmap
+    (--bmap, or IMAGE.bmap beside it), else computed from the image's partition table and its
+    ext4 and FAT file systems (anything else is mapped whole, and said so). The image's sha256
+    (--sha256 or IMAGE.sha256; or the .bmap's range checksums) is checked as it is read: a
+    mismatch stops the write before the partition table is written (the card does not boot),
+    exit 3. --full writes every byte (the image's sha256 then checked first, exit 2).
+    The device must be a whole block device, unmounted, not holding this machine's root, at
+    least the image's size. Exit 2: refused, nothing written; exit 3: the card does not read
+    back as the image, or the image did not match its checksum.
 
     Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
     """
@@ -44,58 +61,181 @@ def flash(
     from panther_ops.core.reimage.flash import check_sha256, eligible_device, flash, inspect_image
     from panther_ops.errors import ExitCode
 
+    if full:
+        if bmap:
+            from panther_ops.errors import UsageError
+
+            raise UsageError("--bmap and --full: give one (--full writes every byte, without a map)")
+        with progress(json_out) as step:
+            # the image first (its checksum, then its size), whatever the device: then the device
+            img = inspect_image(image, sha256, require_checksum=True, progress=step)
+            file_sha = check_sha256(img, step)
+            facts = eligible_device(device, img)
+            what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
+            if not _confirmed(yes, what, describe(facts), image):
+                return int(ExitCode.USAGE)
+            context.info(f"writing {what} to {describe(facts)}")
+            done = flash(img, facts, file_sha, step)
+        v = done.verdict
+        if json_out:
+            emit_json({"schema": 1, "command": "reimage flash", "ok": v.ok, "mode": "full", **done.to_json()})
+        else:
+            w = done.write
+            io = "direct I/O" if w.direct else "buffered I/O (the device refused O_DIRECT)"
+            typer.echo(f"wrote {w.bytes_written} bytes to {device} in {w.seconds:.1f} s "
+                       f"({w.bytes_written / (1 << 20) / max(w.seconds, 1e-9):.1f} MiB/s, {io})")
+            typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
+        return 0 if v.ok else int(ExitCode.PARTIAL)
+    return _flash_mapped(image, device, sha256, bmap, yes, json_out, error)
+
+
+def _confirmed(yes: bool, what: str, dev: str, image: str) -> bool:
+    from panther_ops.cli.render import error
+
+    if yes:
+        return True
+    if not sys.stdin.isatty():
+        error(f"writing {what} would erase {dev}: pass --yes; nothing was written")
+        return False
+    if not typer.confirm(f"Erase {dev} and write {image}?", default=False):
+        context.info("nothing was written")
+        return False
+    return True
+
+
+def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None, yes: bool, json_out: bool,
+                  error: Callable[[str], None]) -> int:
+    import time
+
+    from panther_ops.cli.render import emit_json, human_bytes
+    from panther_ops.cli.views.reimage import progress
+    from panther_ops.core.reimage.device import describe
+    from panther_ops.core.reimage.flash import eligible_device, inspect_image
+    from panther_ops.core.reimage.mapflash import find_bmap, flash_mapped, plan_for
+    from panther_ops.errors import ExitCode, UsageError
+
+    started = time.monotonic()
+    bmap_path = find_bmap(image, bmap)
     with progress(json_out) as step:
-        # the image first (its checksum, then its size), whatever the device: then the device
-        img = inspect_image(image, sha256, require_checksum=True, progress=step)
-        file_sha = check_sha256(img, step)
+        # the image's name, format, checksum file and map first, whatever the device
+        img = inspect_image(image, sha256, require_checksum=bmap_path is None, progress=step, check_now=False)
+        plan = plan_for(img, bmap_path, step)
+        if img.expected_sha256 is None and not plan.kind:
+            raise UsageError(f"{image}: no checksum to check it against ({bmap_path} has no range checksums): "
+                             f"give --sha256 HASH or put {os.path.basename(image)}.sha256 beside it")
         facts = eligible_device(device, img)
-        what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
-        if not yes:
-            if not sys.stdin.isatty():
-                error(f"writing {what} would erase {describe(facts)}: pass --yes; nothing was written")
-                return int(ExitCode.USAGE)
-            if not typer.confirm(f"Erase {describe(facts)} and write {image}?", default=False):
-                context.info("nothing was written")
-                return int(ExitCode.USAGE)
-        context.info(f"writing {what} to {describe(facts)}")
-        done = flash(img, facts, file_sha, step)
+        checked = " and ".join(x for x in (
+            f"sha256 from {img.checksum_from}" if img.expected_sha256 else "",
+            f"{plan.kind} of each range from the map" if plan.kind else "") if x)
+        what = (f"{image} ({img.size} bytes; {human_bytes(plan.mapped_bytes)} mapped in {len(plan.spans)} "
+                f"ranges; checked as it is read: {checked})")
+        if not _confirmed(yes, what, describe(facts), image):
+            return int(ExitCode.USAGE)
+        if not json_out:
+            context.info(f"map: {plan.source}")
+            for note in plan.notes:
+                context.info(f"note: {note}")
+            context.info(f"writing {what} to {describe(facts)}")
+        done = flash_mapped(img, facts, plan, step)
+    total = time.monotonic() - started
     v = done.verdict
+    ok = done.stopped is None and v is not None and v.ok
     if json_out:
-        emit_json({"schema": 1, "command": "reimage flash", "ok": v.ok, **done.to_json()})
+        emit_json({"schema": 1, "command": "reimage flash", "ok": ok, "mode": "mapped", **done.to_json(),
+                   "seconds": round(total, 3)})
+    elif done.stopped is not None:
+        error(f"STOPPED: {done.stopped}: the write was stopped before the partition table was written; "
+              f"{device} is NOT bootable. Flash it again with a good image.")
     else:
         w = done.write
+        assert w is not None and v is not None
         io = "direct I/O" if w.direct else "buffered I/O (the device refused O_DIRECT)"
-        typer.echo(f"wrote {w.bytes_written} bytes to {device} in {w.seconds:.1f} s "
-                   f"({w.bytes_written / (1 << 20) / max(w.seconds, 1e-9):.1f} MiB/s, {io})")
-        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
-    return 0 if v.ok else int(ExitCode.PARTIAL)
+        typer.echo(f"wrote {w.bytes_written} of {img.size} bytes ({100 * w.bytes_written / img.size:.1f}%) "
+                   f"to {device} in {w.seconds:.1f} s ({w.bytes_written / (1 << 20) / max(w.seconds, 1e-9):.1f} "
+                   f"MiB/s, {io}); the rest of the card was left as it was")
+        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message + f"; {total:.1f} s in all")
+    return 0 if ok else int(ExitCode.PARTIAL)
 
 
 @app.command("verify")
-def verify(image: ImageArg, device: Device, sha256: Sha256 = None, json_out: Json = False) -> int:
-    """Read DEVICE back and compare it with IMAGE (sha256, and the first differing byte).
+def verify(image: ImageArg, device: Device, sha256: Sha256 = None, bmap: BmapOpt = None, full: Full = False,
+           json_out: Json = False) -> int:
+    """Read DEVICE back and compare it with IMAGE.
 
-    The image's own sha256 is checked first, before the device, when --sha256 or IMAGE.sha256
-    gives one. Exit 3 when the device differs.
+    With a block map (--bmap, IMAGE.bmap beside it, else computed from the image): each mapped
+    range of the card is hashed and compared with the map's checksum (or the image's bytes);
+    the first differing byte is named. --full: every byte, both sides hashed. The image's own
+    sha256 is checked first, before the device, when --sha256 or IMAGE.sha256 gives one.
+    Exit 3 when the device differs.
 
     Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
     """
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.reimage import progress
     from panther_ops.core.reimage.flash import inspect_image, verify
-    from panther_ops.errors import ExitCode
+    from panther_ops.core.reimage.mapflash import find_bmap, plan_for, verify_mapped
+    from panther_ops.errors import ExitCode, UsageError
 
+    if full and bmap:
+        raise UsageError("--bmap and --full: give one (--full compares every byte, without a map)")
     with progress(json_out) as step:
         img = inspect_image(image, sha256, require_checksum=False, progress=step)  # checked when a hash is given
-        v = verify(img, device, step)
+        if full:
+            v = verify(img, device, step)
+            doc: dict[str, Any] = {"mode": "full", "verify": v.to_json()}
+            ok, message = v.ok, v.message
+        else:
+            plan = plan_for(img, find_bmap(image, bmap), step)
+            mv = verify_mapped(img, device, plan, step)
+            doc = {"mode": "mapped", "map": plan.to_json(img.size), "verify": mv.to_json()}
+            ok, message = mv.ok, mv.message
     if json_out:
-        emit_json({"schema": 1, "command": "reimage verify", "image": img.to_json(), "ok": v.ok,
-                   "verify": v.to_json()})
+        emit_json({"schema": 1, "command": "reimage verify", "image": img.to_json(), "ok": ok, **doc})
     else:
-        typer.echo(("verified: " if v.ok else "VERIFY FAILED: ") + v.message)
-    return 0 if v.ok else int(ExitCode.PARTIAL)
+        typer.echo(("verified: " if ok else "VERIFY FAILED: ") + message)
+    return 0 if ok else int(ExitCode.PARTIAL)
 
 
+@app.command("bmap")
+def bmap_cmd(
+    image: ImageArg,
+    out: Annotated[
+        Optional[str],  # noqa: UP045
+        typer.Option("--out", "-o", help="Where to write it (default: beside the image, IMAGE.bmap without .xz/.gz)."),
+    ] = None,
+    json_out: Json = False,
+) -> int:
+    """Write IMAGE's block map, in bmaptool's format (version 2.0, sha256 of each range).
+
+    Computed from the image's partition table and its ext4 and FAT file systems (anything
+    else is mapped whole, and said so); a sparse image's holes are left out. Map a fleet's
+    image once; `reimage flash` (and `bmaptool copy`) then find it beside the image.
+
+    Example: panther-ops reimage bmap panther-2.1.1.img.xz
+    """
+    from pathlib import Path
+
+    from panther_ops.cli.render import emit_json, human_bytes
+    from panther_ops.cli.views.reimage import progress
+    from panther_ops.core.reimage.bmap import render_bmap
+    from panther_ops.core.reimage.flash import inspect_image
+    from panther_ops.core.reimage.mapflash import build_bmap, default_bmap_path
+    from panther_ops.transport.localfile import write_atomic
+
+    target = out or default_bmap_path(image)
+    with progress(json_out) as step:
+        img = inspect_image(image, None, require_checksum=False, progress=step)
+        bm, plan = build_bmap(img, step)
+    write_atomic(Path(target), render_bmap(bm).encode())
+    if json_out:
+        emit_json({"schema": 1, "command": "reimage bmap", "ok": True, "image": img.to_json(), "bmap": target,
+                   "map": plan.to_json(img.size)})
+    else:
+        for note in plan.notes:
+            context.info(f"note: {note}")
+        typer.echo(f"{target}: {human_bytes(bm.mapped_bytes)} of {human_bytes(img.size)} mapped "
+                   f"({100 * bm.mapped_bytes / img.size:.1f}%) in {len(bm.ranges)} ranges")
+    return 0
 
 
 @app.command("plan")

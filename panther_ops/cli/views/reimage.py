@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 
 ProgressFn = Callable[[str, int, "int | None"], None]
 PHASES = {"size": "measuring", "checksum": "checksum", "write": "writing", "verify": "verifying",
-          "compare": "comparing"}
+          "compare": "comparing", "mapping": "mapping", "image": "image"}
 
 
 def _rate(done: int, seconds: float) -> str:

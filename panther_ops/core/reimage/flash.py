@@ -39,11 +39,16 @@ class Image:
                 "sha256": self.expected_sha256, "checksum_from": self.checksum_from}
 
 
-def inspect_image(path: str, sha256: str | None, *, require_checksum: bool, progress: Progress | None = None) -> Image:
+def inspect_image(
+    path: str, sha256: str | None, *, require_checksum: bool, progress: Progress | None = None,
+    check_now: bool = True,
+) -> Image:
     """The image's format, expected sha256 (from ``sha256`` or IMAGE.sha256; required with
     ``require_checksum``), the file's sha256 checked against it, then its decompressed size,
     in that order: a wrong checksum is named before a compressed image is decompressed, and
-    before anything about a device is read. UsageError naming the image."""
+    before anything about a device is read. UsageError naming the image. Without
+    ``check_now`` the expected sha256 is only read (block-mapped flashing checks it as the
+    image is written)."""
     if not os.path.exists(path):
         raise UsageError(f"{path}: no such image file")
     if not os.path.isfile(path):
@@ -61,7 +66,7 @@ def inspect_image(path: str, sha256: str | None, *, require_checksum: bool, prog
                          f"{os.path.basename(sidecar)} beside it")
     file_bytes = os.path.getsize(path)
     actual = None
-    if expected is not None:
+    if expected is not None and check_now:
         actual = _sha256_checked(path, expected, source, progress)
     if fmt == "raw":
         size = file_bytes

@@ -1,0 +1,175 @@
+"""Which bytes of a file system are in use: ext2/3/4 (block group bitmaps) and FAT12/16/32 (the FAT).
+
+Pure: ``read(offset, size) -> bytes`` reads the image; offsets are the file system's own (the
+caller adds the partition's start). Each reader returns the used byte extents, or None when the
+bytes are not that file system (or one it cannot judge: then the caller maps everything).
+
+ext4 (the kernel's fs/ext4/ext4.h layout): the superblock at byte 1024 (magic 0xEF53 at 56);
+the group descriptors in the block after the superblock's; per group its block bitmap (one bit
+per block, set: in use). A group flagged BLOCK_UNINIT has no bitmap on disk: its superblock
+backup and group descriptors (where the group has them) and the bitmaps and inode table its
+descriptor names are taken as used. META_BG (descriptors spread through the file system) is not
+read: None.
+
+FAT (Microsoft's FAT specification): the BIOS parameter block of the boot sector; everything
+before the data region (boot sector, reserved sectors with FSInfo and the backup boot sector,
+the FATs, FAT12/16's root directory) is in use, and each data cluster whose FAT entry is not 0.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+Reader = Callable[[int, int], bytes]
+Extents = list[tuple[int, int]]
+
+_EXT_MAGIC = 0xEF53
+_INCOMPAT_META_BG = 0x10
+_INCOMPAT_64BIT = 0x80
+_RO_COMPAT_SPARSE_SUPER = 0x1
+_BG_BLOCK_UNINIT = 0x2
+
+
+def _u16(b: bytes, off: int) -> int:
+    return int.from_bytes(b[off:off + 2], "little")
+
+
+def _u32(b: bytes, off: int) -> int:
+    return int.from_bytes(b[off:off + 4], "little")
+
+
+def _has_backup(group: int, sparse: bool) -> bool:
+    if group <= 1 or not sparse:
+        return True
+    for base in (3, 5, 7):
+        n = group
+        while n % base == 0:
+            n //= base
+        if n == 1:
+            return True
+    return False
+
+
+def _runs(bits: bytes, count: int) -> list[tuple[int, int]]:
+    """[first, end) runs of set bits among the first ``count`` (little-endian bit order)."""
+    out: list[tuple[int, int]] = []
+    start = None
+    n = min(count, len(bits) * 8)
+    i = 0
+    while i < n:
+        byte = bits[i >> 3]
+        if byte in (0, 0xFF) and i % 8 == 0 and i + 8 <= n:
+            full = byte == 0xFF
+            if full and start is None:
+                start = i
+            elif not full and start is not None:
+                out.append((start, i))
+                start = None
+            i += 8
+            continue
+        if byte >> (i & 7) & 1:
+            if start is None:
+                start = i
+        elif start is not None:
+            out.append((start, i))
+            start = None
+        i += 1
+    if start is not None:
+        out.append((start, n))
+    return out
+
+
+def ext4_used(read: Reader, size: int) -> Extents | None:
+    """The used byte extents of an ext2/3/4 file system of ``size`` bytes, or None."""
+    sb = read(1024, 1024)
+    if len(sb) < 1024 or _u16(sb, 56) != _EXT_MAGIC:
+        return None
+    incompat, ro_compat = _u32(sb, 0x60), _u32(sb, 0x64)
+    if incompat & _INCOMPAT_META_BG:
+        return None
+    block = 1024 << _u32(sb, 0x18)
+    is64 = bool(incompat & _INCOMPAT_64BIT)
+    blocks = _u32(sb, 0x4) | ((_u32(sb, 0x150) << 32) if is64 else 0)
+    first_data = _u32(sb, 0x14)
+    per_group = _u32(sb, 0x20)
+    desc_size = _u16(sb, 0xFE) if is64 else 32
+    reserved_gdt = _u16(sb, 0xCE)
+    if not per_group or desc_size < 32 or blocks * block > size or block > 65536:
+        return None
+    groups = (blocks - first_data + per_group - 1) // per_group
+    gdt_blocks = (groups * desc_size + block - 1) // block
+    gdt = read((first_data + 1) * block, groups * desc_size)
+    if len(gdt) < groups * desc_size:
+        return None
+    sparse = bool(ro_compat & _RO_COMPAT_SPARSE_SUPER)
+    used: list[tuple[int, int]] = [(0, (first_data + 1 + gdt_blocks + reserved_gdt) * block)]
+    inodes_per_group, inode_size = _u32(sb, 0x28), (_u16(sb, 0x58) or 128)
+    itable_blocks = (inodes_per_group * inode_size + block - 1) // block
+    for g in range(groups):
+        d = gdt[g * desc_size:(g + 1) * desc_size]
+        hi = desc_size >= 64
+        bitmap = _u32(d, 0x0) | ((_u32(d, 0x20) << 32) if hi else 0)
+        ibitmap = _u32(d, 0x4) | ((_u32(d, 0x24) << 32) if hi else 0)
+        itable = _u32(d, 0x8) | ((_u32(d, 0x28) << 32) if hi else 0)
+        flags = _u16(d, 0x12)
+        start = first_data + g * per_group
+        count = min(per_group, blocks - start)
+        if bitmap >= blocks or itable + itable_blocks > blocks:
+            return None
+        # every group's own metadata, whatever its bitmap says
+        used += [(bitmap * block, (bitmap + 1) * block), (ibitmap * block, (ibitmap + 1) * block),
+                 (itable * block, (itable + itable_blocks) * block)]
+        if flags & _BG_BLOCK_UNINIT:
+            if _has_backup(g, sparse):
+                used.append((start * block, (start + 1 + gdt_blocks + reserved_gdt) * block))
+            continue
+        bits = read(bitmap * block, (count + 7) // 8)
+        for a, b in _runs(bits, count):
+            used.append(((start + a) * block, (start + b) * block))
+    return used
+
+
+def fat_used(read: Reader, size: int) -> Extents | None:
+    """The used byte extents of a FAT12/16/32 file system of ``size`` bytes, or None."""
+    bs = read(0, 512)
+    if len(bs) < 512 or bs[510:512] != b"\x55\xaa" or bs[0] not in (0xEB, 0xE9):
+        return None
+    bps, spc = _u16(bs, 11), bs[13]
+    reserved, fats, root_entries = _u16(bs, 14), bs[16], _u16(bs, 17)
+    total = _u16(bs, 19) or _u32(bs, 32)
+    fat_sectors = _u16(bs, 22) or _u32(bs, 36)
+    if bps not in (512, 1024, 2048, 4096) or spc == 0 or spc & (spc - 1) or not fats or not fat_sectors:
+        return None
+    if not reserved or total * bps > size:
+        return None
+    root_sectors = (root_entries * 32 + bps - 1) // bps
+    data_start = reserved + fats * fat_sectors + root_sectors
+    if data_start >= total:
+        return None
+    clusters = (total - data_start) // spc
+    kind = 12 if clusters < 4085 else 16 if clusters < 65525 else 32
+    fat_bytes = {12: (clusters + 2) * 3 // 2 + 1, 16: (clusters + 2) * 2, 32: (clusters + 2) * 4}[kind]
+    if fat_bytes > fat_sectors * bps + 4:
+        return None
+    fat = read(reserved * bps, min(fat_bytes, fat_sectors * bps))
+    used: Extents = [(0, data_start * bps)]
+    cluster_bytes = spc * bps
+    base = data_start * bps
+    start = None
+    for n in range(2, clusters + 2):
+        if kind == 32:
+            entry = _u32(fat, 4 * n) & 0x0FFFFFFF
+        elif kind == 16:
+            entry = _u16(fat, 2 * n)
+        else:
+            pair = _u16(fat, n * 3 // 2)
+            entry = pair >> 4 if n & 1 else pair & 0xFFF
+        if entry:
+            if start is None:
+                start = n
+        elif start is not None:
+            used.append((base + (start - 2) * cluster_bytes, base + (n - 2) * cluster_bytes))
+            start = None
+    if start is not None:
+        used.append((base + (start - 2) * cluster_bytes, base + clusters * cluster_bytes))
+    return used
