@@ -8,8 +8,16 @@ NOT the router. Runs in the lab router's namespaces (tests/lab/router.py):
   ``/api/gps/nmea/rules/config`` with a bearer token. Like the real API, every value must be a
   string, switches only "0"/"1" (422 with ``errors`` otherwise).
 * An NMEA sender at 1 Hz (sentences made with pynmea2 by tests/lab/nmea.py): when the GNSS and
-  forwarding are enabled and proto is udp, each enabled sentence goes to hostname:port. The
-  test controls it through ``sender.json`` in the router's directory (on, lat, lon, quality).
+  forwarding are enabled and proto is udp, each enabled sentence goes to hostname:port in a
+  datagram of its own, CRLF-terminated. Why one per datagram: the router's forwarding rules are
+  per sentence (``forwarding_enabled``/``forwarding_interval`` per ID, husarion/panther_rutx11@a135d67:
+  rutx11_manager.py), and Husarion's documented receiver is nmea_navsat_driver's
+  nmea_socket_driver (husarion/nmea-gps-docker, panther_ros@2.1.1 ``launch_nmea_gps``), which
+  strips a datagram and splits it at "\n" (ros-drivers/nmea_navsat_driver@2.0.1:
+  src/libnmea_navsat_driver/nodes/nmea_socket_driver.py): of a CRLF burst every sentence but
+  the last keeps its "\r" and fails the parser's checksum regex, so the GGA of a burst would
+  never give the fix the manual shows (``ros2 topic echo /panther/gps/fix``). The test
+  controls the sender through ``sender.json`` in the router's directory (on, lat, lon, quality).
 
 Usage: rutx11-standin.py DIR REPO_ROOT PORT TOKEN_TTL
 """
@@ -191,10 +199,11 @@ def sender() -> None:
                  if s[1:6] in on]
         if not lines:
             continue
-        try:
-            sock.sendto("".join(s + "\r\n" for s in lines).encode(), (fwd["hostname"], int(fwd["port"])))
-        except OSError as exc:
-            log("send-failed", error=str(exc))
+        for line in lines:  # one sentence per datagram (see the module's docstring)
+            try:
+                sock.sendto((line + "\r\n").encode(), (fwd["hostname"], int(fwd["port"])))
+            except OSError as exc:
+                log("send-failed", error=str(exc))
 
 
 def main() -> None:
