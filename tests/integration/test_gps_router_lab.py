@@ -20,10 +20,14 @@ from tests.lab.router import Router, add_router, renew_certificate
 
 pytestmark = pytest.mark.lab
 PASSWORD = "lab-router-pass"
-CAPTURE = (
+CAPTURE = (  # an epoch: the first datagram within 2.5 s, then the rest of its sentences (one per datagram)
     "import socket,sys\n"
     "s=socket.socket(socket.AF_INET,socket.SOCK_DGRAM);s.bind(('0.0.0.0',int(sys.argv[1])));s.settimeout(2.5)\n"
-    "try:\n  print(s.recv(65535).decode())\nexcept socket.timeout:\n  print('NOTHING')\n"
+    "got=[]\n"
+    "try:\n  got.append(s.recv(65535).decode())\n  s.settimeout(0.3)\n"
+    "  while True:\n    got.append(s.recv(65535).decode())\n"
+    "except socket.timeout:\n  pass\n"
+    "print(''.join(got) or 'NOTHING')\n"
 )
 
 SYSTEM_PYTHON = "/usr/bin/python3"

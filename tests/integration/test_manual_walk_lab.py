@@ -174,7 +174,7 @@ def test_02_gamepad_parameters_pulled(walk: Walk, env: Path, version: str,
                                       capsys: pytest.CaptureFixture[str]) -> None:
     """'the node can be configured to work with any Gamepad controller': first get the file in use."""
     name = ROBOT[version]
-    code, doc, text = walk.cli(capsys, "config", "pull", "joy2twist", "-r", name, "-o", "joy.yaml", "--json")
+    code, _doc, text = walk.cli(capsys, "config", "pull", "joy2twist", "-r", name, "-o", "joy.yaml", "--json")
     assert code == 0, text
     pulled = yaml.safe_load((env / "joy.yaml").read_text())
     assert pulled["/**"]["ros__parameters"]["linear_velocity_factor"]["slow"] == 0.4  # joy2twist's default
@@ -327,30 +327,30 @@ def test_06_custom_wheels(walk: Walk, env: Path, version: str, capsys: pytest.Ca
 def test_07_simulation_gps_and_battery(walk: Walk, env: Path, version: str,
                                        capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     name = ROBOT[version]
-    code, doc, text = walk.cli(capsys, "config", "pull", "components", "-r", name, "-o", "components.yaml", "--json")
+    code, _doc, text = walk.cli(capsys, "config", "pull", "components", "-r", name, "-o", "components.yaml", "--json")
     assert code == 0, text
     before = (env / "components.yaml").read_text()
-    code, doc, text = walk.cli(capsys, "sim", "gps", "add", "components.yaml", "--dry-run")
+    code, _doc, text = walk.cli(capsys, "sim", "gps", "add", "components.yaml", "--dry-run")
     assert code == 0 and (env / "components.yaml").read_text() == before, text
-    code, doc, text = walk.cli(capsys, "sim", "gps", "add", "components.yaml", "--yes")
+    code, _doc, text = walk.cli(capsys, "sim", "gps", "add", "components.yaml", "--yes")
     assert code == 0, text
     comps = yaml.safe_load((env / "components.yaml").read_text())["components"]
     assert {"type": "ANT02", "parent_link": "cover_link", "xyz": "0.185 -0.12 0.0", "rpy": "0.0 0.0 3.14",
             "device_namespace": "gps"} in comps, comps
     world = env / "my_world.sdf"
     world.write_text('<?xml version="1.0"?>\n<sdf version="1.6">\n  <world name="my_world">\n  </world>\n</sdf>\n')
-    code, doc, text = walk.cli(capsys, "sim", "world", "set", str(world), "--latitude", "53.1978", "--longitude",
+    code, _doc, text = walk.cli(capsys, "sim", "world", "set", str(world), "--latitude", "53.1978", "--longitude",
                                "18.3732", "--yes")
     assert code == 0, text
     assert "<latitude_deg>53.1978</latitude_deg>" in world.read_text()
     assert "<surface_model>EARTH_WGS84</surface_model>" in world.read_text()
     # the battery: simulate_discharging true in battery_plugin_config.yaml
-    code, doc, text = walk.cli(capsys, "config", "pull", "battery", "-r", name, "-o", "battery.yaml", "--json")
+    code, _doc, text = walk.cli(capsys, "config", "pull", "battery", "-r", name, "-o", "battery.yaml", "--json")
     assert code == 0, text
     battery = env / "battery.yaml"
     battery.write_text(battery.read_text().replace("simulate_discharging: false", "simulate_discharging: true"))
     assert "simulate_discharging: true" in battery.read_text()
-    code, doc, text = walk.cli(capsys, "sim", "battery", "check", str(battery))
+    code, _doc, text = walk.cli(capsys, "sim", "battery", "check", str(battery))
     assert code == 0, text
     # charging: `ign service .../recharge/start|stop` through the Gazebo CLI stand-in
     services, calls = env / "services", env / "calls"
@@ -358,9 +358,9 @@ def test_07_simulation_gps_and_battery(walk: Walk, env: Path, version: str,
     monkeypatch.setenv("PATH", f"{ROOT / 'tests' / 'standins'}:{__import__('os').environ['PATH']}")
     monkeypatch.setenv("PANTHER_OPS_STANDIN_GZ_SERVICES", str(services))
     monkeypatch.setenv("PANTHER_OPS_STANDIN_GZ_CALLS", str(calls))
-    code, doc, text = walk.cli(capsys, "sim", "battery", "charge", "start", "--dry-run")
+    code, _doc, text = walk.cli(capsys, "sim", "battery", "charge", "start", "--dry-run")
     assert code == 0 and not calls.exists(), text
-    code, doc, text = walk.cli(capsys, "sim", "battery", "charge", "start", "--yes")
+    code, _doc, text = walk.cli(capsys, "sim", "battery", "charge", "start", "--yes")
     assert code == 0, text
     assert "/model/panther/battery/battery/recharge/start" in calls.read_text()
 
