@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import os
 import pty
@@ -148,3 +149,52 @@ def interrupted(args: list[str], ready: Callable[[str], bool], *, on_terminal: b
     out = out_pipe.read().decode(errors="replace") if out_pipe is not None else text
     assert sent is not None, f"never ready; it ended (exit {p.returncode}) with: {text}"
     return Interrupted(Run(p.returncode, out, text), ended - sent)
+
+
+def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 100, rows: int = 50,
+                 env: dict[str, str] | None = None, timeout: float = 60) -> Interrupted:
+    """Run ``panther-ops`` on a pseudo-terminal that is its controlling terminal and, once
+    ``ready(output so far, plain)`` holds, type Ctrl-C into it: the terminal sends SIGINT to
+    the process and echoes ``^C`` where its cursor is, as an operator's terminal does.
+    ``Run.out`` is everything the terminal was sent, escape sequences included."""
+    full_env = _env({"TERM": "xterm-256color", **(env or {})})
+    pid, master = pty.fork()
+    if pid == 0:  # the child: its own session, the terminal its controlling one
+        fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
+        os.execve(CLI[0], [*CLI, *args], full_env)
+    chunks: list[bytes] = []
+    typed: float | None = None
+    ended: float | None = None
+    status = 0
+    deadline = time.monotonic() + timeout
+    try:
+        while ended is None:
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"panther-ops {' '.join(args)}: not over after {timeout} s")
+            if typed is None and ready(plain(b"".join(chunks).decode(errors="replace"))):
+                os.write(master, b"\x03")
+                typed = time.monotonic()
+            readable, _, _ = select.select([master], [], [], 0.01)
+            if readable:
+                with contextlib.suppress(OSError):  # the child is gone
+                    chunks.append(os.read(master, 65536))
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                ended = time.monotonic()
+        while True:
+            readable, _, _ = select.select([master], [], [], 0.2)
+            try:
+                data = os.read(master, 65536) if readable else b""
+            except OSError:
+                data = b""
+            if not data:
+                break
+            chunks.append(data)
+    finally:
+        if ended is None:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+        os.close(master)
+    text = b"".join(chunks).decode(errors="replace")
+    assert typed is not None, f"never ready; it ended with: {text}"
+    return Interrupted(Run(os.waitstatus_to_exitcode(status), text, text), ended - typed)
