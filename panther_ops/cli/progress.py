@@ -7,6 +7,10 @@ the work is over the live view goes away and a recap (one line per robot: its re
 and the time each phase took, like Ansible's) stays on stderr. In a pipe nothing is
 printed: stdout carries only the table (or the JSON), stderr only the messages.
 
+Interrupted (Ctrl-C: the core raises ``FleetInterrupted`` at once), the live view goes
+and the partial recap stays: each robot finished, planned, interrupted in its phase, or
+not started; the error funnel then says the same in words (cli/app.py).
+
 The core reports phases through its ``Progress`` callback (``core/runner.py``): this
 object is that callback.
 """
@@ -21,6 +25,7 @@ from typing import Any
 
 from panther_ops.cli.output import console, is_terminal, quiet
 from panther_ops.cli.render import outcome_counts, outcome_word, result_cell
+from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
 from panther_ops.results import RobotResult
 
 PHASE_STYLE = {"connect": "cyan", "plan": "blue", "write": "yellow", "recreate": "magenta", "verify": "green",
@@ -75,13 +80,17 @@ class FleetProgress:
         from rich.live import Live
 
         out = console(stderr=True)
-        with Live(self._render(out.size.height), console=out, transient=True, refresh_per_second=8,
-                  get_renderable=lambda: self._render(out.size.height)) as view:
-            self._live = view
-            try:
-                yield
-            finally:
-                self._live = None
+        try:
+            with Live(self._render(out.size.height), console=out, transient=True, refresh_per_second=8,
+                      get_renderable=lambda: self._render(out.size.height)) as view:
+                self._live = view
+                try:
+                    yield
+                finally:
+                    self._live = None
+        except FleetInterrupted as exc:  # the live view is gone: what was done stays
+            self.recap(exc.where)
+            raise
 
     def _refresh(self) -> None:
         view = self._live
@@ -112,20 +121,33 @@ class FleetProgress:
 
         return Group(grid, summary)
 
-    def recap(self) -> None:
-        """One line per robot: its result and the time of each phase (on a terminal only)."""
-        if not self.enabled or not self._done:
+    def recap(self, interrupted: Interruption | None = None) -> None:
+        """One line per robot: its result and the time of each phase (on a terminal only).
+        ``interrupted``: the partial recap of an interrupted run, every robot where it was."""
+        if not self.enabled or not (self._done or interrupted):
             return
         from rich.markup import escape
 
+        with self._lock:
+            now = time.monotonic()
+            for robot in list(self._current):  # the phases cut short, up to now
+                self._close_phase(robot, now)
+                self._current[robot] = (self._current[robot][0], now)
+            times = {r: dict(t) for r, t in self._times.items()}
+            done = dict(self._done)
+        cells = {r: (result_cell(res), outcome_word(res)) for r, res in done.items()}
+        if interrupted is not None:
+            cells = {r.robot: (result_cell(r), outcome_word(r)) for r in interrupted.finished}
+            cells.update({r: ("[cyan]planned[/]", "planned") for r in interrupted.planned})
+            cells.update({r: ("[yellow]interrupted[/]", "interrupted") for r in interrupted.running})
+            cells.update({r: ("[dim]not started[/]", "not started") for r in interrupted.not_started})
         err = console(stderr=True)
-        err.print("[bold]recap[/]")
+        err.print("[bold]recap[/]" + (" (interrupted)" if interrupted is not None else ""))
         width = max(len(r) for r in self.robots)
         for robot in self.robots:
-            result = self._done.get(robot)
-            if result is None:
+            if robot not in cells:
                 continue
-            phases = "  ".join(f"{name} {seconds:.1f} s" for name, seconds in self._times.get(robot, {}).items())
-            word = outcome_word(result)
-            err.print(f"{escape(robot):<{width}}  {result_cell(result)}{' ' * max(0, 12 - len(word))} {phases}",
+            cell, word = cells[robot]
+            phases = "  ".join(f"{name} {seconds:.1f} s" for name, seconds in times.get(robot, {}).items())
+            err.print(f"{escape(robot):<{width}}  {cell}{' ' * max(0, 12 - len(word))} {phases}".rstrip(),
                       soft_wrap=True)

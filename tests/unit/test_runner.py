@@ -117,3 +117,53 @@ def test_demo_refuses_to_overwrite(tmp_path: Path) -> None:
     with pytest.raises(OpsError, match="already exists"):
         init_demo(tmp_path / "d")
     init_demo(tmp_path / "d", force=True)
+
+
+def test_an_interrupt_stops_the_run_at_once_and_names_where_each_robot_was(tmp_path: Path) -> None:
+    """A Ctrl-C (SIGINT to this process, raised in the main thread) while one robot's task hangs:
+    run_fleet raises FleetInterrupted at once, without waiting for the hanging worker; robots not
+    yet started never start, and the hanging worker stops at its next phase."""
+    import os
+    import signal
+    import time
+
+    from panther_ops.core.fleet.interrupt import FleetInterrupted
+
+    inv = fleet_of(tmp_path, 4)
+    release, hanging = threading.Event(), threading.Event()
+    after: list[str] = []
+
+    def task(ctx: RobotContext) -> RobotResult:
+        if ctx.robot.name == "r01":
+            ctx.phase("write")
+            hanging.set()
+            release.wait(10)
+            ctx.phase("verify")  # interrupted meanwhile: stops here
+            after.append(ctx.robot.name)
+        if ctx.robot.name == "r02":
+            ctx.phase("plan")
+            release.wait(10)
+        return RobotResult(ctx.robot.name, Outcome.CHANGED, "done")
+
+    def ctrl_c() -> None:
+        hanging.wait(10)
+        time.sleep(0.2)  # r00 is done by now, r02 hangs too, r03 waits for a fork
+        os.kill(os.getpid(), signal.SIGINT)
+
+    threading.Thread(target=ctrl_c, daemon=True).start()
+    start = time.monotonic()
+    with pytest.raises(FleetInterrupted) as caught:
+        run_fleet("t", inv, list(inv.robots.values()), task, RunOptions(forks=2))
+    took = time.monotonic() - start
+    release.set()
+    where = caught.value.where
+    assert took < 0.2 + 0.5 + 1.0, took  # the hanging task alone would take 10 s
+    assert [r.robot for r in where.finished] == ["r00"] and where.running == {"r01": "write", "r02": "plan"}
+    assert where.not_started == ["r03"]
+    assert int(caught.value.exit_code) == 130
+    text = str(caught.value)
+    assert "finished: r00 changed" in text and "being written: r01" in text and "cut short: r02 (plan)" in text
+    assert "not started: r03" in text
+    assert "old or its new content" in text
+    time.sleep(0.2)
+    assert after == []  # the worker went no further than its next phase

@@ -2,16 +2,20 @@
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import os
 import pty
 import re
 import select
+import signal
 import struct
 import subprocess
 import sys
 import tempfile
 import termios
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -80,3 +84,117 @@ def _pty_run(args: list[str], master: int, slave: int, piped_out: IO[bytes], *, 
     code = p.wait(timeout=timeout)
     piped_out.seek(0)
     return Run(code, b"".join(chunks).decode(errors="replace"), piped_out.read().decode(errors="replace"))
+
+
+@dataclass
+class Interrupted:
+    run: Run
+    after_s: float
+    """From the SIGINT to the process's end."""
+
+
+def interrupted(args: list[str], ready: Callable[[str], bool], *, on_terminal: bool = True, cols: int = 120,
+                cwd: Path | None = None, env: dict[str, str] | None = None, timeout: float = 30) -> Interrupted:
+    """Run ``panther-ops`` (on a pseudo-terminal, or with both streams piped), send it SIGINT (a
+    Ctrl-C) once ``ready(output so far, plain)`` holds, and time how long it takes to end.
+    Piped, ``ready`` sees nothing but what stderr showed so far (read as it comes)."""
+    if on_terminal:
+        master, slave = pty.openpty()
+        fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
+        p = subprocess.Popen([*CLI, *args], cwd=cwd, env=_env({"TERM": "xterm-256color", **(env or {})}),
+                             stdin=slave, stdout=slave, stderr=slave, close_fds=True)
+        os.close(slave)
+        source, out_pipe = master, None
+    else:
+        p = subprocess.Popen([*CLI, *args], cwd=cwd, env=_env(env), stdin=subprocess.DEVNULL,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        assert p.stderr is not None and p.stdout is not None
+        source, out_pipe = p.stderr.fileno(), p.stdout
+    chunks: list[bytes] = []
+    sent: float | None = None
+    ended: float | None = None
+    deadline = time.monotonic() + timeout
+    try:
+        while ended is None:
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"panther-ops {' '.join(args)}: not over after {timeout} s")
+            if sent is None and ready(plain(b"".join(chunks).decode(errors="replace"))):
+                p.send_signal(signal.SIGINT)
+                sent = time.monotonic()
+            readable, _, _ = select.select([source], [], [], 0.01)
+            if readable:
+                try:
+                    data = os.read(source, 65536)
+                except OSError:  # the child closed the terminal
+                    data = b""
+                chunks.append(data)
+            if p.poll() is not None:
+                ended = time.monotonic()
+        while True:  # what is left in the stream
+            readable, _, _ = select.select([source], [], [], 0.5)
+            try:
+                data = os.read(source, 65536) if readable else b""
+            except OSError:
+                data = b""
+            if not data:
+                break
+            chunks.append(data)
+    finally:
+        if p.poll() is None:
+            p.kill()
+        p.wait()
+        if on_terminal:
+            os.close(source)
+    text = b"".join(chunks).decode(errors="replace")
+    out = out_pipe.read().decode(errors="replace") if out_pipe is not None else text
+    assert sent is not None, f"never ready; it ended (exit {p.returncode}) with: {text}"
+    return Interrupted(Run(p.returncode, out, text), ended - sent)
+
+
+def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 100, rows: int = 50,
+                 env: dict[str, str] | None = None, timeout: float = 60) -> Interrupted:
+    """Run ``panther-ops`` on a pseudo-terminal that is its controlling terminal and, once
+    ``ready(output so far, plain)`` holds, type Ctrl-C into it: the terminal sends SIGINT to
+    the process and echoes ``^C`` where its cursor is, as an operator's terminal does.
+    ``Run.out`` is everything the terminal was sent, escape sequences included."""
+    full_env = _env({"TERM": "xterm-256color", **(env or {})})
+    pid, master = pty.fork()
+    if pid == 0:  # the child: its own session, the terminal its controlling one
+        fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
+        os.execve(CLI[0], [*CLI, *args], full_env)
+    chunks: list[bytes] = []
+    typed: float | None = None
+    ended: float | None = None
+    status = 0
+    deadline = time.monotonic() + timeout
+    try:
+        while ended is None:
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"panther-ops {' '.join(args)}: not over after {timeout} s")
+            if typed is None and ready(plain(b"".join(chunks).decode(errors="replace"))):
+                os.write(master, b"\x03")
+                typed = time.monotonic()
+            readable, _, _ = select.select([master], [], [], 0.01)
+            if readable:
+                with contextlib.suppress(OSError):  # the child is gone
+                    chunks.append(os.read(master, 65536))
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                ended = time.monotonic()
+        while True:
+            readable, _, _ = select.select([master], [], [], 0.2)
+            try:
+                data = os.read(master, 65536) if readable else b""
+            except OSError:
+                data = b""
+            if not data:
+                break
+            chunks.append(data)
+    finally:
+        if ended is None:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+        os.close(master)
+    text = b"".join(chunks).decode(errors="replace")
+    assert typed is not None, f"never ready; it ended with: {text}"
+    return Interrupted(Run(os.waitstatus_to_exitcode(status), text, text), ended - typed)

@@ -91,7 +91,7 @@ def run(
         return 0
     from panther_ops.cli.views.sim import live
 
-    return live(snapshots, str(path))
+    return live(snapshots, f"scenario {loaded.name}")
 
 
 # ------------------------------------------------------------------ deploy / remove on robots

@@ -26,6 +26,7 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
+from panther_ops.core.fleet.interrupt import FleetInterrupted
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
@@ -92,6 +93,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         and options.max_fail_pct is None
     decided: set[str] = set()
     all_decided = threading.Condition()
+    interrupted = threading.Event()
 
     def decide(name: str) -> None:
         with all_decided:
@@ -111,8 +113,9 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
         writes = stage is not None and plan.edits and not plan.data.get("action") and not stage.dry_run
         if writes and go_early and stage is not None:
             with all_decided:
-                all_decided.wait_for(lambda: len(decided) >= len(robots))
-            if not fp.usage_errors:  # staged with its go-ahead (the robot went away: no plan either)
+                all_decided.wait_for(lambda: len(decided) >= len(robots) or interrupted.is_set())
+            # staged with its go-ahead (the robot went away: no plan either); never once interrupted
+            if not fp.usage_errors and not interrupted.is_set():
                 fp.applied[ctx.robot.name] = apply_staged(ctx, plan, stage, stage_plan(ctx, plan, stage, go=True))
         elif writes and stage is not None:
             fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
@@ -133,7 +136,14 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
                 report(name)
 
     plan_opts = RunOptions(forks=options.forks)
-    fp.results = run_fleet(command, inventory, robots, task, plan_opts, Noted(), connections)
+    try:
+        fp.results = run_fleet(command, inventory, robots, task, plan_opts, Noted(), connections)
+    except FleetInterrupted as exc:  # a change planned is not written; one that went ahead early is
+        with all_decided:
+            interrupted.set()
+            all_decided.notify_all()
+        planned = [r.robot for r in exc.where.finished if r.outcome is Outcome.CHANGED]
+        raise exc.regrouped([r.name for r in robots], dict(fp.applied), planned) from None
     return fp
 
 
@@ -155,8 +165,13 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
         staged = fp.staged.pop(ctx.robot.name, None)
         return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 
-    applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
-        FleetResult(fp.command, subject=inventory.subject)
+    try:
+        applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
+            FleetResult(fp.command, subject=inventory.subject)
+    except FleetInterrupted as exc:  # the robots with nothing to apply were finished with their plan
+        started = {r.name for r in todo}
+        raise exc.regrouped([r.name for r in robots], {n: r for n, r in by_name.items() if n not in started}) \
+            from None
     unstage_fleet(fp, inventory, robots, connections, options)  # robots never started (canary, max-fail)
     for r in applied.results:
         by_name[r.robot] = r

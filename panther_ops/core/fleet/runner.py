@@ -3,6 +3,13 @@
 A task is a function ``(RobotContext) -> RobotResult``. The runner opens the robot's
 transport (one connection), hands it to the task, closes it, and turns every error into
 the shared result vocabulary; one robot's failure never stops the others.
+
+The robots are worked on in worker threads; the calling (main) thread only starts them and
+collects their results, waiting a short time at once, so a Ctrl-C (KeyboardInterrupt, which
+Python raises in the main thread) is acted on at once: nothing more is started, the workers
+are not waited for (a robot hanging in connect may take its whole connect timeout), each
+worker stops at its next phase, and :class:`~panther_ops.core.fleet.interrupt.FleetInterrupted`
+says where every robot was (``interrupt.py``).
 """
 
 from __future__ import annotations
@@ -14,6 +21,7 @@ from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
+from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
 from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.errors import OpsError, UnreachableError
 from panther_ops.results import FleetResult, Outcome, RobotResult
@@ -46,6 +54,10 @@ Progress = Callable[[RobotResult], None]
 recreate, verify, roll back), as it happens, from the robot's worker thread."""
 
 PHASES = ("connect", "plan", "write", "recreate", "verify", "roll back")
+
+WAIT_S = 0.1
+"""How long the main thread waits for a result at a time (a Ctrl-C is acted on between waits
+too, where the platform does not interrupt a wait)."""
 
 
 def phase_reporter(progress: Progress | None, robot: str) -> Callable[[str], None] | None:
@@ -120,8 +132,17 @@ class Connections:
     def __enter__(self) -> Connections:
         return self
 
-    def __exit__(self, *exc: object) -> None:
+    def __exit__(self, exc_type: type[BaseException] | None, *exc: object) -> None:
+        if exc_type is not None and issubclass(exc_type, (FleetInterrupted, KeyboardInterrupt)):
+            # interrupted: the workers still use their connections and closing one mid-write
+            # waits for the write; they are closed in the background (or end with the process)
+            threading.Thread(target=self.close, name="close-connections", daemon=True).start()
+            return
         self.close()
+
+
+class Stopped(OpsError):
+    """A robot's work reached its next phase after the run was interrupted: it goes no further."""
 
 
 def run_one(connections: Connections, robot: Robot, task: Task,
@@ -166,29 +187,61 @@ class _Fleet:
         self.lock = threading.Lock()
         self.stop_reason: str | None = None
         self.failures = 0
+        self.running: dict[str, str] = {}
+        """Robot -> the phase it is in, while a worker has it."""
+        self.stop = threading.Event()
 
     def note(self, res: RobotResult) -> None:
         with self.lock:
             self.results[res.robot] = res
+            self.running.pop(res.robot, None)
         if self.progress:
             self.progress(res)
+
+    def on_phase(self, robot: str) -> Callable[[str], None]:
+        """The phase callback of one robot's worker: recorded, passed on to the progress, and
+        the point where an interrupted run's workers stop (a rollback under way goes on)."""
+        forward = phase_reporter(self.progress, robot)
+
+        def phase(name: str) -> None:
+            if self.stop.is_set() and name != "roll back":
+                raise Stopped(f"{robot}: interrupted: not continued")
+            with self.lock:
+                self.running[robot] = name
+            if forward is not None:
+                forward(name)
+
+        return phase
+
+    def interrupted(self, command: str, robots: list[Robot]) -> FleetInterrupted:
+        """Stop the run's workers at their next phase; where each robot is now."""
+        self.stop.set()
+        with self.lock:
+            where = Interruption(running={r.name: self.running[r.name] for r in robots if r.name in self.running})
+            where.finished = [self.results[r.name] for r in robots
+                              if r.name in self.results and r.name not in where.running]
+        done = set(where.running) | {r.robot for r in where.finished}
+        where.not_started = [r.name for r in robots if r.name not in done]
+        return FleetInterrupted(command, where)
 
     def skip(self, robots: list[Robot]) -> None:
         for r in robots:
             self.note(RobotResult(r.name, Outcome.SKIPPED, f"not started: {self.stop_reason}"))
 
     def batch(self, todo: list[Robot], budget: int | None) -> None:
+        """Run ``todo``, ``forks`` at a time. Interrupted (KeyboardInterrupt), the pool is shut
+        down without waiting for its workers and the interrupt goes on to the caller."""
         queue = list(todo)
         pending: set[Future[RobotResult]] = set()
-        with ThreadPoolExecutor(max_workers=max(1, min(self.opts.forks, len(todo)))) as pool:
+        pool = ThreadPoolExecutor(max_workers=max(1, min(self.opts.forks, len(todo))))
+        try:
             while queue or pending:
                 while queue and len(pending) < self.opts.forks and self.stop_reason is None:
                     robot = queue.pop(0)
-                    pending.add(pool.submit(run_one, self.connections, robot, self.task,
-                                            phase_reporter(self.progress, robot.name)))
+                    pending.add(pool.submit(run_one, self.connections, robot, self.task, self.on_phase(robot.name)))
                 if not pending:
                     break
-                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                done, pending = wait(pending, timeout=WAIT_S, return_when=FIRST_COMPLETED)
                 for fut in done:
                     res = fut.result()
                     self.note(res)
@@ -196,6 +249,11 @@ class _Fleet:
                         self.failures += 1
                         if budget is not None and self.failures > budget and self.stop_reason is None:
                             self.stop_reason = f"max-fail reached ({self.failures} failed)"
+        except BaseException:
+            self.stop.set()
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown(wait=True)  # every worker is done: this returns at once
         self.skip(queue)
 
 
@@ -212,14 +270,22 @@ def run_fleet(
 
     With ``connections`` the robots' transports stay open for a later phase (the caller
     closes them); otherwise they are closed when this returns.
+    Raises :class:`FleetInterrupted` on a Ctrl-C, at once (see the module's text).
     """
     if connections is None:
         with Connections(inventory) as own:
             return run_fleet(command, inventory, robots, task, options, progress, own)
-    opts = options or RunOptions(forks=inventory.forks)
+    run = _Fleet(connections, task, options or RunOptions(forks=inventory.forks), progress)
+    try:
+        return _run(run, command, inventory, robots)
+    except KeyboardInterrupt:
+        raise run.interrupted(command, robots) from None
+
+
+def _run(run: _Fleet, command: str, inventory: Inventory, robots: list[Robot]) -> FleetResult:
+    opts = run.opts
     start = time.monotonic()
     fleet = FleetResult(command, subject=inventory.subject)
-    run = _Fleet(connections, task, opts, progress)
     budget = None if opts.max_fail_pct is None else int(len(robots) * opts.max_fail_pct / 100.0)
     canaries = robots[: opts.canary] if opts.canary > 0 else []
     rest = robots[len(canaries):]
