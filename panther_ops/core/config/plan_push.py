@@ -11,7 +11,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigFile, ConfigKind, config_file
+from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigFile, config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.planners import compose_plan, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
@@ -21,15 +21,6 @@ from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, Target, check_file
 from panther_ops.errors import InputError, UsageError
 
-KINDS = {
-    FileKind.CONTROLLER: ConfigKind.CONTROLLER,
-    FileKind.WHEEL: ConfigKind.WHEEL,
-    FileKind.COMPONENTS: ConfigKind.COMPONENTS,
-    FileKind.LED: ConfigKind.ANIMATIONS,
-    FileKind.USER_ANIMATIONS: ConfigKind.USER_ANIMATIONS,
-    FileKind.SHUTDOWN_HOSTS: ConfigKind.SHUTDOWN_HOSTS,
-    FileKind.BATTERY: ConfigKind.BATTERY_PLUGIN,
-}
 BT_ARGS = {FileKind.BT_LIGHTS: "lights_bt_project_path", FileKind.BT_SAFETY: "safety_bt_project_path"}
 
 @dataclass
@@ -75,7 +66,7 @@ def robot_file(reads: Reads, cfg: RobotConfig, kind: FileKind) -> ConfigFile:
     stack, wheel type and model (a Lynx has its own animations)."""
     from panther_ops.core.config.robot_model import robot_model_of
 
-    return config_file(cfg.stack, KINDS[kind], wheel_type=wheel_of(reads, cfg), robot_model=robot_model_of(reads, cfg))
+    return config_file(cfg.stack, kind, wheel_type=wheel_of(reads, cfg), robot_model=robot_model_of(reads, cfg))
 
 
 def _stock_named(kind: FileKind, data: bytes, reads: Reads, cfg: RobotConfig) -> bool:

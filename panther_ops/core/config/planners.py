@@ -13,13 +13,14 @@ from typing import Any
 
 from panther_ops.core.config.arg_edits import set_launch_args, unset_launch_arg
 from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.namespace_follow import follow_in_compose, follow_in_env_file
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind
 from panther_ops.errors import UsageError
 
 
@@ -204,7 +205,7 @@ def controller_edits(reads: Reads, cfg: RobotConfig, limits: Mapping[str, Any],
     if wheel == "custom" and "controller_config_path" not in args:
         raise UsageError("wheel_type custom needs controller_config_path (and wheel_config_path)")
     warnings: list[str] = []
-    cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
+    cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
     container_path = args.get("controller_config_path")
     host_path = cfg.host_path_of(container_path) if container_path else None
     if container_path and host_path is None:

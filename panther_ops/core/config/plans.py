@@ -8,12 +8,13 @@ from typing import Any
 
 from panther_ops.core.config import planners
 from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.robot import read_compose, read_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds import FileKind
 
 
 def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
@@ -38,7 +39,7 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     args = cfg.compose.args
     if key.startswith("controller."):
         wheel = read_and_plan(ctx, lambda reads: wheel_type_of(reads, cfg))
-        cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
+        cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
         cpath = args.get("controller_config_path")
         host = cfg.host_path_of(cpath) if cpath else (cf.robot_path if cfg.reads_from_tree(cf) else None)
         text = None

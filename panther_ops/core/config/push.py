@@ -25,7 +25,6 @@ from panther_ops.core.config import plan_push as planner
 from panther_ops.core.config.files import (
     ROBOT_CONFIG_DIR,
     ConfigFile,
-    ConfigKind,
     config_file,
     family_dirs,
     stock_bt_project,
@@ -176,7 +175,7 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
             return found
         if isinstance(found, InImage):
             return _joy2twist_from_image(ctx, cfg, found)
-        gamepad = read_and_plan(ctx, lambda reads: config_file(cfg.stack, ConfigKind.JOY2TWIST,
+        gamepad = read_and_plan(ctx, lambda reads: config_file(cfg.stack, FileKind.JOY2TWIST,
                                                                robot_model=robot_model(reads, cfg)))
         return _image_or_template(ctx, cfg, gamepad)
     if kind in BT_ARGS:

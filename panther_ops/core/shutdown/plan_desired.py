@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.plan_push import Bundle, push_onto
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit
@@ -49,7 +49,7 @@ def desired_hosts(reads: Reads, cfg: RobotConfig, entries: list[Mapping[str, Any
     if rf.path is not None:
         return DesiredHosts([MaskedFileEdit(rf.path, rf.text.encode(), edit.text.encode())], warnings,
                             f"shutdown hosts: {edit.message}")
-    cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
+    cf = config_file(cfg.stack, FileKind.SHUTDOWN_HOSTS)
     pushed = push_onto(reads, cfg, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
     edits: list[FileEdit] = [MaskedFileEdit(e.path, e.before, e.after, e.mode) for e in pushed.edits]
     return DesiredHosts(edits, warnings + pushed.warnings, f"shutdown hosts: {edit.message} ({pushed.summary})")

@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.planners import compose_plan
 from panther_ops.core.config.robot_config import RobotConfig
@@ -58,7 +58,7 @@ class RobotHostsFile:
 
 def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
     """The mounted hosts file, else the 2.2 tree's (None: the robot uses its image's default)."""
-    cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
+    cf = config_file(cfg.stack, FileKind.SHUTDOWN_HOSTS)
     arg = spec("shutdown_hosts_config_path").name_for(cfg.stack)
     current = cfg.compose.args.get(arg)
     if current:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.plan_push import Bundle
 from panther_ops.core.config.push import plan_push, pull
 from panther_ops.core.config.robot import read_config
@@ -43,6 +43,6 @@ def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = 
     plan = plan_in_place(ctx.robot.name, rf, edit, warnings)
     if plan is not None:
         return plan
-    cf = config_file(rf.stack, ConfigKind.SHUTDOWN_HOSTS)
+    cf = config_file(rf.stack, FileKind.SHUTDOWN_HOSTS)
     pushed = plan_push(ctx, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
     return as_hosts_push(pushed, edit, warnings)
