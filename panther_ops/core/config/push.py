@@ -21,7 +21,6 @@ import posixpath
 import re
 from pathlib import Path
 
-from panther_ops.core.config import plan_push as planner
 from panther_ops.core.config.files import (
     ROBOT_CONFIG_DIR,
     ConfigFile,
@@ -32,10 +31,9 @@ from panther_ops.core.config.files import (
 )
 from panther_ops.core.config.gamepad import InImage
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan_push import BT_ARGS, Bundle, robot_file
-from panther_ops.core.config.robot import read_compose, read_config
+from panther_ops.core.config.plan import BT_ARGS, Bundle, robot_file
+from panther_ops.core.config.robot import read_config
 from panther_ops.core.config.robot_config import RobotConfig
-from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import running_containers
@@ -115,12 +113,6 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
         return ctx.transport.read_file(path)
     except FileNotFoundError:
         return None
-
-
-def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
-    """Read compose.yaml and the files the push would replace; plan (`plan_push.py`)."""
-    raw = read_compose(ctx)
-    return read_and_plan(ctx, lambda reads: planner.plan_push(raw, reads, kind, bundle, force=force))
 
 
 def _upstream(stack: Stack, package: str, rel: str) -> str:
