@@ -27,11 +27,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.apply.plan_desired import plan_desired
-from panther_ops.core.config import planners as config_planners
-from panther_ops.core.config.plan_push import Bundle, plan_push
+from panther_ops.core.apply.plan import plan_desired
+from panther_ops.core.config import plan as config_planners
+from panther_ops.core.config.plan import Bundle, plan_push
 from panther_ops.core.config.robot_config import ComposeRead
-from panther_ops.core.driver import planners as driver_planners
+from panther_ops.core.driver import plan as driver_planners
 from panther_ops.core.driver.images import parse_target
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.plan_rollback import plan_rollback
@@ -41,8 +41,8 @@ from panther_ops.core.gps.router_plan import RouterRequest, router_plan
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.manager_ops.bundle import ManagerBundle
-from panther_ops.core.manager_ops.plan_deploy import plan_deploy, plan_remove
-from panther_ops.core.shutdown import plan_hosts
+from panther_ops.core.manager_ops.plan import plan_deploy, plan_remove
+from panther_ops.core.shutdown import plan as plan_hosts
 
 ROOT = Path(__file__).resolve().parents[2]
 PLANS = ROOT / "tests" / "golden" / "plans"
@@ -73,7 +73,7 @@ def _content(value: Any) -> bytes | None:
 
 
 def _webui(value: dict[str, Any]) -> Any:
-    from panther_ops.core.remote.webui.plan_desired import WebuiRead
+    from panther_ops.core.remote.webui.plan import WebuiRead
     from panther_ops.core.remote.webui.state import parse_state
 
     if "state" not in value:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.stack import stack_from_version
 
@@ -25,7 +25,7 @@ PERCENT_200 = b"simulate_discharging: false\ninitial_charge_percentage: 70.0\nch
 @pytest.mark.parametrize("version", ["2.0.1", "2.0.4", "2.1.0", "2.1.1"])
 def test_template_is_the_stock_file_and_is_accepted(version: str) -> None:
     stack = stack_from_version(version)
-    text = config_file(stack, ConfigKind.BATTERY_PLUGIN).template_text()
+    text = config_file(stack, FileKind.BATTERY).template_text()
     assert yaml.safe_load(text) == STOCK
     assert check_file(FileKind.BATTERY, "b.yaml", text.encode(), target=Target(stack)) == []
 
@@ -40,7 +40,7 @@ def test_percent_is_refused_from_201(version: str) -> None:
 def test_200_takes_percent_and_no_capacity() -> None:
     s200 = stack_from_version("2.0.0")
     assert check_file(FileKind.BATTERY, "b.yaml", PERCENT_200, target=Target(s200)) == []
-    assert config_file(s200, ConfigKind.BATTERY_PLUGIN).template is None
+    assert config_file(s200, FileKind.BATTERY).template is None
 
 
 def test_every_key_the_urdf_reads_is_required() -> None:

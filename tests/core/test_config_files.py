@@ -7,8 +7,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.config.files import ConfigKind, config_file, config_files
+from panther_ops.core.config.files import config_file, config_files
 from panther_ops.core.fleet.templates import TemplateNotFound, read_template, template_file
+from panther_ops.core.kinds import FileKind
 from panther_ops.core.stack import stack_from_version
 from panther_ops.core.yaml.document import YamlDocument
 from panther_ops.errors import UsageError
@@ -45,10 +46,10 @@ def test_every_listed_file_of_a_version_resolves(version: str) -> None:
     stack = stack_from_version(version)
     files = config_files(stack)
     kinds = {f.kind for f in files}
-    assert {ConfigKind.WHEEL, ConfigKind.CONTROLLER, ConfigKind.SHUTDOWN_HOSTS, ConfigKind.ANIMATIONS} <= kinds
+    assert {FileKind.WHEEL, FileKind.CONTROLLER, FileKind.SHUTDOWN_HOSTS, FileKind.LED} <= kinds
     for f in files:
         if f.template is not None:
-            assert yaml.safe_load(f.template_text()) is not None or f.kind is ConfigKind.COMPONENTS
+            assert yaml.safe_load(f.template_text()) is not None or f.kind is FileKind.COMPONENTS
 
 
 @pytest.mark.parametrize(
@@ -62,7 +63,7 @@ def test_every_listed_file_of_a_version_resolves(version: str) -> None:
     ],
 )
 def test_shutdown_hosts_file_per_version(version: str, package: str, filename: str, marker: str) -> None:
-    f = config_file(stack_from_version(version), ConfigKind.SHUTDOWN_HOSTS)
+    f = config_file(stack_from_version(version), FileKind.SHUTDOWN_HOSTS)
     assert (f.package, f.filename, f.launch_arg) == (package, filename, "shutdown_hosts_config_path")
     text = f.template_text()
     assert marker in text
@@ -73,34 +74,34 @@ def test_shutdown_hosts_file_per_version(version: str, package: str, filename: s
 
 def test_family_specific_shapes() -> None:
     s20, s21, s22 = (stack_from_version(v) for v in ("2.0.4", "2.1.1", "2.2.2"))
-    wh20 = yaml.safe_load(config_file(s20, ConfigKind.WHEEL, wheel_type="WH02").template_text())
-    wh21 = yaml.safe_load(config_file(s21, ConfigKind.WHEEL, wheel_type="WH02").template_text())
-    wh22 = yaml.safe_load(config_file(s22, ConfigKind.WHEEL, wheel_type="WH01").template_text())
+    wh20 = yaml.safe_load(config_file(s20, FileKind.WHEEL, wheel_type="WH02").template_text())
+    wh21 = yaml.safe_load(config_file(s21, FileKind.WHEEL, wheel_type="WH02").template_text())
+    wh22 = yaml.safe_load(config_file(s22, FileKind.WHEEL, wheel_type="WH01").template_text())
     assert "mecanum" not in wh20 and wh21["mecanum"] is True
     assert "wheel_separation" not in wh22 and wh22["mount_point_offset"] == 0.091
-    assert yaml.safe_load(config_file(s22, ConfigKind.WHEEL, wheel_type="WH05").template_text())["wheel_radius"] == 0.1348
-    bat20 = yaml.safe_load(config_file(s20, ConfigKind.BATTERY_PLUGIN).template_text())
-    bat21 = yaml.safe_load(config_file(s21, ConfigKind.BATTERY_PLUGIN).template_text())
+    assert yaml.safe_load(config_file(s22, FileKind.WHEEL, wheel_type="WH05").template_text())["wheel_radius"] == 0.1348
+    bat20 = yaml.safe_load(config_file(s20, FileKind.BATTERY).template_text())
+    bat21 = yaml.safe_load(config_file(s21, FileKind.BATTERY).template_text())
     # panther_ros 2.0.1+ reads a 0-1 fraction and capacity (panther_ros@2.0.4:panther_gazebo/config/
     # battery_plugin_config.yaml); 2.0.0's percent file has no template (issue 24 finding 8)
     assert bat20["initial_charge_percentage"] == 0.7 and bat20["capacity"] == 20.0
-    assert config_file(stack_from_version("2.0.0"), ConfigKind.BATTERY_PLUGIN).template is None
+    assert config_file(stack_from_version("2.0.0"), FileKind.BATTERY).template is None
     assert bat21["initial_charge_percentage"] == 0.7 and bat21["capacity"] == 20.0
-    led = yaml.safe_load(config_file(s21, ConfigKind.ANIMATIONS).template_text())
+    led = yaml.safe_load(config_file(s21, FileKind.LED).template_text())
     assert [a["id"] for a in led["led_animations"]] == [0, 1, 2, 3, 4, 5, 6, 7, 9]
-    anim22 = config_file(s22, ConfigKind.ANIMATIONS)
+    anim22 = config_file(s22, FileKind.LED)
     assert anim22.filename == "panther_animations.yaml" and "husarion_ugv_lights::" in anim22.template_text()
-    driver = yaml.safe_load(config_file(s22, ConfigKind.LIGHTS_DRIVER).template_text())
+    driver = yaml.safe_load(config_file(s22, FileKind.LIGHTS_DRIVER).template_text())
     assert driver["channel_1_num_led"] == 46  # flat: the driver is a ComposableNode (no ros__parameters)
-    assert yaml.safe_load(config_file(s22, ConfigKind.USER_ANIMATIONS).template_text())["user_animations"] == []
-    mgr = yaml.safe_load(config_file(s21, ConfigKind.SAFETY_MANAGER).template_text())
+    assert yaml.safe_load(config_file(s22, FileKind.USER_ANIMATIONS).template_text())["user_animations"] == []
+    mgr = yaml.safe_load(config_file(s21, FileKind.SAFETY_MANAGER).template_text())
     assert mgr["/**"]["safety_manager"]["ros__parameters"]["cpu"]["temp"]["fan_on"] == 75.0
-    assert config_file(s20, ConfigKind.LIGHTS_MANAGER).filename == "lights_manager_config.yaml"
-    assert config_file(stack_from_version("2.0.0"), ConfigKind.MANAGER_BT).template is not None
+    assert config_file(s20, FileKind.LIGHTS_MANAGER).filename == "lights_manager_config.yaml"
+    assert config_file(stack_from_version("2.0.0"), FileKind.MANAGER_BT).template is not None
 
 
 def test_paths_of_a_customised_copy() -> None:
-    f = config_file(stack_from_version("2.1.1"), ConfigKind.CONTROLLER, wheel_type="WH02")
+    f = config_file(stack_from_version("2.1.1"), FileKind.CONTROLLER, wheel_type="WH02")
     assert f.package_path == "$(find panther_controller)/config/WH02_controller.yaml"
     assert f.robot_path == "/home/husarion/config/panther_controller/config/WH02_controller.yaml"
     assert f.container_path == "/config/panther_controller/config/WH02_controller.yaml"
@@ -108,15 +109,15 @@ def test_paths_of_a_customised_copy() -> None:
 
 def test_files_a_stack_does_not_have() -> None:
     s20, s22 = stack_from_version("2.0.0"), stack_from_version("2.2.2")
-    for kind in (ConfigKind.COMPONENTS, ConfigKind.LIGHTS_DRIVER, ConfigKind.LIGHTS_MANAGER):
+    for kind in (FileKind.COMPONENTS, FileKind.LIGHTS_DRIVER, FileKind.LIGHTS_MANAGER):
         with pytest.raises(UsageError):
             config_file(s20, kind)
     with pytest.raises(UsageError):
-        config_file(s20, ConfigKind.WHEEL, wheel_type="WH05")
+        config_file(s20, FileKind.WHEEL, wheel_type="WH05")
     for old in ("2.1.1", "2.2.0"):  # bringup reads the gamepad's file from 2.2.2 (launch_gamepad)
         with pytest.raises(UsageError):
-            config_file(stack_from_version(old), ConfigKind.JOY2TWIST)
-    missing = config_file(s22, ConfigKind.LIGHTS_DRIVER, robot_model="lynx")  # lynx_driver.yaml: no template
+            config_file(stack_from_version(old), FileKind.JOY2TWIST)
+    missing = config_file(s22, FileKind.LIGHTS_DRIVER, robot_model="lynx")  # lynx_driver.yaml: no template
     assert missing.template is None
     with pytest.raises(UsageError, match="no default"):
         missing.template_text()

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from panther_ops.core.config import controller as ctl
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
+from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds import controller_limits as lim
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
@@ -113,6 +114,6 @@ def test_no_default_for_custom_or_wh05_before_22() -> None:
     with pytest.raises(UsageError, match="custom"):
         ctl.default_controller_text(S211, "custom")
     with pytest.raises(UsageError):
-        config_file(S211, ConfigKind.CONTROLLER, wheel_type="WH05")
+        config_file(S211, FileKind.CONTROLLER, wheel_type="WH05")
     # husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH05_controller.yaml (the Lynx wheels)
     assert "wheel_radius: 0.144" in ctl.default_controller_text(S222, "WH05")

@@ -15,7 +15,7 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.kinds.controller_imu import imu_findings
 from panther_ops.core.stack import stack_from_version
@@ -43,7 +43,7 @@ def imu_params(text: str) -> dict[str, Any]:
 
 def with_imu(version: str, imu: dict[str, Any], wheel: str = "WH01") -> bytes:
     """The template of ``version`` with the IMU broadcaster's parameters replaced by ``imu``."""
-    doc = yaml.safe_load(config_file(stack_from_version(version), ConfigKind.CONTROLLER, wheel_type=wheel)
+    doc = yaml.safe_load(config_file(stack_from_version(version), FileKind.CONTROLLER, wheel_type=wheel)
                          .template_text())
     params = doc["/**"]["imu_broadcaster"]["ros__parameters"]
     for key in ("use_namespace_as_sensor_name_prefix", "sensor_name", "frame_id"):
@@ -55,7 +55,7 @@ def with_imu(version: str, imu: dict[str, Any], wheel: str = "WH01") -> bytes:
 @pytest.mark.parametrize("version", sorted(STOCK_IMU))
 @pytest.mark.parametrize("wheel", ["WH01", "WH02", "WH04"])
 def test_templates_carry_the_stock_imu_parameters(version: str, wheel: str) -> None:
-    text = config_file(stack_from_version(version), ConfigKind.CONTROLLER, wheel_type=wheel).template_text()
+    text = config_file(stack_from_version(version), FileKind.CONTROLLER, wheel_type=wheel).template_text()
     assert imu_params(text) == STOCK_IMU[version]
 
 

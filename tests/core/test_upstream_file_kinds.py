@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.config.files import ConfigKind, config_file, template_source
+from panther_ops.core.config.files import config_file, template_source
 from panther_ops.core.fleet.templates import read_template
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.stack import stack_from_version
@@ -81,7 +81,7 @@ def test_a_wheel_file_the_releases_urdf_cannot_load_is_refused(version: str, doc
 @pytest.mark.parametrize("wheel", sorted(WHEELS_22))
 def test_the_22_wheel_templates_are_the_release_files(wheel: str) -> None:
     for version in ("2.2.0", "2.2.2"):
-        cf = config_file(stack_from_version(version), ConfigKind.WHEEL, wheel_type=wheel)
+        cf = config_file(stack_from_version(version), FileKind.WHEEL, wheel_type=wheel)
         text = cf.template_text()
         assert yaml.safe_load(text) == wheel_22(wheel), (version, wheel)
         assert template_source(text) == f"husarion_ugv_ros@2.2.2:husarion_ugv_description/config/{wheel}.yaml"
@@ -179,7 +179,7 @@ def test_the_stock_22_animations_are_accepted(version: str) -> None:
 
 def test_the_22_animations_template_is_the_release_file() -> None:
     for version in ("2.2.0", "2.2.2"):
-        cf = config_file(stack_from_version(version), ConfigKind.ANIMATIONS)
+        cf = config_file(stack_from_version(version), FileKind.LED)
         assert cf.filename == "panther_animations.yaml"
         assert strict(yaml.safe_load(cf.template_text()), animations_22()), version
         assert template_source(cf.template_text()) == \
@@ -218,9 +218,9 @@ WH05_CONTROLLER = {"2.2.0": {"wheel_separation": 0.45, "wheel_radius": 0.1348, "
 @pytest.mark.parametrize("version", ["2.2.0", "2.2.2"])
 def test_the_22_driver_and_wh05_controller_templates_are_the_release_files(version: str) -> None:
     stack = stack_from_version(version)
-    driver = config_file(stack, ConfigKind.LIGHTS_DRIVER).template_text()
+    driver = config_file(stack, FileKind.LIGHTS_DRIVER).template_text()
     assert strict(yaml.safe_load(driver), DRIVER[version])
-    controller = config_file(stack, ConfigKind.CONTROLLER, wheel_type="WH05")
+    controller = config_file(stack, FileKind.CONTROLLER, wheel_type="WH05")
     params = yaml.safe_load(controller.template_text())["/**"]["drive_controller"]["ros__parameters"]
     assert {k: params[k] for k in WH05_CONTROLLER[version]} == WH05_CONTROLLER[version]
     assert template_source(controller.template_text()) == \
@@ -234,14 +234,14 @@ def test_the_22_driver_and_wh05_controller_templates_are_the_release_files(versi
 # husarion_ugv_manager/config/{lights,safety}_manager.yaml (safety: execute_command_bt_node from 2.2.1,
 # shutdown_single_host_bt_node before)
 @pytest.mark.parametrize(("version", "kind", "node", "plugin"), [
-    ("2.0.2", ConfigKind.LIGHTS_MANAGER, "lights_manager_node", "tick_after_timeout_bt_node"),
-    ("2.0.4", ConfigKind.SAFETY_MANAGER, "safety_manager_node", "shutdown_single_host_bt_node"),
-    ("2.1.0", ConfigKind.SAFETY_MANAGER, "safety_manager", "shutdown_single_host_bt_node"),
-    ("2.2.0", ConfigKind.SAFETY_MANAGER, "safety_manager", "shutdown_single_host_bt_node"),
-    ("2.2.2", ConfigKind.SAFETY_MANAGER, "safety_manager", "execute_command_bt_node"),
-    ("2.2.2", ConfigKind.LIGHTS_MANAGER, "lights_manager", "tick_after_timeout_bt_node"),
+    ("2.0.2", FileKind.LIGHTS_MANAGER, "lights_manager_node", "tick_after_timeout_bt_node"),
+    ("2.0.4", FileKind.SAFETY_MANAGER, "safety_manager_node", "shutdown_single_host_bt_node"),
+    ("2.1.0", FileKind.SAFETY_MANAGER, "safety_manager", "shutdown_single_host_bt_node"),
+    ("2.2.0", FileKind.SAFETY_MANAGER, "safety_manager", "shutdown_single_host_bt_node"),
+    ("2.2.2", FileKind.SAFETY_MANAGER, "safety_manager", "execute_command_bt_node"),
+    ("2.2.2", FileKind.LIGHTS_MANAGER, "lights_manager", "tick_after_timeout_bt_node"),
 ])
-def test_manager_parameter_templates_name_the_releases_nodes(version: str, kind: ConfigKind, node: str,
+def test_manager_parameter_templates_name_the_releases_nodes(version: str, kind: FileKind, node: str,
                                                              plugin: str) -> None:
     doc = yaml.safe_load(config_file(stack_from_version(version), kind).template_text())
     assert list(doc["/**"]) == [node]
@@ -250,7 +250,7 @@ def test_manager_parameter_templates_name_the_releases_nodes(version: str, kind:
 
 def test_the_20x_single_manager_template_lists_its_plugins() -> None:
     # panther_ros@2.0.1:panther_manager/config/manager_bt_config.yaml
-    doc = yaml.safe_load(config_file(stack_from_version("2.0.1"), ConfigKind.MANAGER_BT).template_text())
+    doc = yaml.safe_load(config_file(stack_from_version("2.0.1"), FileKind.MANAGER_BT).template_text())
     params = doc["/**"]["manager_bt_node"]["ros__parameters"]
     assert params["ros_plugin_libs"] == ["call_set_bool_service_bt_node", "call_trigger_service_bt_node",
                                          "call_set_led_animation_service_bt_node"]

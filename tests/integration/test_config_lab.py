@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.config.plans import plan_args
+from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
@@ -183,7 +183,7 @@ def test_sshd_killed_between_upload_and_rename(lab: Any, pristine: None, early: 
     apply = ApplyOptions(restart=False, command="t", on_staged=on_staged)
     try:
         with Connections(inv) as conns:
-            fp = plan_fleet("t", inv, robots, lambda c: plan_args(c, {"wheel_type": "WH04"}, []), conns, opts,
+            fp = plan_fleet("t", inv, robots, lambda c: read_and_plan_args(c, {"wheel_type": "WH04"}, []), conns, opts,
                             stage=apply if early else None)
             assert not fp.usage_errors and len(fp.to_change) == 5
             assert len(fp.staged) == (5 if early else 0)

@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.config.plans import plan_args
+from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.inventory import Inventory
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
@@ -436,7 +436,7 @@ def test_a_planned_change_applies_once_then_plans_as_noop(demo_connections: tupl
     robot = inv.robots["panther-01"]
     ctx = RobotContext(robot, conns.get(robot), inv)
     assert isinstance(ctx.transport, LocalTransport)
-    plan = plan_args(ctx, {"wheel_type": "WH04"}, [])
+    plan = read_and_plan_args(ctx, {"wheel_type": "WH04"}, [])
     assert len(plan.edits) == 1
     compose = ctx.transport.local_path(plan.edits[0].path)
     before = compose.read_bytes()
@@ -458,7 +458,7 @@ def test_a_planned_change_applies_once_then_plans_as_noop(demo_connections: tupl
     assert (backup / "status").read_text() == "applied (not recreated)\n"
     assert not [p for p in compose.parent.iterdir() if ".panther-ops." in p.name]
 
-    again = plan_args(ctx, {"wheel_type": "WH04"}, [])
+    again = read_and_plan_args(ctx, {"wheel_type": "WH04"}, [])
     assert again.edits == []
     assert again.noop is not None and "wheel_type already WH04" in again.noop
     repeat = apply_plan(ctx, again, ApplyOptions(restart=False, on_staged=staged.append))

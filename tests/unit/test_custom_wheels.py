@@ -22,7 +22,7 @@ import pytest
 from ruamel.yaml import YAML
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.stack import stack_from_version
 
@@ -32,7 +32,7 @@ DEMO = {"panther-02": "2.0.4", "panther-01": "2.1.1", "panther-03": "2.2.2"}
 
 def custom_wheel(version: str) -> bytes:
     """WH01.yaml of the release with a custom radius and width (and separation where it has one)."""
-    text = config_file(stack_from_version(version), ConfigKind.WHEEL, wheel_type="WH01").template_text()
+    text = config_file(stack_from_version(version), FileKind.WHEEL, wheel_type="WH01").template_text()
     text = re.sub(r"(?m)^wheel_radius: .*$", "wheel_radius: 0.2", text)
     text = re.sub(r"(?m)^wheel_width: .*$", "wheel_width: 0.16", text)
     return re.sub(r"(?m)^wheel_separation: .*$", "wheel_separation: 0.75", text).encode()
@@ -40,7 +40,7 @@ def custom_wheel(version: str) -> bytes:
 
 def custom_controller(version: str, max_velocity: str = "2.5") -> bytes:
     """WH01_controller.yaml of the release for wheels of 0.2 m on a 0.75 m track, faster than WH01's 2.0 m/s."""
-    text = config_file(stack_from_version(version), ConfigKind.CONTROLLER, wheel_type="WH01").template_text()
+    text = config_file(stack_from_version(version), FileKind.CONTROLLER, wheel_type="WH01").template_text()
     text = re.sub(r"(?m)^(\s+wheel_radius): 0\.1825", r"\1: 0.2", text)
     text = re.sub(r"(?m)^(\s+wheel_separation): 0\.697", r"\1: 0.75", text)
     text, count = re.subn(r"(?m)^(\s+max_velocity): 2\.0\b", rf"\1: {max_velocity}", text)
@@ -54,7 +54,7 @@ def dump(data: object) -> bytes:
     return out.getvalue().encode()
 
 
-def stock(version: str, kind: ConfigKind, wheel: str) -> bytes:
+def stock(version: str, kind: FileKind, wheel: str) -> bytes:
     return config_file(stack_from_version(version), kind, wheel_type=wheel).template_text().encode()
 
 
@@ -81,7 +81,7 @@ def test_what_the_robot_rejects_is_still_refused_in_a_custom_file(version: str) 
 @pytest.mark.parametrize("version", RELEASES)
 def test_a_stock_wheels_file_keeps_that_wheels_limits(version: str) -> None:
     """WH01's own kinematics with 2.5 m/s: the WH01 limit (2.0 m/s) holds, whatever the robot's type."""
-    text = stock(version, ConfigKind.CONTROLLER, "WH01").decode()
+    text = stock(version, FileKind.CONTROLLER, "WH01").decode()
     text = re.sub(r"(?m)^(\s+max_velocity): 2\.0\b", r"\1: 2.5", text, count=1)
     for robot in ("WH01", "WH02", "custom"):
         with pytest.raises(FileKindError, match=r"exceeds the WH01 limit of 2\.0"):
@@ -91,16 +91,15 @@ def test_a_stock_wheels_file_keeps_that_wheels_limits(version: str) -> None:
 
 @pytest.mark.parametrize("version", RELEASES)
 @pytest.mark.parametrize(("robot", "kind", "file_wheel"), [
-    ("WH02", ConfigKind.WHEEL, "WH01"), ("WH02", ConfigKind.CONTROLLER, "WH01"),
-    ("WH01", ConfigKind.WHEEL, "WH02"), ("WH04", ConfigKind.CONTROLLER, "WH02"),
+    ("WH02", FileKind.WHEEL, "WH01"), ("WH02", FileKind.CONTROLLER, "WH01"),
+    ("WH01", FileKind.WHEEL, "WH02"), ("WH04", FileKind.CONTROLLER, "WH02"),
 ])
-def test_a_file_for_the_other_kind_of_wheels_is_warned_with_the_fix(version: str, robot: str, kind: ConfigKind,
+def test_a_file_for_the_other_kind_of_wheels_is_warned_with_the_fix(version: str, robot: str, kind: FileKind,
                                                                     file_wheel: str) -> None:
-    file_kind = FileKind.WHEEL if kind is ConfigKind.WHEEL else FileKind.CONTROLLER
-    warnings = check_file(file_kind, "f.yaml", stock(version, kind, file_wheel),
+    warnings = check_file(kind, "f.yaml", stock(version, kind, file_wheel),
                           target=Target(stack_from_version(version), robot, ""))
     (warning,) = [w for w in warnings if "mecanum" in w]
-    base = f"{robot}.yaml" if kind is ConfigKind.WHEEL else f"{robot}_controller.yaml"
+    base = f"{robot}.yaml" if kind is FileKind.WHEEL else f"{robot}_controller.yaml"
     assert f"wheel_type {robot} is" in warning and base in warning, warning
     assert f"config set wheel_type {file_wheel}" in warning, warning
 
@@ -115,8 +114,8 @@ def test_a_custom_file_for_the_other_kind_of_wheels_is_warned(version: str) -> N
 @pytest.mark.parametrize("version", RELEASES)
 def test_the_same_kind_of_wheels_is_not_warned(version: str) -> None:
     for robot, wheel in (("WH02", "WH02"), ("WH01", "WH01"), ("WH04", "WH01"), ("custom", "WH02")):
-        for kind, file_kind in ((ConfigKind.WHEEL, FileKind.WHEEL), (ConfigKind.CONTROLLER, FileKind.CONTROLLER)):
-            warnings = check_file(file_kind, "f.yaml", stock(version, kind, wheel),
+        for kind in (FileKind.WHEEL, FileKind.CONTROLLER):
+            warnings = check_file(kind, "f.yaml", stock(version, kind, wheel),
                                   target=Target(stack_from_version(version), robot, ""))
             assert not [w for w in warnings if "mecanum" in w], (robot, wheel, warnings)
 

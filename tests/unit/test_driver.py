@@ -28,8 +28,7 @@ from panther_ops.core.driver.images import (
     parse_target,
     tag_key,
 )
-from panther_ops.core.driver.restore import plan_restore_defaults
-from panther_ops.core.driver.update import plan_update
+from panther_ops.core.driver.read import read_and_plan_restore_defaults, read_and_plan_update
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
@@ -412,7 +411,7 @@ def changed_lines(diff: str) -> list[str]:
 
 
 def test_update_plan_changes_only_the_image_line(demo: Path) -> None:
-    plan = with_ctx(demo, "panther-01", lambda c: plan_update(c, parse_target("humble-2.1.2-20241125")))
+    plan = with_ctx(demo, "panther-01", lambda c: read_and_plan_update(c, parse_target("humble-2.1.2-20241125")))
     (diff,) = plan.diffs
     assert changed_lines(diff.unified) == ["-    image: husarion/panther:humble-2.1.1-20240828",
                                            "+    image: husarion/panther:humble-2.1.2-20241125"]
@@ -424,22 +423,22 @@ def test_update_plan_changes_only_the_image_line(demo: Path) -> None:
 
 
 def test_update_20_to_21_warns_about_the_led_devices(demo: Path) -> None:
-    plan = with_ctx(demo, "panther-02", lambda c: plan_update(c, parse_target("humble-2.1.1-20240828")))
+    plan = with_ctx(demo, "panther-02", lambda c: read_and_plan_update(c, parse_target("humble-2.1.1-20240828")))
     assert any("/dev/spiled-channel1/2" in w for w in plan.warnings)
     assert plan.summary == "image husarion/panther:humble-2.0.4-20240628 -> husarion/panther:humble-2.1.1-20240828"
     # the 2.1 robot's compose already has the spiled devices: no such warning
-    plan = with_ctx(demo, "panther-01", lambda c: plan_update(c, parse_target("humble-2.1.2-20241125")))
+    plan = with_ctx(demo, "panther-01", lambda c: read_and_plan_update(c, parse_target("humble-2.1.2-20241125")))
     assert not any("spiled" in w for w in plan.warnings)
 
 
 def test_update_to_the_same_image_is_ok(demo: Path) -> None:
-    plan = with_ctx(demo, "panther-03", lambda c: plan_update(c, parse_target("humble-2.2.2-20250702")))
+    plan = with_ctx(demo, "panther-03", lambda c: read_and_plan_update(c, parse_target("humble-2.2.2-20250702")))
     assert not plan.edits and plan.noop == "compose.yaml already has husarion/husarion-ugv:humble-2.2.2-20250702"
 
 
 def test_family_change_refused_without_force(demo: Path) -> None:
     with pytest.raises(UsageError) as exc:
-        with_ctx(demo, "panther-01", lambda c: plan_update(c, parse_target("humble-2.2.2-20250702")))
+        with_ctx(demo, "panther-01", lambda c: read_and_plan_update(c, parse_target("humble-2.2.2-20250702")))
     assert "reinstall" in str(exc.value) and "--force" in (exc.value.hint or "")
 
 
@@ -448,7 +447,7 @@ def test_forced_family_change_renames_service_and_package_and_migrates_args(demo
     path.write_text(path.read_text().replace(
         "command: ros2 launch panther_bringup bringup.launch.py",
         "command: ros2 launch panther_bringup bringup.launch.py led_config_file:=/config/led.yaml"))
-    plan = with_ctx(demo, "panther-01", lambda c: plan_update(c, parse_target("humble-2.2.2-20250702"), force=True))
+    plan = with_ctx(demo, "panther-01", lambda c: read_and_plan_update(c, parse_target("humble-2.2.2-20250702"), force=True))
     (diff,) = plan.diffs
     assert changed_lines(diff.unified) == [
         "-  panther_ros:",
@@ -468,7 +467,7 @@ def test_forced_family_change_renames_service_and_package_and_migrates_args(demo
 
 
 def test_forced_move_back_drops_22_only_args(demo: Path) -> None:
-    plan = with_ctx(demo, "panther-03", lambda c: plan_update(c, parse_target("humble-2.1.1-20240828"), force=True))
+    plan = with_ctx(demo, "panther-03", lambda c: read_and_plan_update(c, parse_target("humble-2.1.1-20240828"), force=True))
     (diff,) = plan.diffs
     assert "+    command: ros2 launch panther_bringup bringup.launch.py" in diff.unified.splitlines()
     assert plan.data["service_from"] == "husarion_ugv_ros" and plan.recreate == ("panther_ros",)
@@ -477,7 +476,7 @@ def test_forced_move_back_drops_22_only_args(demo: Path) -> None:
 
 
 def test_update_with_no_tag_uses_the_desired_image(demo: Path) -> None:
-    plan = with_ctx(demo, "panther-01", lambda c: plan_update(c, None))
+    plan = with_ctx(demo, "panther-01", lambda c: read_and_plan_update(c, None))
     assert plan.noop == "no TAG given and no desired image in the inventory"
 
 
@@ -563,7 +562,7 @@ def test_restore_defaults_21_undoes_config_push(demo: Path, tmp_path: Path,
     code, _, _, _ = run_cli(capsys, "-i", str(demo), "config", "push", str(mine), "--as", "controller", "-r",
                          "panther-01", "--yes")
     assert code == 0 and compose_of(demo, "panther-01").read_bytes() != template
-    plan = with_ctx(demo, "panther-01", plan_restore_defaults)
+    plan = with_ctx(demo, "panther-01", read_and_plan_restore_defaults)
     assert plan.data["unset_args"] == ["controller_config_path"]
     assert plan.data["removed_mounts"] == [
         "/home/husarion/config/panther_controller/config/my_controller.yaml:"
@@ -586,7 +585,7 @@ def test_restore_defaults_21_custom_wheels_unset_too(demo: Path) -> None:
         "      - /home/husarion/config/w:/config/w:ro\n").replace(
         "namespace:=panther", "namespace:=panther wheel_type:=custom wheel_config_path:=/config/w/wheel.yaml "
         "controller_config_path:=/config/w/ctrl.yaml use_ekf:=False", 1))
-    plan = with_ctx(demo, "panther-02", plan_restore_defaults)
+    plan = with_ctx(demo, "panther-02", read_and_plan_restore_defaults)
     assert plan.data["unset_args"] == ["wheel_config_path", "controller_config_path", "wheel_type"]
     assert any("wheel_type:=custom" in w for w in plan.warnings)
     after = plan.edits[0].after.decode()
@@ -595,7 +594,7 @@ def test_restore_defaults_21_custom_wheels_unset_too(demo: Path) -> None:
 
 def test_restore_defaults_22_is_an_archive_then_the_image_script(demo: Path,
                                                                  capsys: pytest.CaptureFixture[str]) -> None:
-    plan = with_ctx(demo, "panther-03", plan_restore_defaults)
+    plan = with_ctx(demo, "panther-03", read_and_plan_restore_defaults)
     assert plan.edits == [] and plan.data["action"] == "update_config_directory"
     assert plan.data["config_dir"] == "/home/husarion/config"
     # the driver's robot_config.env goes along, so the image's scripts see ROBOT_MODEL_NAME
@@ -615,4 +614,4 @@ def test_restore_defaults_22_refuses_a_tree_that_is_the_home(demo: Path) -> None
     path = compose_of(demo, "panther-03")
     path.write_text(path.read_text().replace("- /home/husarion/config:/config", "- /home/husarion:/config"))
     with pytest.raises(RemoteStateError, match="refusing to reset it"):
-        with_ctx(demo, "panther-03", plan_restore_defaults)
+        with_ctx(demo, "panther-03", read_and_plan_restore_defaults)

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.plans import plan_args
+from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.changes import apply_fleet, plan_fleet, unstage_fleet
 from panther_ops.core.fleet.inventory import Inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions
@@ -43,7 +43,7 @@ def staged_files(inv: Inventory, name: str) -> list[Path]:
 
 
 def plan(ctx: RobotContext) -> RobotPlan:
-    return plan_args(ctx, {"wheel_type": "WH04"}, [])
+    return read_and_plan_args(ctx, {"wheel_type": "WH04"}, [])
 
 
 def test_staged_while_planning_renamed_on_the_go_ahead(demo_connections: tuple[Inventory, Connections]) -> None:

@@ -182,11 +182,16 @@ def test_the_manuals_animations_example_is_pushed(demo: Path, tmp_path: Path,
 
 
 def test_registry_has_one_validator_per_kind() -> None:
-    from panther_ops.core.kinds import FileKind, FileKindError, check_file
+    from panther_ops.core.kinds import CHECKED, PUSHABLE, FileKind, FileKindError, check_file
+    from panther_ops.errors import UsageError
 
-    for kind in FileKind:
+    for kind in CHECKED:
         with pytest.raises(FileKindError):
             check_file(kind, "x", b"\xff\xfe")
+    for kind in set(FileKind) - set(CHECKED):  # known (templates), never written: no validator, not pushable
+        assert kind not in PUSHABLE
+        with pytest.raises(UsageError, match=f"does not write {kind.value} files"):
+            check_file(kind, "x", b"a: 1\n")
 
 
 def test_compose_kind() -> None:

@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.plans import plan_args
+from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import Connections, RobotContext
@@ -170,7 +170,7 @@ def demo_ctx(tmp_path: Path) -> Iterator[RobotContext]:
 
 
 def test_a_change_costs_one_session(demo_ctx: RobotContext) -> None:
-    plan = plan_args(demo_ctx, {"wheel_type": "WH04"}, [])
+    plan = read_and_plan_args(demo_ctx, {"wheel_type": "WH04"}, [])
     assert plan.edits
     result = apply_plan(demo_ctx, plan, ApplyOptions(restart=False, command="t"))
     assert result.outcome.value == "changed", result.message
@@ -181,7 +181,7 @@ def test_a_change_costs_one_session(demo_ctx: RobotContext) -> None:
 
 
 def test_without_a_kept_read_the_write_opens_its_own_session(demo_ctx: RobotContext) -> None:
-    plan = plan_args(demo_ctx, {"wheel_type": "WH04"}, [])
+    plan = read_and_plan_args(demo_ctx, {"wheel_type": "WH04"}, [])
     demo_ctx.transport.drop_kept(scripts_apply.WRITE_KEY)
     result = apply_plan(demo_ctx, plan, ApplyOptions(restart=False, command="t"))
     assert result.outcome.value == "changed", result.message

@@ -25,9 +25,9 @@ from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.manager_ops import bundle as manager_bundle
-from panther_ops.core.manager_ops.apply_step import apply_manager
+from panther_ops.core.manager_ops.apply import apply_manager
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle, bundle_build
-from panther_ops.core.manager_ops.deploy import plan_deploy, plan_remove
+from panther_ops.core.manager_ops.read import read_and_plan_deploy, read_and_plan_remove
 from panther_ops.core.manager_ops.settings import DBUS_POWEROFF, SERVICE, SSH_POWEROFF, manager_settings
 from panther_ops.core.manager_ops.status import describe, running_version, status_task
 from panther_ops.errors import UsageError
@@ -166,7 +166,7 @@ def test_deploy_adds_the_service_and_sets_disable_manager(ctxs: Any, template: s
     driver, old_cmd, new_cmd, hosts, poweroff = CASES[template]
     bundle = build_bundle()
     before = rfile(tmp, name, f"{HOME}/compose.yaml").read_text()
-    plan = plan_deploy(cs[name])
+    plan = read_and_plan_deploy(cs[name])
     assert plan.recreate == (driver, SERVICE)
     assert [v.service for v in plan.verify] == [driver, SERVICE]
     assert plan.verify[0].cmd_contains == (new_cmd.rsplit(" ", 1)[1],)
@@ -222,18 +222,18 @@ def test_remove_after_deploy_is_byte_identical(ctxs: Any, template: str) -> None
     name = TEMPLATE_ROBOT[template]
     compose = rfile(tmp, name, f"{HOME}/compose.yaml")
     before = compose.read_bytes()
-    res = apply(cs[name], plan_deploy(cs[name]))
+    res = apply(cs[name], read_and_plan_deploy(cs[name]))
     assert res.outcome is Outcome.CHANGED, res.message
     assert rfile(tmp, name, f"{ROOT}/deployed.json").is_file()
-    again = plan_deploy(cs[name])
+    again = read_and_plan_deploy(cs[name])
     assert again.edits == [] and "already deployed" in (again.noop or "")
-    plan = plan_remove(cs[name])
+    plan = read_and_plan_remove(cs[name])
     assert plan.recreate == (CASES[template][0],)
     res = apply(cs[name], plan)
     assert res.outcome is Outcome.CHANGED, res.message
     assert compose.read_bytes() == before
     assert not rfile(tmp, name, f"{HOME}/panther-ops").exists()  # files and empty directories gone
-    assert plan_remove(cs[name]).noop == "the manager is not deployed"
+    assert read_and_plan_remove(cs[name]).noop == "the manager is not deployed"
     assert list(rfile(tmp, name, f"{HOME}/.panther-ops/backups").iterdir())  # both changes left a backup
 
 
@@ -248,12 +248,12 @@ def test_disable_manager_set_before_is_restored(ctxs: Any) -> None:
     tmp, cs = ctxs
     compose = with_disable_manager(tmp, "False")
     before = compose.read_bytes()
-    plan = plan_deploy(cs["r21"])
+    plan = read_and_plan_deploy(cs["r21"])
     assert "disable_manager:=True" in plan.edits[0].after.decode()  # type: ignore[union-attr]
     assert "disable_manager:=False" not in plan.edits[0].after.decode()  # type: ignore[union-attr]
     apply(cs["r21"], plan)
     assert json.loads(rfile(tmp, "r21", f"{ROOT}/deployed.json").read_text())["disable_manager_before"] == "False"
-    apply(cs["r21"], plan_remove(cs["r21"]))
+    apply(cs["r21"], read_and_plan_remove(cs["r21"]))
     assert compose.read_bytes() == before
 
 
@@ -261,10 +261,10 @@ def test_already_disabled_driver_is_not_recreated(ctxs: Any) -> None:
     tmp, cs = ctxs
     compose = with_disable_manager(tmp, "True")
     before = compose.read_bytes()
-    plan = plan_deploy(cs["r21"])
+    plan = read_and_plan_deploy(cs["r21"])
     assert plan.recreate == (SERVICE,)
     apply(cs["r21"], plan)
-    remove = plan_remove(cs["r21"])
+    remove = read_and_plan_remove(cs["r21"])
     assert remove.recreate == ()  # disable_manager stays as the operator had it
     apply(cs["r21"], remove)
     assert compose.read_bytes() == before
@@ -277,18 +277,18 @@ def test_refused_on_200(tmp_path: Path) -> None:
     with Connections(inv) as conns:
         ctx = RobotContext(inv.robots["old"], conns.get(inv.robots["old"]), inv)
         with pytest.raises(UsageError, match=r"panther_ros 2\.0\.0: disable_manager exists from panther_ros 2\.0\.1"):
-            plan_deploy(ctx)
+            read_and_plan_deploy(ctx)
 
 
 def test_sim_mode_uploads_the_scenario(ctxs: Any) -> None:
     _tmp, cs = ctxs
-    plan = plan_deploy(cs["r21"], sim=True, scenario="low_battery")
+    plan = read_and_plan_deploy(cs["r21"], sim=True, scenario="low_battery")
     scenario = next(e for e in plan.edits if e.path == f"{ROOT}/config/scenario.yaml")
     assert scenario.after == template_path("manager", "scenarios", "low_battery.yaml").read_bytes()
     cmd = yaml.safe_load(plan.edits[0].after)["services"][SERVICE]["command"].split()  # type: ignore[arg-type]
     assert cmd[-3:] == ["--sim", "--scenario", "/opt/panther-ops/manager/config/scenario.yaml"]
     apply(cs["r21"], plan)
-    ros2 = plan_deploy(cs["r21"], sim=False)  # back to ros2: the scenario file goes, the manager is recreated
+    ros2 = read_and_plan_deploy(cs["r21"], sim=False)  # back to ros2: the scenario file goes, the manager is recreated
     assert [e.path for e in ros2.edits if e.after is None] == [f"{ROOT}/config/scenario.yaml"]
     assert ros2.recreate == (SERVICE,)
 
@@ -296,9 +296,9 @@ def test_sim_mode_uploads_the_scenario(ctxs: Any) -> None:
 def test_upgrade_replaces_the_archive_and_keeps_the_driver(ctxs: Any, monkeypatch: pytest.MonkeyPatch) -> None:
     tmp, cs = ctxs
     old = build_bundle()
-    apply(cs["r21"], plan_deploy(cs["r21"], bundle=old))
+    apply(cs["r21"], read_and_plan_deploy(cs["r21"], bundle=old))
     new = ManagerBundle(old.data + b"\0", "9.9.9-abcdefabcdef", "abcdefabcdef", old.members, old.dependencies)
-    plan = plan_deploy(cs["r21"], bundle=new)
+    plan = read_and_plan_deploy(cs["r21"], bundle=new)
     assert plan.recreate == (SERVICE,)
     gone = [e.path for e in plan.edits if e.after is None]
     assert gone == [f"{ROOT}/{old.version}/{ARCHIVE_NAME}"]
@@ -310,7 +310,7 @@ def test_upgrade_replaces_the_archive_and_keeps_the_driver(ctxs: Any, monkeypatc
 
 def test_diffs_show_the_archive_in_one_line(ctxs: Any) -> None:
     _tmp, cs = ctxs
-    plan = plan_deploy(cs["r21"])
+    plan = read_and_plan_deploy(cs["r21"])
     diffs = {d.path: d.unified for d in plan.diffs}
     archive = next(p for p in diffs if p.endswith(ARCHIVE_NAME))
     assert len(diffs[archive].splitlines()) == 4 and "py_trees 2." in diffs[archive]
@@ -325,7 +325,7 @@ def test_manager_yaml_carries_desired_params(tmp_path: Path) -> None:
     inv = make_fleet(tmp_path, {"r": ("panther-2.1.1.yaml", desired)})
     with Connections(inv) as conns:
         ctx = RobotContext(inv.robots["r"], conns.get(inv.robots["r"]), inv)
-        apply(ctx, plan_deploy(ctx))
+        apply(ctx, read_and_plan_deploy(ctx))
     path = tmp_path / "robots/r" / f"{ROOT}/config/manager.yaml".lstrip("/")
     cfg = load_manager_config([path])
     assert cfg.lights.low_battery_threshold_percent == 0.3 and cfg.safety.cpu_fan_on_temp == 75
@@ -356,7 +356,7 @@ def test_disabled_robot_is_left_alone(tmp_path: Path) -> None:
     inv = make_fleet(tmp_path, {"r": ("panther-2.1.1.yaml", {"manager": {"enabled": False}})})
     with Connections(inv) as conns:
         ctx = RobotContext(inv.robots["r"], conns.get(inv.robots["r"]), inv)
-        plan = plan_deploy(ctx)
+        plan = read_and_plan_deploy(ctx)
     assert plan.edits == [] and "enabled is false" in (plan.noop or "")
 
 

@@ -19,9 +19,9 @@ import pytest
 import yaml
 
 from panther_ops.core.fleet.runner import Connections, RobotContext
-from panther_ops.core.manager_ops import deploy as deploy_module
+from panther_ops.core.manager_ops import read as manager_read
 from panther_ops.core.manager_ops.checks import ImageFacts
-from panther_ops.core.manager_ops.deploy import plan_deploy
+from panther_ops.core.manager_ops.read import read_and_plan_deploy
 from panther_ops.core.manager_ops.stock import intended_differences, robot_params, stock_manager
 from panther_ops.manager.config import load_manager_config
 from tests.unit.test_manager_deploy import ROOT, apply, make_fleet
@@ -49,7 +49,7 @@ def _deployed_config(tmp_path: Path, template: str, desired: dict[str, Any] | No
     inv = make_fleet(tmp_path, {"r": (template, desired or {})})
     with Connections(inv) as conns:
         ctx = RobotContext(inv.robots["r"], conns.get(inv.robots["r"]), inv)
-        plan = plan_deploy(ctx)
+        plan = read_and_plan_deploy(ctx)
         apply(ctx, plan)
     return plan, load_manager_config([tmp_path / "robots/r" / f"{ROOT}/config/manager.yaml".lstrip("/")])
 
@@ -75,7 +75,7 @@ def test_the_robots_own_values_are_read_from_its_image(tmp_path: Path, monkeypat
     def probe(_ctx: Any, cfg: Any, _hosts: str) -> ImageFacts:
         return ImageFacts(cfg.compose.driver_image, {"python3", "ssh"}, None, {paths[1]: SAFETY_21})
 
-    monkeypatch.setattr(deploy_module, "probe_image", probe)
+    monkeypatch.setattr(manager_read, "probe_image", probe)
     plan, cfg = _deployed_config(tmp_path, "panther-2.1.1.yaml")
     assert (cfg.safety.cpu_fan_on_temp, cfg.safety.cpu_fan_off_temp) == (80, 72)
     assert (cfg.safety.driver_fan_on_temp, cfg.safety.driver_fan_off_temp) == (50, 45)

@@ -13,7 +13,8 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.push import plan_push, read_bundle
+from panther_ops.core.config.push import read_bundle
+from panther_ops.core.config.read import read_and_plan_push
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.kinds import FileKind
 from tests.unit.test_manager_deploy import ctxs, make_fleet  # noqa: F401 - fixture
@@ -56,12 +57,12 @@ def test_pushed_animations_use_the_robots_animation_types(ctxs: Any, tmp_path: P
     Image.new("RGBA", (46, 10), (255, 0, 0, 255)).save(image)
     own = tmp_path / "own.yaml"
     own.write_text(PORTABLE.format(image=image))
-    text = _main_file(plan_push(cs[robot], FileKind.USER_ANIMATIONS, read_bundle(FileKind.USER_ANIMATIONS, own)))
+    text = _main_file(read_and_plan_push(cs[robot], FileKind.USER_ANIMATIONS, read_bundle(FileKind.USER_ANIMATIONS, own)))
     assert _types(text, "user_animations") == {f"{package}::ImageAnimation"}
     assert "# kept comment" in text  # rewritten as text: comments and layout stay
     # each release's own stock file goes to a robot of that release as it is
     stock = (LED_22 if package == "husarion_ugv_lights" else LED_21)
-    text = _main_file(plan_push(cs[robot], FileKind.LED, read_bundle(FileKind.LED, stock)))
+    text = _main_file(read_and_plan_push(cs[robot], FileKind.LED, read_bundle(FileKind.LED, stock)))
     assert {t.split("::")[0] for t in _types(text, "led_animations")} == {package}
 
 
@@ -79,7 +80,7 @@ def test_another_releases_stock_animations_are_refused_with_the_reason(
 
     _tmp, cs = ctxs
     with pytest.raises(FileKindError) as exc:
-        plan_push(cs[robot], kind, read_bundle(kind, source))
+        read_and_plan_push(cs[robot], kind, read_bundle(kind, source))
     assert said in str(exc.value)
 
 

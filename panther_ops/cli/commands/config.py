@@ -55,7 +55,7 @@ def get(fleet: Fleet, key: KeyArg) -> int:
     Example: panther-ops config get wheel_type --all
     """
     from panther_ops.core.config.checks import precheck_key
-    from panther_ops.core.config.plans import read_arg
+    from panther_ops.core.config.read import read_arg
     from panther_ops.results import Outcome, RobotResult
 
     precheck_key(key)
@@ -98,12 +98,12 @@ def set_(
     precheck({key: parsed}, force=force)
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
-            from panther_ops.core.config.plans import plan_controller
+            from panther_ops.core.config.read import read_and_plan_controller as plan_controller
 
             return plan_controller(c, {key: parsed}, force=force)
     else:
         def planner(c: Any) -> Any:
-            from panther_ops.core.config.plans import plan_args
+            from panther_ops.core.config.read import read_and_plan_args as plan_args
 
             return plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
     label = (f"config set {key} {value}" + (" --everywhere" if everywhere else "")
@@ -124,7 +124,7 @@ def unset(fleet: Fleet, key: KeyArg) -> int:
     precheck_key(key, known=False)  # an argument not in the catalogue can be removed, a malformed name not
 
     def planner(c: Any) -> Any:
-        from panther_ops.core.config.plans import plan_args
+        from panther_ops.core.config.read import read_and_plan_args as plan_args
 
         return plan_args(c, {}, [key])
 
@@ -140,7 +140,7 @@ def diff(fleet: Fleet) -> int:
 
     Example: panther-ops config diff --all
     """
-    from panther_ops.core.apply.desired import plan_desired
+    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
 
     return fleet.change("config diff", plan_desired, read_only=True)
 
@@ -200,7 +200,7 @@ def rollback(
     """
     import re
 
-    from panther_ops.core.fleet.history import plan_rollback
+    from panther_ops.core.fleet.history import read_and_plan_rollback as plan_rollback
     from panther_ops.errors import UsageError
 
     if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
@@ -230,7 +230,8 @@ def push(
 
     Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
-    from panther_ops.core.config.push import plan_push, push_kind, read_bundle
+    from panther_ops.core.config.push import push_kind, read_bundle
+    from panther_ops.core.config.read import read_and_plan_push as plan_push
 
     kind = push_kind(as_)
     bundle = read_bundle(kind, local, force=force)
@@ -291,7 +292,8 @@ def apply(fleet: Fleet, force: Force = False, ask_sudo_password: AskPassword = F
 
     Example: panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.apply.desired import desired_applier, plan_desired
+    from panther_ops.core.apply.apply import desired_applier
+    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
 
     inv, chosen = fleet.targets()
     password = sudo_password(ask_sudo_password) if any(r.desired.get("webui") for r in chosen) else None

@@ -122,9 +122,10 @@ def enable(
       panther-ops gps enable -r panther-01 --yes
       panther-ops gps enable -r panther-01 --router --yes
     """
+    from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
+    from panther_ops.core.gps.read import read_and_plan_enable as plan_enable
     from panther_ops.core.gps.router_plan import check_address
-    from panther_ops.core.gps.service import apply_gps, plan_enable
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
@@ -147,7 +148,8 @@ def disable(fleet: Fleet) -> int:
 
     Example: panther-ops gps disable -r panther-01 --yes
     """
-    from panther_ops.core.gps.service import apply_gps, plan_disable
+    from panther_ops.core.gps.apply import apply_gps
+    from panther_ops.core.gps.read import read_and_plan_disable as plan_disable
 
     return fleet.change("gps disable", plan_disable, applier=apply_gps)
 

@@ -90,7 +90,8 @@ def deploy(
 
     Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
-    from panther_ops.core.config.push import plan_push, read_bundle
+    from panther_ops.core.config.push import read_bundle
+    from panther_ops.core.config.read import read_and_plan_push as plan_push
     from panther_ops.core.kinds import FileKind
 
     bundle = read_bundle(FileKind.USER_ANIMATIONS, file)  # the user animations validator, as config push

@@ -122,9 +122,9 @@ def deploy(
       panther-ops manager deploy -g warehouse --canary 1 --yes
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
-    from panther_ops.core.manager_ops.apply_step import apply_manager
+    from panther_ops.core.manager_ops.apply import apply_manager
     from panther_ops.core.manager_ops.bundle import build_bundle
-    from panther_ops.core.manager_ops.deploy import plan_deploy
+    from panther_ops.core.manager_ops.read import read_and_plan_deploy as plan_deploy
     from panther_ops.core.manager_ops.settings import scenario_path
 
     if scenario is not None:  # checked once, here, whichever robots it would go to
@@ -147,8 +147,8 @@ def remove(fleet: Fleet) -> int:
 
     Example: panther-ops manager remove -r panther-01 --yes
     """
-    from panther_ops.core.manager_ops.apply_step import apply_manager
-    from panther_ops.core.manager_ops.deploy import plan_remove
+    from panther_ops.core.manager_ops.apply import apply_manager
+    from panther_ops.core.manager_ops.read import read_and_plan_remove as plan_remove
 
     return fleet.change("manager remove", plan_remove, applier=apply_manager)
 

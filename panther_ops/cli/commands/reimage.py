@@ -304,7 +304,8 @@ def restore(
     Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """
     from panther_ops.cli.views.status import print_doctor
-    from panther_ops.core.apply.desired import desired_applier, plan_desired
+    from panther_ops.core.apply.apply import desired_applier
+    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError

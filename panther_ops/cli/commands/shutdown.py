@@ -225,7 +225,7 @@ def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     Example: panther-ops shutdown robot -r panther-01 --yes
     """
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.shutdown.plan_hosts import RobotShutdownPlan
+    from panther_ops.core.shutdown.plan import RobotShutdownPlan
     from panther_ops.core.shutdown.run import plan_robot_shutdown, shutdown_robot
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import Outcome, RobotResult

@@ -54,7 +54,7 @@ def hosts_list(fleet: Fleet, file: FileArg = None, power_budget: PowerBudget = 1
         res = RobotResult(str(file), Outcome.FAILED if parsed.errors else Outcome.OK, f"{len(parsed.entries)} hosts",
                           data=_file_data(parsed, str(file)), warnings=[str(f) for f in parsed.warnings])
         return fleet.show(FleetResult("shutdown hosts list", [res]), print_list)
-    from panther_ops.core.shutdown.robotfile import read_robot_hosts
+    from panther_ops.core.shutdown.read import read_robot_hosts
 
     def task(c: Any) -> RobotResult:
         rf = read_robot_hosts(c)
@@ -115,7 +115,7 @@ def hosts_validate(
         results = [_validate_result(str(file), parsed, str(file))]
         result = FleetResult("shutdown hosts validate", results)
     else:
-        from panther_ops.core.shutdown.robotfile import read_robot_hosts
+        from panther_ops.core.shutdown.read import read_robot_hosts
 
         def task(c: Any) -> RobotResult:
             rf = read_robot_hosts(c)
@@ -216,7 +216,7 @@ def hosts_add(
         return _edit_local(fleet, file, lambda text: add_host(text, entry, str(file)), label)
     sec = secret_from(secret_env, secret_file, ask_secret)
     entry = _entry(ip, user, port, command, timeout, no_ping, http, sec.reveal() if sec else None)
-    from panther_ops.core.shutdown.robotfile import plan_hosts_edit
+    from panther_ops.core.shutdown.read import plan_hosts_edit
 
     return fleet.change(label,
                         lambda c: plan_hosts_edit(c, lambda text, _mode: add_host(text, entry),
@@ -249,7 +249,7 @@ def hosts_remove(
             raise usage_error(f"{file} does not exist")
         return _edit_local(fleet, file, lambda text: remove_host(text, ip, user, port, str(file)),
                            f"shutdown hosts remove {ip}")
-    from panther_ops.core.shutdown.robotfile import plan_hosts_edit
+    from panther_ops.core.shutdown.read import plan_hosts_edit
 
     return fleet.change(f"shutdown hosts remove {ip}",
                         lambda c: plan_hosts_edit(c, lambda text, _mode: remove_host(text, ip, user, port),

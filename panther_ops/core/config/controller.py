@@ -11,7 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
+from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.controller_limits import (
     LimitKey,
     file_limits,
@@ -32,7 +33,7 @@ def default_controller_text(stack: Stack, wheel_type: str) -> str:
     Raises:
         UsageError: no template (custom wheels; WH05 before husarion_ugv 2.2).
     """
-    return config_file(stack, ConfigKind.CONTROLLER, wheel_type=wheel_type).template_text()
+    return config_file(stack, FileKind.CONTROLLER, wheel_type=wheel_type).template_text()
 
 
 @dataclass(frozen=True)
@@ -66,7 +67,7 @@ class ControllerConfig:
     @classmethod
     def default(cls, stack: Stack, wheel_type: str) -> ControllerConfig:
         """The stack's default file for the wheel type, ready to edit."""
-        cf = config_file(stack, ConfigKind.CONTROLLER, wheel_type=wheel_type)
+        cf = config_file(stack, FileKind.CONTROLLER, wheel_type=wheel_type)
         return cls.parse(cf.template_text(), stack, wheel_type, path=cf.container_path)
 
     def text(self) -> str:

@@ -20,9 +20,9 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
-from enum import Enum
 
 from panther_ops.core.fleet.templates import read_template, template_path
+from panther_ops.core.kinds import FileKind
 from panther_ops.core.stack import Family, Generation, Stack
 from panther_ops.errors import UsageError
 
@@ -32,21 +32,6 @@ _HEADER = 1000
 ROBOT_CONFIG_DIR = "/home/husarion/config"
 CONTAINER_CONFIG_DIR = "/config"
 WHEEL_TYPES = ("WH01", "WH02", "WH04", "WH05")
-
-
-class ConfigKind(str, Enum):
-    WHEEL = "wheel"
-    CONTROLLER = "controller"
-    COMPONENTS = "components"
-    ANIMATIONS = "animations"
-    USER_ANIMATIONS = "user_animations"
-    LIGHTS_DRIVER = "lights_driver"
-    SHUTDOWN_HOSTS = "shutdown_hosts"
-    BATTERY_PLUGIN = "battery_plugin"
-    MANAGER_BT = "manager_bt"
-    LIGHTS_MANAGER = "lights_manager"
-    SAFETY_MANAGER = "safety_manager"
-    JOY2TWIST = "joy2twist"
 
 
 _FAMILY_DIRS: dict[Generation, tuple[str, ...]] = {
@@ -73,7 +58,7 @@ class ConfigFile:
         note: caveats (simulation only, version specifics).
     """
 
-    kind: ConfigKind
+    kind: FileKind
     package: str
     filename: str
     launch_arg: str | None
@@ -240,30 +225,30 @@ def _manager(base: str) -> Callable[[Stack, str, str], _Spec]:
     return spec
 
 
-_SPECS: dict[ConfigKind, Callable[[Stack, str, str], _Spec]] = {
-    ConfigKind.WHEEL: _wheel,
-    ConfigKind.CONTROLLER: _controller,
-    ConfigKind.COMPONENTS: _components,
-    ConfigKind.ANIMATIONS: _animations,
-    ConfigKind.USER_ANIMATIONS: _user_animations,
-    ConfigKind.LIGHTS_DRIVER: _lights_driver,
-    ConfigKind.SHUTDOWN_HOSTS: _shutdown_hosts,
-    ConfigKind.BATTERY_PLUGIN: _battery_plugin,
-    ConfigKind.MANAGER_BT: _manager_bt,
-    ConfigKind.LIGHTS_MANAGER: _manager("lights_manager"),
-    ConfigKind.SAFETY_MANAGER: _manager("safety_manager"),
-    ConfigKind.JOY2TWIST: _joy2twist,
+_SPECS: dict[FileKind, Callable[[Stack, str, str], _Spec]] = {
+    FileKind.WHEEL: _wheel,
+    FileKind.CONTROLLER: _controller,
+    FileKind.COMPONENTS: _components,
+    FileKind.LED: _animations,
+    FileKind.USER_ANIMATIONS: _user_animations,
+    FileKind.LIGHTS_DRIVER: _lights_driver,
+    FileKind.SHUTDOWN_HOSTS: _shutdown_hosts,
+    FileKind.BATTERY: _battery_plugin,
+    FileKind.MANAGER_BT: _manager_bt,
+    FileKind.LIGHTS_MANAGER: _manager("lights_manager"),
+    FileKind.SAFETY_MANAGER: _manager("safety_manager"),
+    FileKind.JOY2TWIST: _joy2twist,
 }
 
 
-_TEMPLATE_FROM: dict[ConfigKind, tuple[int, int, int]] = {ConfigKind.BATTERY_PLUGIN: (2, 0, 1)}
+_TEMPLATE_FROM: dict[FileKind, tuple[int, int, int]] = {FileKind.BATTERY: (2, 0, 1)}
 """Versions before these have a file no template reproduces (panther_ros 2.0.0's battery file:
 percent, no capacity; the 2.0 template is 2.0.1-2.0.4's)."""
 
 
 def config_file(
     stack: Stack,
-    kind: ConfigKind,
+    kind: FileKind,
     *,
     wheel_type: str = "WH01",
     robot_model: str = "panther",
@@ -281,11 +266,11 @@ def config_file(
 def config_files(stack: Stack, *, robot_model: str = "panther") -> list[ConfigFile]:
     """Every configuration file panther-ops knows for ``stack`` (one per wheel type)."""
     out: list[ConfigFile] = []
-    for kind in ConfigKind:
+    for kind in _SPECS:
         wheel_types: tuple[str, ...] = ("",)
-        if kind is ConfigKind.WHEEL:
+        if kind is FileKind.WHEEL:
             wheel_types = WHEEL_TYPES
-        elif kind is ConfigKind.CONTROLLER:
+        elif kind is FileKind.CONTROLLER:
             wheel_types = controller_wheel_types(stack)
         for wheel_type in wheel_types:
             try:

@@ -21,11 +21,9 @@ import posixpath
 import re
 from pathlib import Path
 
-from panther_ops.core.config import plan_push as planner
 from panther_ops.core.config.files import (
     ROBOT_CONFIG_DIR,
     ConfigFile,
-    ConfigKind,
     config_file,
     family_dirs,
     stock_bt_project,
@@ -33,10 +31,9 @@ from panther_ops.core.config.files import (
 )
 from panther_ops.core.config.gamepad import InImage
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan_push import BT_ARGS, Bundle, robot_file
-from panther_ops.core.config.robot import read_compose, read_config
+from panther_ops.core.config.plan import BT_ARGS, Bundle, robot_file
+from panther_ops.core.config.robot import read_config
 from panther_ops.core.config.robot_config import RobotConfig
-from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import running_containers
@@ -118,12 +115,6 @@ def _read(ctx: RobotContext, path: str) -> bytes | None:
         return None
 
 
-def plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
-    """Read compose.yaml and the files the push would replace; plan (`plan_push.py`)."""
-    raw = read_compose(ctx)
-    return read_and_plan(ctx, lambda reads: planner.plan_push(raw, reads, kind, bundle, force=force))
-
-
 def _upstream(stack: Stack, package: str, rel: str) -> str:
     repo = "husarion_ugv_ros" if stack.family is Family.HUSARION_UGV else "panther_ros"
     return f"{repo}@{stack.version_str}:{package}/{rel}"
@@ -176,7 +167,7 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
             return found
         if isinstance(found, InImage):
             return _joy2twist_from_image(ctx, cfg, found)
-        gamepad = read_and_plan(ctx, lambda reads: config_file(cfg.stack, ConfigKind.JOY2TWIST,
+        gamepad = read_and_plan(ctx, lambda reads: config_file(cfg.stack, FileKind.JOY2TWIST,
                                                                robot_model=robot_model(reads, cfg)))
         return _image_or_template(ctx, cfg, gamepad)
     if kind in BT_ARGS:

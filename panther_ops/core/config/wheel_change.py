@@ -15,11 +15,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.controller_limits import parse_limit_key, validate_limit
 from panther_ops.errors import UsageError
 
@@ -85,7 +86,7 @@ def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | Non
         raise UsageError(f"{host}: the custom controller file cannot be migrated to {new_wheel}: {exc.message}",
                          hint=f"push a {new_wheel} controller file: panther-ops config push FILE --as controller") \
             from None
-    cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=new_wheel)
+    cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=new_wheel)
     new = ControllerConfig.default(cfg.stack, new_wheel)
     stock = ControllerConfig.default(cfg.stack, old) if old in ("WH01", "WH02", "WH04") else None
     kept: list[str] = []

@@ -1,8 +1,9 @@
 """`panther-ops driver ...` and `config restore-defaults`: the driver container and its image.
 
 Modules: ``images`` (image references, tags, Docker Hub's released tags), ``containers``
-(status, logs, versions as the engine shows them), ``restart``, ``update`` and ``restore``
-(config restore-defaults). Every robot step goes through the
+(status, logs, versions as the engine shows them); ``plan`` (the pure planners of restart,
+stop/start, update and config restore-defaults), ``read`` (what they read) and ``apply``
+(their executors). Every robot step goes through the
 robot's transport: the docker SDK rides its one SSH connection (`Transport.docker`), and
 ``docker compose`` runs as the robot user in a login shell, as Husarion's tools do. Changes
 to compose.yaml go through the apply pipeline (`pipeline.apply_plan`); `apply_update` and

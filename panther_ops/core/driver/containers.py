@@ -15,7 +15,7 @@ from panther_ops.core.containers.engine import NoEngineError, engine
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.driver.images import HubTag, local_images, newer_tags
-from panther_ops.core.driver.planners import compose_argv
+from panther_ops.core.driver.plan import compose_argv
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import service_containers
 from panther_ops.core.parse.shell_words import CommandSyntaxError, command_words

@@ -64,8 +64,8 @@ ROLLBACK_FACTS: dict[str, FactReader] = {planner.HISTORY: lambda c, _key: list_h
 """How the facts the rollback planner asks for are read."""
 
 
-def plan_rollback(ctx: RobotContext, to: str | None, *, only: str | None = None,
-                  edit: planner.MakeEdit = MaskedFileEdit) -> RobotPlan:
+def read_and_plan_rollback(ctx: RobotContext, to: str | None, *, only: str | None = None,
+                           edit: planner.MakeEdit = MaskedFileEdit) -> RobotPlan:
     """Restore the files of backup ``to`` (default: the newest): read the backups the planner
     (`plan_rollback.py`, pure; ``only`` and ``edit`` are its) asks for, and the files as they are now."""
     return read_and_plan(ctx, lambda reads: planner.plan_rollback(reads, to, only=only, edit=edit), ROLLBACK_FACTS)

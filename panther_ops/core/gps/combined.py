@@ -12,11 +12,12 @@ from typing import Any
 from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.gps.apply import apply_gps
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.plan import GpsOptions
+from panther_ops.core.gps.read import read_and_plan_enable
 from panther_ops.core.gps.router import NoRouter, open_router, read_state
 from panther_ops.core.gps.router_plan import RouterRequest, changes, describe, summary_of, with_router
-from panther_ops.core.gps.service import apply_gps, plan_enable
 from panther_ops.results import Outcome, RobotResult
 
 
@@ -25,7 +26,7 @@ def router_request(opts: GpsOptions) -> RouterRequest:
 
 
 def plan_enable_with_router(ctx: RobotContext, opts: GpsOptions, address: str, creds: Credentials) -> RobotPlan:
-    plan = plan_enable(ctx, opts)
+    plan = read_and_plan_enable(ctx, opts)
     try:
         api = open_router(ctx, address, creds)
     except NoRouter as exc:  # a demo robot: the driver's part planned, the router's said to be left out

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.config.planners import edit_args
+from panther_ops.core.config.plan import edit_args
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.inventory_desired import DesiredError, gps_block, usage_error
 from panther_ops.core.fleet.plan import FileEdit, Verify

@@ -28,7 +28,7 @@ and removed), or the argument, the parameters path and the file -- an enable fol
 disable leaves compose.yaml byte-identical.
 
 The planners, pure functions of what was read (compose.yaml, and on 2.2 the params file,
-through :class:`Reads`); the reads and the apply are `service.py`'s.
+through :class:`Reads`); the reads are `read.py`'s, the executor `apply.py`'s.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.config.launch_args import bool_word, spec
-from panther_ops.core.config.planners import edit_args
+from panther_ops.core.config.plan import edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.inventory_desired import IP_RULE, nmea_ip, nmea_namespace
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
@@ -98,7 +98,7 @@ def gps_namespace(value: str, what: str, hint: str | None = None) -> str:
     return value
 
 
-def robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
+def _robot_namespace(reads: Reads, cfg: RobotConfig, asked: str | None) -> str:
     """--namespace, else the inventory's, else the driver's namespace:= or ROBOT_NAMESPACE, else panther."""
     if asked:
         return asked
@@ -176,7 +176,7 @@ class Change:
 
 def enable_change(reads: Reads, cfg: RobotConfig, opts: GpsOptions) -> Change:
     """Edit ``cfg.compose`` (and plan the params file) so the NMEA driver runs as asked."""
-    namespace = robot_namespace(reads, cfg, opts.namespace)
+    namespace = _robot_namespace(reads, cfg, opts.namespace)
     if uses_container(cfg, opts):
         return _enable_service(cfg, namespace, opts)
     return _enable_argument(reads, cfg, opts)

@@ -19,6 +19,6 @@ edits), `webui_settings` (the husarion-webui snap's keys and its configure hook'
 
 from __future__ import annotations
 
-from panther_ops.core.kinds.registry import PUSHABLE, FileKind, FileKindError, Target, check_file
+from panther_ops.core.kinds.registry import CHECKED, PUSHABLE, FileKind, FileKindError, Target, check_file
 
-__all__ = ["PUSHABLE", "FileKind", "FileKindError", "Target", "check_file"]
+__all__ = ["CHECKED", "PUSHABLE", "FileKind", "FileKindError", "Target", "check_file"]

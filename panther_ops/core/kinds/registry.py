@@ -19,7 +19,9 @@ from panther_ops.errors import UsageError
 
 
 class FileKind(str, Enum):
-    """What a file is; the values are `config push --as` names."""
+    """What a file is: every configuration file panther-ops knows (where a stack keeps it:
+    `core.config.files`), and the kinds it writes (each with its one validator, below). The
+    values are `config push --as` names (`PUSHABLE`)."""
 
     CONTROLLER = "controller"
     WHEEL = "wheel"
@@ -33,9 +35,19 @@ class FileKind(str, Enum):
     JOY2TWIST = "joy2twist"
     COMPOSE = "compose"
     WORLD = "world"
+    LIGHTS_DRIVER = "lights-driver"
+    MANAGER_BT = "manager-bt"
+    LIGHTS_MANAGER = "lights-manager"
+    SAFETY_MANAGER = "safety-manager"
 
 
-PUSHABLE: tuple[FileKind, ...] = tuple(k for k in FileKind if k not in (FileKind.COMPOSE, FileKind.WORLD))
+KNOWN_ONLY: tuple[FileKind, ...] = (FileKind.LIGHTS_DRIVER, FileKind.MANAGER_BT, FileKind.LIGHTS_MANAGER,
+                                    FileKind.SAFETY_MANAGER)
+"""Kinds panther-ops knows the place and default of (templates, conformance) but never writes:
+no validator, not pushable (the lights driver's and the managers' node parameters)."""
+CHECKED: tuple[FileKind, ...] = tuple(k for k in FileKind if k not in KNOWN_ONLY)
+"""The kinds panther-ops writes or deploys: each has its one validator."""
+PUSHABLE: tuple[FileKind, ...] = tuple(k for k in CHECKED if k not in (FileKind.COMPOSE, FileKind.WORLD))
 """The kinds `config push --as` and `config pull` take (compose.yaml itself is edited by the
 commands that change it: config set/unset, gps enable, driver update...; a Gazebo world lives
 on the simulation's machine, edited by `sim world set`)."""
@@ -88,9 +100,16 @@ def _registry() -> dict[FileKind, Validator]:
 def check_file(kind: FileKind, source: str, data: bytes, *, local: Path | None = None,
                target: Target | None = None, force: bool = False) -> list[str]:
     """Check ``data`` as a file of ``kind``: its warnings, or `FileKindError` (exit 2)."""
-    return _registry()[kind](source, data, local, target or Target(), force)
+    return validator(kind)(source, data, local, target or Target(), force)
 
 
 def validator(kind: FileKind) -> Validator:
-    """The one validator of ``kind``."""
+    """The one validator of ``kind`` (a kind of `CHECKED`).
+
+    Raises:
+        UsageError: ``kind`` is one panther-ops does not write (`KNOWN_ONLY`).
+    """
+    if kind in KNOWN_ONLY:
+        raise UsageError(f"panther-ops does not write {kind.value} files",
+                         hint="kinds it checks: " + ", ".join(k.value for k in CHECKED))
     return _registry()[kind]

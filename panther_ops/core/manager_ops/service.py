@@ -8,9 +8,10 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.core.config.compose import Volume
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind
 from panther_ops.core.manager_ops.layout import Layout
 from panther_ops.core.manager_ops.projects import deployed_projects
 from panther_ops.core.manager_ops.settings import (
@@ -113,7 +114,7 @@ def _hosts_file(reads: Reads, cfg: RobotConfig, settings: ManagerSettings,
         _check_hosts(reads, cfg, settings.shutdown_hosts)
         volumes[HOSTS_TARGET] = f"{settings.shutdown_hosts}:{HOSTS_TARGET}:ro"
         return HOSTS_TARGET, settings.shutdown_hosts
-    cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
+    cf = config_file(cfg.stack, FileKind.SHUTDOWN_HOSTS)
     current = cfg.compose.args.get("shutdown_hosts_config_path")
     if not current and cfg.tree_mounted:
         current = cf.container_path
@@ -131,7 +132,7 @@ def _hosts_file(reads: Reads, cfg: RobotConfig, settings: ManagerSettings,
 
 def _check_hosts(reads: Reads, cfg: RobotConfig, path: str) -> None:
     """The hosts file the deployed manager will read, through the one hosts file validator."""
-    from panther_ops.core.kinds import FileKind, Target, check_file
+    from panther_ops.core.kinds import Target, check_file
 
     data = reads.file(path)
     if data is None:

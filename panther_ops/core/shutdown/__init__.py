@@ -1,10 +1,11 @@
 """Shutting user computers down with the robot: the hosts file, setup, check and the shutdown.
 
-* `hostsfile`: the shutdown hosts file (read, validate, edit keeping comments).
-* `robotfile`: the robot's own hosts file (where it is per stack version) and the pipeline
-  plans that change it.
-* `remote`: the robot as the way to its LAN (ping, SSH with the robot's key, HTTP) and the
-  executor backends "from here" or "via the robot".
+* `core/kinds/hostsfile`: the shutdown hosts file (read, validate, edit keeping comments).
+* `plan`: the robot's own hosts file (where it is per stack version) and the pure plans that
+  change it (edits, ``desired.shutdown_hosts``); `read`: the file in use, read, and the
+  pipeline plan of an edit; `localfile`: a local hosts file as a target of the same edits.
+* `links`: what a shutdown runs to reach a LAN host and how each answer is judged (the
+  robot as the way to its LAN: `transport/lan.py`).
 * `run`: running the shared executor (`panther_ops.manager.shutdown_executor`) and
   `shutdown robot`.
 * `check`, `setup`: per-host checks and the manual's setup procedure, through the robot.

@@ -24,7 +24,7 @@ from typing import Any
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, HostEntry
 from panther_ops.core.shutdown.links import http_get, ping, robot_ip_towards
-from panther_ops.core.shutdown.robotfile import read_robot_hosts
+from panther_ops.core.shutdown.read import read_robot_hosts
 from panther_ops.errors import OpsError
 from panther_ops.manager.shutdown_executor import ShutdownHost, shutdown_path
 from panther_ops.results import Outcome, RobotResult

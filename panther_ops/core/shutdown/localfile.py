@@ -11,7 +11,7 @@ is still what was read. Nothing is recreated.
 ``config history --file FILE`` lists those backups (``history.list_history`` with ``only``:
 the ones of that file; a directory may hold several hosts files) and ``config rollback --file
 FILE`` restores one through the same planner and pipeline as a robot's rollback
-(`plan_rollback.py`, through `plan_hosts.py`'s ``plan_local_restore``): masked exact diff,
+(`fleet/plan_rollback.py`, through `plan.py`'s ``plan_local_restore``): masked exact diff,
 backup of the current file first, staged write renamed only if the file is unchanged; the
 content restored goes through the hosts file validator as every write of the file does.
 """
@@ -28,7 +28,7 @@ from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import Edit
-from panther_ops.core.shutdown.plan_hosts import plan_local_edit, plan_local_restore
+from panther_ops.core.shutdown.plan import plan_local_edit, plan_local_restore
 
 
 def local_target(file: Path, option: str | None = None) -> tuple[Inventory, Robot]:

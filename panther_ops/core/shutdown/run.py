@@ -20,8 +20,8 @@ from collections.abc import Callable, Iterable
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.shutdown.links import backends_via
-from panther_ops.core.shutdown.plan_hosts import RobotShutdownPlan, shutdown_plan
-from panther_ops.core.shutdown.robotfile import read_robot_hosts
+from panther_ops.core.shutdown.plan import RobotShutdownPlan, shutdown_plan
+from panther_ops.core.shutdown.read import read_robot_hosts
 from panther_ops.errors import OpsError
 from panther_ops.manager.clock import Clock, MonotonicClock
 from panther_ops.manager.shutdown_executor import (

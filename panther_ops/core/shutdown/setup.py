@@ -36,7 +36,7 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Mode, add_host, new_entry
 from panther_ops.core.shutdown.check import install_hint, probe_secret, sudo_without_password
 from panther_ops.core.shutdown.links import http_get, ping, robot_ip_towards
-from panther_ops.core.shutdown.robotfile import plan_hosts_edit
+from panther_ops.core.shutdown.read import plan_hosts_edit
 from panther_ops.core.stack import Stack
 from panther_ops.errors import OpsError
 from panther_ops.manager.shutdown_executor import ShutdownHost

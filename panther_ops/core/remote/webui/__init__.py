@@ -9,7 +9,7 @@
 * `state`: the snap's state as read and the plan of `webui set` (pure).
 * `defaults`: ``ros.namespace`` defaults to the robot's namespace (pure; `remote.robot_namespace`
   reads it).
-* `plan_desired` (pure) and `desired` (its reads, and the change): the inventory's
+* `plan` (pure) and `desired` (its reads, and the change): the inventory's
   ``desired.webui`` for `apply` and `config diff`.
 """
 

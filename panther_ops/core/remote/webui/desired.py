@@ -1,7 +1,7 @@
 """``desired.webui`` of the inventory, for `apply` and `config diff`.
 
 Reading here: the snap's state on the robot's User Computer (no sudo: ``snap get``), or a
-demo robot's recording; the plan (`plan_desired.py`, pure) lists every key that differs
+demo robot's recording; the plan (`plan.py`, pure) lists every key that differs
 (current -> new), with ``ros.namespace`` defaulting to the robot's (`defaults`). The change
 is carried out by `apply_desired_webui` with the same `remote.apply_settings` as `webui set` (sudo snap set,
 restart when running, read back). A robot without ``user_computer:`` in the inventory is
@@ -16,7 +16,7 @@ from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.webui.defaults import RobotNamespace
-from panther_ops.core.remote.webui.plan_desired import WebuiRead
+from panther_ops.core.remote.webui.plan import WebuiRead
 from panther_ops.core.remote.webui.remote import apply_settings, open_webui_session, read_webui
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome
@@ -24,7 +24,7 @@ from panther_ops.secret import Secret
 
 
 def read_desired_webui(ctx: RobotContext, _key: str = "") -> WebuiRead:
-    """The fact `plan_desired.py` plans from: the snap's state on the User Computer (no sudo),
+    """The fact `plan.py` plans from: the snap's state on the User Computer (no sudo),
     or a demo robot's recording; or why there is none to converge."""
     if ctx.robot.transport != "local" and ctx.robot.user_computer is None:
         return WebuiRead(None, warning=f"desired.webui not converged: no user_computer: for {ctx.robot.name} "

@@ -1,22 +1,24 @@
-"""Readers for `panther-ops config set/unset/get`: read what the planners
-(`planners.py`, pure) need over the robot's one connection, then plan."""
+"""Readers for `panther-ops config set/unset/get` and `config push`: read what the planners
+(`plan.py`, pure) need over the robot's one connection, then plan."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.config import planners
+from panther_ops.core.config import plan as planners
 from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
+from panther_ops.core.config.plan import Bundle
 from panther_ops.core.config.robot import read_compose, read_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.kinds import FileKind
 
 
-def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
+def read_and_plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
               everywhere: bool = False) -> RobotPlan:
     """``config set/unset``: read compose.yaml (kept for the write) and what the plan needs; plan."""
     raw = read_compose(ctx, keep=True)
@@ -24,10 +26,17 @@ def plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, 
                                                                everywhere=everywhere))
 
 
-def plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False) -> RobotPlan:
+def read_and_plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False) -> RobotPlan:
     """``config set controller.<key> VALUE``: read compose.yaml and the controller file; plan."""
     raw = read_compose(ctx, keep=True)
     return read_and_plan(ctx, lambda reads: planners.plan_controller(raw, reads, limits, force=force))
+
+
+def read_and_plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, force: bool = False) -> RobotPlan:
+    """``config push`` (and ``lights deploy``): read compose.yaml and the files the push would
+    replace; plan."""
+    raw = read_compose(ctx)
+    return read_and_plan(ctx, lambda reads: planners.plan_push(raw, reads, kind, bundle, force=force))
 
 
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
@@ -38,7 +47,7 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     args = cfg.compose.args
     if key.startswith("controller."):
         wheel = read_and_plan(ctx, lambda reads: wheel_type_of(reads, cfg))
-        cf = config_file(cfg.stack, ConfigKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
+        cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=wheel if wheel != "custom" else "WH01")
         cpath = args.get("controller_config_path")
         host = cfg.host_path_of(cpath) if cpath else (cf.robot_path if cfg.reads_from_tree(cf) else None)
         text = None

@@ -1,5 +1,5 @@
-"""`panther-ops manager deploy|remove` on one robot: read compose.yaml, then the files and
-facts the planners (`plan_deploy.py`, pure) ask for, over the robot's one connection."""
+"""The reads of `panther-ops manager deploy|remove` on one robot: compose.yaml, then the files
+and facts the planners (`plan.py`, pure) ask for, over the robot's one connection; then the plan."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from panther_ops.core.config.robot_config import parse_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.manager_ops import plan_deploy as planner
-from panther_ops.core.manager_ops.apply_step import manager_containers
+from panther_ops.core.manager_ops import plan as planner
+from panther_ops.core.manager_ops.apply import manager_containers
 from panther_ops.core.manager_ops.bundle import ManagerBundle
 from panther_ops.core.manager_ops.checks import IMAGE_PROBE
 from panther_ops.core.manager_ops.image_probe import probe_image
@@ -18,7 +18,7 @@ from panther_ops.core.manager_ops.settings import SERVICE
 from panther_ops.errors import OpsError
 
 
-def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | None = None,
+def read_and_plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | None = None,
                 bundle: ManagerBundle | None = None) -> RobotPlan:
     """One plan: upload, service, disable_manager; nothing is written here."""
     raw = read_compose(ctx)
@@ -29,7 +29,7 @@ def plan_deploy(ctx: RobotContext, *, sim: bool | None = None, scenario: str | N
                                                                 scenario=scenario, bundle=bundle), facts)
 
 
-def plan_remove(ctx: RobotContext) -> RobotPlan:
+def read_and_plan_remove(ctx: RobotContext) -> RobotPlan:
     """Take the service out, put disable_manager back as it was, delete the uploaded files."""
     raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planner.plan_remove(raw, reads))

@@ -2,7 +2,7 @@
 
 Pure functions of compose.yaml as read (:class:`ComposeRead`), the facts they ask for
 (:class:`Reads`: whether the robot has a docker engine, whether it holds an image) and what
-the user asked; the reads and the applies are `restart.py`, `update.py` and `restore.py`'s.
+the user asked; the reads are `read.py`'s, the executors `apply.py`'s.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from panther_ops.core.config.arg_edits import migrate_args
 from panther_ops.core.config.arg_rules import check_args
 from panther_ops.core.config.compose import ComposeError, ComposeFile
 from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
-from panther_ops.core.config.planners import compose_plan
+from panther_ops.core.config.plan import compose_plan
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.fleet.plan import RobotPlan, Verify

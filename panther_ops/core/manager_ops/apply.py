@@ -1,4 +1,5 @@
-"""A manager deploy or removal carried out: the pipeline, plus the container the pipeline does not know about."""
+"""A manager deploy or removal carried out (the executor of `plan.py`'s plans): the pipeline, plus the
+container the pipeline does not know about."""
 
 from __future__ import annotations
 

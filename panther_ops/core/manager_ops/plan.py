@@ -22,7 +22,8 @@ remove reverts exactly: the service and ``disable_manager`` as they were before 
 deploy (compose.yaml byte-identical), the uploaded files deleted, empty directories too.
 
 The planners here are pure functions of compose.yaml as read, the files and facts they ask
-for (:class:`Reads`) and the inventory's ``desired:``; the reads are `deploy.py`'s.
+for (:class:`Reads`) and the inventory's ``desired:``; the reads are `read.py`'s, the
+executor `apply.py`'s.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.config.planners import compose_plan, edit_args
+from panther_ops.core.config.plan import compose_plan, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads

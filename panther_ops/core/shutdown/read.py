@@ -1,20 +1,21 @@
-"""The robot's own shutdown hosts file, read: the file in use (see `plan_hosts.py`, whose
+"""The robot's own shutdown hosts file, read: the file in use (see `plan.py`, whose
 planners are pure) and the pipeline plan of an edit of it."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from panther_ops.core.config.files import ConfigKind, config_file
-from panther_ops.core.config.plan_push import Bundle
-from panther_ops.core.config.push import plan_push, pull
+from panther_ops.core.config.files import config_file
+from panther_ops.core.config.plan import Bundle
+from panther_ops.core.config.push import pull
+from panther_ops.core.config.read import read_and_plan_push
 from panther_ops.core.config.robot import read_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
-from panther_ops.core.shutdown.plan_hosts import (
+from panther_ops.core.shutdown.plan import (
     Editor,
     RobotHostsFile,
     as_hosts_push,
@@ -27,7 +28,7 @@ __all__ = ["Editor", "RobotHostsFile", "plan_hosts_edit", "read_robot_hosts"]
 
 
 def read_robot_hosts(ctx: RobotContext) -> RobotHostsFile:
-    """The hosts file in use on the robot (see `plan_hosts.py` for the order)."""
+    """The hosts file in use on the robot (see `plan.py` for the order)."""
     cfg = read_config(ctx)
     rf = read_and_plan(ctx, lambda reads: hosts_in_use(cfg, reads))
     if rf is not None:
@@ -43,6 +44,6 @@ def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = 
     plan = plan_in_place(ctx.robot.name, rf, edit, warnings)
     if plan is not None:
         return plan
-    cf = config_file(rf.stack, ConfigKind.SHUTDOWN_HOSTS)
-    pushed = plan_push(ctx, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
+    cf = config_file(rf.stack, FileKind.SHUTDOWN_HOSTS)
+    pushed = read_and_plan_push(ctx, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
     return as_hosts_push(pushed, edit, warnings)

@@ -12,25 +12,35 @@ recreate, verify, roll back): a mounted file or the tree's file is edited in pla
 image's default is copied to ``~/config/<package>/config/<file>``, edited, mounted and
 pointed at with ``shutdown_hosts_config_path`` (2.0/2.1), as `config push` does.
 
+``desired.shutdown_hosts`` converged by `apply` (and shown by `config diff`, `desired_hosts`):
+the robot's shutdown hosts file lists exactly the inventory's hosts. The file in use is edited
+in place (mounted, or the 2.2 config tree's); a robot still on its image's default gets the
+default with the hosts converged, pushed as `config push --as shutdown-hosts` pushes it (copied
+to ``~/config/<package>/config/<file>``, mounted and pointed at on 2.0/2.1). The whole file as
+it would be written passes the hosts file's validator for the robot's stack (SSH entries up to
+2.2.0, HTTP entries from 2.2.1). Secrets arrive resolved (the reader resolves the inventory's
+``{env: ...}``/``{file: ...}``): the robot's manager needs the value; diffs show ``****``.
+
 Pure functions of compose.yaml as read and the files they ask for (:class:`Reads`); the
-reads (and the image's default, through `config pull`) are `robotfile.py`'s.
+reads (and the image's default, through `config pull`) are `read.py`'s.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
-from panther_ops.core.config.files import ConfigKind, config_file
+from panther_ops.core.config.files import config_file
 from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.planners import compose_plan
+from panther_ops.core.config.plan import Bundle, compose_plan, push_onto
 from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, FileKindError, check_file
-from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, parse_hosts
+from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, converge_hosts, parse_hosts
 from panther_ops.core.stack import Stack
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
@@ -58,7 +68,7 @@ class RobotHostsFile:
 
 def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
     """The mounted hosts file, else the 2.2 tree's (None: the robot uses its image's default)."""
-    cf = config_file(cfg.stack, ConfigKind.SHUTDOWN_HOSTS)
+    cf = config_file(cfg.stack, FileKind.SHUTDOWN_HOSTS)
     arg = spec("shutdown_hosts_config_path").name_for(cfg.stack)
     current = cfg.compose.args.get(arg)
     if current:
@@ -178,3 +188,32 @@ def shutdown_plan(robot: str, rf: RobotHostsFile, power_budget: float = POWER_BU
                          hint=f"fix it first (panther-ops shutdown hosts validate -r {robot}); nothing was "
                          "shut down")
     return RobotShutdownPlan(robot, rf, parsed, parsed.hosts())
+
+
+DEFAULT_FACT = "shutdown_hosts_default"
+"""Fact: the hosts file the robot's image ships (bytes), for a robot that uses it."""
+
+
+@dataclass
+class DesiredHosts:
+    edits: list[FileEdit] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+    summary: str = ""
+
+
+def desired_hosts(reads: Reads, cfg: RobotConfig, entries: list[Mapping[str, Any]]) -> DesiredHosts:
+    """The edits that make the robot's hosts file list ``entries`` (none: it already does)."""
+    rf = hosts_in_use(cfg, reads)
+    if rf is None:
+        default = reads.fact(DEFAULT_FACT)
+        rf = RobotHostsFile(bytes(default).decode(errors="replace"), None, "the image's default", cfg.stack, cfg)
+    edit, warnings = hosts_edit(rf, lambda text, _mode: converge_hosts(text, list(entries), rf.path or rf.source))
+    if not edit.changed:
+        return DesiredHosts(warnings=warnings)
+    if rf.path is not None:
+        return DesiredHosts([MaskedFileEdit(rf.path, rf.text.encode(), edit.text.encode())], warnings,
+                            f"shutdown hosts: {edit.message}")
+    cf = config_file(cfg.stack, FileKind.SHUTDOWN_HOSTS)
+    pushed = push_onto(reads, cfg, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
+    edits: list[FileEdit] = [MaskedFileEdit(e.path, e.before, e.after, e.mode) for e in pushed.edits]
+    return DesiredHosts(edits, warnings + pushed.warnings, f"shutdown hosts: {edit.message} ({pushed.summary})")

@@ -1,22 +1,22 @@
 """The planner of `panther-ops apply` and `config diff`: the inventory's desired state
 (launch arguments, controller, image, GPS, shutdown hosts, the WebUI on the User Computer) converged in one
 plan per robot. The WebUI's change is the plan's action after the robot's files (see
-`desired.py`).
+`apply.py`).
 
 Pure: a function of compose.yaml as read, the files and facts it asks for (:class:`Reads`;
 the WebUI's state is fact ``webui``) and the robot's ``desired:`` block; the reads are
-`desired.py`'s."""
+`read.py`'s."""
 
 from __future__ import annotations
 
 from typing import Any
 
-from panther_ops.core.config.planners import _args_summary, compose_plan, controller_edits, edit_args
+from panther_ops.core.config.plan import _args_summary, compose_plan, controller_edits, edit_args
 from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.config.robot_model import model_for_wheels
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
-from panther_ops.core.remote.webui.plan_desired import WebuiPlan
+from panther_ops.core.remote.webui.plan import WebuiPlan
 
 
 def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, force: bool = False) -> RobotPlan:
@@ -36,7 +36,7 @@ def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, for
         parts.append(f"image -> {image}")
     _driver_files(reads, cfg, desired, force, (edits, warnings, verify, parts))
     if desired.get("shutdown_hosts") is not None:
-        from panther_ops.core.shutdown.plan_desired import desired_hosts
+        from panther_ops.core.shutdown.plan import desired_hosts
 
         hosts = desired_hosts(reads, cfg, desired["shutdown_hosts"])
         edits += hosts.edits
@@ -109,7 +109,7 @@ def _plan_webui(reads: Reads, cfg: RobotConfig, desired: dict[str, Any] | None,
     if not desired:
         return None
     from panther_ops.core.remote.webui.defaults import robot_namespace_of
-    from panther_ops.core.remote.webui.plan_desired import plan_desired_webui
+    from panther_ops.core.remote.webui.plan import plan_desired_webui
 
     webui = plan_desired_webui(reads, desired, robot_namespace_of(reads, cfg))
     warnings += webui.warnings or []
@@ -122,7 +122,7 @@ def _add_webui(plan: RobotPlan, webui: WebuiPlan | None) -> None:
         if webui is not None and webui.host:
             plan.data["webui"] = webui.to_json()
         return
-    from panther_ops.core.remote.webui.plan_desired import ACTION
+    from panther_ops.core.remote.webui.plan import ACTION
 
     plan.data.update(action=ACTION, webui={**webui.to_json(), "wanted": webui.wanted},
                      files_summary=plan.summary if plan.edits else "")

@@ -1,28 +1,14 @@
-"""`gps enable|disable` on a robot: read what the planners (`plan.py`, pure) need, plan;
-apply through the pipeline, then remove a dropped ``nmea-gps`` service's container."""
+"""The executor of `gps enable|disable` plans (planners: `plan.py`, pure; reads: `read.py`):
+the pipeline, then a dropped ``nmea-gps`` service's container removed."""
 
 from __future__ import annotations
 
-from panther_ops.core.config.robot import read_compose
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import RobotPlan
-from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
-from panther_ops.core.gps import plan as planner
-from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.docker_client import EngineError, engine_errors
-
-
-def plan_enable(ctx: RobotContext, opts: GpsOptions) -> RobotPlan:
-    raw = read_compose(ctx, keep=True)
-    return read_and_plan(ctx, lambda reads: planner.plan_enable(raw, reads, opts))
-
-
-def plan_disable(ctx: RobotContext) -> RobotPlan:
-    raw = read_compose(ctx, keep=True)
-    return read_and_plan(ctx, lambda reads: planner.plan_disable(raw, reads))
 
 
 def apply_gps(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
