@@ -102,6 +102,7 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"config rollback (?!--file ).*--to \d", "needs a backup id from that robot's `config history`"),
     (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
     (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
+    (r"reimage bmap ", "needs an OS image file (tests/integration/test_reimage_bmap_lab.py builds a card image and maps it)"),
     (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
     (r"gps (listen|watch) ", "waits for NMEA from a sender on the robot's network (tests/unit/test_gps_listen.py sends it)"),
     (r"gps router (show|set) |gps (enable|status|watch) .*--router\b",
