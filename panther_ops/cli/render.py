@@ -60,7 +60,7 @@ def human_bytes(n: int | None) -> str:
 
 def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: bool = True) -> None:
     """The generic per-robot table: robot, outcome, message; then diffs and warnings."""
-    table = new_table(title, (Column(fleet.subject, "name"), Column("result", "name"), Column("message", "message")))
+    table = new_table(title, (Column(fleet.subject, "name"), Column("result"), Column("message", "message")))
     for r in fleet.results:
         table.add_row(esc(r.robot), result_cell(r), esc(shown_message(r)))
     show(table)

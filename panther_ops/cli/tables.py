@@ -12,7 +12,8 @@ Laid out when printed, at the console's width (80 columns is the rule to meet):
   two different paths look the same;
 - ``text`` columns wrap at words;
 - when the table still does not fit, the columns with a ``drop`` rank are hidden, highest
-  rank first, and a line under the table names them;
+  rank first, then other columns from the right (never the first, a name or an id), and a line
+  under the table names them;
 - ``--wide`` (``output.wide()``) shows everything: every column at its full width, no path
   shortened, the table as wide as it needs (past the edge of a narrow terminal).
 """
@@ -177,10 +178,12 @@ class FitTable:
             minimum = [self._minimum(i) for i in shown]
             if table_width(minimum) <= width:
                 return Layout(shown, _spread(minimum, natural, width - table_width(minimum)), notes_from, hidden)
-            droppable = [i for i in shown if self.columns[i].drop]
-            if not droppable:  # nothing more to hide: as narrow as it goes, past the edge
+            ranked = [i for i in shown if self.columns[i].drop]
+            rest = [i for i in shown[1:] if self.columns[i].kind not in ("name", "id")]
+            if not ranked and not rest:  # only names and ids left: as narrow as it goes, past the edge
                 return Layout(shown, minimum, notes_from, hidden)
-            gone = max(droppable, key=lambda i: (self.columns[i].drop, i))
+            # the ranked columns first, highest rank first; then any but names and ids, from the right
+            gone = max(ranked, key=lambda i: (self.columns[i].drop, i)) if ranked else rest[-1]
             hidden.append(self.columns[gone].header)
             shown.remove(gone)
 
@@ -226,6 +229,7 @@ class FitTable:
         if lay.hidden:
             hidden = Text(f"not shown at this width: {', '.join(lay.hidden)} (--wide shows them)", style="dim")
             for line in hidden.wrap(console, options.max_width):
+                line.rstrip()
                 yield from line.render(console)
                 yield new_line
 
@@ -280,22 +284,12 @@ class FitTable:
 
 
 def _spread(minimum: list[int], natural: list[int], room: int) -> list[int]:
-    """Widths from ``minimum`` towards ``natural``, the spare ``room`` shared by what each lacks."""
+    """Widths from ``minimum`` towards ``natural``, the spare ``room`` shared fairly: the columns
+    that lack least are made whole first, the rest share what is left evenly."""
     widths = list(minimum)
-    while room > 0:
-        wanting = [k for k in range(len(widths)) if widths[k] < natural[k]]
-        if not wanting:
-            break
-        lack = sum(natural[k] - widths[k] for k in wanting)
-        given = 0
-        for k in wanting:
-            share = min(natural[k] - widths[k], max(1, room * (natural[k] - widths[k]) // lack))
-            share = min(share, room - given)
-            widths[k] += share
-            given += share
-            if given >= room:
-                break
+    wanting = sorted((k for k in range(len(widths)) if natural[k] > minimum[k]), key=lambda k: natural[k] - minimum[k])
+    for n, k in enumerate(wanting):
+        given = min(natural[k] - widths[k], room // (len(wanting) - n))
+        widths[k] += given
         room -= given
-        if given == 0:
-            break
     return widths

@@ -21,9 +21,9 @@ def print_status(fleet: FleetResult) -> None:
     from panther_ops.core.containers.times import human_duration
 
     table = new_table("panther-ops driver status", (
-        Column("robot", "name"), Column("result", "name"), Column("service", drop=4), Column("image", "path"),
-        Column("state", "name"), Column("uptime", "name"), Column("restarts", "name", drop=2),
-        Column("exit", "name", drop=3), Column("health", "name", drop=1), Column("command", drop=5)))
+        Column("robot", "name"), Column("result"), Column("service", drop=4), Column("image", "path"),
+        Column("state"), Column("uptime"), Column("restarts", drop=2),
+        Column("exit", drop=3), Column("health", drop=1), Column("command", drop=5)))
     for r in fleet.results:
         d = r.data
         if "state" not in d or d.get("state") == "missing":
@@ -42,8 +42,8 @@ def print_status(fleet: FleetResult) -> None:
 
 def print_versions(fleet: FleetResult) -> None:
     table = new_table("panther-ops driver versions (on each robot)", (
-        Column("robot", "name"), Column("result", "name"), Column("image", "path"), Column("use"), Column("id", "id"),
-        Column("size", "name", justify="right", drop=1)))
+        Column("robot", "name"), Column("result"), Column("image", "path"), Column("use"), Column("id", "id"),
+        Column("size", justify="right", drop=1)))
     for r in fleet.results:
         images = r.data.get("local")
         if not images:

@@ -8,8 +8,8 @@ from panther_ops.results import FleetResult
 
 
 def print_state(fleet: FleetResult) -> None:
-    table = new_table(None, (Column("robot", "name"), Column("e-stop", "name"), Column("cmd_vel publishers"),
-                             Column("namespace", "name", drop=1), Column("note", "message")))
+    table = new_table(None, (Column("robot", "name"), Column("e-stop"), Column("cmd_vel publishers"),
+                             Column("namespace", drop=1), Column("note", "message")))
     for r in fleet.results:
         e_stop = r.data.get("e_stop")
         shown = ("[red]triggered[/]" if e_stop is True else "[green]released[/]" if e_stop is False

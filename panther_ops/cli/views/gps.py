@@ -42,9 +42,9 @@ def print_status(fleet: FleetResult) -> None:
 
 def status_table(fleet: FleetResult, title: str) -> Any:
     table = new_table(title, (
-        Column("robot", "name"), Column("result", "name"), Column("verdict"), Column("sentences/s", drop=3),
-        Column("position", "id"), Column("sats", "name", drop=2), Column("hdop", "name", drop=4),
-        Column("age", "name", drop=1), Column("driver", drop=5), Column("detail", "message")))
+        Column("robot", "name"), Column("result"), Column("verdict"), Column("sentences/s", drop=3),
+        Column("position", "id"), Column("sats", drop=2), Column("hdop", drop=4),
+        Column("age", drop=1), Column("driver", drop=5), Column("detail", "message")))
     for r in fleet.results:
         d = r.data
         fix = d.get("fix") or {}
@@ -62,7 +62,7 @@ def status_table(fleet: FleetResult, title: str) -> Any:
 
 def print_router(fleet: FleetResult) -> None:
     table = new_table("panther-ops gps router show", (
-        Column("robot", "name"), Column("result", "name"), Column("gps", "name"), Column("forwarding", "name"),
+        Column("robot", "name"), Column("result"), Column("gps"), Column("forwarding"),
         Column("to", "name"), Column("sentences"), Column("message", "message")))
     for r in fleet.results:
         d = r.data

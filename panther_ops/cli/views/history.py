@@ -11,7 +11,7 @@ def history_table(fleet: FleetResult) -> FitTable:
     """One row per backup; the backup id (what ``rollback --to`` takes) is never broken."""
     table = new_table("panther-ops config history", (
         Column(fleet.subject, "name"), Column("backup id", "id"), Column("created", "id", drop=2),
-        Column("command", drop=1), Column("changed"), Column("ended", "name")))
+        Column("command", drop=1), Column("changed", drop=3), Column("ended")))
     for r in fleet.results:
         if r.outcome is not Outcome.OK:
             table.add_row(esc(r.robot), "", "", "", "", result_cell(r), note=esc(r.message))

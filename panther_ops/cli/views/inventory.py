@@ -14,7 +14,7 @@ def print_robots(inv: Inventory, robots: list[Robot]) -> None:
     from panther_ops.cli.tables import Column
 
     table = new_table(esc(f"inventory {inv.path}"), (Column("robot", "name"), Column("reached as", "path"),
-                                                     Column("via", "name"), Column("groups"), Column("stack", drop=1)))
+                                                     Column("via"), Column("groups"), Column("stack", drop=1)))
     for r in robots:
         if r.transport == "local":
             where = str(r.root)

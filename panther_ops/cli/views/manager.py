@@ -11,9 +11,9 @@ def print_status(fleet: FleetResult) -> None:
     from panther_ops.core.containers.times import human_duration
 
     table = new_table("panther-ops manager status", (
-        Column("robot", "name"), Column("result", "name"), Column("version", "name"), Column("mode", "name"),
-        Column("state", "name"), Column("uptime", "name"), Column("restarts", "name", drop=1),
-        Column("disable_manager", "name", drop=2), Column("message", "message")))
+        Column("robot", "name"), Column("result"), Column("version"), Column("mode"),
+        Column("state"), Column("uptime"), Column("restarts", drop=1),
+        Column("disable_manager", drop=2), Column("message", "message")))
     for r in fleet.results:
         d = r.data
         uptime = human_duration(d["uptime_s"]) if d.get("uptime_s") is not None else "-"

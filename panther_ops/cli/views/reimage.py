@@ -113,8 +113,8 @@ def files_table(r: RobotResult) -> FitTable | None:
     ident = r.data.get("robot") or {}
     head = ", ".join(f"{k} {ident[k]}" for k in ("model", "serial", "stack", "os_build", "host_key") if ident.get(k))
     table = new_table(esc(f"{r.robot}: {head}" if head else r.robot), (
-        Column("path", "path"), Column("role", drop=1), Column("size", "name", justify="right"),
-        Column("mode", "name", drop=3), Column("owner", "name", drop=2), Column("secret", "name")),
+        Column("path", "path"), Column("role", drop=1), Column("size", justify="right"),
+        Column("mode", drop=3), Column("owner", drop=2), Column("secret")),
         title_justify="left")
     for f in files:
         table.add_row(esc(f["path"] + (f" -> {f['link']}" if f.get("link") else "")), esc(f["role"]),

@@ -21,8 +21,8 @@ def print_plan(parsed: HostsFile, title: str) -> None:
     from panther_ops.cli.render import new_table
     from panther_ops.cli.tables import Column
 
-    table = new_table(title, (Column("host", "name"), Column("method", "name"), Column("request"),
-                              Column("timeout", "name"), Column("then", drop=1)))
+    table = new_table(title, (Column("host", "name"), Column("method"), Column("request"),
+                              Column("timeout"), Column("then", drop=1)))
     for e in parsed.entries:
         if e.http:
             request, then = f"GET /shutdown?ts=…&sig=… (secret: {e.row()['secret']})", "ping until gone"
@@ -43,8 +43,8 @@ def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
     from panther_ops.cli.render import new_table
     from panther_ops.cli.tables import Column
 
-    table = new_table(fleet.command, (Column("host", "name"), Column("result", "name"), Column("message", "message"),
-                                      Column("time", "name")))
+    table = new_table(fleet.command, (Column("host", "name"), Column("result"), Column("message", "message"),
+                                      Column("time")))
     for r in fleet.results:
         table.add_row(esc(r.robot), result_cell(r), esc(r.message),
                       f"{r.duration_s:.1f} s")
@@ -85,9 +85,9 @@ def print_list(fleet: FleetResult) -> None:
 
     for r in fleet.results:
         title = f"{r.robot}: {r.data.get('hosts_file', '')}"
-        table = new_table(esc(title), (Column("ip", "name"), Column("method", "name"), Column("user", "name"),
-                                       Column("port", "name", drop=1), Column("command / secret"),
-                                       Column("timeout", "name", drop=2), Column("ping", "name", drop=3)))
+        table = new_table(esc(title), (Column("ip", "name"), Column("method"), Column("user"),
+                                       Column("port", drop=1), Column("command / secret"),
+                                       Column("timeout", drop=2), Column("ping", drop=3)))
         for h in r.data.get("hosts", []):
             http = h["method"] == "http"
             table.add_row(esc(h["ip"]), h["method"], "" if http else esc(h["username"]), str(h["port"]),
@@ -108,7 +108,7 @@ def print_steps(fleet: FleetResult) -> None:
     from panther_ops.results import Outcome
 
     for r in fleet.results:
-        table = new_table(esc(f"{fleet.command}: {r.robot}"), (Column("step", "name"), Column("result", "name"),
+        table = new_table(esc(f"{fleet.command}: {r.robot}"), (Column("step"), Column("result"),
                                                                Column("message", "message")))
         for s in r.data.get("steps", []):
             outcome = Outcome(s["outcome"])
@@ -145,7 +145,7 @@ def print_check(fleet: FleetResult) -> None:
     from panther_ops.cli.tables import Column
 
     table = new_table("panther-ops shutdown check", (Column("robot", "name"), Column("host", "name"),
-                                                     Column("result", "name"), Column("step", "name"),
+                                                     Column("result"), Column("step"),
                                                      Column("message"), Column("fix")))
     for r in fleet.results:
         rows = r.data.get("hosts", [])
@@ -166,8 +166,8 @@ def print_robots_down(fleet: FleetResult) -> None:
     from panther_ops.results import Outcome
 
     for r in fleet.results:
-        table = new_table(esc(f"shutdown robot: {r.robot}"), (Column("host", "name"), Column("result", "name"),
-                                                              Column("message", "message"), Column("time", "name")))
+        table = new_table(esc(f"shutdown robot: {r.robot}"), (Column("host", "name"), Column("result"),
+                                                              Column("message", "message"), Column("time")))
         for h in r.data.get("hosts", []):
             table.add_row(esc(h["robot"]), outcome_cell(Outcome(h["outcome"])), esc(h["message"]),
                           f"{h['duration_s']:.1f} s")

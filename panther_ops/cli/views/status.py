@@ -18,7 +18,7 @@ from panther_ops.results import FleetResult, Outcome
 
 
 STATUS_COLUMNS = (
-    Column("robot", "name"), Column("result", "name"), Column("hostname", "name", drop=3),
+    Column("robot", "name"), Column("result"), Column("hostname", "name", drop=3),
     Column("model / serial", drop=5), Column("OS build", drop=4), Column("stack"), Column("driver"),
     Column("containers", drop=1), Column("disk free", drop=2), Column("clock"), Column("webui"),
 )
@@ -74,7 +74,7 @@ def _webui(w: dict[str, object] | None) -> str:
 
 
 def doctor_table(fleet: FleetResult) -> FitTable:
-    table = new_table("panther-ops doctor", (Column("robot", "name"), Column("check", "name"), Column("state", "name"),
+    table = new_table("panther-ops doctor", (Column("robot", "name"), Column("check"), Column("state"),
                                              Column("detail"), Column("fix")))
     for r in fleet.results:
         findings = r.data.get("findings")
