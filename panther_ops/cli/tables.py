@@ -247,6 +247,7 @@ class FitTable:
 
     def _row_lines(self, console: Console, frame: Any, cells: list[Text], lay: Layout, *, head: bool) -> Iterator[Any]:
         from rich.segment import Segment
+        from rich.text import Text
 
         columns: list[list[Text]] = []
         for i, cell, width in zip(lay.columns, cells, lay.widths, strict=True):
@@ -257,10 +258,7 @@ class FitTable:
         for n in range(height):
             yield Segment(left)
             for k, (lines, width) in enumerate(zip(columns, lay.widths, strict=True)):
-                from rich.text import Text
-
-                line = lines[n] if n < len(lines) else Text("")
-                line = line.copy()
+                line = lines[n].copy() if n < len(lines) else Text("")
                 justify = self.columns[lay.columns[k]].justify
                 line.align(justify, max(width, line.cell_len))
                 yield Segment(" ")
@@ -274,7 +272,7 @@ class FitTable:
 
         out: list[Text] = []
         for line in _lines(cell):
-            if head or col.kind == "text" or col.kind == "message":
+            if head or col.kind in {"text", "message"}:
                 out.extend(line.wrap(console, width, overflow="fold"))
             elif col.kind == "path" and line.cell_len > width:
                 out.append(Text(shorten_left(line.plain, width), style=line.style))

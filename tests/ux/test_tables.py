@@ -20,7 +20,7 @@ import pytest
 from panther_ops.cli import output
 from panther_ops.cli.render import print_results
 from panther_ops.cli.views import driver, estop, gps, history, manager, reimage, shutdown, status
-from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
+from panther_ops.results import FleetResult, Outcome, RobotResult
 from tests.clirun import run
 
 from .termrun import on_pty, plain
@@ -164,13 +164,15 @@ def _render(view: Callable[[], None], width: int, capsys: Capsys, monkeypatch: p
             wide: bool = False) -> str:
     """What the view prints on stdout when the output is ``width`` columns wide."""
     monkeypatch.setattr(output, "PIPE_WIDTH", width)
-    output.set_wide(wide)
+    if wide:
+        output.set_wide(True)
     try:
         capsys.readouterr()
         view()
         return capsys.readouterr().out
     finally:
-        output.set_wide(False)
+        if wide:
+            output.set_wide(False)
 
 
 def _rows(out: str) -> list[str]:

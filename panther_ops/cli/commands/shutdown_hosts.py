@@ -127,9 +127,8 @@ def hosts_validate(
 
 
 def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
-    from panther_ops.results import Outcome, RobotResult
-
     from panther_ops.cli.render import counted
+    from panther_ops.results import Outcome, RobotResult
 
     errors = [str(f) for f in parsed.errors]
     where = "" if source == name else f" in {source}"  # a local file: its name starts the line already

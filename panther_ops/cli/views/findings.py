@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from pathlib import Path
+from typing import Any
 
 from panther_ops.cli.render import _console, counted, emit_json, esc
 from panther_ops.errors import ExitCode

@@ -16,9 +16,6 @@ def print_robots(inv: Inventory, robots: list[Robot]) -> None:
     table = new_table(esc(f"inventory {inv.path}"), (Column("robot", "name"), Column("reached as", "path"),
                                                      Column("via"), Column("groups"), Column("stack", drop=1)))
     for r in robots:
-        if r.transport == "local":
-            where = str(r.root)
-        else:
-            where = f"{r.user}@{r.host}" + (f":{r.port}" if r.port else "")
+        where = str(r.root) if r.transport == "local" else f"{r.user}@{r.host}" + (f":{r.port}" if r.port else "")
         table.add_row(esc(r.name), esc(where), esc(r.jump or ""), esc(", ".join(r.groups)), esc(r.stack))
     show(table)

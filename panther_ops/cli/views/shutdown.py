@@ -49,7 +49,9 @@ def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
         table.add_row(esc(r.robot), result_cell(r), esc(r.message),
                       f"{r.duration_s:.1f} s")
     show(table)
-    stderr().print(f"{len(fleet.results)} host{'' if len(fleet.results) == 1 else 's'}: {summary(fleet)} in {fleet.duration_s:.1f} s"
+    from panther_ops.cli.render import counted
+
+    stderr().print(f"{counted(len(fleet.results), 'host')}: {summary(fleet)} in {fleet.duration_s:.1f} s"
                     + ("" if fleet.exit_code == 0 else f" (exit {int(fleet.exit_code)})"))
     return int(fleet.exit_code)
 
@@ -141,7 +143,6 @@ def print_validated(fleet: FleetResult) -> None:
 def print_check(fleet: FleetResult) -> None:
     """`shutdown check`: each host of each robot, the step it stopped at and its fix."""
     from panther_ops.cli.render import new_table, print_warnings, result_cell
-
     from panther_ops.cli.tables import Column
 
     table = new_table("panther-ops shutdown check", (Column("robot", "name"), Column("host", "name"),

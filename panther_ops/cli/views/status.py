@@ -16,7 +16,6 @@ from panther_ops.cli.tables import Column, FitTable
 from panther_ops.core.fleet.facts import signed_seconds
 from panther_ops.results import FleetResult, Outcome
 
-
 STATUS_COLUMNS = (
     Column("robot", "name"), Column("result"), Column("hostname", "name", drop=3),
     Column("model / serial", drop=5), Column("OS build", drop=4), Column("stack"), Column("driver"),
