@@ -9,13 +9,13 @@ Laid out when printed, at the console's width (80 columns is the rule to meet):
   it on one line; otherwise each message goes on its own full-width line under its row, as a
   row's ``note`` (an unreachable robot's reason) always does;
 - a ``path`` column is shortened from the left (``…/config/battery.yaml``), never so far that
-  two different paths look the same;
+  a file's name is cut or two different paths look the same;
 - ``text`` columns wrap at words;
 - when the table still does not fit, the columns with a ``drop`` rank are hidden, highest
   rank first, then other columns from the right (never the first, a name or an id), and a line
   under the table names them;
-- ``--wide`` (``output.wide()``) shows everything: every column at its full width, no path
-  shortened, the table as wide as it needs (past the edge of a narrow terminal).
+- ``--wide`` (``output.wide()``) shows everything: every column (empty ones too) at its full
+  width, no path shortened, the table as wide as it needs (past the edge of a narrow terminal).
 """
 
 from __future__ import annotations
@@ -155,15 +155,17 @@ class FitTable:
         header_word = max((len(w) for w in col.header.split()), default=0)
         if col.kind in ("name", "id"):
             return natural
-        if col.kind == "path":
-            return max(header_word, _distinct_width((r.cells[i].plain for r in self.rows), natural))
+        if col.kind == "path":  # each file's whole name at least (…/name.yaml), no two paths alike
+            paths = [r.cells[i].plain for r in self.rows]
+            names = max((len(p.rsplit("/", 1)[-1]) + 2 for p in paths if "/" in p), default=0)
+            return min(natural, max(header_word, names, _distinct_width(paths, natural)))
         words = max([header_word, *(min(_longest_word(r.cells[i]), TEXT_MIN) for r in self.rows)])
         return min(natural, max(words, min(TEXT_MIN, natural)))
 
     def layout(self, width: int) -> Layout:
-        shown = [i for i in range(len(self.columns)) if self._says_something(i)]
         if self.wide:
-            return Layout(shown, [self._natural(i) for i in shown])
+            return Layout(list(range(len(self.columns))), [self._natural(i) for i in range(len(self.columns))])
+        shown = [i for i in range(len(self.columns)) if self._says_something(i)]
         notes_from: list[int] = []
         hidden: list[str] = []
         while True:
