@@ -34,7 +34,7 @@ NOTHING = ("", "-")
 """Cells that say nothing: a column of only these is left out."""
 ELLIPSIS = "…"
 NOTE_INDENT = 2
-TEXT_MIN = 14
+TEXT_MIN = 16
 """The narrowest a wrapping text column is made (unless its content is narrower)."""
 PATH_MIN = 16
 
