@@ -228,7 +228,7 @@ def test_status_at_80_columns_is_a_line_per_robot(capsys: Capsys, monkeypatch: p
 def test_clock_offsets_that_round_to_nothing_are_not_negative(capsys: Capsys,
                                                               monkeypatch: pytest.MonkeyPatch) -> None:
     out = _render(VIEWS["status"], 160, capsys, monkeypatch)
-    assert "-0.00 s" not in out and "│ 0.00 s" in out, out
+    assert "-0.00 s" not in out and "│ +0.00 s" in out, out
 
 
 def test_no_rich_table_outside_the_fitting_table() -> None:
