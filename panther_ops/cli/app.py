@@ -66,14 +66,18 @@ def root(
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No live progress and no recap on stderr.")
     ] = False,
+    wide: Annotated[
+        bool, typer.Option("--wide", help="Tables with every column at full width (past the terminal's edge).")
+    ] = False,
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
 ) -> None:
     """Global options come before the command: panther-ops -i fleet.yaml status --all."""
-    from panther_ops.cli.output import configure
+    from panther_ops.cli.output import configure, set_wide
 
     configure(color, quiet)
+    set_wide(wide)
     ctx.obj = Settings(inventory=inventory, verbose=verbose, debug=debug)
     level = logging.DEBUG if debug else (logging.INFO if verbose else logging.WARNING)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s", stream=sys.stderr)

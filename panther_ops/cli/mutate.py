@@ -25,6 +25,13 @@ def confirm(question: str, yes: bool, refusal: str) -> bool:
     return bool(typer.confirm(question, default=False))
 
 
+def question(verb: str, subject: str, to_change: list[str], chosen: list[Robot]) -> str:
+    """``Apply to 2 robots: panther-01, panther-03?``: the robots in inventory order (the plans
+    come in the order they finished)."""
+    names = [r.name for r in chosen if r.name in set(to_change)]
+    return f"{verb} {len(names)} {subject}{'' if len(names) == 1 else 's'}: {', '.join(names)}?"
+
+
 def mutate(
     command: str,
     inv: Inventory,
@@ -86,8 +93,7 @@ def mutate(
             if not sys.stdin.isatty():
                 error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
                 return int(ExitCode.USAGE)
-            if not typer.confirm(f"{verb} {len(fp.to_change)} {inv.subject}(s): {', '.join(fp.to_change)}?",
-                                 default=False):
+            if not typer.confirm(question(verb, inv.subject, fp.to_change, chosen), default=False):
                 sys.stderr.write("nothing was changed\n")
                 return int(ExitCode.USAGE)
         with progress.live():

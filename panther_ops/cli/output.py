@@ -6,7 +6,8 @@
   unless ``NO_COLOR`` is set to anything non-empty (https://no-color.org); ``always``
   colours even a pipe; ``never`` never does.
 - Width: the terminal's on a terminal, 160 columns in a pipe (tables are not squeezed
-  to 80 columns in a log file).
+  to 80 columns in a log file). Tables fit that width (``cli/tables.py``); ``--wide``
+  shows them whole, past the edge.
 - Progress: live per-robot phases on stderr only when stderr is a terminal, never with
   ``--json`` or ``--quiet`` (``cli/progress.py``).
 - Wrapping: table cells wrap to the width, and messages on a terminal (in a pipe a
@@ -35,12 +36,22 @@ class ColorMode(str, Enum):
 
 _state: dict[str, ColorMode] = {"color": ColorMode.AUTO}
 _quiet: dict[str, bool] = {"quiet": False}
+_wide: dict[str, bool] = {"wide": False}
 
 
 def configure(color: ColorMode | str = ColorMode.AUTO, quiet: bool = False) -> None:
     """Set the run's colour mode and quietness (the root callback does, from ``--color``, ``--quiet``)."""
     _state["color"] = ColorMode(color)
     _quiet["quiet"] = quiet
+
+
+def set_wide(on: bool) -> None:
+    """``--wide``: tables show every column at its full width (``cli/tables.py``)."""
+    _wide["wide"] = on
+
+
+def wide() -> bool:
+    return _wide["wide"]
 
 
 def color_mode() -> ColorMode:

@@ -24,7 +24,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from panther_ops.cli.output import console, is_terminal, quiet
-from panther_ops.cli.render import outcome_counts, outcome_word, result_cell
+from panther_ops.cli.render import counted, outcome_counts, outcome_word, result_cell
 from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
 from panther_ops.results import RobotResult
 
@@ -114,7 +114,7 @@ class FleetProgress:
             grid.add_row(robot, Text(name, style=PHASE_STYLE.get(name, "")), f"{now - since:4.1f} s")
         if len(current) > room:
             grid.add_row(f"... {len(current) - room} more", "", "")
-        summary = Text(f"{len(done)}/{len(self.robots)} robots done")
+        summary = Text(f"{len(done)}/{counted(len(self.robots), 'robot')} done")
         for n, word, style in outcome_counts(done.values()):  # a dry run's change: "would change"
             summary.append(f"  {n} {word}", style=style)
         from rich.console import Group

@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Any
 
+from panther_ops.cli.tables import Column, FitTable
 from panther_ops.errors import ExitCode
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -41,6 +42,11 @@ def emit_json(doc: dict[str, Any]) -> None:
     write_json(doc)
 
 
+def counted(n: int, noun: str) -> str:
+    """``1 robot``, ``3 robots``, ``0 warnings``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def human_bytes(n: int | None) -> str:
     if n is None:
         return "-"
@@ -54,20 +60,21 @@ def human_bytes(n: int | None) -> str:
 
 def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: bool = True) -> None:
     """The generic per-robot table: robot, outcome, message; then diffs and warnings."""
-    from rich.table import Table
-
-    out = _console()
-    table = Table(title=title, show_lines=False)
-    table.add_column(fleet.subject, style="bold")
-    table.add_column("result")
-    table.add_column("message", overflow="fold")
+    table = new_table(title, (Column(fleet.subject, "name"), Column("result"), Column("message", "message")))
     for r in fleet.results:
-        table.add_row(r.robot, result_cell(r), esc(r.message))
-    out.print(table)
+        table.add_row(esc(r.robot), result_cell(r), esc(shown_message(r)))
+    show(table)
     if show_diffs:
         print_diffs(fleet)
     print_warnings(fleet)
     print_summary(fleet)
+
+
+def shown_message(r: RobotResult) -> str:
+    """A result's message as its row shows it: without a leading ``would change:`` when the
+    result column already says so (the JSON keeps the message whole)."""
+    word = outcome_word(r)
+    return r.message.removeprefix(f"{word}: ") if r.message.startswith(f"{word}: ") else r.message
 
 
 def print_plan_diffs(fleet: FleetResult, command: str) -> None:
@@ -152,7 +159,7 @@ def print_summary(fleet: FleetResult) -> None:
     code = fleet.exit_code
     tail = "" if code is ExitCode.OK else f" (exit {int(code)}: {code.name.lower()})"
     _console(stderr=True).print(
-        f"{len(fleet.results)} {fleet.subject}{'' if len(fleet.results) == 1 else 's'}: " + ", ".join(parts)
+        f"{counted(len(fleet.results), fleet.subject)}: " + ", ".join(parts)
         + f" in {fleet.duration_s:.1f} s{tail}"
     )
 
@@ -182,18 +189,19 @@ def result_cell(r: RobotResult) -> str:
     return f"[{STYLE[r.outcome]}]{outcome_word(r)}[/]"
 
 
-def new_table(title: str | None, columns: tuple[str, ...]) -> Any:
-    """A rich table with these columns, long cells folded (not cut)."""
-    from rich.table import Table
+def new_table(title: str | None, columns: tuple[str | Column, ...], **kw: Any) -> FitTable:
+    """A table that fits the width it is printed at (``cli/tables.py``): a column named as a
+    string is wrapping text."""
+    return FitTable(title, columns, **kw)
 
-    table = Table(title=title)
-    for col in columns:
-        table.add_column(col, overflow="fold")
-    return table
+
+def show(table: Any, stderr: bool = False) -> None:
+    """A table on stdout, never cropped (``--wide`` runs past the edge; a narrow layout does not)."""
+    _console(stderr).print(table, crop=False)
 
 
 def print_table(table: Any, fleet: FleetResult) -> None:
     """A fleet result's table on stdout, then its warnings and the summary line."""
-    _console().print(table)
+    show(table)
     print_warnings(fleet)
     print_summary(fleet)

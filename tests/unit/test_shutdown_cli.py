@@ -90,7 +90,7 @@ def test_validate_a_good_file_and_for_a_stack(tmp_path: Path, capsys: pytest.Cap
     good = tmp_path / "good.yaml"
     good.write_text(GOOD)
     code, out, err = run(capsys, "shutdown", "hosts", "validate", str(good))
-    assert code == 0 and "2 host(s) valid" in out
+    assert code == 0 and "2 hosts valid, 0 warnings\n" in out
     code, out, err = run(capsys, "shutdown", "hosts", "validate", str(good), "--stack", "2.1.1")
     assert code == 2 and "no username: this robot's manager (<= 2.2.0, SSH) skips the entry" in err
     code, out, err = run(capsys, "shutdown", "hosts", "validate", str(good), "--stack", "2.2.2")
@@ -275,7 +275,7 @@ def test_a_chained_command_is_a_warning_of_validate_and_of_every_plan_that_write
     chained.write_text("hosts:\n  - ip: 10.15.20.5\n    username: pi\n    command: sudo shutdown now; rm -rf /tmp/x\n")
     said = "hosts[0].command (line 4): 'sudo shutdown now; rm -rf /tmp/x' chains commands with ';'"
     code, out, err = run(capsys, "shutdown", "hosts", "validate", str(chained))
-    assert code == 0 and "1 warning(s)" in out and said in err
+    assert code == 0 and "1 warning\n" in out and said in err
     assert main(["demo", "init", "--dest", str(tmp_path / "demo")]) == 0
     inv = ["-i", str(tmp_path / "demo")]
     code, _, err = run(capsys, *inv, "config", "push", str(chained), "--as", "shutdown-hosts", "-r", "panther-01",

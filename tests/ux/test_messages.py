@@ -38,7 +38,7 @@ def test_webui_set_dry_run_says_would_change(demo: Path, capsys: Capsys) -> None
     assert code == 0 and "1 robot: 1 would change in" in err, err
     row = next(line for line in out.splitlines() if line.startswith("│ panther-01"))
     assert [c.strip() for c in row.split("│")[1:-1]] == ["panther-01", "would change",
-                                                         "would change: webui.port: 8080 -> 8081"], out
+                                                         "webui.port: 8080 -> 8081"], out  # said once (issue 26)
     code, out, _ = run(capsys, *argv, "--json")
     robot = json.loads(out)["robots"][0]
     assert (robot["outcome"], robot["data"]["dry_run"]) == ("changed", True), robot
@@ -66,7 +66,7 @@ def test_the_plan_shown_before_the_question_says_would_change(demo: Path, capsys
     code, out, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all")
     assert code == 2 and "changes need confirmation: pass --yes" in err
     assert "3 robots: 3 would change in" in err and "3 changed" not in err
-    assert out.count("would change: wheel_type:=WH02") == 3 and "dry run" not in out + err
+    assert out.count("│ would change │ wheel_type:=WH02") == 3 and "dry run" not in out + err
 
 
 def test_config_diff_does_not_speak_of_a_dry_run(demo: Path, capsys: Capsys) -> None:

@@ -91,7 +91,9 @@ def validate(ctx: typer.Context, json_out: Json = False) -> int:
     Example: panther-ops -i inventory/ inventory validate
     """
     inv = context.load(ctx)
-    msg = f"{inv.path}: {len(inv.robots)} robots, {len(inv.groups)} groups, valid"
+    from panther_ops.cli.render import counted
+
+    msg = f"{inv.path}: {counted(len(inv.robots), 'robot')}, {counted(len(inv.groups), 'group')}, valid"
     if json_out:
         from panther_ops.cli.render import emit_json
 

@@ -127,14 +127,17 @@ def hosts_validate(
 
 
 def _validate_result(name: str, parsed: HostsFile, source: str) -> RobotResult:
+    from panther_ops.cli.render import counted
     from panther_ops.results import Outcome, RobotResult
 
     errors = [str(f) for f in parsed.errors]
+    where = "" if source == name else f" in {source}"  # a local file: its name starts the line already
+    warnings = counted(len(parsed.warnings), "warning")
     if errors:
-        msg = f"{len(errors)} error(s), {len(parsed.warnings)} warning(s) in {source}"
+        msg = f"{counted(len(errors), 'error')}, {warnings}{where}"
         outcome = Outcome.FAILED
     else:
-        msg = f"{len(parsed.entries)} host(s) valid, {len(parsed.warnings)} warning(s) ({source})"
+        msg = f"{counted(len(parsed.entries), 'host')} valid, {warnings}{where}"
         outcome = Outcome.OK
     return RobotResult(name, outcome, msg, data={"hosts_file": source, "errors": errors,
                                                  "hosts": [e.row() for e in parsed.entries]},

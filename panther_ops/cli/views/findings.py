@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
-from panther_ops.cli.render import _console, emit_json, esc
+from panther_ops.cli.render import _console, counted, emit_json, esc
 from panther_ops.errors import ExitCode
+
+
+def _place(where: str, path: str) -> str:
+    """Where in the file a finding is; nothing when it is the file itself (the verdict line
+    names the file)."""
+    file = Path(path)
+    return "" if where in (path, file.name, str(file.resolve())) else where
 
 
 def report_findings(path: str, findings: list[Any], *, json_out: bool, what: str) -> int:
@@ -29,9 +37,10 @@ def report_findings(path: str, findings: list[Any], *, json_out: bool, what: str
     for f in findings:
         sev = str(getattr(f.severity, "value", f.severity))
         colour = "red" if sev == "error" else "yellow"
-        where = f" [dim]{esc(f.where)}[/]" if f.where else ""
+        place = _place(str(f.where or ""), path)
+        where = f" [dim]{esc(place)}[/]" if place else ""
         out.print(f"[{colour}]{sev}[/] {esc(f.message)} [dim]({f.code})[/]{where}")
     verdict = f"{path}: {what} " + ("refused" if errors else "valid") + (
-        f" ({len(errors)} errors, {len(findings) - len(errors)} warnings)" if findings else "")
+        f" ({counted(len(errors), 'error')}, {counted(len(findings) - len(errors), 'warning')})" if findings else "")
     _console(stderr=True).print(esc(verdict))
     return int(code)

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 from panther_ops.cli.output import console
 from panther_ops.cli.render import esc, new_table, print_table, result_cell
+from panther_ops.cli.tables import Column
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.listen import ListenResult
@@ -40,8 +41,10 @@ def print_status(fleet: FleetResult) -> None:
 
 
 def status_table(fleet: FleetResult, title: str) -> Any:
-    table = new_table(title, ("robot", "result", "verdict", "sentences/s", "position", "sats", "hdop", "age",
-                              "driver", "detail"))
+    table = new_table(title, (
+        Column("robot", "name"), Column("result"), Column("verdict"), Column("sentences/s", drop=3),
+        Column("position", "id"), Column("sats", drop=2), Column("hdop", drop=4),
+        Column("age", drop=1), Column("driver", drop=5), Column("detail", "message")))
     for r in fleet.results:
         d = r.data
         fix = d.get("fix") or {}
@@ -49,7 +52,7 @@ def status_table(fleet: FleetResult, title: str) -> Any:
         rate = d.get("sentences_per_s")
         age = d.get("age_s")
         table.add_row(
-            r.robot, result_cell(r), esc(d.get("verdict", "")),
+            esc(r.robot), result_cell(r), esc(d.get("verdict", "")),
             "-" if rate is None else f"{rate:g}" + (" (recorded)" if d.get("recorded") else ""), pos,
             str(fix.get("satellites", "-")), str(fix.get("hdop", "-")), "-" if age is None else f"{age:.1f} s",
             esc((d.get("driver") or {}).get("mode", "")), esc(d.get("detail", r.message)),
@@ -58,14 +61,15 @@ def status_table(fleet: FleetResult, title: str) -> Any:
 
 
 def print_router(fleet: FleetResult) -> None:
-    table = new_table("panther-ops gps router show", ("robot", "result", "gps", "forwarding", "to", "sentences",
-                                                      "message"))
+    table = new_table("panther-ops gps router show", (
+        Column("robot", "name"), Column("result"), Column("gps"), Column("forwarding"),
+        Column("to", "name"), Column("sentences"), Column("message", "message")))
     for r in fleet.results:
         d = r.data
         if "forwarding" not in d:
-            table.add_row(r.robot, result_cell(r), "", "", "", "", esc(r.message))
+            table.add_row(esc(r.robot), result_cell(r), "", "", "", "", esc(r.message))
             continue
-        table.add_row(r.robot, result_cell(r), "on" if d["gps_enabled"] else "off",
+        table.add_row(esc(r.robot), result_cell(r), "on" if d["gps_enabled"] else "off",
                       "on" if d["forwarding"] else "off", esc(f"{d['hostname']}:{d['port']}/{d['proto']}"),
                       esc(",".join(d["sentences"])), "")
     print_table(table, fleet)
@@ -88,7 +92,7 @@ def watch_display(json_out: bool) -> Iterator[Callable[[FleetResult, str], None]
         if live is not None:
             live.update(status_table(fleet, title), refresh=True)
         elif not json_out:
-            console().print(status_table(fleet, title))
+            console().print(status_table(fleet, title), crop=False)
 
     try:
         yield show

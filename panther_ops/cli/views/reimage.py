@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING
 from panther_ops.cli.render import human_bytes
 
 if TYPE_CHECKING:
-    from panther_ops.results import FleetResult
+    from panther_ops.cli.tables import FitTable
+    from panther_ops.results import FleetResult, RobotResult
 
 ProgressFn = Callable[[str, int, "int | None"], None]
 PHASES = {"size": "measuring", "checksum": "checksum", "write": "writing", "verify": "verifying",
@@ -92,23 +93,30 @@ def _bar() -> Iterator[ProgressFn]:
 
 def print_carried(fleet: FleetResult, *, title: str) -> None:
     """The per-robot results, then each robot's files (path, role, size, mode, owner, secret)."""
-    from rich.table import Table
-
-    from panther_ops.cli.render import _console, esc, print_results
+    from panther_ops.cli.render import print_results, show
 
     print_results(fleet, title=title)
-    out = _console()
     for r in fleet.results:
-        files = r.data.get("files") or []
-        if not files:
-            continue
-        ident = r.data.get("robot") or {}
-        head = ", ".join(f"{k} {ident[k]}" for k in ("model", "serial", "stack", "os_build", "host_key")
-                         if ident.get(k))
-        table = Table(title=f"{r.robot}: {head}" if head else r.robot, title_justify="left")
-        for col in ("path", "role", "size", "mode", "owner", "secret"):
-            table.add_column(col, justify="right" if col == "size" else "left")
-        for f in files:
-            table.add_row(esc(f["path"] + (f" -> {f['link']}" if f.get("link") else "")), esc(f["role"]),
-                          human_bytes(f["size"]), f["mode"], esc(f["owner"]), "yes" if f["secret"] else "")
-        out.print(table)
+        table = files_table(r)
+        if table is not None:
+            show(table)
+
+
+def files_table(r: RobotResult) -> FitTable | None:
+    """A robot's carried files; the paths shortened from the left (never two alike)."""
+    from panther_ops.cli.render import esc, new_table
+    from panther_ops.cli.tables import Column
+
+    files = r.data.get("files") or []
+    if not files:
+        return None
+    ident = r.data.get("robot") or {}
+    head = ", ".join(f"{k} {ident[k]}" for k in ("model", "serial", "stack", "os_build", "host_key") if ident.get(k))
+    table = new_table(esc(f"{r.robot}: {head}" if head else r.robot), (
+        Column("path", "path"), Column("role", drop=1), Column("size", justify="right"),
+        Column("mode", drop=3), Column("owner", drop=2), Column("secret")),
+        title_justify="left")
+    for f in files:
+        table.add_row(esc(f["path"] + (f" -> {f['link']}" if f.get("link") else "")), esc(f["role"]),
+                      human_bytes(f["size"]), esc(f["mode"]), esc(f["owner"]), "yes" if f["secret"] else "")
+    return table

@@ -18,11 +18,11 @@ def print_findings(parsed: HostsFile) -> None:
 
 
 def print_plan(parsed: HostsFile, title: str) -> None:
-    from rich.table import Table
+    from panther_ops.cli.render import new_table
+    from panther_ops.cli.tables import Column
 
-    table = Table(title=title)
-    for col in ("host", "method", "request", "timeout", "then"):
-        table.add_column(col, overflow="fold")
+    table = new_table(title, (Column("host", "name"), Column("method"), Column("request"),
+                              Column("timeout"), Column("then", drop=1)))
     for e in parsed.entries:
         if e.http:
             request, then = f"GET /shutdown?ts=…&sig=… (secret: {e.row()['secret']})", "ping until gone"
@@ -30,7 +30,7 @@ def print_plan(parsed: HostsFile, title: str) -> None:
             request = f"ssh: {e.command}"
             then = "ping until gone" if e.ping_for_success else "done at the response"
         table.add_row(esc(e.describe()), "http" if e.http else "ssh", esc(request), f"{e.timeout:g} s", then)
-    stdout().print(table)
+    show(table)
 
 
 def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
@@ -40,18 +40,26 @@ def finish_hosts(fleet: FleetResult, json_out: bool) -> int:
     if json_out:
         emit_json(fleet.to_json())
         return int(fleet.exit_code)
-    from rich.table import Table
+    from panther_ops.cli.render import new_table
+    from panther_ops.cli.tables import Column
 
-    table = Table(title=fleet.command)
-    for col in ("host", "result", "message", "time"):
-        table.add_column(col, overflow="fold")
+    table = new_table(fleet.command, (Column("host", "name"), Column("result"), Column("message", "message"),
+                                      Column("time")))
     for r in fleet.results:
         table.add_row(esc(r.robot), result_cell(r), esc(r.message),
                       f"{r.duration_s:.1f} s")
-    stdout().print(table)
-    stderr().print(f"{len(fleet.results)} hosts: {summary(fleet)} in {fleet.duration_s:.1f} s"
+    show(table)
+    from panther_ops.cli.render import counted
+
+    stderr().print(f"{counted(len(fleet.results), 'host')}: {summary(fleet)} in {fleet.duration_s:.1f} s"
                     + ("" if fleet.exit_code == 0 else f" (exit {int(fleet.exit_code)})"))
     return int(fleet.exit_code)
+
+
+def show(table: Any) -> None:
+    from panther_ops.cli.render import show
+
+    show(table)
 
 
 def stdout() -> Any:
@@ -74,23 +82,22 @@ def esc(text: object) -> str:
 
 def print_list(fleet: FleetResult) -> None:
     """`shutdown hosts list`: each file's hosts."""
-    from rich.table import Table
-
-    from panther_ops.cli.render import print_warnings, result_cell
+    from panther_ops.cli.render import new_table, print_warnings, result_cell
+    from panther_ops.cli.tables import Column
 
     for r in fleet.results:
         title = f"{r.robot}: {r.data.get('hosts_file', '')}"
-        table = Table(title=esc(title))
-        for col in ("ip", "method", "user", "port", "command / secret", "timeout", "ping"):
-            table.add_column(col, overflow="fold")
+        table = new_table(esc(title), (Column("ip", "name"), Column("method"), Column("user"),
+                                       Column("port", drop=1), Column("command / secret"),
+                                       Column("timeout", drop=2), Column("ping", drop=3)))
         for h in r.data.get("hosts", []):
             http = h["method"] == "http"
             table.add_row(esc(h["ip"]), h["method"], "" if http else esc(h["username"]), str(h["port"]),
                           esc(h["secret"] if http else h["command"]), f"{h['timeout']:g} s",
                           "" if http else ("yes" if h["ping_for_success"] else "no"))
         if r.outcome.is_failure and not r.data.get("hosts"):
-            table.add_row(result_cell(r), "", "", "", esc(r.message), "", "")
-        stdout().print(table)
+            table.add_row(result_cell(r), "", "", "", "", "", "", note=esc(r.message))
+        show(table)
         for e in r.data.get("errors", []):
             stderr().print(f"[red]error[/] {esc(r.robot)}: {esc(e)}")
     print_warnings(fleet)
@@ -98,21 +105,19 @@ def print_list(fleet: FleetResult) -> None:
 
 def print_steps(fleet: FleetResult) -> None:
     """`shutdown setup`: each robot's steps."""
-    from rich.table import Table
-
-    from panther_ops.cli.render import outcome_cell, print_diffs, print_warnings, result_cell
+    from panther_ops.cli.render import new_table, outcome_cell, print_diffs, print_warnings, result_cell
+    from panther_ops.cli.tables import Column
     from panther_ops.results import Outcome
 
     for r in fleet.results:
-        table = Table(title=f"{fleet.command}: {r.robot}")
-        for col in ("step", "result", "message"):
-            table.add_column(col, overflow="fold")
+        table = new_table(esc(f"{fleet.command}: {r.robot}"), (Column("step"), Column("result"),
+                                                               Column("message", "message")))
         for s in r.data.get("steps", []):
             outcome = Outcome(s["outcome"])
-            table.add_row(s["step"], outcome_cell(outcome), esc(s["message"]))
+            table.add_row(esc(s["step"]), outcome_cell(outcome), esc(s["message"]))
         if not r.data.get("steps"):
             table.add_row("-", result_cell(r), esc(r.message))
-        stdout().print(table)
+        show(table)
     print_diffs(fleet)
     print_warnings(fleet)
     for r in fleet.results:  # the message once: a failure's is the table's failing step
@@ -138,32 +143,37 @@ def print_validated(fleet: FleetResult) -> None:
 def print_check(fleet: FleetResult) -> None:
     """`shutdown check`: each host of each robot, the step it stopped at and its fix."""
     from panther_ops.cli.render import new_table, print_warnings, result_cell
+    from panther_ops.cli.tables import Column
 
-    table = new_table("panther-ops shutdown check", ("robot", "host", "result", "step", "message", "fix"))
+    table = new_table("panther-ops shutdown check", (Column("robot", "name"), Column("host", "name"),
+                                                     Column("result"), Column("step"),
+                                                     Column("message"), Column("fix")))
     for r in fleet.results:
         rows = r.data.get("hosts", [])
         if not rows:
-            table.add_row(r.robot, "-", result_cell(r), "", esc(r.message), "")
+            table.add_row(esc(r.robot), "-", result_cell(r), "", "", "", note=esc(r.message))
         for i, h in enumerate(rows):
             result = "[green]ok[/]" if h["ok"] else "[red]failed[/]"
-            table.add_row(r.robot if i == 0 else "", esc(h["host"]), result, h["step"], esc(h["message"]),
+            table.add_row(esc(r.robot) if i == 0 else "", esc(h["host"]), result, esc(h["step"]), esc(h["message"]),
                           esc(h["fix"]))
-    stdout().print(table)
+    show(table)
     print_warnings(fleet)
 
 
 def print_robots_down(fleet: FleetResult) -> None:
     """`shutdown robot`: per robot its hosts, then its Built-in Computer."""
     from panther_ops.cli.render import new_table, outcome_cell, print_summary, print_warnings, result_cell
+    from panther_ops.cli.tables import Column
     from panther_ops.results import Outcome
 
     for r in fleet.results:
-        table = new_table(f"shutdown robot: {r.robot}", ("host", "result", "message", "time"))
+        table = new_table(esc(f"shutdown robot: {r.robot}"), (Column("host", "name"), Column("result"),
+                                                              Column("message", "message"), Column("time")))
         for h in r.data.get("hosts", []):
             table.add_row(esc(h["robot"]), outcome_cell(Outcome(h["outcome"])), esc(h["message"]),
                           f"{h['duration_s']:.1f} s")
         table.add_row(f"{esc(r.robot)} (Built-in Computer)", result_cell(r), esc(r.message),
                       f"{r.duration_s:.1f} s")
-        stdout().print(table)
+        show(table)
     print_warnings(fleet)
     print_summary(fleet)

@@ -125,6 +125,13 @@ def clock_offset(remote_stdout: str, sent: float, received: float) -> float | No
     return None if remote is None else remote - (sent + received) / 2
 
 
+def signed_seconds(seconds: float) -> str:
+    """A clock offset as shown: ``+0.25 s``, ``-1.30 s``; one that rounds to nothing is ``+0.00 s``
+    (never ``-0.00 s``)."""
+    shown = f"{seconds:+.2f}"
+    return "+0.00 s" if float(shown) == 0 else f"{shown} s"
+
+
 def parse_probe(stdout: str) -> RobotFacts:
     s = _sections(stdout)
     facts = RobotFacts()

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.fleet.facts import signed_seconds
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.health.status import detect_stack, gather_facts
 from panther_ops.results import FleetResult, Outcome, RobotResult
@@ -44,12 +45,12 @@ def make_doctor_task(*, password_check: bool = True) -> Any:
             findings.append(Finding("clock", "warn", "could not read the robot's clock"))
         elif abs(offset) > CLOCK_LIMIT_S:
             findings.append(Finding(
-                "clock", "warn", f"robot clock is {offset:+.2f} s off this machine",
+                "clock", "warn", f"robot clock is {signed_seconds(offset)} off this machine",
                 "sync time before installing anything: on the robot `sudo timedatectl set-ntp true` "
                 "(or point chrony at your NTP server) and check `timedatectl`",
             ))
         else:
-            findings.append(Finding("clock", "ok", f"{offset:+.2f} s from this machine"))
+            findings.append(Finding("clock", "ok", f"{signed_seconds(offset)} from this machine"))
         stack, _service, problem = detect_stack(ctx, facts)
         if stack:
             findings.append(Finding("stack", "ok", stack.label()))
