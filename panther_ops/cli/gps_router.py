@@ -39,8 +39,8 @@ def router_show(fleet: Fleet, address: Address = "10.15.20.1") -> int:
     Example: PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
     """
     from panther_ops.cli.views.gps import print_router
-    from panther_ops.core.gps.router import show_task
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
+    from panther_ops.core.gps.router.read import show_task
 
     check_address(address)
     return fleet.run("gps router show", show_task(address, credentials()), print_router, read_only=True)
@@ -65,8 +65,9 @@ def router_set(
 
     Example: panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
-    from panther_ops.core.gps.router import apply_router, plan_router
-    from panther_ops.core.gps.router_plan import RouterRequest, check_address, parse_sentences
+    from panther_ops.core.gps.router.apply import apply_router
+    from panther_ops.core.gps.router.plan import RouterRequest, check_address, parse_sentences
+    from panther_ops.core.gps.router.read import read_and_plan_router as plan_router
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))

@@ -125,7 +125,7 @@ def enable(
     from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
     from panther_ops.core.gps.read import read_and_plan_enable as plan_enable
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
@@ -182,7 +182,7 @@ def status(
       panther-ops gps status -r panther-01 --router --json
     """
     from panther_ops.cli.views.gps import print_status
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
 
     check_address(address)
@@ -216,7 +216,7 @@ def watch(
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.gps import watch_display
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
     from panther_ops.errors import UsageError
 

@@ -24,7 +24,7 @@ def status(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 
     Example: panther-ops webui status --all
     """
-    from panther_ops.core.remote.webui.remote import status_task
+    from panther_ops.core.remote.webui.read import status_task
 
     return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), read_only=True)
 
@@ -36,7 +36,7 @@ def get(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 
     Example: panther-ops webui get -r panther-01 --json
     """
-    from panther_ops.core.remote.webui.remote import status_task
+    from panther_ops.core.remote.webui.read import status_task
 
     return fleet.run("webui get", status_task(sudo_password(ask_sudo_password)), read_only=True)
 
@@ -67,7 +67,7 @@ def start(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 
     Example: panther-ops webui start -r panther-01
     """
-    from panther_ops.core.remote.webui.remote import start_stop_task
+    from panther_ops.core.remote.webui.apply import start_stop_task
 
     return fleet.run("webui start", start_stop_task(True, sudo_password(ask_sudo_password)))
 
@@ -79,7 +79,7 @@ def stop(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 
     Example: panther-ops webui stop -r panther-01
     """
-    from panther_ops.core.remote.webui.remote import start_stop_task
+    from panther_ops.core.remote.webui.apply import start_stop_task
 
     return fleet.run("webui stop", start_stop_task(False, sudo_password(ask_sudo_password)))
 
@@ -91,7 +91,7 @@ def url(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 
     Example: panther-ops webui url -r panther-01
     """
-    from panther_ops.core.remote.webui.remote import url_task
+    from panther_ops.core.remote.webui.read import url_task
 
     return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)), read_only=True)
 
@@ -117,7 +117,8 @@ def set_(
     from panther_ops.cli.mutate import confirm
     from panther_ops.cli.render import print_results
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.remote.webui.remote import set_apply_task, set_plan_task
+    from panther_ops.core.remote.webui.apply import set_apply_task
+    from panther_ops.core.remote.webui.read import set_plan_task
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
     password = sudo_password(ask_sudo_password)
