@@ -27,7 +27,8 @@ $PANTHER_OPS_INVENTORY, else ./inventory/). Choose robots with --robot/-r (globs
 --group/-g or --all; a one-robot inventory needs none.
 
 Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots failed,
-rolled back or were unreachable, 4 every robot unreachable, 130 interrupted.
+rolled back or were unreachable, 4 every robot unreachable, 5 declined at the confirmation,
+6 config diff --exit-code found drift, 130 interrupted, 141 stdout closed (| head).
 
 Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
 
@@ -215,17 +216,40 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("interrupted\n")
         return int(ExitCode.INTERRUPTED)
+    except SystemExit as exc:  # click's answer to EPIPE: sys.exit(1) ("a bug" here)
+        if isinstance(exc.__context__, BrokenPipeError) and _reader_gone():
+            return int(ExitCode.CLOSED_PIPE)
+        raise
+    except BrokenPipeError:
+        if _reader_gone():
+            return int(ExitCode.CLOSED_PIPE)
+        return _internal_error(argv)
     except Exception:
-        if "--debug" in (argv if argv is not None else sys.argv):
-            raise
-        import tempfile
-        import traceback
-
-        with tempfile.NamedTemporaryFile("w", prefix="panther-ops-debug-", suffix=".log", delete=False) as fh:
-            traceback.print_exc(file=fh)
-        sys.stderr.write(f"internal error (a bug): traceback written to {fh.name}; please report it\n")
-        return int(ExitCode.ERROR)
+        return _internal_error(argv)
     return int(rv) if isinstance(rv, int) else 0
+
+
+def _reader_gone() -> bool:
+    """``... | head``: the reader of the output has what it wanted and went away; the rest is
+    dropped without a message (docs/results.md, exit 141)."""
+    from panther_ops.cli.output import reader_gone
+
+    return reader_gone()
+
+
+def _internal_error(argv: list[str] | None) -> int:
+    """An unexpected error (a bug): the traceback to a debug log (raised again with --debug)."""
+    import tempfile
+    import traceback
+
+    from panther_ops.errors import ExitCode
+
+    if "--debug" in (argv if argv is not None else sys.argv):
+        raise  # the exception being handled by main()'s caller of this function
+    with tempfile.NamedTemporaryFile("w", prefix="panther-ops-debug-", suffix=".log", delete=False) as fh:
+        traceback.print_exc(file=fh)
+    sys.stderr.write(f"internal error (a bug): traceback written to {fh.name}; please report it\n")
+    return int(ExitCode.ERROR)
 
 
 def run() -> None:
@@ -236,8 +260,14 @@ def run() -> None:
     """
     code = main()
     logging.shutdown()
-    sys.stdout.flush()
-    sys.stderr.flush()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BrokenPipeError:
+        from panther_ops.errors import ExitCode
+
+        if _reader_gone():
+            code = int(ExitCode.CLOSED_PIPE)
     os._exit(code)
 
 
