@@ -80,6 +80,13 @@ class InventoryError(InputError):
     """The inventory is missing, malformed or names something that does not exist."""
 
 
+class Declined(OpsError):
+    """The operator answered no to the confirmation question: nothing was done. Exit code 5
+    (not bad input: a decision; docs/results.md)."""
+
+    exit_code = ExitCode.DECLINED
+
+
 class TransportError(OpsError):
     """A robot could not be reached or a transport step failed."""
 

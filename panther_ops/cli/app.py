@@ -188,13 +188,16 @@ def main(argv: list[str] | None = None) -> int:
     except ImportError:  # pragma: no cover - older typer on plain click
         from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
-    from panther_ops.errors import ExitCode, OpsError
+    from panther_ops.errors import Declined, ExitCode, OpsError
     from panther_ops.manager.errors import ManagerError
 
     args = list(sys.argv[1:] if argv is None else argv)
     _register(*_command_words(args))
     try:
         rv = app(args=args, standalone_mode=False, prog_name="panther-ops")
+    except Declined as exc:  # the operator said no: not an error (exit 5, docs/results.md)
+        sys.stderr.write(f"{exc}\n")
+        return int(exc.exit_code)
     except OpsError as exc:
         from panther_ops.cli.render import error
 
@@ -223,9 +226,13 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:
         if _reader_gone():
             return int(ExitCode.CLOSED_PIPE)
-        return _internal_error(argv)
+        if "--debug" in (argv if argv is not None else sys.argv):
+            raise
+        return _internal_error()
     except Exception:
-        return _internal_error(argv)
+        if "--debug" in (argv if argv is not None else sys.argv):
+            raise
+        return _internal_error()
     return int(rv) if isinstance(rv, int) else 0
 
 
@@ -237,15 +244,13 @@ def _reader_gone() -> bool:
     return reader_gone()
 
 
-def _internal_error(argv: list[str] | None) -> int:
-    """An unexpected error (a bug): the traceback to a debug log (raised again with --debug)."""
+def _internal_error() -> int:
+    """An unexpected error (a bug): the traceback to a debug log (--debug shows it instead)."""
     import tempfile
     import traceback
 
     from panther_ops.errors import ExitCode
 
-    if "--debug" in (argv if argv is not None else sys.argv):
-        raise  # the exception being handled by main()'s caller of this function
     with tempfile.NamedTemporaryFile("w", prefix="panther-ops-debug-", suffix=".log", delete=False) as fh:
         traceback.print_exc(file=fh)
     sys.stderr.write(f"internal error (a bug): traceback written to {fh.name}; please report it\n")

@@ -25,6 +25,20 @@ def confirm(question: str, yes: bool, refusal: str) -> bool:
     return bool(typer.confirm(question, default=False))
 
 
+def require(question: str, yes: bool, refusal: str, nothing: str = "nothing was changed") -> None:
+    """Go on with --yes or when the operator answers yes to ``question``; otherwise stop: nobody
+    can answer (not interactive, no --yes) is a usage error, ``refusal`` (exit 2); a no is
+    :class:`~panther_ops.errors.Declined`, ``nothing`` (exit 5, docs/results.md)."""
+    from panther_ops.errors import Declined, UsageError
+
+    if yes:
+        return
+    if not sys.stdin.isatty():
+        raise UsageError(refusal)
+    if not typer.confirm(question, default=False):
+        raise Declined(nothing)
+
+
 def mutate(
     command: str,
     inv: Inventory,
@@ -82,14 +96,9 @@ def mutate(
                 print_plan_diffs(fp.results, command)
             else:  # before the question nothing has changed: each change is what the robot would get
                 print_results(dry_run_result(fp, read_only=True), title=f"plan: {command}")
-        if not yes:
-            if not sys.stdin.isatty():
-                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
-                return int(ExitCode.USAGE)
-            if not typer.confirm(f"{verb} {len(fp.to_change)} {inv.subject}(s): {', '.join(fp.to_change)}?",
-                                 default=False):
-                sys.stderr.write("nothing was changed\n")
-                return int(ExitCode.USAGE)
+        require(f"{verb} {len(fp.to_change)} {inv.subject}(s): {', '.join(fp.to_change)}?", yes,
+                "changes need confirmation: pass --yes when not interactive (or --dry-run to only look)",
+                "nothing was changed" + (" on any robot" if inv.subject == "robot" else ""))
         with progress.live():
             result = apply_fleet(fp, inv, chosen, conns, opts, apply, progress, applier=applier) if applier else \
                 apply_fleet(fp, inv, chosen, conns, opts, apply, progress)

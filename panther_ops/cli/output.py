@@ -120,7 +120,7 @@ def _console_class() -> Any:
 
 def console(stderr: bool = False) -> Any:
     """A rich console for the stream, set up by the rules above."""
-    Console = _console_class()  # noqa: N806
+    Console = _console_class()
 
     terminal = is_terminal(stderr)
     colour = use_color(stderr)

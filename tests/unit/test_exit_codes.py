@@ -51,3 +51,26 @@ def test_every_exit_code_is_documented() -> None:
     for code in ExitCode:
         assert f"| {int(code)} | {code.name} |" in rows, code
         assert f" {int(code)} " in " ".join(HELP.split()), code
+
+
+def test_declining_the_confirmation_is_exit_5_not_bad_input(demo: Path) -> None:
+    """Answering no on a terminal exited 2 ("bad input"): now 5, nothing changed, no "error"."""
+    from tests.ux.termrun import on_pty, plain
+
+    compose = demo / "robots" / "panther-01" / "home" / "husarion" / "compose.yaml"
+    before = compose.read_text()
+    run = on_pty(["-i", str(demo), "config", "set", "wheel_type", "WH02", "-r", "panther-01"], cols=120, typed="n\n")
+    shown = plain(run.out)
+    assert "Apply to 1 robot(s): panther-01?" in shown, shown
+    assert run.code == ExitCode.DECLINED == 5, shown
+    assert "nothing was changed on any robot" in shown and "error" not in shown, shown
+    assert compose.read_text() == before
+
+
+def test_no_one_to_answer_is_still_bad_input(demo: Path) -> None:
+    """Not interactive and no --yes: a usage error (exit 2), naming --yes."""
+    from tests.ux.termrun import piped
+
+    run = piped(["-i", str(demo), "config", "set", "wheel_type", "WH02", "-r", "panther-01"])
+    assert run.code == ExitCode.USAGE, run
+    assert "pass --yes" in run.err

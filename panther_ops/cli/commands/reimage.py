@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import sys
 from collections.abc import Callable
 from typing import Annotated, Any, Optional
 
@@ -72,8 +71,7 @@ def flash(
             file_sha = check_sha256(img, step)
             facts = eligible_device(device, img)
             what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
-            if not _confirmed(yes, what, describe(facts), image):
-                return int(ExitCode.USAGE)
+            _confirm(yes, what, describe(facts), image)
             context.info(f"writing {what} to {describe(facts)}")
             done = flash(img, facts, file_sha, step)
         v = done.verdict
@@ -89,18 +87,12 @@ def flash(
     return _flash_mapped(image, device, sha256, bmap, yes, json_out, error)
 
 
-def _confirmed(yes: bool, what: str, dev: str, image: str) -> bool:
-    from panther_ops.cli.render import error
+def _confirm(yes: bool, what: str, dev: str, image: str) -> None:
+    """Go on only with --yes or the operator's yes (exit 2 when nobody can answer, 5 declined)."""
+    from panther_ops.cli.mutate import require
 
-    if yes:
-        return True
-    if not sys.stdin.isatty():
-        error(f"writing {what} would erase {dev}: pass --yes; nothing was written")
-        return False
-    if not typer.confirm(f"Erase {dev} and write {image}?", default=False):
-        context.info("nothing was written")
-        return False
-    return True
+    require(f"Erase {dev} and write {image}?", yes,
+            f"writing {what} would erase {dev}: pass --yes; nothing was written", "nothing was written")
 
 
 def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None, yes: bool, json_out: bool,
@@ -129,8 +121,7 @@ def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None,
             f"{plan.kind} of each range from the map" if plan.kind else "") if x)
         what = (f"{image} ({img.size} bytes; {human_bytes(plan.mapped_bytes)} mapped in {len(plan.spans)} "
                 f"ranges; checked as it is read: {checked})")
-        if not _confirmed(yes, what, describe(facts), image):
-            return int(ExitCode.USAGE)
+        _confirm(yes, what, describe(facts), image)
         if not json_out:
             context.info(f"map: {plan.source}")
             for note in plan.notes:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from typing import Annotated
 
 import typer
@@ -26,8 +25,9 @@ def trust(
 
     Example: panther-ops trust panther-07
     """
+    from panther_ops.cli.mutate import require
     from panther_ops.core.fleet.trust import plan_trust, record
-    from panther_ops.errors import ExitCode, HostKeyError
+    from panther_ops.errors import HostKeyError
 
     inv = context.load(ctx)
     (robot,) = inv.select([name], [], False)[:1]
@@ -43,12 +43,8 @@ def trust(
             raise HostKeyError(robot.name, "host key changed: refused",
                                offered=plan.fingerprint, expected=", ".join(plan.known_fingerprints),
                                hint="if you reinstalled the robot and checked the fingerprint, add --replace")
-    if not yes:
-        if not sys.stdin.isatty():
-            typer.echo("not recording: pass --yes when not interactive", err=True)
-            return int(ExitCode.USAGE)
-        if not typer.confirm(f"Record this key in {plan.known_hosts_file}?", default=False):
-            return int(ExitCode.USAGE)
+    require(f"Record this key in {plan.known_hosts_file}?", yes, "not recording: pass --yes when not interactive",
+            "nothing was recorded")
     record(plan)
     typer.echo(f"recorded in {plan.known_hosts_file}")
     return 0
