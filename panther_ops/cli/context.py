@@ -189,10 +189,10 @@ class Fleet:
     def change(self, command: str, planner: Planner, *, applier: Applier | None = None, verb: str = "Apply to",
                read_only: bool = False,
                on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None,
-               applier_for_actions: bool = False) -> int:
+               applier_for_actions: bool = False, drift_exit: bool = False) -> int:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
         targets given; ``read_only``: only compare (a dry run that does not call itself one);
-        ``applier_for_actions``: see :func:`~panther_ops.cli.mutate.mutate`."""
+        ``applier_for_actions``, ``drift_exit``: see :func:`~panther_ops.cli.mutate.mutate`."""
         from panther_ops.cli.mutate import mutate
 
         inv, chosen = on or self.targets(read_only)
@@ -200,4 +200,4 @@ class Fleet:
                       dry_run=self.dry_run or read_only, restart=not self.no_restart if restart is None else restart,
                       settle=self.settle, json_out=self.json_out, forks=self.forks, canary=self.canary,
                       max_fail=self.max_fail, applier=applier, verb=verb, read_only=read_only,
-                      applier_for_actions=applier_for_actions)
+                      applier_for_actions=applier_for_actions, drift_exit=drift_exit)

@@ -57,6 +57,7 @@ def mutate(
     verb: str = "Apply to",
     read_only: bool = False,
     applier_for_actions: bool = False,
+    drift_exit: bool = False,
 ) -> int:
     """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
 
@@ -66,6 +67,8 @@ def mutate(
     (``config diff``): the plan is shown as a dry run's, without speaking of one.
     ``applier_for_actions``: the applier differs from the pipeline only for plans with an
     action (``apply``'s WebUI change); the others are staged while planning as usual.
+    ``drift_exit``: a comparison's exit code says whether a robot would change (``config diff
+    --exit-code``: 6, docs/results.md).
     """
     from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
@@ -89,8 +92,9 @@ def mutate(
             sys.stderr.write("nothing was changed" + (" on any robot" if inv.subject == "robot" else "") + "\n")
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
-            return finish(dry_run_result(fp, read_only=read_only) if dry_run else fp.results, json_out,
-                          print_results)
+            shown = dry_run_result(fp, read_only=read_only) if dry_run else fp.results
+            shown.drift_exit = drift_exit
+            return finish(shown, json_out, print_results)
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)

@@ -74,3 +74,21 @@ def test_no_one_to_answer_is_still_bad_input(demo: Path) -> None:
     run = piped(["-i", str(demo), "config", "set", "wheel_type", "WH02", "-r", "panther-01"])
     assert run.code == ExitCode.USAGE, run
     assert "pass --yes" in run.err
+
+
+def test_config_diff_exit_code_tells_drift(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``config diff`` exited 0 with drift shown, so a script could not tell: ``--exit-code`` says it
+    (0 none, 6 drift, as ``git diff --exit-code``), in the JSON document too; without it, still 0."""
+    from tests.clirun import run, run_cli
+
+    inv = ["-i", str(demo)]
+    code, _, err = run(capsys, *inv, "config", "diff", "--all", "--exit-code")
+    assert code == ExitCode.DRIFT == 6, err  # the warehouse group wants WH02
+    assert "(exit 6: drift)" in err
+    code, doc, _, _ = run_cli(capsys, *inv, "config", "diff", "--all", "--exit-code", "--json")
+    assert code == doc["exit_code"] == 6
+    assert run(capsys, *inv, "config", "diff", "--all")[0] == 0  # a read: 0 without --exit-code
+    assert run(capsys, *inv, "apply", "-g", "warehouse", "--yes", "--no-restart")[0] == 0
+    code, doc, _, err = run_cli(capsys, *inv, "config", "diff", "--all", "--exit-code", "--json")
+    assert code == doc["exit_code"] == 0, err
+    assert {r["outcome"] for r in doc["robots"]} == {"ok"}
