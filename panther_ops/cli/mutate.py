@@ -87,9 +87,18 @@ def mutate(
                             go_early=early)
         if fp.usage_errors:
             unstage_fleet(fp, inv, chosen, conns, opts)
-            for name, exc in fp.usage_errors.items():
+            order = [r.name for r in chosen]
+            refused = sorted(fp.usage_errors.items(), key=lambda item: order.index(item[0]) if item[0] in order else 0)
+            for name, exc in refused:
                 error(f"{name}: {exc}")
-            sys.stderr.write("nothing was changed" + (" on any robot" if inv.subject == "robot" else "") + "\n")
+            nothing = "nothing was changed" + (" on any robot" if inv.subject == "robot" else "")
+            sys.stderr.write(nothing + "\n")
+            if json_out:
+                from panther_ops.cli.envelope import error_of, hold_error
+
+                hold_error({"type": "UsageError", "code": ExitCode.USAGE.name,
+                            "message": f"bad input for {len(refused)} {inv.subject}(s): {nothing}",
+                            inv.subject + "s": {name: error_of(exc, ExitCode.USAGE) for name, exc in refused}})
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
             shown = dry_run_result(fp, read_only=read_only) if dry_run else fp.results
