@@ -9,6 +9,8 @@ error, the error's document instead: ``{"schema": 1, "command": ..., "exit_code"
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from panther_ops.errors import ExitCode
@@ -30,9 +32,23 @@ def hold(doc: dict[str, Any]) -> None:
     if not _held.get("on"):
         write_json(doc)
         return
+    if "doc" in _held and _held.get("under") and _held["under"] not in _held["doc"]:
+        _held["doc"][_held["under"]] = doc
+        return
     if "doc" in _held:
         raise RuntimeError("a second JSON document in one run (docs/json.md: exactly one)")
     _held["doc"] = doc
+
+
+@contextmanager
+def under(key: str) -> Iterator[None]:
+    """A command of several steps (``reimage restore``: the restore, then ``apply`` and ``doctor``):
+    the document a later step gives goes into the run's document, under ``key``."""
+    _held["under"] = key
+    try:
+        yield
+    finally:
+        _held.pop("under", None)
 
 
 def hold_error(error: dict[str, Any]) -> None:

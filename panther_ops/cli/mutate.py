@@ -22,7 +22,7 @@ def confirm(question: str, yes: bool, refusal: str) -> bool:
 
         error(refusal)
         return False
-    return bool(typer.confirm(question, default=False))
+    return bool(typer.confirm(question, default=False, err=True))  # stdout is for data (--json)
 
 
 def require(question: str, yes: bool, refusal: str, nothing: str = "nothing was changed") -> None:
@@ -35,7 +35,7 @@ def require(question: str, yes: bool, refusal: str, nothing: str = "nothing was 
         return
     if not sys.stdin.isatty():
         raise UsageError(refusal)
-    if not typer.confirm(question, default=False):
+    if not typer.confirm(question, default=False, err=True):  # stdout is for data (--json)
         raise Declined(nothing)
 
 

@@ -61,6 +61,10 @@ VALID: dict[str, list[str]] = {
     "manager logs": R,
     "reimage plan": R,
     "reimage backup": [*R, "--out", "{tmp}/backups"],
+    "reimage restore": [*R, "--from", "{tmp}/panther-01.tar.gz", "--yes"],
+    "lights preview": [str(template_path("lights", "user_animations.example.yaml")), "--id", "21", "--out",
+                       "anim.gif"],
+    "demo init": ["--dest", "another-demo"],
     "gps enable": [*R, "--dry-run"],
     "gps disable": [*R, "--dry-run"],
     "gps status": R,  # a demo robot answers with its recorded NMEA
@@ -112,6 +116,8 @@ ELSEWHERE = {
     "reimage bmap": "tests/unit/test_reimage_bmap.py",
     # NMEA from a sender: the test sends real datagrams over loopback
     "gps listen": "tests/unit/test_gps_listen.py",
+    # a host key: a demo robot is a directory and has none (the lab's robots have sshd)
+    "trust": "tests/integration/test_foundation_lab.py",
 }
 """Commands whose valid input the demo fleet cannot give: the test named runs them with --json and parses it."""
 
@@ -143,6 +149,9 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (tmp / "local" / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
     assert main(["shutdown", "hosts", "add", str(tmp / "local" / "hosts.yaml"), "--ip", "10.15.20.4", "--user", "pi",
                  "--yes"]) == 0  # a backup to list and roll back to
+    assert main(["-i", str(tmp / "demo"), "reimage", "backup", *R, "--out", str(tmp / "backups")]) == 0
+    (archive,) = (tmp / "backups").glob("panther-01-*.tar.gz")
+    shutil.copy(archive, tmp / "panther-01.tar.gz")  # a name the arguments above can give
     return tmp
 
 

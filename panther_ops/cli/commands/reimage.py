@@ -270,7 +270,7 @@ def backup(
 
 
 @app.command("restore")
-@shared("yes", "dry_run", "no_restart", "settle")
+@shared("yes", "dry_run", "no_restart", "settle", "json_out")
 def restore(
     fleet: Fleet,
     robot: Annotated[str, typer.Option("--robot", "-r", help="The robot the backup was taken from.")],
@@ -290,10 +290,12 @@ def restore(
     desired: block, and a doctor summary (which reports a default password still accepted).
     Onto a newer image of the same release line (2.1.1 -> 2.1.x) the new compose file and its
     image tags are kept and the backup's launch arguments, mounts and extra services are
-    re-applied onto it; across release lines restore is refused (exit 2).
+    re-applied onto it; across release lines restore is refused (exit 2). --json: the restore's
+    document, the apply's and the doctor's in it under "apply" and "doctor".
 
     Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """
+    from panther_ops.cli.envelope import under
     from panther_ops.cli.views.status import print_doctor
     from panther_ops.core.apply.desired import desired_applier, plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
@@ -325,8 +327,11 @@ def restore(
     if code != 0 or fleet.dry_run:
         return code
     if target.desired:
-        code = fleet.change("apply", plan_desired, on=(inv, [target]), applier=desired_applier(sudo_password(False)),
-                            applier_for_actions=True)
-    summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
-    print_doctor(summary)
+        with under("apply"):
+            code = fleet.change("apply", plan_desired, on=(inv, [target]),
+                                applier=desired_applier(sudo_password(False)), applier_for_actions=True)
+    summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"),
+                          json_out=fleet.json_out)
+    with under("doctor"):
+        fleet.show(summary, print_doctor)
     return code
