@@ -95,7 +95,23 @@ def targets(
         else:
             info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
             all_ = True
-    return inv, inv.select(robots or [], groups or [], all_)
+    chosen = inv.select(robots or [], groups or [], all_)
+    check_keys(inv, chosen)
+    return inv, chosen
+
+
+def check_keys(inv: Inventory, chosen: list[Robot]) -> None:
+    """A key file of the chosen robots that is missing or unreadable: exit 2 before any robot is
+    contacted (``Inventory.key_problems``), each named with its file, key and fix."""
+    problems = inv.key_problems(chosen)
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        from panther_ops.errors import InventoryError
+
+        raise InventoryError(f"{len(problems)} identity files cannot be used:\n  " +
+                             "\n  ".join(p.message for p in problems),
+                             path=str(inv.path), hint=problems[0].hint)
 
 
 def run(

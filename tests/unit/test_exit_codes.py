@@ -92,3 +92,42 @@ def test_config_diff_exit_code_tells_drift(demo: Path, capsys: pytest.CaptureFix
     code, doc, _, err = run_cli(capsys, *inv, "config", "diff", "--all", "--exit-code", "--json")
     assert code == doc["exit_code"] == 0, err
     assert {r["outcome"] for r in doc["robots"]} == {"ok"}
+
+
+def test_a_missing_identity_file_is_bad_input_before_anything_is_contacted(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A key file that does not exist was reported as unreachable (exit 4, after connecting) and
+    ``inventory validate`` said "valid": now exit 2 naming the file, line and key, with nothing
+    contacted (a listening socket sees no connection), and validate reports it."""
+    import json
+    import socket
+
+    from tests.clirun import run
+
+    listener = socket.socket()
+    listener.bind(("127.0.0.1", 0))
+    listener.listen(8)
+    listener.settimeout(0.5)
+    port = listener.getsockname()[1]
+    inv = tmp_path / "inv.yaml"
+    inv.write_text(f"robots:\n  r1:\n    host: 127.0.0.1\n    port: {port}\n    identity_file: keys/id_ed25519\n"
+                   f"  r2:\n    host: 127.0.0.1\n    port: {port}\n")
+    try:
+        for argv in (["status", "--all"], ["config", "set", "wheel_type", "WH02", "-r", "r1", "--dry-run"],
+                     ["inventory", "validate"]):
+            code, out, err = run(capsys, "-i", str(inv), *argv)
+            assert code == ExitCode.USAGE, (argv, code, err)
+            assert f"{inv}:3 [robots.r1.identity_file]" in err, err  # where r1 is defined
+            assert f"identity_file {tmp_path / 'keys' / 'id_ed25519'} does not exist" in err, err
+            assert "ssh-keygen -t ed25519" in err and "valid" not in out
+        code, out, _ = run(capsys, "-i", str(inv), "inventory", "validate", "--json")
+        doc = json.loads(out)
+        assert code == doc["exit_code"] == 2 and doc["error"]["key"] == "robots.r1.identity_file", doc
+        with pytest.raises(TimeoutError):
+            listener.accept()  # nobody came
+    finally:
+        listener.close()
+    (tmp_path / "keys").mkdir()
+    (tmp_path / "keys" / "id_ed25519").write_text("not checked here: only that it is a readable file\n")
+    code, out, err = run(capsys, "-i", str(inv), "inventory", "validate")
+    assert code == 0 and "valid" in out, err

@@ -305,6 +305,7 @@ def restore(
     backup = load_backup(from_)
     inv = context.load(fleet.ctx)
     (target,) = inv.select([robot], [], False)[:1]
+    context.check_keys(inv, [target])
     taken_from = backup.robot.get("name")
     if taken_from != target.name:
         raise UsageError(f"--from {from_}: the backup is of robot {taken_from!r}, not {target.name!r}")
