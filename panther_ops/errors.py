@@ -22,8 +22,15 @@ class ExitCode(IntEnum):
     """At least one robot failed, was rolled back or was unreachable while others were reached."""
     UNREACHABLE = 4
     """Every targeted robot was unreachable."""
+    DECLINED = 5
+    """The operator answered no to the confirmation: nothing was done."""
+    DRIFT = 6
+    """``config diff --exit-code``: every robot was read and at least one differs."""
     INTERRUPTED = 130
     """Interrupted by the operator (Ctrl-C)."""
+    CLOSED_PIPE = 141
+    """The reader of stdout went away (``... | head``): the rest of the output is dropped
+    without a message, as a tool killed by SIGPIPE (128 + 13) exits in a shell."""
 
 
 class OpsError(Exception):
@@ -71,6 +78,13 @@ class InputError(UsageError):
 
 class InventoryError(InputError):
     """The inventory is missing, malformed or names something that does not exist."""
+
+
+class Declined(OpsError):
+    """The operator answered no to the confirmation question: nothing was done. Exit code 5
+    (not bad input: a decision; docs/results.md)."""
+
+    exit_code = ExitCode.DECLINED
 
 
 class TransportError(OpsError):

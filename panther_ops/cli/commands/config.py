@@ -133,16 +133,24 @@ def unset(fleet: Fleet, key: KeyArg) -> int:
 
 @app.command("diff")
 @shared(*READ)
-def diff(fleet: Fleet) -> int:
+def diff(
+    fleet: Fleet,
+    exit_code: Annotated[bool, typer.Option(
+        "--exit-code", help="Exit 6 when a robot differs (drift), 0 when none does, as git diff --exit-code.")] = False,
+) -> int:
     """Compare each robot with the inventory's desired: block (launch_args, controller, image,
     GPS, and desired.webui against the WebUI snap's keys on its User Computer): `changed` means
     drift, with the diff (and WebUI keys, current -> new) that `panther-ops apply` would change.
+    --exit-code: the answer in the exit code for a script (0 no drift, 6 drift; 3 or 4 when a
+    robot could not be read).
 
-    Example: panther-ops config diff --all
+    Examples:
+      panther-ops config diff --all
+      panther-ops -q config diff --all --exit-code
     """
     from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
 
-    return fleet.change("config diff", plan_desired, read_only=True)
+    return fleet.change("config diff", plan_desired, read_only=True, drift_exit=exit_code)
 
 
 @app.command("history")

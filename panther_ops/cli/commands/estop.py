@@ -53,7 +53,7 @@ def reset(fleet: Fleet) -> int:
 
     Example: panther-ops estop reset -r panther-01 --yes
     """
-    from panther_ops.cli.mutate import confirm
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import print_results
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.remote.estop.calls import reset_check_task, reset_task
@@ -75,9 +75,8 @@ def reset(fleet: Fleet) -> int:
         names = ", ".join(r.name for r in ready)
         question = (f"Reset the E-stop of {len(ready)} robot(s): {names}? They move again as soon as velocity "
                     "commands arrive.")
-        if not confirm(question, fleet.yes, f"{question} -- resetting the E-stop needs confirmation: pass --yes "
-                       "when not interactive (or --dry-run to only check)"):
-            return 2
+        require(question, fleet.yes, f"{question} -- resetting the E-stop needs confirmation: pass --yes "
+                "when not interactive (or --dry-run to only check)", "nothing was reset")
         done = run_fleet("estop reset", inv, ready, reset_task, opts, connections=conns)
     by_name = {r.robot: r for r in done.results}
     checked.results = [by_name.get(r.robot, r) for r in checked.results]

@@ -84,13 +84,15 @@ def show(
 
 @app.command("validate")
 def validate(ctx: typer.Context, json_out: Json = False) -> int:
-    """Check the inventory: syntax, keys, values, groups, jump hosts, no plaintext secrets.
+    """Check the inventory: syntax, keys, values, groups, jump hosts, no plaintext secrets, and
+    that every robot's identity_file is a readable file here.
 
     Errors name the file, line and key, with what is allowed; exit code 2.
 
     Example: panther-ops -i inventory/ inventory validate
     """
     inv = context.load(ctx)
+    context.check_keys(inv, list(inv.robots.values()))
     from panther_ops.cli.render import counted
 
     msg = f"{inv.path}: {counted(len(inv.robots), 'robot')}, {counted(len(inv.groups), 'group')}, valid"

@@ -55,9 +55,11 @@ def preview(
     led_config: LedConfig = None,
     param: Annotated[OptStr, typer.Option(
         "--param", help="Animation parameter (battery level 0-1 for ChargingAnimation).")] = None,
+    json_out: Json = False,
 ) -> int:
     """Draw both bumpers of animation --id as an animated GIF, frame by frame at the lights
-    controller's 50 Hz (duration x 50 x repeat frames).
+    controller's 50 Hz (duration x 50 x repeat frames). --json: the GIF written, its animation,
+    frames and frame time.
 
     Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
     """
@@ -75,7 +77,13 @@ def preview(
         raise UsageError(f"--out {out}: not a GIF file path in an existing directory",
                          hint="e.g. --out anim.gif")
     p = render_preview(file, anim_id, out, led_config, param)
-    typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "lights preview", "file": str(file), "id": anim_id, "out": str(p.path),
+                   "animation": p.name, "frames": p.frames, "frame_ms": p.frame_ms})
+    else:
+        typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
     return 0
 
 

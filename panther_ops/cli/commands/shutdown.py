@@ -22,6 +22,7 @@ from panther_ops.cli.commands.shutdown_inputs import (
     SecretEnv,
     SecretFile,
     ask_to_confirm,
+    require_confirmation,
     secret_from,
     usage_error,
 )
@@ -115,8 +116,7 @@ def _shutdown_file(fleet: Fleet, path: Path, via: str | None, identity: Path | N
         context.info("dry run: nothing was contacted")
         return 0
     names = ", ".join(h.describe() for h in hosts)
-    if not ask_to_confirm(f"Shut down {len(hosts)} host(s) {where}: {names}?", fleet.yes, "shutting hosts down"):
-        return 2
+    require_confirmation(f"Shut down {len(hosts)} host(s) {where}: {names}?", fleet.yes, "shutting hosts down")
     if inv is not None and link_robot is not None:
         from panther_ops.core.fleet.runner import Connections
         from panther_ops.core.shutdown.links import backends_via
@@ -264,8 +264,7 @@ def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
             return fleet.show(planned, lambda _: None)
         what = "; ".join(f"{n} after {', '.join(h.describe() for h in p.hosts) or 'no hosts'}"
                          for n, p in plans.items())
-        if not ask_to_confirm(f"Shut down {what}?", fleet.yes, "shutting robots down"):
-            return int(ExitCode.USAGE)
+        require_confirmation(f"Shut down {what}?", fleet.yes, "shutting robots down")
         todo = [r for r in chosen if r.name in plans]
         done = run_fleet("shutdown robot", inv, todo, lambda c: shutdown_robot(c, plans[c.robot.name]), opts,
                          None, conns)

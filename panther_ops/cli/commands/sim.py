@@ -32,6 +32,7 @@ def _read(path: Path) -> str:
 def _write(path: Path, before: str, after: str, what: str, command: str, *, yes: bool, dry_run: bool,
            json_out: bool) -> int:
     """Show the exact diff, confirm, then write atomically with a backup beside the file."""
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import emit_json, print_diffs, print_warnings
     from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
@@ -45,15 +46,8 @@ def _write(path: Path, before: str, after: str, what: str, command: str, *, yes:
     if changed and not json_out:
         print_diffs(fleet)
     if changed and not dry_run:
-        if not yes:
-            if not sys.stdin.isatty():
-                from panther_ops.cli.render import error
-
-                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
-                return 2
-            if not typer.confirm(f"Write {path}?", default=False):
-                sys.stderr.write("nothing was changed\n")
-                return 2
+        require(f"Write {path}?", yes,
+                "changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
         from panther_ops.core.sim.files import write_text
 
         res.data["backup"] = str(write_text(path, after))
@@ -198,6 +192,7 @@ def battery_charge(
       panther-ops sim battery charge start --yes
       panther-ops sim battery charge stop --namespace panther --yes
     """
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import emit_json, error
     from panther_ops.core.sim.charging import plan_charge
     from panther_ops.transport.base import quote_command
@@ -213,13 +208,11 @@ def battery_charge(
             sys.stdout.write(f"would run: {shown}\nnote dry run: nothing was called\n")
         return 0
     if not yes:
-        if not sys.stdin.isatty():
-            error("this calls the simulation: pass --yes when not interactive (or --dry-run to only look)")
-            return 2
-        sys.stdout.write(f"{shown}\n")
-        if not typer.confirm(f"{call.action.capitalize()} charging?", default=False):
-            sys.stderr.write("nothing was called\n")
-            return 2
+        if sys.stdin.isatty():
+            sys.stdout.write(f"{shown}\n")
+        require(f"{call.action.capitalize()} charging?", yes,
+                "this calls the simulation: pass --yes when not interactive (or --dry-run to only look)",
+                "nothing was called")
     from panther_ops.core.sim.charging import missing_service
     from panther_ops.transport.local_command import run_local
 

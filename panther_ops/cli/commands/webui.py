@@ -114,7 +114,7 @@ def set_(
 
     Example: panther-ops webui set ros.transport=rmw_cyclonedds_cpp webui.layout=panther -r panther-01 --yes
     """
-    from panther_ops.cli.mutate import confirm
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import print_results
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.remote.webui.remote import set_apply_task, set_plan_task
@@ -146,9 +146,8 @@ def set_(
             return fleet.show(planned)
         if not fleet.json_out:
             print_results(planned, title="webui set: plan")
-        if not confirm(f"Apply to {', '.join(r.name for r in ready)}?", fleet.yes,
-                       "webui set needs confirmation: pass --yes when not interactive (or --dry-run)"):
-            return 2
+        require(f"Apply to {', '.join(r.name for r in ready)}?", fleet.yes,
+                "webui set needs confirmation: pass --yes when not interactive (or --dry-run)")
         done = run_fleet("webui set", inv, ready, set_apply_task(wanted, password, dds), RunOptions(forks=inv.forks),
                          connections=conns)
     by_name = {r.robot: r for r in done.results}
