@@ -55,6 +55,7 @@ def test_the_safety_project_brings_its_trees(demo: Path, tmp_path: Path, capsys:
     assert code == 0, err
     where = tmp_path / "d" / "panther-01"
     assert sorted(p.name for p in where.iterdir()) == ["bt-safety.btproj", "safety.xml", "shutdown.xml"]
+    assert sorted(doc["robots"][0]["data"]["written"]) == sorted(str(p) for p in where.iterdir())
     code, _, err = run(capsys, "bt", "validate", str(where / "bt-safety.btproj"))
     assert code == 0, err
 
