@@ -144,9 +144,14 @@ AFTER = {
     "panther-ops config set wheel_type custom -r panther-01 --yes": (
         "panther-ops config push my_wheels.yaml --as wheel -r panther-01 --yes",
         "panther-ops config push my_wheels_controller.yaml --as controller -r panther-01 --yes"),
+    "panther-ops bt validate MyLightsBT.btproj": (
+        "panther-ops -i demo config pull bt-lights -r panther-01 -o MyLightsBT.btproj",),
+    "panther-ops -i demo config push MyLightsBT.btproj --as bt-lights -r panther-01 --yes": (
+        "panther-ops -i demo config pull bt-lights -r panther-01 -o MyLightsBT.btproj",),
 }
 """Examples that continue the ones above them in their block (the manual's custom wheels:
-both files pushed, then ``wheel_type custom``): run alone, those run first."""
+both files pushed, then ``wheel_type custom``; a pulled BT project validated and pushed back):
+run alone, those run first."""
 
 
 def needs_a_robot(example: Example) -> str | None:

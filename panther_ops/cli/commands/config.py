@@ -256,17 +256,23 @@ def pull(
     output: Annotated[OptPath, typer.Option("--output", "-o",
                                             help="Write to this file (one robot) instead of stdout.")] = None,
     dest: Annotated[OptPath, typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="A BT project: replace included files that exist "
+                                        "beside the output with other content.")] = False,
 ) -> int:
     """Fetch the config file in use: the mounted one, else the 2.2 config tree's, else the
-    default inside the robot's own image, else panther-ops' template for that version.
+    default inside the robot's own image, else panther-ops' template for that version. A BT
+    project (bt-lights, bt-safety) comes with the files it includes, from the same place,
+    written beside it (-o/--dest) at the paths the project names.
 
     Example: panther-ops config pull controller -r panther-01 -o controller.yaml
     """
     from panther_ops.cli.context import info, run
     from panther_ops.cli.output import write_bytes
-    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, write_files
+    from panther_ops.cli.render import print_warnings
+    from panther_ops.core.config.plan import BT_ARGS
+    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, settle, write_files
     from panther_ops.core.config.push import pull as pull_file
-    from panther_ops.core.config.push import push_kind
+    from panther_ops.core.config.push import pull_project, push_kind
     from panther_ops.results import Outcome, RobotResult
 
     k = push_kind(kind, "KIND")
@@ -274,20 +280,41 @@ def pull(
     inv, chosen = fleet.targets()
     check_dest(dest, len(chosen))
     got: dict[str, bytes] = {}
+    includes: dict[str, dict[str, bytes]] = {}
 
     def task(c: Any) -> RobotResult:
-        data, source = pull_file(c, k)
-        got[c.robot.name] = data
-        return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}", data={"source": source})
+        if k not in BT_ARGS:
+            data, source = pull_file(c, k)
+            got[c.robot.name] = data
+            return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}", data={"source": source})
+        data, source, inc = pull_project(c, k)
+        got[c.robot.name], includes[c.robot.name] = data, inc.files
+        warnings = [f"included {n}: not found at the source" for n in inc.missing]
+        warnings += [f"include {r}: leaves the project's directory, not fetched" for r in inc.refused]
+        if inc.files and output is None and dest is None:
+            warnings.append(f"the project includes {', '.join(inc.files)}: pull with -o FILE.btproj to write "
+                            "them beside it")
+        said = f"; includes {', '.join(inc.files)}" if inc.files else ""
+        return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}{said}",
+                           data={"source": source, "includes": list(inc.files)}, warnings=warnings)
 
     result = run("config pull", inv, chosen, task, json_out=True)
-    write_files(plan_writes(got, k, output, dest))
+    writes, same = settle(plan_writes(got, k, output, dest, includes), force)
+    write_files(writes)
+    for r in result.results:  # which files this machine now has, each named
+        written = [str(w.path) for w in writes if w.robot == r.robot]
+        unchanged = [str(w.path) for w in same if w.robot == r.robot]
+        if written or unchanged:
+            r.data.update(written=written, unchanged=unchanged)
+            r.message += "; written: " + ", ".join(written) + (f"; already there: {', '.join(unchanged)}"
+                                                                 if unchanged else "")
     if fleet.json_out or dest is not None or output is not None:
         return fleet.show(result)
     for data in got.values():
         write_bytes(data)
     for r in result.results:
         info(f"{r.robot}: {r.outcome.value}: {r.message}")
+    print_warnings(result)
     return int(result.exit_code)
 
 
