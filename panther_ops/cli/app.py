@@ -30,9 +30,14 @@ Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots 
 rolled back or were unreachable, 4 every robot unreachable, 5 declined at the confirmation,
 6 config diff --exit-code found drift, 130 interrupted, 141 stdout closed (| head).
 
-Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+\b
+Try the demo fleet (no robot needed):
+  panther-ops demo init
+  panther-ops -i demo-fleet status --all
 
-Shell completion (bash, zsh, fish, docs/getting-started.md):  panther-ops --install-completion
+\b
+Shell completion (bash, zsh, fish, docs/getting-started.md):
+  panther-ops --install-completion
 """
 
 app = typer.Typer(

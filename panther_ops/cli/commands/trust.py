@@ -26,7 +26,9 @@ def trust(
     --replace. Host keys are never accepted silently. --json: the key, its state (new, known,
     changed) and whether it was recorded (the messages on stderr).
 
-    Example: panther-ops trust panther-07
+    \b
+    Example:
+      panther-ops trust panther-07
     """
     from panther_ops.cli.mutate import require
     from panther_ops.core.fleet.trust import plan_trust, record
