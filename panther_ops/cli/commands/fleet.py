@@ -44,9 +44,10 @@ def doctor(
       panther-ops doctor --all
     """
     from panther_ops.cli.views.status import print_doctor
-    from panther_ops.core.health.doctor import fleet_findings, make_doctor_task
+    from panther_ops.core.health.doctor import fleet_findings, make_doctor_task, unreached_findings
 
     result = fleet.results("doctor", make_doctor_task(password_check=password_check), read_only=True)
+    unreached_findings(result)
     result.data["fleet_findings"] = fleet_findings(result)
     return fleet.show(result, print_doctor)
 

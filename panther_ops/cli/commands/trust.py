@@ -58,7 +58,8 @@ def trust(
         if not replace:
             raise HostKeyError(robot.name, "host key changed: refused",
                                offered=plan.fingerprint, expected=", ".join(plan.known_fingerprints),
-                               hint="if you reinstalled the robot and checked the fingerprint, add --replace")
+                               hint="if you reinstalled the robot and checked the fingerprint on it: "
+                               f"panther-ops trust {robot.name} --replace")
     require(f"Record this key in {plan.known_hosts_file}?", yes, "not recording: pass --yes when not interactive",
             "nothing was recorded")
     record(plan)
