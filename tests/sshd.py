@@ -62,7 +62,8 @@ class LoopbackSshd:
             "LogLevel VERBOSE",
         ]) + "\n")
         Path("/run/sshd").mkdir(exist_ok=True)  # its privilege-separation directory
-        self.proc = subprocess.Popen([SSHD, "-D", "-e", "-f", str(config)], stderr=open(root / "sshd.log", "wb"))
+        with (root / "sshd.log").open("wb") as log:
+            self.proc = subprocess.Popen([SSHD, "-D", "-e", "-f", str(config)], stderr=log)
         deadline = time.monotonic() + 5
         while "Server listening" not in (root / "sshd.log").read_text(errors="replace"):
             if self.proc.poll() is not None or time.monotonic() > deadline:
