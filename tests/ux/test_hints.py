@@ -150,3 +150,18 @@ def test_every_doctor_finding_that_is_not_ok_has_a_fix(demo: Path, capsys: Capsy
     findings = [f for r in doc["robots"] for f in r["data"]["findings"]]
     assert findings, err
     assert all(f["fix"] for f in findings if f["state"] != "ok"), findings
+
+
+@pytest.mark.parametrize("argv", [["inventory", "validate"], ["status", "--all"]])
+def test_a_tab_in_the_inventory_is_named_as_a_tab(argv: list[str], tmp_path: Path, capsys: Capsys) -> None:
+    inv = tmp_path / "inv.yaml"
+    inv.write_text("robots:\n  r1:\n    host: 10.15.20.2\n\tport: 22\n")
+    code, _, err = run(capsys, "-i", str(inv), *argv)
+    assert code == 2 and f"{inv}:4: invalid YAML: tab character at line 4 col 1; YAML indents with spaces" in err, err
+
+
+def test_a_tab_in_a_file_read_round_trip_is_named_as_a_tab(tmp_path: Path, capsys: Capsys) -> None:
+    hosts = tmp_path / "hosts.yaml"  # the shutdown hosts file: read by the round-trip (ruamel) parser
+    hosts.write_text("hosts:\n  - ip: 10.15.20.3\n  \t username: husarion\n")
+    code, _, err = run(capsys, "shutdown", "hosts", "validate", str(hosts))
+    assert code == 2 and "tab character at line 3 col 3; YAML indents with spaces" in err, err
