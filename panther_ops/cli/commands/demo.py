@@ -21,7 +21,10 @@ def init(
     """Create a demo fleet of three robots (panther_ros 2.1.1 and 2.0.4, husarion_ugv 2.2.2),
     each a directory standing in for its Built-in Computer, and an inventory for them.
 
-    Example: panther-ops demo init && panther-ops -i demo-fleet status --all
+    \b
+    Examples:
+      panther-ops demo init
+      panther-ops -i demo-fleet status --all
     """
     from panther_ops.core.demo.fleet import init_demo
 
