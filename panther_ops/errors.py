@@ -22,8 +22,15 @@ class ExitCode(IntEnum):
     """At least one robot failed, was rolled back or was unreachable while others were reached."""
     UNREACHABLE = 4
     """Every targeted robot was unreachable."""
+    DECLINED = 5
+    """The operator answered no to the confirmation: nothing was done."""
+    DRIFT = 6
+    """``config diff --exit-code``: every robot was read and at least one differs."""
     INTERRUPTED = 130
     """Interrupted by the operator (Ctrl-C)."""
+    CLOSED_PIPE = 141
+    """The reader of stdout went away (``... | head``): the rest of the output is dropped
+    without a message, as a tool killed by SIGPIPE (128 + 13) exits in a shell."""
 
 
 class OpsError(Exception):
@@ -73,6 +80,13 @@ class InventoryError(InputError):
     """The inventory is missing, malformed or names something that does not exist."""
 
 
+class Declined(OpsError):
+    """The operator answered no to the confirmation question: nothing was done. Exit code 5
+    (not bad input: a decision; docs/results.md)."""
+
+    exit_code = ExitCode.DECLINED
+
+
 class TransportError(OpsError):
     """A robot could not be reached or a transport step failed."""
 
@@ -82,7 +96,10 @@ class TransportError(OpsError):
 
 
 class UnreachableError(TransportError):
-    """The robot did not answer (network, DNS, refused, timeout, authentication)."""
+    """The robot did not answer (network, DNS, refused, timeout, authentication). Exit code 4
+    when it ends a one-robot command (``trust``, ``teleop``): the robot was not reached."""
+
+    exit_code = ExitCode.UNREACHABLE
 
 
 class HostKeyError(UnreachableError):

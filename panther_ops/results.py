@@ -85,6 +85,9 @@ class FleetResult:
     subject: str = "robot"
     """What each result is of, as the tables and the summary name it: ``robot``, or ``file`` for a
     local file given to a command (``shutdown hosts add FILE``, ``config history --file``)."""
+    drift_exit: bool = False
+    """A comparison asked for its answer in the exit code (``config diff --exit-code``): a robot
+    that would change makes it DRIFT (6) when every robot was read."""
 
     def add(self, result: RobotResult) -> None:
         self.results.append(result)
@@ -94,7 +97,10 @@ class FleetResult:
 
     @property
     def exit_code(self) -> ExitCode:
-        return exit_code_for(r.outcome for r in self.results)
+        code = exit_code_for(r.outcome for r in self.results)
+        if self.drift_exit and code is ExitCode.OK and self.by_outcome(Outcome.CHANGED):
+            return ExitCode.DRIFT
+        return code
 
     def to_json(self) -> dict[str, Any]:
         counts: dict[str, int] = {o.value: 0 for o in Outcome}

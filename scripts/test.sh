@@ -5,17 +5,36 @@
 #
 #   bash scripts/test.sh                   # with python3
 #   bash scripts/test.sh --python PATH     # with another interpreter (e.g. 3.10)
+#   bash scripts/test.sh --no-sudo         # as a user, without root: no lab tests
+#
+# The same command as root (a fresh machine or container: sudo need not be installed) and as
+# a user: not root, it runs itself again through sudo when sudo is there (the lab needs root),
+# else it says how to run it as root and goes on with what a user can run.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+ARGS=("$@")
 PYTHON=python3
 VENV=.venv
+NO_SUDO=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --python) PYTHON="$2"; shift 2 ;;
     --venv) VENV="$2"; shift 2 ;;
+    --no-sudo) NO_SUDO=1; shift ;;
     *) break ;;
   esac
 done
+if [ "$(id -u)" = 0 ]; then
+  echo "== as root: system packages and the lab tests" >&2
+elif [ -n "$NO_SUDO" ]; then
+  echo "== as $(id -un) (--no-sudo): no system packages; lab tests skipped (and fail with CI=true)" >&2
+elif command -v sudo >/dev/null 2>&1; then
+  echo "== not root: running again through sudo (the lab needs root; --no-sudo to stay $(id -un))" >&2
+  exec sudo --preserve-env=CI bash "$0" ${ARGS[@]+"${ARGS[@]}"}
+else
+  echo "== not root and no sudo: for the system packages and the lab tests run it as root:" \
+       "su -c 'bash scripts/test.sh'; going on without them (lab tests skipped)" >&2
+fi
+cd "$(dirname "$0")/.."
 if [ ! -x "$VENV/bin/python" ]; then
   "$PYTHON" -m venv "$VENV"
 fi

@@ -27,11 +27,17 @@ $PANTHER_OPS_INVENTORY, else ./inventory/). Choose robots with --robot/-r (globs
 --group/-g or --all; a one-robot inventory needs none.
 
 Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots failed,
-rolled back or were unreachable, 4 every robot unreachable, 130 interrupted.
+rolled back or were unreachable, 4 every robot unreachable, 5 declined at the confirmation,
+6 config diff --exit-code found drift, 130 interrupted, 141 stdout closed (| head).
 
-Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+\b
+Try the demo fleet (no robot needed):
+  panther-ops demo init
+  panther-ops -i demo-fleet status --all
 
-Shell completion (bash, zsh, fish, docs/getting-started.md):  panther-ops --install-completion
+\b
+Shell completion (bash, zsh, fish, docs/getting-started.md):
+  panther-ops --install-completion
 """
 
 app = typer.Typer(
@@ -73,7 +79,7 @@ def root(
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
 ) -> None:
-    """Global options come before the command: panther-ops -i fleet.yaml status --all."""
+    """Global options go before or after the command: panther-ops -i fleet.yaml status --all."""
     from panther_ops.cli.output import configure, set_wide
 
     configure(color, quiet)
@@ -185,51 +191,120 @@ def _command_words(argv: list[str]) -> tuple[str | None, str | None]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: runs the app and turns every outcome into the documented exit code."""
+    """Entry point: runs the app and turns every outcome into the documented exit code; with
+    --json, stdout gets the run's one document, an error's included (cli/envelope.py)."""
+    from panther_ops.cli import envelope
+    from panther_ops.errors import ExitCode
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    _register(*_command_words(args))
+    args = _in_place(args)
+    envelope.start()
+    try:
+        rv = app(args=args, standalone_mode=False, prog_name="panther-ops")
+        code, error = (int(rv) if isinstance(rv, int) else 0), None
+    except BaseException as exc:  # each kind is one exit code (docs/results.md), in _ended
+        ended = _ended(exc, "--debug" in args)
+        if ended is None:
+            raise
+        code, error = ended
+    if code == ExitCode.CLOSED_PIPE or not envelope.wanted(args):
+        envelope.drop()
+        return code
+    try:
+        envelope.write(_command_name(args), code, error)
+    except BrokenPipeError:
+        if not _reader_gone():
+            raise
+        return int(ExitCode.CLOSED_PIPE)
+    return code
+
+
+def _ended(exc: BaseException, debug: bool) -> tuple[int, dict[str, Any] | None] | None:
+    """How a run that raised ``exc`` ends: its exit code and the JSON ``error`` object, after the
+    message on stderr; None: raise it again (--debug, or an exit that is not ours)."""
     try:  # typer >= 0.2x vendors click
         from typer._click.exceptions import ClickException
     except ImportError:  # pragma: no cover - older typer on plain click
         from click.exceptions import ClickException  # type: ignore[assignment,unused-ignore]
 
-    from panther_ops.errors import ExitCode, OpsError
+    from panther_ops.cli.envelope import error_of
+    from panther_ops.cli.render import error
+    from panther_ops.errors import Declined, ExitCode, OpsError
     from panther_ops.manager.errors import ManagerError
 
-    args = list(sys.argv[1:] if argv is None else argv)
-    _register(*_command_words(args))
-    try:
-        rv = app(args=args, standalone_mode=False, prog_name="panther-ops")
-    except OpsError as exc:
-        from panther_ops.cli.render import error
-
+    if isinstance(exc, Declined):  # the operator said no: not an error (exit 5, docs/results.md)
+        sys.stderr.write(f"{exc}\n")
+        return int(exc.exit_code), error_of(exc, exc.exit_code)
+    if isinstance(exc, (OpsError, ManagerError)):  # a file the manager reads is bad input too
+        code = int(exc.exit_code) if isinstance(exc, OpsError) else int(ExitCode.USAGE)
         error(str(exc))
-        return int(exc.exit_code)
-    except ManagerError as exc:  # a file the manager reads (scenario, animations, BT project...) is bad
-        from panther_ops.cli.render import error
-
-        error(str(exc))
-        return int(ExitCode.USAGE)
-    except typer.Exit as exc:
-        return int(getattr(exc, "exit_code", 0))
-    except typer.Abort:
-        sys.stderr.write("aborted\n")
-        return int(ExitCode.INTERRUPTED)
-    except ClickException as exc:
+        return code, error_of(exc, code)
+    if isinstance(exc, typer.Exit):
+        return int(getattr(exc, "exit_code", 0)), None
+    if isinstance(exc, (typer.Abort, KeyboardInterrupt)):
+        said = "aborted" if isinstance(exc, typer.Abort) else "interrupted"
+        sys.stderr.write(f"{said}\n")
+        return int(ExitCode.INTERRUPTED), error_of(exc, ExitCode.INTERRUPTED, said)
+    if isinstance(exc, ClickException):
         exc.show()
-        return int(ExitCode.USAGE)
-    except KeyboardInterrupt:
-        sys.stderr.write("interrupted\n")
-        return int(ExitCode.INTERRUPTED)
-    except Exception:
-        if "--debug" in (argv if argv is not None else sys.argv):
-            raise
-        import tempfile
-        import traceback
+        return int(ExitCode.USAGE), error_of(exc, ExitCode.USAGE, exc.format_message())
+    closed = exc if isinstance(exc, BrokenPipeError) else exc.__context__ if isinstance(exc, SystemExit) else None
+    if isinstance(closed, BrokenPipeError) and _reader_gone():  # rich and click: SystemExit(1) on EPIPE
+        return int(ExitCode.CLOSED_PIPE), None
+    if isinstance(exc, Exception) and not debug:
+        log = _internal_error()
+        said = f"internal error (a bug): traceback written to {log}; please report it"
+        return int(ExitCode.ERROR), error_of(exc, ExitCode.ERROR, said)
+    return None
 
-        with tempfile.NamedTemporaryFile("w", prefix="panther-ops-debug-", suffix=".log", delete=False) as fh:
-            traceback.print_exc(file=fh)
-        sys.stderr.write(f"internal error (a bug): traceback written to {fh.name}; please report it\n")
-        return int(ExitCode.ERROR)
-    return int(rv) if isinstance(rv, int) else 0
+
+def _in_place(args: list[str]) -> list[str]:
+    """Global options after the command, and a command's options before it, moved to where
+    click reads them (cli/argv_order.py)."""
+    from typer.main import get_command
+
+    from panther_ops.cli.argv_order import in_place
+
+    return in_place(args, get_command(app))
+
+
+def _command_name(args: list[str]) -> str:
+    """The command's words (``shutdown hosts list``) as the command line gives them."""
+    from typer.main import get_command
+
+    first, _ = _command_words(args)
+    if first is None:
+        return ""
+    words: list[str] = []
+    cmd: Any = get_command(app)
+    for word in args[args.index(first):]:
+        sub = getattr(cmd, "commands", {}).get(word)
+        if sub is None:
+            break
+        words.append(word)
+        cmd = sub
+    return " ".join(words)
+
+
+def _reader_gone() -> bool:
+    """``... | head``: the reader of the output has what it wanted and went away; the rest is
+    dropped without a message (docs/results.md, exit 141)."""
+    from panther_ops.cli.output import reader_gone
+
+    return reader_gone()
+
+
+def _internal_error() -> str:
+    """An unexpected error (a bug): its traceback written to a debug log (--debug shows it
+    instead), said on stderr; the log's path."""
+    import tempfile
+    import traceback
+
+    with tempfile.NamedTemporaryFile("w", prefix="panther-ops-debug-", suffix=".log", delete=False) as fh:
+        traceback.print_exc(file=fh)
+    sys.stderr.write(f"internal error (a bug): traceback written to {fh.name}; please report it\n")
+    return fh.name
 
 
 def run() -> None:
@@ -240,8 +315,14 @@ def run() -> None:
     """
     code = main()
     logging.shutdown()
-    sys.stdout.flush()
-    sys.stderr.flush()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BrokenPipeError:
+        from panther_ops.errors import ExitCode
+
+        if _reader_gone():
+            code = int(ExitCode.CLOSED_PIPE)
     os._exit(code)
 
 

@@ -95,7 +95,23 @@ def targets(
         else:
             info(f"no robot chosen: reading all {len(inv.robots)} (choose with -r, -g)")
             all_ = True
-    return inv, inv.select(robots or [], groups or [], all_)
+    chosen = inv.select(robots or [], groups or [], all_)
+    check_keys(inv, chosen)
+    return inv, chosen
+
+
+def check_keys(inv: Inventory, chosen: list[Robot]) -> None:
+    """A key file of the chosen robots that is missing or unreadable: exit 2 before any robot is
+    contacted (``Inventory.key_problems``), each named with its file, key and fix."""
+    problems = inv.key_problems(chosen)
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        from panther_ops.errors import InventoryError
+
+        raise InventoryError(f"{len(problems)} identity files cannot be used:\n  " +
+                             "\n  ".join(p.message for p in problems),
+                             path=str(inv.path), hint=problems[0].hint)
 
 
 def run(
@@ -189,10 +205,10 @@ class Fleet:
     def change(self, command: str, planner: Planner, *, applier: Applier | None = None, verb: str = "Apply to",
                read_only: bool = False,
                on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None,
-               applier_for_actions: bool = False) -> int:
+               applier_for_actions: bool = False, drift_exit: bool = False) -> int:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
         targets given; ``read_only``: only compare (a dry run that does not call itself one);
-        ``applier_for_actions``: see :func:`~panther_ops.cli.mutate.mutate`."""
+        ``applier_for_actions``, ``drift_exit``: see :func:`~panther_ops.cli.mutate.mutate`."""
         from panther_ops.cli.mutate import mutate
 
         inv, chosen = on or self.targets(read_only)
@@ -200,4 +216,4 @@ class Fleet:
                       dry_run=self.dry_run or read_only, restart=not self.no_restart if restart is None else restart,
                       settle=self.settle, json_out=self.json_out, forks=self.forks, canary=self.canary,
                       max_fail=self.max_fail, applier=applier, verb=verb, read_only=read_only,
-                      applier_for_actions=applier_for_actions)
+                      applier_for_actions=applier_for_actions, drift_exit=drift_exit)

@@ -22,7 +22,21 @@ def confirm(question: str, yes: bool, refusal: str) -> bool:
 
         error(refusal)
         return False
-    return bool(typer.confirm(question, default=False))
+    return bool(typer.confirm(question, default=False, err=True))  # stdout is for data (--json)
+
+
+def require(question: str, yes: bool, refusal: str, nothing: str = "nothing was changed") -> None:
+    """Go on with --yes or when the operator answers yes to ``question``; otherwise stop: nobody
+    can answer (not interactive, no --yes) is a usage error, ``refusal`` (exit 2); a no is
+    :class:`~panther_ops.errors.Declined`, ``nothing`` (exit 5, docs/results.md)."""
+    from panther_ops.errors import Declined, UsageError
+
+    if yes:
+        return
+    if not sys.stdin.isatty():
+        raise UsageError(refusal)
+    if not typer.confirm(question, default=False, err=True):  # stdout is for data (--json)
+        raise Declined(nothing)
 
 
 def question(verb: str, subject: str, to_change: list[str], chosen: list[Robot]) -> str:
@@ -50,6 +64,7 @@ def mutate(
     verb: str = "Apply to",
     read_only: bool = False,
     applier_for_actions: bool = False,
+    drift_exit: bool = False,
 ) -> int:
     """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
 
@@ -59,6 +74,8 @@ def mutate(
     (``config diff``): the plan is shown as a dry run's, without speaking of one.
     ``applier_for_actions``: the applier differs from the pipeline only for plans with an
     action (``apply``'s WebUI change); the others are staged while planning as usual.
+    ``drift_exit``: a comparison's exit code says whether a robot would change (``config diff
+    --exit-code``: 6, docs/results.md).
     """
     from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
@@ -77,25 +94,31 @@ def mutate(
                             go_early=early)
         if fp.usage_errors:
             unstage_fleet(fp, inv, chosen, conns, opts)
-            for name, exc in fp.usage_errors.items():
+            order = [r.name for r in chosen]
+            refused = sorted(fp.usage_errors.items(), key=lambda item: order.index(item[0]) if item[0] in order else 0)
+            for name, exc in refused:
                 error(f"{name}: {exc}")
-            sys.stderr.write("nothing was changed" + (" on any robot" if inv.subject == "robot" else "") + "\n")
+            nothing = "nothing was changed" + (" on any robot" if inv.subject == "robot" else "")
+            sys.stderr.write(nothing + "\n")
+            if json_out:
+                from panther_ops.cli.envelope import error_of, hold_error
+
+                hold_error({"type": "UsageError", "code": ExitCode.USAGE.name,
+                            "message": f"bad input for {len(refused)} {inv.subject}(s): {nothing}",
+                            inv.subject + "s": {name: error_of(exc, ExitCode.USAGE) for name, exc in refused}})
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
-            return finish(dry_run_result(fp, read_only=read_only) if dry_run else fp.results, json_out,
-                          print_results)
+            shown = dry_run_result(fp, read_only=read_only) if dry_run else fp.results
+            shown.drift_exit = drift_exit
+            return finish(shown, json_out, print_results)
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)
             else:  # before the question nothing has changed: each change is what the robot would get
                 print_results(dry_run_result(fp, read_only=True), title=f"plan: {command}")
-        if not yes:
-            if not sys.stdin.isatty():
-                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
-                return int(ExitCode.USAGE)
-            if not typer.confirm(question(verb, inv.subject, fp.to_change, chosen), default=False):
-                sys.stderr.write("nothing was changed\n")
-                return int(ExitCode.USAGE)
+        require(question(verb, inv.subject, fp.to_change, chosen), yes,
+                "changes need confirmation: pass --yes when not interactive (or --dry-run to only look)",
+                "nothing was changed" + (" on any robot" if inv.subject == "robot" else ""))
         with progress.live():
             result = apply_fleet(fp, inv, chosen, conns, opts, apply, progress, applier=applier) if applier else \
                 apply_fleet(fp, inv, chosen, conns, opts, apply, progress)

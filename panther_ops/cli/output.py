@@ -10,6 +10,12 @@
   shows them whole, past the edge.
 - Progress: live per-robot phases on stderr only when stderr is a terminal, never with
   ``--json`` or ``--quiet`` (``cli/progress.py``).
+- A closed pipe (``panther-ops ... | head``): once the reader of stdout has gone, the rest of
+  the output is dropped without a message and the exit code is 141, as a tool killed by
+  SIGPIPE exits in a shell (``git log | head``). SIGPIPE itself stays ignored (Python's
+  default): the SSH connections to robots are sockets, and a signal on writing to a closed
+  one would kill the whole fleet run; the error a write raises instead (EPIPE) ends the run
+  through :func:`reader_gone` in ``app.main``.
 - Wrapping: table cells wrap to the width, and messages on a terminal (in a pipe a
   message stays one line); diffs and JSON never do (a diff
   line is written whole, running past the edge of a narrow terminal, so what is shown
@@ -18,10 +24,12 @@
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import sys
 from enum import Enum
+from functools import cache
 from typing import IO, Any
 
 PIPE_WIDTH = 160
@@ -85,9 +93,45 @@ def use_color(stderr: bool = False) -> bool:
     return is_terminal(stderr)
 
 
+def reader_gone() -> bool:
+    """Whether stdout's or stderr's reader has gone (a closed pipe); each that has is pointed at
+    /dev/null, so that nothing written or flushed later fails again."""
+    import select
+
+    gone = False
+    for s in (sys.__stdout__, sys.__stderr__):
+        try:
+            fd = s.fileno() if s is not None else -1
+            poll = select.poll()
+            poll.register(fd, select.POLLOUT)
+            closed = any(ev & (select.POLLERR | select.POLLHUP) for _, ev in poll.poll(0))
+        except (AttributeError, OSError, ValueError):  # no file descriptor (a test's capture)
+            continue
+        if closed:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, fd)
+            os.close(devnull)
+            gone = True
+    return gone
+
+
+@cache
+def _console_class() -> Any:
+    """rich's Console, except on a closed pipe: rich's own answer (``SystemExit(1)``, "a bug"
+    here) becomes the ``BrokenPipeError`` that ``app.main`` turns into the quiet exit 141."""
+    from rich.console import Console
+
+    class PipeConsole(Console):
+        def on_broken_pipe(self) -> None:
+            self.quiet = True
+            raise BrokenPipeError(errno.EPIPE, "the reader of the output has gone")
+
+    return PipeConsole
+
+
 def console(stderr: bool = False) -> Any:
     """A rich console for the stream, set up by the rules above."""
-    from rich.console import Console
+    Console = _console_class()
 
     terminal = is_terminal(stderr)
     colour = use_color(stderr)

@@ -37,9 +37,10 @@ def esc(text: object) -> str:
 
 
 def emit_json(doc: dict[str, Any]) -> None:
-    from panther_ops.cli.output import write_json
+    """The run's one JSON document (written when the run ends, with its exit code: cli/envelope.py)."""
+    from panther_ops.cli.envelope import hold
 
-    write_json(doc)
+    hold(doc)
 
 
 def counted(n: int, noun: str) -> str:

@@ -19,6 +19,10 @@ Four checks per release, each a list of `Result` (one per item, so a fix flips o
 - ``tree`` (the 2.2+ releases the demo fleet runs): the demo's config tree holds the files
   the image's ``update_config_directory`` copies into ``~/config`` on a Panther.
 
+A release panther-ops does not support yet (husarion_ugv 2.3, `preview`) is checked the same
+way against its preview's base release (2.2.2): its validators, catalogue, templates, compose
+template and config tree; one more item, ``release``, says that panther-ops refuses it.
+
 A result is ok (True), a failure (False) or not checked (None, with the reason: e.g. no
 local mirror of the compose file's repository).
 """
@@ -33,6 +37,7 @@ from typing import Any
 
 from panther_ops.conformance import catalogue
 from panther_ops.conformance.digest import Leaves, diff, leaves
+from panther_ops.conformance.preview import checked_stack, preview_for
 from panther_ops.conformance.reasons import own, reason_for
 from panther_ops.conformance.validate import run_validator
 from panther_ops.core.config.files import config_files, family_dirs
@@ -109,7 +114,7 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
                 pairs.append(Pair(template, upstream))
                 paired.add(template)
                 covered.add(upstream)
-    if table.get("tree") and table["tag"] in demo_tags():
+    if table.get("tree") and stack.version_str in demo_tags():
         root = templates_dir() / TREE_TEMPLATE
         for path in sorted(p for p in root.rglob("*") if p.is_file()):
             rel = path.relative_to(root).as_posix()
@@ -118,7 +123,7 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
             pairs.append(Pair(f"{TREE_TEMPLATE}/{rel}", upstream if upstream in present else None))
     compose = table.get("compose")
     for path in sorted((templates_dir() / "compose").glob("*.yaml")):
-        if path.stem.rsplit("-", 1)[-1] == table["tag"]:
+        if path.stem.rsplit("-", 1)[-1] == stack.version_str:
             if compose:
                 pairs.append(Pair(f"compose/{path.name}", f"{compose['repo']}@{compose['commit'][:12]}:"
                                                           f"{compose['path']}"))
@@ -135,12 +140,19 @@ def check_release(table: Mapping[str, Any]) -> list[Result]:
     """Every check of one release table."""
     tag = table["tag"]
     try:
-        stack = stack_from_version(tag)
+        stack = checked_stack(tag)
     except (OpsError, ValueError) as exc:
         return [Result(tag, "release", tag, False, f"panther-ops does not support {tag}: {exc}")]
     pairs = template_pairs(table, stack)
-    return [*default_results(table, stack, pairs), *launch_results(table, stack),
-            *template_results(table, pairs), *tree_results(table)]
+    results = [*default_results(table, stack, pairs), *launch_results(table, stack),
+               *template_results(table, pairs), *tree_results(table)]
+    preview = preview_for(tag)
+    if preview is None:
+        return results
+    refused = f"panther-ops refuses {preview.distro} {tag} (core/stack.py parse_image)"
+    return [Result(tag, "release", tag, False,
+                   f"{refused}: {preview.issue}; the items below are checked as on {preview.base}, the release "
+                   f"panther-ops supports nearest to it"), *results]
 
 
 def default_results(table: Mapping[str, Any], stack: Stack, pairs: list[Pair]) -> list[Result]:
@@ -161,8 +173,9 @@ def default_results(table: Mapping[str, Any], stack: Stack, pairs: list[Pair]) -
             how = f"run now on templates/{template} (semantically equal)"
         accepted = verdict["accepted"]
         robot = row["robot"]["robot_model"] + (f" {row['robot']['wheel_type']}" if row["robot"]["wheel_type"] else "")
+        on = tag if stack.version_str == tag else f"{stack.version_str} (today's validator; {tag}'s file)"
         summary = ("accepted" if accepted else "refused" if accepted is False else "not run") + \
-            f" as {row['kind']} on a {robot} {tag} ({how})"
+            f" as {row['kind']} on a {robot} {on} ({how})"
         details = tuple(verdict["errors"]) if not accepted else tuple(verdict.get("warnings", ()))
         out.append(Result(tag, "defaults", row["path"], bool(accepted), summary, details))
     return out
@@ -276,7 +289,11 @@ def demo_tags() -> set[str]:
 def tree_results(table: Mapping[str, Any]) -> list[Result]:
     """The demo's ~/config tree against the files the image copies (the demo's 2.2+ releases)."""
     tree = table.get("tree")
-    if not tree or table["tag"] not in demo_tags():
+    try:
+        checked = checked_stack(table["tag"]).version_str
+    except (OpsError, ValueError):
+        return []
+    if not tree or checked not in demo_tags():
         return []
     root = templates_dir() / TREE_TEMPLATE
     ours = {p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file()}

@@ -34,7 +34,7 @@ SCHEMA = 1
 BRINGUP = ("husarion_ugv_bringup", "panther_bringup")
 TREE_SCRIPT = "docker/utils/update_config_directory.sh"
 ROBOT_MODELS = ("panther", "lynx")
-_DIGESTED = re.compile(r"^(?:panther|husarion_ugv)_(?:bringup|controller|description|lights|manager)/"
+_DIGESTED = re.compile(r"^(?:panther|husarion_ugv)_(?:bringup|controller|description|lights|manager|teleop)/"
                        r"(?:config|behavior_trees)/[^/]+\.(?:ya?ml|xml|btproj)$")
 """Files digested besides those of a kind and those of the config tree: the packages panther-ops
 has templates of (a new template of such a file is checked without re-reading upstream)."""

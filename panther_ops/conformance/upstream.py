@@ -118,6 +118,7 @@ _RULES: tuple[tuple[re.Pattern[str], FileKind], ...] = tuple((re.compile(p), k) 
     (r"^panther_gazebo/config/battery_plugin_config\.yaml$", FileKind.BATTERY),
     (r"^husarion_ugv_gazebo/config/battery_plugin\.yaml$", FileKind.BATTERY),
     (r"^husarion_ugv_bringup/config/joy2twist_(?P<model>panther|lynx)\.yaml$", FileKind.JOY2TWIST),
+    (r"^husarion_ugv_teleop/config/joy2twist_(?P<model>panther|lynx)\.yaml$", FileKind.JOY2TWIST),  # 2.3.2
 ))
 """Upstream path -> the kind whose validator must accept it (its `FileKind`, as ``config
 push --as``). The robot: the wheel in the file name; a Lynx for ``lynx_*`` files and WH05."""

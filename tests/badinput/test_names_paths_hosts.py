@@ -98,9 +98,9 @@ SAFETY_NAMED = ["service_name='hardware/e_stop trigger'", "' ' is not allowed"]
 NAMESPACES += [
     # bt validate lists its findings on stdout (tests/unit/test_ros_names.py reads them); stderr has the verdict
     Case("bt-validate-lights-service", ["bt", "validate", "{tmp}/proj/PantherLightsBT.btproj"],
-         ["PantherLightsBT.btproj: BT project refused (1 errors"], files=BT_LIGHTS),
+         ["PantherLightsBT.btproj: BT project refused (1 error,"], files=BT_LIGHTS),
     Case("bt-validate-safety-service", ["bt", "validate", "{tmp}/proj/PantherSafetyBT.btproj"],
-         ["PantherSafetyBT.btproj: BT project refused (1 errors"], files=BT_SAFETY),
+         ["PantherSafetyBT.btproj: BT project refused (1 error,"], files=BT_SAFETY),
     Case("bt-push-lights-service", ["config", "push", "{tmp}/proj/PantherLightsBT.btproj", "--as", "bt-lights", *R1],
          ["PantherLightsBT.btproj", *LIGHTS_NAMED], files=BT_LIGHTS),
     Case("bt-push-safety-service", ["config", "push", "{tmp}/proj/PantherSafetyBT.btproj", "--as", "bt-safety", *R3],

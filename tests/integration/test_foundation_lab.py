@@ -131,9 +131,15 @@ def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.Captur
     )
     code, doc, _, _err = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 4 and "not in known_hosts" in doc["robots"][0]["message"]
+    code, doc, _, err = run_cli(capsys, "-i", str(inv), "trust", robot.name, "--json")  # nobody to answer
+    assert code == doc["exit_code"] == 2 and "pass --yes" in doc["error"]["message"], err
     capsys.readouterr()
     assert main(["-i", str(inv), "trust", robot.name, "--yes"]) == 0
     out = capsys.readouterr().out
     assert lab.host_fingerprint(robot.name) in out
+    code, doc, _, _ = run_cli(capsys, "-i", str(inv), "trust", robot.name, "--json")
+    assert code == doc["exit_code"] == 0 and doc["command"] == "trust"
+    assert doc["state"] == "known" and doc["fingerprint"] == lab.host_fingerprint(robot.name)
+    assert doc["recorded"] is False and doc["known_hosts_file"] == str(kh)
     code, doc, _, _ = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 0

@@ -61,6 +61,10 @@ VALID: dict[str, list[str]] = {
     "manager logs": R,
     "reimage plan": R,
     "reimage backup": [*R, "--out", "{tmp}/backups"],
+    "reimage restore": [*R, "--from", "{tmp}/panther-01.tar.gz", "--yes"],
+    "lights preview": [str(template_path("lights", "user_animations.example.yaml")), "--id", "21", "--out",
+                       "anim.gif"],
+    "demo init": ["--dest", "another-demo"],
     "gps enable": [*R, "--dry-run"],
     "gps disable": [*R, "--dry-run"],
     "gps status": R,  # a demo robot answers with its recorded NMEA
@@ -112,6 +116,8 @@ ELSEWHERE = {
     "reimage bmap": "tests/unit/test_reimage_bmap.py",
     # NMEA from a sender: the test sends real datagrams over loopback
     "gps listen": "tests/unit/test_gps_listen.py",
+    # a host key: a demo robot is a directory and has none (the lab's robots have sshd)
+    "trust": "tests/integration/test_foundation_lab.py",
 }
 """Commands whose valid input the demo fleet cannot give: the test named runs them with --json and parses it."""
 
@@ -143,6 +149,9 @@ def fleet(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (tmp / "local" / "hosts.yaml").write_text("hosts:\n  - ip: 10.15.20.3\n    username: husarion\n")
     assert main(["shutdown", "hosts", "add", str(tmp / "local" / "hosts.yaml"), "--ip", "10.15.20.4", "--user", "pi",
                  "--yes"]) == 0  # a backup to list and roll back to
+    assert main(["-i", str(tmp / "demo"), "reimage", "backup", *R, "--out", str(tmp / "backups")]) == 0
+    (archive,) = (tmp / "backups").glob("panther-01-*.tar.gz")
+    shutil.copy(archive, tmp / "panther-01.tar.gz")  # a name the arguments above can give
     return tmp
 
 
@@ -179,3 +188,59 @@ def _one_document(command: str, args: list[str], fleet: Path, tmp_path: Path, ca
         raise AssertionError(f"panther-ops {' '.join(argv)}: stdout is not one JSON document ({exc})\n"
                              f"--- stdout\n{out}\n--- stderr\n{err}") from None
     assert isinstance(doc, dict) and doc.get("schema") == 1, doc
+    assert isinstance(doc.get("command"), str) and doc["command"].startswith(command), doc  # one shape
+    assert doc.get("exit_code") == code, f"{argv}: exit {code}, the document says {doc.get('exit_code')}"
+
+
+ALL_JSON_COMMANDS = sorted(str(c) for c in every_command() if c.option("--json"))
+
+
+@pytest.mark.parametrize("command", ALL_JSON_COMMANDS)
+def test_a_usage_error_is_one_json_document_too(command: str, tmp_path: Path,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    """An error (exit 2) printed nothing on stdout with --json: now the error's document, with
+    ``command`` and ``exit_code`` as every other (issue 26), the message still on stderr."""
+    argv = ["-i", str(tmp_path / "none"), *command.split(), "--no-such-option", "--json"]
+    capsys.readouterr()
+    code = main(argv)
+    out, err = capsys.readouterr()
+    assert code == 2 and "No such option: --no-such-option" in err, (argv, code, err)
+    doc = json.loads(out)
+    assert doc["schema"] == 1 and doc["command"] == command and doc["exit_code"] == 2, doc
+    assert doc["error"]["code"] == "USAGE" and "--no-such-option" in doc["error"]["message"], doc
+
+
+ROBOT_COMMANDS = sorted(c for c in JSON_COMMANDS if any(a in ("-r", "--all") for a in VALID[c]))
+
+
+@pytest.mark.parametrize("command", ROBOT_COMMANDS)
+def test_a_robot_not_in_the_inventory_is_one_json_error_document(
+        command: str, fleet: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A robot the inventory does not have: exit 2 before anything is contacted, and the error's
+    document names the inventory and what is allowed."""
+    args = [a for a in VALID[command] if a not in ("--all", *R)]
+    demo = tmp_path / "demo"
+    shutil.copytree(fleet / "demo", demo, symlinks=True)
+    argv = ["-i", str(demo), *command.split(), *(a.format(tmp=fleet) for a in args), "-r", "no-such-robot", "--json"]
+    capsys.readouterr()
+    code = main(argv)
+    out, err = capsys.readouterr()
+    doc = json.loads(out)
+    assert code == doc["exit_code"] == 2 and doc["command"].startswith(command), (argv, doc, err)
+    assert doc["error"]["type"] == "InventoryError" and "no-such-robot" in doc["error"]["message"], doc
+    assert doc["error"]["hint"].startswith("robots: panther-01"), doc
+
+
+def test_bad_input_for_each_robot_is_one_json_error_document(fleet: Path, tmp_path: Path,
+                                                             capsys: pytest.CaptureFixture[str]) -> None:
+    """A value refused per robot while planning (each robot's stack decides): one error document
+    with each robot's error, in inventory order."""
+    demo = tmp_path / "demo"
+    shutil.copytree(fleet / "demo", demo, symlinks=True)
+    capsys.readouterr()
+    code = main(["-i", str(demo), "config", "set", "wheel_type", "WH05", "--all", "--dry-run", "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == doc["exit_code"] == 2
+    assert doc["error"]["code"] == "USAGE" and "nothing was changed" in doc["error"]["message"]
+    assert list(doc["error"]["robots"]) == ["panther-01", "panther-02", "panther-03"]
+    assert "Lynx" in doc["error"]["robots"]["panther-03"]["message"]

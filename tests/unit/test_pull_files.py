@@ -54,4 +54,4 @@ def test_a_robot_directory_leading_out_of_dest_is_refused(tmp_path: Path) -> Non
     with pytest.raises(UsageError, match="leads outside it"):
         plan_writes({"panther-01": b"x"}, FileKind.CONTROLLER, None, dest)
     assert plan_writes({"panther-02": b"x"}, FileKind.CONTROLLER, None, dest) == [
-        LocalWrite(dest / "panther-02" / "controller.yaml", b"x")]
+        LocalWrite(dest / "panther-02" / "controller.yaml", b"x", "panther-02")]

@@ -26,7 +26,8 @@ def test_exit_codes(outcomes: list[Outcome], code: ExitCode) -> None:
 
 def test_exit_code_values_are_documented() -> None:
     assert {c.name: int(c) for c in ExitCode} == {
-        "OK": 0, "ERROR": 1, "USAGE": 2, "PARTIAL": 3, "UNREACHABLE": 4, "INTERRUPTED": 130,
+        "OK": 0, "ERROR": 1, "USAGE": 2, "PARTIAL": 3, "UNREACHABLE": 4, "DECLINED": 5, "DRIFT": 6,
+        "INTERRUPTED": 130, "CLOSED_PIPE": 141,
     }
 
 

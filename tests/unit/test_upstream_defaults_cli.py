@@ -5,7 +5,6 @@ config tree is the one the image lays out, and `config pull` says where a file c
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pytest
@@ -72,7 +71,8 @@ def test_the_robots_own_lights_project_goes_back(demo: Path, tmp_path: Path,
     code, _, err = run(capsys, "-i", str(demo), "config", "pull", "bt-lights", "-r", "panther-03", "-o",
                        str(project / "LightsBT.btproj"))
     assert code == 0, err
-    shutil.copy(demo / TREE / "husarion_ugv_manager/behavior_trees/lights.xml", project / "lights.xml")
+    assert (project / "lights.xml").read_bytes() == (demo / TREE / "husarion_ugv_manager/behavior_trees/lights.xml"
+                                                     ).read_bytes()  # pulled with the project
     code, _, err = run(capsys, "-i", str(demo), "config", "push", str(project / "LightsBT.btproj"), "--as",
                        "bt-lights", "-r", "panther-03", "--yes")
     assert code == 0, err

@@ -51,22 +51,25 @@ def piped(args: list[str], *, cwd: Path | None = None, env: dict[str, str] | Non
 
 
 def on_pty(args: list[str], *, cols: int = 70, cwd: Path | None = None, env: dict[str, str] | None = None,
-           timeout: float = 180, stdout_pipe: bool = False, stderr_pipe: bool = False) -> Run:
+           timeout: float = 180, stdout_pipe: bool = False, stderr_pipe: bool = False, typed: str = "") -> Run:
     """stdout and stderr on one pseudo-terminal ``cols`` wide (either one piped instead when
-    asked: ``Run.out`` is then what the terminal showed, ``Run.err`` the piped stream)."""
+    asked: ``Run.out`` is then what the terminal showed, ``Run.err`` the piped stream); ``typed``:
+    what the operator types on it (e.g. ``"n\\n"`` to a question)."""
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
     with tempfile.TemporaryFile() as piped_out:
         return _pty_run(args, master, slave, piped_out, cwd=cwd, env=env, timeout=timeout,
-                        stdout_pipe=stdout_pipe, stderr_pipe=stderr_pipe)
+                        stdout_pipe=stdout_pipe, stderr_pipe=stderr_pipe, typed=typed)
 
 
 def _pty_run(args: list[str], master: int, slave: int, piped_out: IO[bytes], *, cwd: Path | None,
-             env: dict[str, str] | None, timeout: float, stdout_pipe: bool, stderr_pipe: bool) -> Run:
+             env: dict[str, str] | None, timeout: float, stdout_pipe: bool, stderr_pipe: bool, typed: str) -> Run:
     p = subprocess.Popen([*CLI, *args], cwd=cwd, env=_env({"TERM": "xterm-256color", **(env or {})}),
                          stdin=slave, stdout=piped_out if stdout_pipe else slave,
                          stderr=piped_out if stderr_pipe else slave, close_fds=True)
     os.close(slave)
+    if typed:  # held by the terminal until the process reads its input
+        os.write(master, typed.encode())
     chunks: list[bytes] = []
     while True:
         ready, _, _ = select.select([master], [], [], timeout)

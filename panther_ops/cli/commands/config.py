@@ -52,7 +52,9 @@ def get(fleet: Fleet, key: KeyArg) -> int:
     """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
     stack's default, with where it came from. No robot chosen: every robot of the inventory.
 
-    Example: panther-ops config get wheel_type --all
+    \b
+    Example:
+      panther-ops config get wheel_type --all
     """
     from panther_ops.core.config.checks import precheck_key
     from panther_ops.core.config.read import read_arg
@@ -88,6 +90,7 @@ def set_(
     places that keep the old one (gamepad service, ROBOT_NAMESPACE, the WebUI); --everywhere
     changes the first two in the same plan.
 
+    \b
     Examples:
       panther-ops config set wheel_type WH02 -r panther-01 --yes
       panther-ops config set controller.linear.x.max_velocity 1.0 -g warehouse --dry-run
@@ -117,7 +120,9 @@ def set_(
 def unset(fleet: Fleet, key: KeyArg) -> int:
     """Remove a launch argument from the driver's command (the stack's default applies again).
 
-    Example: panther-ops config unset wheel_type -r panther-01 --yes
+    \b
+    Example:
+      panther-ops config unset wheel_type -r panther-01 --yes
     """
     from panther_ops.core.config.checks import precheck_key
 
@@ -133,16 +138,25 @@ def unset(fleet: Fleet, key: KeyArg) -> int:
 
 @app.command("diff")
 @shared(*READ)
-def diff(fleet: Fleet) -> int:
+def diff(
+    fleet: Fleet,
+    exit_code: Annotated[bool, typer.Option(
+        "--exit-code", help="Exit 6 when a robot differs (drift), 0 when none does, as git diff --exit-code.")] = False,
+) -> int:
     """Compare each robot with the inventory's desired: block (launch_args, controller, image,
     GPS, and desired.webui against the WebUI snap's keys on its User Computer): `changed` means
     drift, with the diff (and WebUI keys, current -> new) that `panther-ops apply` would change.
+    --exit-code: the answer in the exit code for a script (0 no drift, 6 drift; 3 or 4 when a
+    robot could not be read).
 
-    Example: panther-ops config diff --all
+    \b
+    Examples:
+      panther-ops config diff --all
+      panther-ops -q config diff --all --exit-code
     """
     from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
 
-    return fleet.change("config diff", plan_desired, read_only=True)
+    return fleet.change("config diff", plan_desired, read_only=True, drift_exit=exit_code)
 
 
 @app.command("history")
@@ -152,6 +166,7 @@ def history(fleet: Fleet, file: LocalFile = None) -> int:
     command, what changed, and how the attempt ended (applied, rolled-back and why). --file:
     the backups of a local hosts file, kept beside it by `shutdown hosts add|remove FILE`.
 
+    \b
     Examples:
       panther-ops config history -r panther-01
       panther-ops config history --file hosts.yaml
@@ -194,6 +209,7 @@ def rollback(
     the same pipeline: diff, confirm, backup, atomic write, recreate, verify. --file: a local
     hosts file from its own backups (nothing recreated).
 
+    \b
     Examples:
       panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
       panther-ops config rollback --file hosts.yaml --dry-run
@@ -228,7 +244,9 @@ def push(
     one command, with diff, backup, recreate, verify and roll back. A BT project brings the XML
     files it includes; a user animations file brings the images it references.
 
-    Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
+    \b
+    Example:
+      panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
     from panther_ops.core.config.push import push_kind, read_bundle
     from panther_ops.core.config.read import read_and_plan_push as plan_push
@@ -248,17 +266,25 @@ def pull(
     output: Annotated[OptPath, typer.Option("--output", "-o",
                                             help="Write to this file (one robot) instead of stdout.")] = None,
     dest: Annotated[OptPath, typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="A BT project: replace included files that exist "
+                                        "beside the output with other content.")] = False,
 ) -> int:
     """Fetch the config file in use: the mounted one, else the 2.2 config tree's, else the
-    default inside the robot's own image, else panther-ops' template for that version.
+    default inside the robot's own image, else panther-ops' template for that version. A BT
+    project (bt-lights, bt-safety) comes with the files it includes, from the same place,
+    written beside it (-o/--dest) at the paths the project names.
 
-    Example: panther-ops config pull controller -r panther-01 -o controller.yaml
+    \b
+    Example:
+      panther-ops config pull controller -r panther-01 -o controller.yaml
     """
     from panther_ops.cli.context import info, run
     from panther_ops.cli.output import write_bytes
-    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, write_files
+    from panther_ops.cli.render import print_warnings
+    from panther_ops.core.config.plan import BT_ARGS
+    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, settle, write_files
     from panther_ops.core.config.push import pull as pull_file
-    from panther_ops.core.config.push import push_kind
+    from panther_ops.core.config.push import pull_project, push_kind
     from panther_ops.results import Outcome, RobotResult
 
     k = push_kind(kind, "KIND")
@@ -266,20 +292,41 @@ def pull(
     inv, chosen = fleet.targets()
     check_dest(dest, len(chosen))
     got: dict[str, bytes] = {}
+    includes: dict[str, dict[str, bytes]] = {}
 
     def task(c: Any) -> RobotResult:
-        data, source = pull_file(c, k)
-        got[c.robot.name] = data
-        return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}", data={"source": source})
+        if k not in BT_ARGS:
+            data, source = pull_file(c, k)
+            got[c.robot.name] = data
+            return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}", data={"source": source})
+        data, source, inc = pull_project(c, k)
+        got[c.robot.name], includes[c.robot.name] = data, inc.files
+        warnings = [f"included {n}: not found at the source" for n in inc.missing]
+        warnings += [f"include {r}: leaves the project's directory, not fetched" for r in inc.refused]
+        if inc.files and output is None and dest is None:
+            warnings.append(f"the project includes {', '.join(inc.files)}: pull with -o FILE.btproj to write "
+                            "them beside it")
+        said = f"; includes {', '.join(inc.files)}" if inc.files else ""
+        return RobotResult(c.robot.name, Outcome.OK, f"{len(data)} bytes from {source}{said}",
+                           data={"source": source, "includes": list(inc.files)}, warnings=warnings)
 
     result = run("config pull", inv, chosen, task, json_out=True)
-    write_files(plan_writes(got, k, output, dest))
+    writes, same = settle(plan_writes(got, k, output, dest, includes), force)
+    write_files(writes)
+    for r in result.results:  # which files this machine now has, each named
+        written = [str(w.path) for w in writes if w.robot == r.robot]
+        unchanged = [str(w.path) for w in same if w.robot == r.robot]
+        if written or unchanged:
+            r.data.update(written=written, unchanged=unchanged)
+            r.message += "; written: " + ", ".join(written) + (f"; already there: {', '.join(unchanged)}"
+                                                                 if unchanged else "")
     if fleet.json_out or dest is not None or output is not None:
         return fleet.show(result)
     for data in got.values():
         write_bytes(data)
     for r in result.results:
         info(f"{r.robot}: {r.outcome.value}: {r.message}")
+    print_warnings(result)
     return int(result.exit_code)
 
 
@@ -290,7 +337,9 @@ def apply(fleet: Fleet, force: Force = False, ask_sudo_password: AskPassword = F
     pipeline, and desired.webui on each robot's User Computer (sudo snap set, the WebUI
     restarted when it was running; ros.namespace defaults to the robot's namespace).
 
-    Example: panther-ops apply -g warehouse --canary 1 --yes
+    \b
+    Example:
+      panther-ops apply -g warehouse --canary 1 --yes
     """
     from panther_ops.core.apply.apply import desired_applier
     from panther_ops.core.apply.read import read_and_plan_desired as plan_desired

@@ -7,6 +7,8 @@ from typing import Annotated
 
 import typer
 
+from panther_ops.cli.options import Json
+
 app = typer.Typer(help="The embedded demo fleet: robots that are local directories.", no_args_is_help=True)
 
 
@@ -14,15 +16,27 @@ app = typer.Typer(help="The embedded demo fleet: robots that are local directori
 def init(
     dest: Annotated[Path, typer.Option("--dest", help="Where to create it.")] = Path("demo-fleet"),
     force: Annotated[bool, typer.Option("--force", help="Recreate it if it exists.")] = False,
+    json_out: Json = False,
 ) -> int:
     """Create a demo fleet of three robots (panther_ros 2.1.1 and 2.0.4, husarion_ugv 2.2.2),
     each a directory standing in for its Built-in Computer, and an inventory for them.
 
-    Example: panther-ops demo init && panther-ops -i demo-fleet status --all
+    \b
+    Examples:
+      panther-ops demo init
+      panther-ops -i demo-fleet status --all
     """
     from panther_ops.core.demo.fleet import init_demo
 
     inventory = init_demo(dest, force=force)
+    if json_out:
+        from panther_ops.cli.render import emit_json
+        from panther_ops.core.fleet.inventory_file import load_inventory
+
+        inv = load_inventory(str(dest))
+        emit_json({"schema": 1, "command": "demo init", "dest": str(dest), "inventory": str(inventory),
+                   "robots": list(inv.robots), "next": f"panther-ops -i {dest} status --all"})
+        return 0
     typer.echo(f"demo fleet created: {inventory}")
     typer.echo(f"try: panther-ops -i {dest} status --all")
     return 0

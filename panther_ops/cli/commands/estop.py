@@ -18,7 +18,9 @@ def status(fleet: Fleet) -> int:
     """Each robot's E-stop (the driver's hardware/e_stop topic) and the nodes publishing on
     cmd_vel, asked inside the driver container in the robot's namespace.
 
-    Example: panther-ops estop status --all
+    \b
+    Example:
+      panther-ops estop status --all
     """
     from panther_ops.cli.views.estop import print_state
     from panther_ops.core.remote.estop.calls import status_task
@@ -33,7 +35,9 @@ def trigger(fleet: Fleet) -> int:
     emergency, so no confirmation, no fork limit, all connections opened in parallel; the
     driver's answer per robot. Exit 3 when any robot did not confirm.
 
-    Example: panther-ops estop trigger --all
+    \b
+    Example:
+      panther-ops estop trigger --all
     """
     from panther_ops.core.remote.estop.calls import trigger_task
 
@@ -51,9 +55,11 @@ def reset(fleet: Fleet) -> int:
     while messages arrive); a robot whose E-stop is not triggered is left alone. Then names
     each robot to be reset and asks (--yes), resets them and reads the E-stop back.
 
-    Example: panther-ops estop reset -r panther-01 --yes
+    \b
+    Example:
+      panther-ops estop reset -r panther-01 --yes
     """
-    from panther_ops.cli.mutate import confirm
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import print_results
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.remote.estop.calls import reset_check_task, reset_task
@@ -75,9 +81,8 @@ def reset(fleet: Fleet) -> int:
         names = ", ".join(r.name for r in ready)
         question = (f"Reset the E-stop of {len(ready)} robot(s): {names}? They move again as soon as velocity "
                     "commands arrive.")
-        if not confirm(question, fleet.yes, f"{question} -- resetting the E-stop needs confirmation: pass --yes "
-                       "when not interactive (or --dry-run to only check)"):
-            return 2
+        require(question, fleet.yes, f"{question} -- resetting the E-stop needs confirmation: pass --yes "
+                "when not interactive (or --dry-run to only check)", "nothing was reset")
         done = run_fleet("estop reset", inv, ready, reset_task, opts, connections=conns)
     by_name = {r.robot: r for r in done.results}
     checked.results = [by_name.get(r.robot, r) for r in checked.results]

@@ -34,7 +34,9 @@ def validate(
     paths, hex colours, segments and segments_map names defined, channels present in panels,
     led_range inside its panel. Every rule has its own message; exit 2 when the file would be refused.
 
-    Example: panther-ops lights validate my_awesome_user_animations.yaml --stack 2.1.1
+    \b
+    Example:
+      panther-ops lights validate my_awesome_user_animations.yaml --stack 2.1.1
     """
     from panther_ops.cli.views.findings import report_findings
     from panther_ops.core.stack import stack_option
@@ -55,11 +57,15 @@ def preview(
     led_config: LedConfig = None,
     param: Annotated[OptStr, typer.Option(
         "--param", help="Animation parameter (battery level 0-1 for ChargingAnimation).")] = None,
+    json_out: Json = False,
 ) -> int:
     """Draw both bumpers of animation --id as an animated GIF, frame by frame at the lights
-    controller's 50 Hz (duration x 50 x repeat frames).
+    controller's 50 Hz (duration x 50 x repeat frames). --json: the GIF written, its animation,
+    frames and frame time.
 
-    Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
+    \b
+    Example:
+      panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
     """
     from panther_ops.core.parse.numbers import NumberError, decimal
     from panther_ops.errors import UsageError
@@ -75,7 +81,13 @@ def preview(
         raise UsageError(f"--out {out}: not a GIF file path in an existing directory",
                          hint="e.g. --out anim.gif")
     p = render_preview(file, anim_id, out, led_config, param)
-    typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
+    if json_out:
+        from panther_ops.cli.render import emit_json
+
+        emit_json({"schema": 1, "command": "lights preview", "file": str(file), "id": anim_id, "out": str(p.path),
+                   "animation": p.name, "frames": p.frames, "frame_ms": p.frame_ms})
+    else:
+        typer.echo(f"{p.path}: {p.name}, {p.frames} frames of {p.frame_ms} ms")
     return 0
 
 
@@ -88,7 +100,9 @@ def deploy(
     """Validate, then push a user animations file with its images to the robots and point the
     driver at it (user_led_animations_file, 2.2: user_led_animations_path) through the pipeline.
 
-    Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
+    \b
+    Example:
+      panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
     from panther_ops.core.config.push import read_bundle
     from panther_ops.core.config.read import read_and_plan_push as plan_push
@@ -110,7 +124,9 @@ def test(
     """Show an animation on the robot now: the lights/set_animation service call, made inside
     the driver container (as the manual's `ros2 service call` example).
 
-    Example: panther-ops lights test 21 --repeating -r panther-01
+    \b
+    Example:
+      panther-ops lights test 21 --repeating -r panther-01
     """
     from panther_ops.core.manager_ops.lights import set_animation
     from panther_ops.errors import UsageError

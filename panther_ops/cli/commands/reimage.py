@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import sys
 from collections.abc import Callable
 from typing import Annotated, Any, Optional
 
@@ -53,7 +52,9 @@ def flash(
     least the image's size. Exit 2: refused, nothing written; exit 3: the card does not read
     back as the image, or the image did not match its checksum.
 
-    Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
+    \b
+    Example:
+      panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
     """
     from panther_ops.cli.render import emit_json, error
     from panther_ops.cli.views.reimage import progress
@@ -72,8 +73,7 @@ def flash(
             file_sha = check_sha256(img, step)
             facts = eligible_device(device, img)
             what = f"{image} ({img.size} bytes, sha256 {file_sha} checked against {img.checksum_from})"
-            if not _confirmed(yes, what, describe(facts), image):
-                return int(ExitCode.USAGE)
+            _confirm(yes, what, describe(facts), image)
             context.info(f"writing {what} to {describe(facts)}")
             done = flash(img, facts, file_sha, step)
         v = done.verdict
@@ -89,18 +89,12 @@ def flash(
     return _flash_mapped(image, device, sha256, bmap, yes, json_out, error)
 
 
-def _confirmed(yes: bool, what: str, dev: str, image: str) -> bool:
-    from panther_ops.cli.render import error
+def _confirm(yes: bool, what: str, dev: str, image: str) -> None:
+    """Go on only with --yes or the operator's yes (exit 2 when nobody can answer, 5 declined)."""
+    from panther_ops.cli.mutate import require
 
-    if yes:
-        return True
-    if not sys.stdin.isatty():
-        error(f"writing {what} would erase {dev}: pass --yes; nothing was written")
-        return False
-    if not typer.confirm(f"Erase {dev} and write {image}?", default=False):
-        context.info("nothing was written")
-        return False
-    return True
+    require(f"Erase {dev} and write {image}?", yes,
+            f"writing {what} would erase {dev}: pass --yes; nothing was written", "nothing was written")
 
 
 def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None, yes: bool, json_out: bool,
@@ -129,8 +123,7 @@ def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None,
             f"{plan.kind} of each range from the map" if plan.kind else "") if x)
         what = (f"{image} ({img.size} bytes; {human_bytes(plan.mapped_bytes)} mapped in {len(plan.spans)} "
                 f"ranges; checked as it is read: {checked})")
-        if not _confirmed(yes, what, describe(facts), image):
-            return int(ExitCode.USAGE)
+        _confirm(yes, what, describe(facts), image)
         if not json_out:
             context.info(f"map: {plan.source}")
             for note in plan.notes:
@@ -168,7 +161,9 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, bmap: BmapOpt
     sha256 is checked first, before the device, when --sha256 or IMAGE.sha256 gives one.
     Exit 3 when the device differs.
 
-    Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
+    \b
+    Example:
+      panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
     """
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.reimage import progress
@@ -211,7 +206,9 @@ def bmap_cmd(
     else is mapped whole, and said so); a sparse image's holes are left out. Map a fleet's
     image once; `reimage flash` (and `bmaptool copy`) then find it beside the image.
 
-    Example: panther-ops reimage bmap panther-2.1.1.img.xz
+    \b
+    Example:
+      panther-ops reimage bmap panther-2.1.1.img.xz
     """
     from pathlib import Path
 
@@ -248,7 +245,9 @@ def plan(fleet: Fleet) -> int:
     deployed manager, and the inventory's desired: block; per file its mode, owner, size and
     whether it is a secret.
 
-    Example: panther-ops reimage plan -r panther-01
+    \b
+    Example:
+      panther-ops reimage plan -r panther-01
     """
     from panther_ops.cli.views.reimage import print_carried
     from panther_ops.core.reimage.tasks import plan_task
@@ -268,7 +267,9 @@ def backup(
     robot, model, serial, stack and version, OS build, host key fingerprint, and per file its
     path, mode, owner, sha256 and whether it is a secret (private keys, shutdown secrets).
 
-    Example: panther-ops reimage backup --all --out backups/
+    \b
+    Example:
+      panther-ops reimage backup --all --out backups/
     """
     from panther_ops.cli.render import print_results
     from panther_ops.core.reimage.archive import out_dir
@@ -279,7 +280,7 @@ def backup(
 
 
 @app.command("restore")
-@shared("yes", "dry_run", "no_restart", "settle")
+@shared("yes", "dry_run", "no_restart", "settle", "json_out")
 def restore(
     fleet: Fleet,
     robot: Annotated[str, typer.Option("--robot", "-r", help="The robot the backup was taken from.")],
@@ -299,10 +300,14 @@ def restore(
     desired: block, and a doctor summary (which reports a default password still accepted).
     Onto a newer image of the same release line (2.1.1 -> 2.1.x) the new compose file and its
     image tags are kept and the backup's launch arguments, mounts and extra services are
-    re-applied onto it; across release lines restore is refused (exit 2).
+    re-applied onto it; across release lines restore is refused (exit 2). --json: the restore's
+    document, the apply's and the doctor's in it under "apply" and "doctor".
 
-    Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
+    \b
+    Example:
+      panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """
+    from panther_ops.cli.envelope import under
     from panther_ops.cli.views.status import print_doctor
     from panther_ops.core.apply.apply import desired_applier
     from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
@@ -313,6 +318,7 @@ def restore(
     backup = load_backup(from_)
     inv = context.load(fleet.ctx)
     (target,) = inv.select([robot], [], False)[:1]
+    context.check_keys(inv, [target])
     taken_from = backup.robot.get("name")
     if taken_from != target.name:
         raise UsageError(f"--from {from_}: the backup is of robot {taken_from!r}, not {target.name!r}")
@@ -335,8 +341,11 @@ def restore(
     if code != 0 or fleet.dry_run:
         return code
     if target.desired:
-        code = fleet.change("apply", plan_desired, on=(inv, [target]), applier=desired_applier(sudo_password(False)),
-                            applier_for_actions=True)
-    summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"))
-    print_doctor(summary)
+        with under("apply"):
+            code = fleet.change("apply", plan_desired, on=(inv, [target]),
+                                applier=desired_applier(sudo_password(False)), applier_for_actions=True)
+    summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"),
+                          json_out=fleet.json_out)
+    with under("doctor"):
+        fleet.show(summary, print_doctor)
     return code

@@ -32,6 +32,7 @@ def _read(path: Path) -> str:
 def _write(path: Path, before: str, after: str, what: str, command: str, *, yes: bool, dry_run: bool,
            json_out: bool) -> int:
     """Show the exact diff, confirm, then write atomically with a backup beside the file."""
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import emit_json, print_diffs, print_warnings
     from panther_ops.core.yaml.diff import unified_diff
     from panther_ops.results import Diff, FleetResult, Outcome, RobotResult
@@ -45,15 +46,8 @@ def _write(path: Path, before: str, after: str, what: str, command: str, *, yes:
     if changed and not json_out:
         print_diffs(fleet)
     if changed and not dry_run:
-        if not yes:
-            if not sys.stdin.isatty():
-                from panther_ops.cli.render import error
-
-                error("changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
-                return 2
-            if not typer.confirm(f"Write {path}?", default=False):
-                sys.stderr.write("nothing was changed\n")
-                return 2
+        require(f"Write {path}?", yes,
+                "changes need confirmation: pass --yes when not interactive (or --dry-run to only look)")
         from panther_ops.core.sim.files import write_text
 
         res.data["backup"] = str(write_text(path, after))
@@ -80,7 +74,9 @@ def gps_add(
     ANT02, parent_link cover_link, xyz 0.185 -0.12 0.0, rpy 0.0 0.0 3.14, device_namespace
     gps), the rest of the file kept. An ANT02 entry already there gets these values.
 
-    Example: panther-ops sim gps add components.yaml --dry-run
+    \b
+    Example:
+      panther-ops sim gps add components.yaml --dry-run
     """
     from panther_ops.core.sim.components import add_ant02, check_triple
 
@@ -136,7 +132,9 @@ def world_set(
     """Set the world origin's latitude, longitude, elevation, heading; only those texts change.
     A world without <spherical_coordinates> gets the manual's block first.
 
-    Example: panther-ops sim world set my_world.sdf --latitude 52.2297 --longitude 21.0122 --yes
+    \b
+    Example:
+      panther-ops sim world set my_world.sdf --latitude 52.2297 --longitude 21.0122 --yes
     """
     from panther_ops.core.sim.world import set_coordinates
     from panther_ops.errors import UsageError
@@ -194,10 +192,12 @@ def battery_charge(
     the exact command; it asks (or --yes); --dry-run only shows it. The service must be among
     those the simulation serves (`ign service --list`), else exit 3 naming the ones it has.
 
+    \b
     Examples:
       panther-ops sim battery charge start --yes
       panther-ops sim battery charge stop --namespace panther --yes
     """
+    from panther_ops.cli.mutate import require
     from panther_ops.cli.render import emit_json, error
     from panther_ops.core.sim.charging import plan_charge
     from panther_ops.transport.base import quote_command
@@ -213,13 +213,11 @@ def battery_charge(
             sys.stdout.write(f"would run: {shown}\nnote dry run: nothing was called\n")
         return 0
     if not yes:
-        if not sys.stdin.isatty():
-            error("this calls the simulation: pass --yes when not interactive (or --dry-run to only look)")
-            return 2
-        sys.stdout.write(f"{shown}\n")
-        if not typer.confirm(f"{call.action.capitalize()} charging?", default=False):
-            sys.stderr.write("nothing was called\n")
-            return 2
+        if sys.stdin.isatty():
+            sys.stdout.write(f"{shown}\n")
+        require(f"{call.action.capitalize()} charging?", yes,
+                "this calls the simulation: pass --yes when not interactive (or --dry-run to only look)",
+                "nothing was called")
     from panther_ops.core.sim.charging import missing_service
     from panther_ops.transport.local_command import run_local
 

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import sys
 from typing import Annotated
 
 import typer
 
 from panther_ops.cli import context
+from panther_ops.cli.options import Json
 
 
 def trust(
@@ -17,41 +17,53 @@ def trust(
     replace: Annotated[
         bool, typer.Option("--replace", help="Replace a key that CHANGED (after checking it on the robot).")
     ] = False,
+    json_out: Json = False,
 ) -> int:
     """Show ROBOT's SSH host key fingerprint and record it in known_hosts when you confirm.
 
     Compare the fingerprint with the robot's own (on the robot:
     `ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub`). A changed key is refused unless
-    --replace. Host keys are never accepted silently.
+    --replace. Host keys are never accepted silently. --json: the key, its state (new, known,
+    changed) and whether it was recorded (the messages on stderr).
 
-    Example: panther-ops trust panther-07
+    \b
+    Example:
+      panther-ops trust panther-07
     """
+    from panther_ops.cli.mutate import require
     from panther_ops.core.fleet.trust import plan_trust, record
-    from panther_ops.errors import ExitCode, HostKeyError
+    from panther_ops.errors import HostKeyError
 
     inv = context.load(ctx)
     (robot,) = inv.select([name], [], False)[:1]
     plan = plan_trust(inv, robot)
-    typer.echo(f"{plan.robot} ({plan.address}) offers {plan.key_type} {plan.fingerprint}")
-    if plan.state == "known":
-        typer.echo(f"already trusted in {plan.known_hosts_file}")
+
+    def done(recorded: bool, said: str) -> int:
+        typer.echo(said, err=json_out)
+        if json_out:
+            from panther_ops.cli.render import emit_json
+
+            emit_json({"schema": 1, "command": "trust", "robot": plan.robot, "address": plan.address,
+                       "key_type": plan.key_type, "fingerprint": plan.fingerprint, "state": plan.state,
+                       "known_hosts_file": str(plan.known_hosts_file),
+                       "known_fingerprints": list(plan.known_fingerprints), "recorded": recorded})
         return 0
+
+    typer.echo(f"{plan.robot} ({plan.address}) offers {plan.key_type} {plan.fingerprint}", err=json_out)
+    if plan.state == "known":
+        return done(False, f"already trusted in {plan.known_hosts_file}")
     if plan.state == "changed":
         typer.echo(f"WARNING: {plan.known_hosts_file} has a different key: {', '.join(plan.known_fingerprints)}",
                    err=True)
         if not replace:
             raise HostKeyError(robot.name, "host key changed: refused",
                                offered=plan.fingerprint, expected=", ".join(plan.known_fingerprints),
-                               hint="if you reinstalled the robot and checked the fingerprint, add --replace")
-    if not yes:
-        if not sys.stdin.isatty():
-            typer.echo("not recording: pass --yes when not interactive", err=True)
-            return int(ExitCode.USAGE)
-        if not typer.confirm(f"Record this key in {plan.known_hosts_file}?", default=False):
-            return int(ExitCode.USAGE)
+                               hint="if you reinstalled the robot and checked the fingerprint on it: "
+                               f"panther-ops trust {robot.name} --replace")
+    require(f"Record this key in {plan.known_hosts_file}?", yes, "not recording: pass --yes when not interactive",
+            "nothing was recorded")
     record(plan)
-    typer.echo(f"recorded in {plan.known_hosts_file}")
-    return 0
+    return done(True, f"recorded in {plan.known_hosts_file}")
 
 
 def register(app: typer.Typer) -> None:

@@ -13,7 +13,7 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from panther_ops.core.config.arg_edits import set_launch_args, unset_launch_arg
 from panther_ops.core.config.controller import ControllerConfig
@@ -26,6 +26,9 @@ from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, Target, check_file
 from panther_ops.errors import InputError, UsageError
+
+if TYPE_CHECKING:
+    from panther_ops.core.config.wheel_change import WheelChange
 
 
 def _value_text(value: Any) -> str:
@@ -88,15 +91,16 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
     model = None
     if "wheel_type" in sets or "wheel_type" in unsets:
         from panther_ops.core.config.robot_model import env_robot_model, robot_model_of
-        from panther_ops.core.config.wheel_change import needs_migration
+        from panther_ops.core.config.wheel_change import migrate
 
         cfg = parse_config(raw, reads.stack)
         model = env_robot_model(reads, cfg.stack)  # WH05 is the Lynx wheel: the model decides
         running = str(sets.get("robot_model") or robot_model_of(reads, cfg))  # and the default wheel type
         new_wheel = (str(sets["wheel_type"]) if "wheel_type" in sets
                      else spec("wheel_type").default_for(cfg.stack, running))
-        if needs_migration(cfg, new_wheel, running):
-            return _plan_wheel_change(reads, cfg, new_wheel, sets, unsets, force, model)
+        change = migrate(reads, cfg, new_wheel, running)
+        if change is not None:
+            return _plan_wheel_change(reads, cfg, change, sets, unsets, force, model)
     key = (raw, reads.stack, tuple((k, _value_text(v)) for k, v in sets.items()), tuple(unsets), force,
            everywhere, model)
     out = _ARGS.get(key, lambda: _edit_args_of(raw, reads.stack, sets, unsets, force, everywhere, model))
@@ -118,14 +122,12 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
     return plan
 
 
-def _plan_wheel_change(reads: Reads, cfg: RobotConfig, new_wheel: str, sets: Mapping[str, Any],
+def _plan_wheel_change(reads: Reads, cfg: RobotConfig, change: WheelChange, sets: Mapping[str, Any],
                        unsets: list[str], force: bool, model: str | None = None) -> RobotPlan:
     """A wheel type change (set, or unset back to the stack's default) that migrates the custom
-    controller file in the same plan."""
-    from panther_ops.core.config.wheel_change import migrate, point_at
+    controller file (or the tree's, `wheel_change`) in the same plan."""
+    from panther_ops.core.config.wheel_change import point_at
 
-    change = migrate(reads, cfg, new_wheel)
-    assert change is not None
     old_args = dict(cfg.compose.args)
     warnings, verify = edit_args(cfg, {**sets, **point_at(cfg, change)}, unsets, force, model)
     summary = f"{_args_summary(cfg, old_args)}; {change.summary}"

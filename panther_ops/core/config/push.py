@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import posixpath
 import re
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from panther_ops.core.config.files import (
     ROBOT_CONFIG_DIR,
@@ -40,6 +42,9 @@ from panther_ops.core.fleet.services import running_containers
 from panther_ops.core.kinds import PUSHABLE, FileKind, check_file
 from panther_ops.core.stack import Family, Stack
 from panther_ops.errors import InputError, UsageError
+
+if TYPE_CHECKING:
+    from panther_ops.core.config.bt_pull import Includes
 
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
 
@@ -128,32 +133,66 @@ def _template_note(stack: Stack, text: str, why: str, upstream: str) -> str:
             f"not be read ({why})")
 
 
-def _bt_pull(ctx: RobotContext, cfg: RobotConfig, kind: FileKind) -> tuple[bytes, str]:
+Reader = Callable[[str], bytes | None]
+"""A file of a pulled BT project by its name relative to the project's directory (None: not there)."""
+
+
+def _bt_pull(ctx: RobotContext, cfg: RobotConfig, kind: FileKind) -> tuple[bytes, str, Reader]:
+    """The BT project in use, where it came from, and how to read the files it includes from
+    that same place (`bt_pull`)."""
     arg = BT_ARGS[kind]
     current = cfg.compose.args.get(arg)
     host = cfg.host_path_of(current) if current else None
-    if host and (data := _read(ctx, host)) is not None:
-        return data, f"{host} (mounted, {arg})"
+    if current and host and (data := _read(ctx, host)) is not None:
+        inside = posixpath.dirname(current)  # an include resolves in the container, beside the project
+
+        def mounted(rel: str) -> bytes | None:
+            path = posixpath.join(inside, rel)
+            where = cfg.host_path_of(path)
+            if where is not None:
+                return _read(ctx, where)
+            got = _container_read(ctx, cfg, cfg.service, path)
+            return got[0] if got else None
+
+        return data, f"{host} (mounted, {arg})", mounted
     package, name = stock_bt_project(cfg.stack, "Lights" if kind is FileKind.BT_LIGHTS else "Safety")
     if kind is FileKind.BT_LIGHTS and cfg.tree_mounted:  # 2.2 reads the Lights project from common_dir_path
-        tree = f"{ROBOT_CONFIG_DIR}/{package}/behavior_trees/{name}"
-        if (data := _read(ctx, tree)) is not None:
-            return data, f"{tree} (config tree)"
+        tree_dir = f"{ROBOT_CONFIG_DIR}/{package}/behavior_trees"
+        if (in_tree := _read(ctx, f"{tree_dir}/{name}")) is not None:
+            return in_tree, f"{tree_dir}/{name} (config tree)", lambda rel: _read(ctx, posixpath.join(tree_dir, rel))
     from_image = _from_image(ctx, cfg, package, name, "behavior_trees")
     if from_image is not None:
-        return from_image
+
+        def in_image(rel: str) -> bytes | None:
+            got = _from_image(ctx, cfg, package, rel, "behavior_trees")
+            return got[0] if got else None
+
+        return *from_image, in_image
     upstream = _upstream(cfg.stack, package, f"behavior_trees/{name}")
     why = ("a demo robot has no image" if ctx.robot.transport == "local"
            else "the driver container could not be read")
     from panther_ops.core.fleet.templates import template_path
 
-    for directory in family_dirs(cfg.stack):  # the release's stock project (docs/conformance.md: equal)
-        path = template_path("config", directory, package, "behavior_trees", name)
-        if path.is_file():
-            data = path.read_bytes()
-            return data, _template_note(cfg.stack, data.decode(), why, upstream)
+    def template(rel: str) -> bytes | None:  # the release's stock files (docs/conformance.md: equal)
+        for directory in family_dirs(cfg.stack):  # the version's overlay first
+            path = template_path("config", directory, package, "behavior_trees", *rel.split("/"))
+            if path.is_file():
+                return path.read_bytes()
+        return None
+
+    if (stock := template(name)) is not None:
+        return stock, _template_note(cfg.stack, stock.decode(), why, upstream), template
     raise UsageError(f"{ctx.robot.name}: {upstream} could not be read ({why}) and panther-ops has no template "
                      f"of it for {cfg.stack.label()}")
+
+
+def pull_project(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str, Includes]:
+    """A BT project in use on the robot (as :func:`pull`), and every file it includes, read
+    from the same place as the project."""
+    from panther_ops.core.config.bt_pull import pulled_includes
+
+    data, source, read = _bt_pull(ctx, read_config(ctx), kind)
+    return data, source, pulled_includes(data, read)
 
 
 def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
@@ -171,7 +210,8 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
                                                                robot_model=robot_model(reads, cfg)))
         return _image_or_template(ctx, cfg, gamepad)
     if kind in BT_ARGS:
-        return _bt_pull(ctx, cfg, kind)
+        project, source, _ = _bt_pull(ctx, cfg, kind)
+        return project, source
     cf = read_and_plan(ctx, lambda reads: robot_file(reads, cfg, kind))  # of its wheel type and model
     if cf.launch_arg:
         name = spec(cf.launch_arg).name_for(cfg.stack)

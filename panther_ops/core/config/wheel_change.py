@@ -8,6 +8,13 @@ each of the user's limits kept where it is within the new type's limits (the oth
 the new default, each named in a warning), written to
 ``~/config/<package>/config/<WHxx>_controller.yaml``, mounted and pointed at. A custom
 wheel file cannot be derived from another wheel type: the change is refused with the fix.
+
+On husarion_ugv 2.2 with a config tree (``common_dir_path``) the driver reads the wheel type's
+controller file from the tree, and ``config set controller.<key>`` edits the tree's file of the
+current type. The new type reads its own tree file, so the user's limits would silently be
+lost: where the old type's tree file differs from the release's stock file in its limits, the
+change carries them into the new type's tree file the same way (that file as it is, or the
+stock one where the tree lacks it; no launch argument to point at).
 """
 
 from __future__ import annotations
@@ -30,7 +37,8 @@ class WheelChange:
     """The migrated controller file and the launch argument that points at it."""
 
     host_path: str
-    container_path: str
+    container_path: str | None
+    """where the driver finds the file (None: the tree's file, read with no argument)"""
     controller: ControllerConfig
     edits: list[FileEdit] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
@@ -46,8 +54,9 @@ def needs_migration(cfg: RobotConfig, new_wheel: str, robot_model: str | None = 
     return changes and bool(args.get("controller_config_path") or args.get("wheel_config_path"))
 
 
-def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | None:
-    """Plan the migration for ``wheel_type`` -> ``new_wheel`` (None: nothing to migrate).
+def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str, robot_model: str | None = None) -> WheelChange | None:
+    """Plan the migration for ``wheel_type`` -> ``new_wheel`` (None: nothing to migrate);
+    ``robot_model``: the robot's model where the caller knows it (else read).
 
     Raises:
         UsageError: a custom wheel file is mounted, or the controller file cannot be read
@@ -55,9 +64,9 @@ def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | Non
     """
     from panther_ops.core.config.robot_model import robot_model_of
 
-    model = robot_model_of(reads, cfg)
+    model = robot_model or robot_model_of(reads, cfg)
     if not needs_migration(cfg, new_wheel, model):
-        return None
+        return _migrate_tree(reads, cfg, new_wheel, model)
     args = cfg.compose.args
     old = args.get("wheel_type") or spec("wheel_type").default_for(cfg.stack, model)
     wheel_path = args.get("wheel_config_path")
@@ -87,24 +96,8 @@ def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | Non
                          hint=f"push a {new_wheel} controller file: panther-ops config push FILE --as controller") \
             from None
     cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=new_wheel)
-    new = ControllerConfig.default(cfg.stack, new_wheel)
     stock = ControllerConfig.default(cfg.stack, old) if old in ("WH01", "WH02", "WH04") else None
-    kept: list[str] = []
-    warnings: list[str] = []
-    for key, value in current.limits().items():
-        if value == new.get(key) or (stock is not None and value == stock.get(key)):
-            continue  # the old type's default: the new type's default replaces it
-        lk = parse_limit_key(key)
-        if lk.axis == "linear.y" and new_wheel != "WH02":
-            warnings.append(f"{key}={value}: {new_wheel} wheels have no linear.y; dropped")
-            continue
-        try:
-            validate_limit(cfg.stack, new_wheel, lk, value)
-        except UsageError as exc:
-            warnings.append(f"{exc.message}: the {new_wheel} default {new.get(key)} is used")
-            continue
-        new.set(key, value)
-        kept.append(f"{key}={value}")
+    new, kept, warnings = _carry_limits(cfg, current, stock, ControllerConfig.default(cfg.stack, new_wheel), new_wheel)
     after = new.text().encode()
     target_before = reads.file(cf.robot_path)
     edits = [] if after == target_before else [FileEdit(cf.robot_path, target_before, after)]
@@ -114,8 +107,82 @@ def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str) -> WheelChange | Non
     return WheelChange(cf.robot_path, cf.container_path, new, edits, warnings, summary)
 
 
+def _carry_limits(cfg: RobotConfig, current: ControllerConfig, stock: ControllerConfig | None,
+                  new: ControllerConfig, new_wheel: str) -> tuple[ControllerConfig, list[str], list[str]]:
+    """Set into ``new`` each limit of ``current`` that is not the old type's stock value (nor
+    already ``new``'s) and is within ``new_wheel``'s limits; the kept ones and a warning for
+    each of the others."""
+    kept: list[str] = []
+    warnings: list[str] = []
+    for key, value in current.limits().items():
+        if value == new.get(key) or (stock is not None and value == stock.get(key)):
+            continue  # the old type's default: the new type's value replaces it
+        lk = parse_limit_key(key)
+        if lk.axis == "linear.y" and new_wheel != "WH02":
+            warnings.append(f"{key}={value}: {new_wheel} wheels have no linear.y; dropped")
+            continue
+        try:
+            validate_limit(cfg.stack, new_wheel, lk, value)
+        except UsageError as exc:
+            warnings.append(f"{exc.message}: the {new_wheel} value {new.get(key)} is used")
+            continue
+        new.set(key, value)
+        kept.append(f"{key}={value}")
+    return new, kept, warnings
+
+
+def _migrate_tree(reads: Reads, cfg: RobotConfig, new_wheel: str, model: str | None) -> WheelChange | None:
+    """husarion_ugv 2.2 reading the controller file from the config tree: the user's limits in
+    the old type's tree file (those that differ from the release's stock file) carried into the
+    new type's tree file. None: the tree is not read, or holds the stock limits."""
+    args = cfg.compose.args
+    old = args.get("wheel_type") or spec("wheel_type").default_for(cfg.stack, model)
+    if new_wheel in (old, "custom") or old == "custom" or args.get("wheel_config_path"):
+        return None
+    try:
+        old_cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=old)
+        new_cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=new_wheel)
+        stock = ControllerConfig.default(cfg.stack, old)
+    except UsageError:
+        return None  # no stock file of that type on this release
+    if not (cfg.reads_from_tree(old_cf) and cfg.reads_from_tree(new_cf)):
+        return None
+    before = reads.file(old_cf.robot_path)
+    if before is None:
+        return None
+    try:
+        current = ControllerConfig.parse(before.decode(errors="replace"), cfg.stack, old, path=old_cf.robot_path,
+                                         force=True)
+    except UsageError as exc:
+        raise UsageError(f"{old_cf.robot_path}: your {old} limits cannot be carried to {new_wheel}: {exc.message}",
+                         hint=f"correct the file, or push a {new_wheel} controller file: panther-ops config push "
+                         "FILE --as controller") from None
+    if current.limits() == stock.limits():
+        return None  # the stock limits: the new type's file is used as it is
+    target_before = reads.file(new_cf.robot_path)
+    try:
+        base = (ControllerConfig.parse(target_before.decode(errors="replace"), cfg.stack, new_wheel,
+                                       path=new_cf.robot_path, force=True)
+                if target_before is not None else ControllerConfig.default(cfg.stack, new_wheel))
+    except UsageError as exc:
+        raise UsageError(f"{new_cf.robot_path}: your {old} limits cannot be carried into it: {exc.message}",
+                         hint=f"push a {new_wheel} controller file: panther-ops config push FILE --as controller") \
+            from None
+    new, kept, warnings = _carry_limits(cfg, current, stock, base, new_wheel)
+    after = new.text().encode()
+    edits = [] if after == target_before else [FileEdit(new_cf.robot_path, target_before, after)]
+    summary = (f"your {old} limits carried to {new_cf.robot_path}: " + ", ".join(kept) if kept
+               else f"none of your {old} limits carried to {new_cf.robot_path}")
+    warnings.insert(0, f"{old_cf.robot_path} holds {old} limits of your own (not the {cfg.stack.label()} stock "
+                    f"values); with wheel_type {new_wheel} the driver reads the tree's {new_cf.filename}: "
+                    + (f"carried: {', '.join(kept)}" if kept else "none carried"))
+    return WheelChange(new_cf.robot_path, None, new, edits, warnings, summary)
+
+
 def point_at(cfg: RobotConfig, change: WheelChange) -> dict[str, str]:
-    """Mount the migrated file (in memory); the launch argument to set."""
+    """Mount the migrated file (in memory); the launch argument to set (none for the tree's file)."""
+    if change.container_path is None:
+        return {}
     if cfg.host_path_of(change.container_path) != change.host_path:
         cfg.compose.add_volume(change.host_path, change.container_path, ro=True)
     return {"controller_config_path": change.container_path}

@@ -83,6 +83,40 @@ class Inventory:
     subject: str = "robot"
     """What its targets are called in the output: ``file`` for a local file's one-target inventory."""
 
+    def key_problems(self, robots: list[Robot]) -> list[InventoryError]:
+        """Each ``identity_file`` of ``robots`` (and of the inventory robots they jump through)
+        that is not a readable file on this machine: a local configuration error, found before
+        anything is contacted (an SSH client would only say "authentication failed")."""
+        problems: list[InventoryError] = []
+        seen: set[str] = set()
+        todo = list(robots)
+        while todo:
+            robot = todo.pop(0)
+            if robot.name in seen:
+                continue
+            seen.add(robot.name)
+            if robot.jump in self.robots:
+                todo.append(self.robots[robot.jump])
+            key = robot.identity_file
+            if robot.transport == "local" or not key:
+                continue
+            path = Path(key)
+            why = ("does not exist" if not path.exists() else "is not a file" if not path.is_file()
+                   else None)
+            if why is None:
+                try:
+                    path.open("rb").close()
+                except OSError as exc:
+                    why = f"cannot be read ({exc.strerror})"
+            if why is not None:
+                problems.append(InventoryError(
+                    f"identity_file {key} {why} (robot {robot.name})", path=robot.source,
+                    key=f"robots.{robot.name}.identity_file",
+                    hint="give the path of your private key (a relative path is relative to the inventory "
+                    f"file), or make one and install it: ssh-keygen -t ed25519 -f {key} && ssh-copy-id -i "
+                    f"{key}.pub{f' -p {robot.port}' if robot.port else ''} {robot.user}@{robot.host}"))
+        return problems
+
     def endpoint(self, robot: Robot, _seen: tuple[str, ...] = ()) -> Endpoint:
         """How to reach ``robot`` (its jump host resolved, recursively)."""
         jump: Endpoint | None = None

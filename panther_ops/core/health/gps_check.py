@@ -44,7 +44,7 @@ def gps_finding(ctx: RobotContext) -> Finding:
     try:
         result = status_task(StatusOptions(port=port, window_s=WINDOW_S))(ctx)
     except OpsError as exc:
-        return Finding("gps", "warn", f"could not check: {exc}", "panther-ops gps status -r ROBOT")
+        return Finding("gps", "warn", f"could not check: {exc}", f"panther-ops gps status -r {ctx.robot.name}")
     d = result.data
     verdict, detail = d.get("verdict", "?"), d.get("detail", result.message)
     driver = (d.get("driver") or {}).get("mode")

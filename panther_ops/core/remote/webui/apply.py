@@ -144,7 +144,7 @@ def _start_stop_needless(ctx: RobotContext, state: WebuiState, start: bool) -> R
     """The result when there is nothing to start or stop (not installed, or already so)."""
     if not state.installed:
         return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
-                           data={"hint": "panther-ops webui install"})
+                           data={"hint": f"panther-ops webui install -r {ctx.robot.name} --ask-sudo-password"})
     if state.running == start:
         return RobotResult(ctx.robot.name, Outcome.OK, f"already {'running' if start else 'stopped'}",
                            data=state.to_json())

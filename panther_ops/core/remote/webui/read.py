@@ -174,7 +174,7 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
         state, _ = read_webui(ctx, password)
         if not state.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
-                               data={"hint": "panther-ops webui install"})
+                               data={"hint": f"panther-ops webui install -r {ctx.robot.name} --ask-sudo-password"})
         full, note = with_robot_namespace(wanted, state.value(NS_KEY), robot_namespace(ctx))
         try:
             validate(full, state.profiles)
