@@ -4,12 +4,13 @@ Pure: the image is read through ``read(offset, size)``. Which bytes are mapped (
 written to a card):
 
 - the partition table (MBR sector; GPT's primary and backup headers and entries);
-- in a partition holding ext2/3/4 or FAT: the blocks that file system uses (``fsalloc``); in a
-  sparse image, less the ext4 blocks that are holes there AND whose old contents nothing reads
-  (``fsalloc.ext4_unread``: UNINIT groups' bitmaps, the reserved GDT blocks' backups, inode
-  tables the kernel zeroes itself). A hole is not otherwise left out of a file system's blocks:
-  it reads as zeros in the image, and the file system may read it (mkfs on an image file marks
-  its inode tables ITABLE_ZEROED, leaving them as holes);
+- in a partition holding ext2/3/4 or FAT: the blocks that file system uses (``fsalloc``), less
+  the ext4 blocks whose old contents nothing reads (``fsalloc.ext4_unread``: UNINIT groups'
+  bitmaps, the reserved GDT blocks' backups, inode table tails the kernel zeroes itself), left
+  out whatever the image holds there, so that a ``.img`` and its ``.xz`` have the same map. A
+  hole in a sparse image is not otherwise left out of a file system's blocks: it reads as zeros
+  in the image and the file system may rely on that (mkfs on an image file marks its inode
+  tables ITABLE_ZEROED and leaves them as holes);
 - everything else (space outside every partition: boot loaders may live there; a partition of
   a type or file system not read here; an image with no partition table): mapped whole,
   except that where the image file is sparse (``data`` given: its data extents, as
@@ -96,10 +97,9 @@ def _partition(read: Reader, p: Partition, image_size: int, data: Extents | None
                          f"FAT file system read there: {how}")
     else:
         mapped = _clip([(p.start + s, p.start + e) for s, e in used], p.start, end)
-        unread = ext4_unread(sub, end - p.start) if fs == "ext4" and data is not None else None
+        unread = ext4_unread(sub, end - p.start) if fs == "ext4" else None
         if unread:
-            holes = _minus([(p.start + s, p.start + e) for s, e in unread], data or [])
-            mapped = _minus(mapped, holes)
+            mapped = _minus(mapped, [(p.start + s, p.start + e) for s, e in unread])
     out.extents += mapped
     out.regions.append({"partition": p.number, "start": p.start, "bytes": end - p.start, "type": p.kind,
                         "filesystem": fs or None, "mapped_bytes": _total(mapped)})
