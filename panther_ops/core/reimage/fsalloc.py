@@ -19,7 +19,9 @@ the FATs, FAT12/16's root directory) is in use, and each data cluster whose FAT 
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import sys
+from array import array
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 Reader = Callable[[int, int], bytes]
@@ -247,14 +249,7 @@ def fat_used(read: Reader, size: int) -> Extents | None:
     cluster_bytes = spc * bps
     base = data_start * bps
     start = None
-    for n in range(2, clusters + 2):
-        if kind == 32:
-            entry = _u32(fat, 4 * n) & 0x0FFFFFFF
-        elif kind == 16:
-            entry = _u16(fat, 2 * n)
-        else:
-            pair = _u16(fat, n * 3 // 2)
-            entry = pair >> 4 if n & 1 else pair & 0xFFF
+    for n, entry in enumerate(_fat_entries(fat, kind, clusters), 2):
         if entry:
             if start is None:
                 start = n
@@ -264,3 +259,17 @@ def fat_used(read: Reader, size: int) -> Extents | None:
     if start is not None:
         used.append((base + (start - 2) * cluster_bytes, base + clusters * cluster_bytes))
     return used
+
+
+def _fat_entries(fat: bytes, kind: int, clusters: int) -> Iterable[int]:
+    """The FAT entries of clusters 2 .. clusters+1 (an entry past the FAT's bytes: 0). FAT16/32
+    are read as one array (a card's FAT32 has ~10^5-10^6 entries), FAT12 pair by pair."""
+    if kind == 12:
+        return ((_u16(fat, n * 3 // 2) >> 4 if n & 1 else _u16(fat, n * 3 // 2) & 0xFFF)
+                for n in range(2, clusters + 2))
+    width = kind // 8
+    raw = fat[2 * width:(clusters + 2) * width]
+    entries = array("I" if kind == 32 else "H", raw + bytes(clusters * width - len(raw)))
+    if sys.byteorder == "big":
+        entries.byteswap()
+    return (e & 0x0FFFFFFF for e in entries) if kind == 32 else entries
