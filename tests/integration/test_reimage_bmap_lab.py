@@ -259,3 +259,56 @@ def test_a_corrupted_image_stops_the_flash_exit_3(
                                 "--sha256", "0" * 64, "--json")
     assert code == 3 and "expected " + "0" * 64 in doc["stopped"], err
     assert _no_partition_table(dev)
+
+
+def _uninit_groups(dev: str) -> int:
+    text = subprocess.run(["dumpe2fs", dev], check=True, capture_output=True, text=True).stdout
+    return text.count("INODE_UNINIT")
+
+
+def test_holes_left_out_of_the_map_stay_old_and_the_card_takes_new_files(
+    card: dict[str, Path], loop: MakeLoop, tmp_path: Path, capsys: pytest.CaptureFixture[str],  # noqa: F811
+) -> None:
+    """The sparse image's ext4 holes that nothing reads (UNINIT groups' bitmaps, the reserved GDT
+    blocks' backups: ``fsalloc.ext4_unread``) are not written: the card keeps its old bytes there.
+    The card still fscks clean, and after the kernel puts files in new directories (spread over
+    the block groups, so UNINIT groups are set up from those unwritten bitmaps) it fscks clean
+    again and holds them."""
+    from panther_ops.core.reimage.fsalloc import ext4_unread
+    from panther_ops.transport.mapped import data_extents
+
+    img = card["img"]
+    part = img.read_bytes()[ROOT_START * 512:]
+    unread = ext4_unread(lambda off, n: part[off:off + n], len(part))
+    data = data_extents(str(img))
+    assert unread and data
+    holes = []  # whole 4 KiB blocks of the image, named by ext4_unread and holes in the file
+    for s, e in unread:
+        for b in range(-(-(ROOT_START * 512 + s) // 4096), (ROOT_START * 512 + e) // 4096):
+            if not any(a <= b * 4096 and b * 4096 + 4096 <= z for a, z in data):
+                holes.append(b * 4096)
+    assert len(holes) > 8, holes
+    dev = _card_device(loop, tmp_path)
+    code, doc, _, err = run_cli(capsys, "reimage", "flash", str(img), "--device", dev, "--yes", "--json")
+    assert code == 0 and doc["ok"] is True, err
+    assert all(_read(dev, at, 4096) == PATTERN for at in holes)  # left as they were
+    _mounts_and_matches(dev, card, tmp_path, loop)
+    before = _uninit_groups(f"{dev}p2")
+    mnt = tmp_path / "rw"
+    mnt.mkdir()
+    _sh("mount", "-t", "ext4", f"{dev}p2", str(mnt))
+    loop.mounts.append(mnt)  # type: ignore[attr-defined]
+    new = {f"d{i}/f{j}": os.urandom(3000 + 977 * j) for i in range(24) for j in range(20)}
+    try:
+        for name, body in new.items():
+            (mnt / name).parent.mkdir(exist_ok=True)
+            (mnt / name).write_bytes(body)
+    finally:
+        _sh("umount", str(mnt))
+    subprocess.run(["e2fsck", "-fn", f"{dev}p2"], check=True, capture_output=True)
+    assert _uninit_groups(f"{dev}p2") < before  # the kernel set up groups it had not used
+    _sh("mount", "-o", "ro", "-t", "ext4", f"{dev}p2", str(mnt))
+    try:
+        assert all((mnt / name).read_bytes() == body for name, body in new.items())
+    finally:
+        _sh("umount", str(mnt))

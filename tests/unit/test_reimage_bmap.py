@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -18,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.core.reimage.bmap import BlockMap, BlockRange, blocks_of, parse_bmap, render_bmap
-from panther_ops.core.reimage.fsalloc import ext4_used, fat_used
+from panther_ops.core.reimage.fsalloc import ext4_unread, ext4_used, fat_used
 from panther_ops.core.reimage.mapping import compute_map
 from panther_ops.errors import UsageError
 from panther_ops.transport.mapped import data_extents
@@ -171,6 +172,100 @@ def test_ext4_map_holds_every_used_block_and_little_else(tools: None, tmp_path: 
     assert dumped.read_bytes() == blob
 
 
+def _only_mapped(image: bytes, extents: list[tuple[int, int]]) -> bytes:
+    """The image's mapped 4 KiB blocks over garbage (a card written by the map)."""
+    copy = bytearray(b"\xa5" * len(image))
+    for a, b in blocks_of(extents, len(image)):
+        copy[a * 4096:(b + 1) * 4096] = image[a * 4096:(b + 1) * 4096]
+    return bytes(copy)
+
+
+def _itables(text: str) -> list[tuple[int, int]]:
+    """Each group's inode table (byte extents), from dumpe2fs's report."""
+    block = int(re.search(r"^Block size:\s+(\d+)", text, re.M).group(1))  # type: ignore[union-attr]
+    return [(int(a) * block, (int(b) + 1) * block) for a, b in re.findall(r"Inode table at (\d+)-(\d+)", text)]
+
+
+def _minus(extents: list[tuple[int, int]], size: int, cut: list[tuple[int, int]]) -> set[int]:
+    """The 1 KiB units of ``extents`` not in ``cut``."""
+    def units(ex: list[tuple[int, int]]) -> set[int]:
+        return {u for s, e in ex for u in range(s // 1024, min(e, size) // 1024)}
+    return units(extents) - units(cut)
+
+
+@pytest.mark.parametrize("how", ["image file", "nodiscard"])
+def test_ext4_map_leaves_out_only_what_nothing_reads(how: str, tools: None, tmp_path: Path) -> None:
+    """A used ext4 block is left out of the map only where ext4_unread names it (never an inode
+    table of a group marked ITABLE_ZEROED, as mkfs on an image file marks them all); the map is
+    the same with or without the sparse file's extents (a .img and its .xz); a copy of just the
+    map over garbage fscks clean with the file intact. `-E nodiscard`: mkfs leaves the inode
+    tables to the kernel's lazy init (not ITABLE_ZEROED): their unused tails are left out too."""
+    root, blob = _tree(tmp_path, 12)
+    img = tmp_path / "card.img"
+    with open(img, "wb") as fh:
+        fh.truncate(161 * MIB)
+    _sh("sfdisk", "--quiet", str(img), input=b"label: dos\nstart=2048, type=83\n")
+    opts = f"offset={MIB}" + (",nodiscard" if how == "nodiscard" else "")
+    _sh("mkfs.ext4", "-q", "-F", "-E", opts, "-d", str(root), str(img), "160M")
+    size = img.stat().st_size
+    data = data_extents(str(img))
+    assert data is not None  # mkfs leaves holes
+    read = _reader(img)
+    sparse = compute_map(read, size, data)
+    stream = compute_map(read, size)  # as from the .xz: no holes known
+    assert [r["filesystem"] for r in sparse.regions] == ["ext4"] and sparse.notes == []
+    assert sparse.regions == stream.regions  # the partition's map does not depend on the holes
+    fs = tmp_path / "root.ext4"
+    fs.write_bytes(img.read_bytes()[MIB:])
+    used, unread = ext4_used(_reader(fs), fs.stat().st_size), ext4_unread(_reader(fs), fs.stat().st_size)
+    assert used and unread
+    left_out = _minus([(s + MIB, e + MIB) for s, e in used], size, sparse.extents)
+    assert left_out, "nothing left out"
+    assert left_out <= {u for s, e in unread for u in range(s // 1024 + 1024, e // 1024 + 1024)}
+    text = subprocess.run(["dumpe2fs", str(fs)], check=True, capture_output=True, text=True).stdout
+    tables = [(s + MIB, e + MIB) for s, e in _itables(text)]
+    zeroed = "ITABLE_ZEROED" in text
+    assert zeroed == (how == "image file")
+    if zeroed:  # every inode table written, holes and all
+        assert all(_covered(sparse.extents, s, e) for s, e in tables)
+    else:  # the tables' unused tails (holes here) left to the kernel's lazy init
+        assert any(not _covered(sparse.extents, s, e) for s, e in tables)
+    image = img.read_bytes()
+    copy = _only_mapped(image, sparse.extents)
+    out = tmp_path / "copy.ext4"
+    out.write_bytes(copy[MIB:])
+    subprocess.run(["e2fsck", "-fn", str(out)], check=True, capture_output=True)
+    dumped = tmp_path / "dumped"
+    _sh("debugfs", "-R", f"dump /blob.bin {dumped}", str(out))
+    assert dumped.read_bytes() == blob
+    if zeroed:
+        # Why the inode tables are written: once a group's descriptor is damaged, e2fsck reads that
+        # group's whole inode table. Ours holds zeros there and only the checksum is fixed; a copy of
+        # the data extents alone (bmaptool's rule) has old bytes there, which e2fsck finds as garbage
+        # inodes.
+        theirs = bytearray(b"\xa5" * size)
+        for s, e in data:
+            theirs[s:e] = image[s:e]
+        found = {}
+        for name, fs_bytes in (("ours", copy[MIB:]), ("theirs", theirs[MIB:])):
+            path = tmp_path / f"{name}.ext4"
+            path.write_bytes(_bad_descriptor(bytearray(fs_bytes), 1))
+            run = subprocess.run(["e2fsck", "-fy", str(path)], check=False, capture_output=True, text=True)
+            assert run.returncode in (0, 1), run.stderr  # 1: errors corrected
+            found[name] = run.stdout.count("seems to contain garbage")
+        assert found["ours"] == 0 and found["theirs"] > 100, found
+
+
+def _bad_descriptor(fs: bytearray, group: int) -> bytes:
+    """The file system with ``group``'s descriptor checksum (bg_checksum) flipped."""
+    block = 1024 << int.from_bytes(fs[1024 + 0x18:1024 + 0x1C], "little")
+    first = int.from_bytes(fs[1024 + 0x14:1024 + 0x18], "little")
+    size = int.from_bytes(fs[1024 + 0xFE:1024 + 0x100], "little") or 32
+    at = (first + 1) * block + group * size + 0x1E
+    fs[at] ^= 0xFF
+    return bytes(fs)
+
+
 @pytest.mark.parametrize("fat", ["16", "32"])
 def test_fat_map_holds_the_fat_and_every_used_cluster(fat: str, tools: None, tmp_path: Path) -> None:
     fs = tmp_path / "boot.vfat"
@@ -218,8 +313,13 @@ def test_card_image_map_from_its_partition_table(label: str, tools: None, tmp_pa
     m = compute_map(_reader(img), img.stat().st_size)
     assert [r["filesystem"] for r in m.regions] == ["fat", "ext4"] and m.notes == []
     data = img.read_bytes()
-    at = data.find(blob[:4096])
-    assert _covered(m.extents, at, at + len(blob)) and _covered(m.extents, 0, 1024 * 1024)
+    assert _covered(m.extents, 0, 1024 * 1024)
+    # the file (in extents around group 1's superblock backup and descriptors) is in the map
+    root = tmp_path / "root.ext4"
+    root.write_bytes(_only_mapped(data, m.extents)[133120 * 512:])
+    subprocess.run(["e2fsck", "-fn", str(root)], check=True, capture_output=True)
+    _sh("debugfs", "-R", f"dump /blob.bin {tmp_path / 'dumped'}", str(root))
+    assert (tmp_path / "dumped").read_bytes() == blob
     if label == "gpt":  # the backup table at the end
         assert _covered(m.extents, len(data) - 33 * 512, len(data))
     total = _mapped(m.extents, len(data))

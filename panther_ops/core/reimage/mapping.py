@@ -4,7 +4,13 @@ Pure: the image is read through ``read(offset, size)``. Which bytes are mapped (
 written to a card):
 
 - the partition table (MBR sector; GPT's primary and backup headers and entries);
-- in a partition holding ext2/3/4 or FAT: the blocks that file system uses (``fsalloc``);
+- in a partition holding ext2/3/4 or FAT: the blocks that file system uses (``fsalloc``), less
+  the ext4 blocks whose old contents nothing reads (``fsalloc.ext4_unread``: UNINIT groups'
+  bitmaps, the reserved GDT blocks' backups, inode table tails the kernel zeroes itself), left
+  out whatever the image holds there, so that a ``.img`` and its ``.xz`` have the same map. A
+  hole in a sparse image is not otherwise left out of a file system's blocks: it reads as zeros
+  in the image and the file system may rely on that (mkfs on an image file marks its inode
+  tables ITABLE_ZEROED and leaves them as holes);
 - everything else (space outside every partition: boot loaders may live there; a partition of
   a type or file system not read here; an image with no partition table): mapped whole,
   except that where the image file is sparse (``data`` given: its data extents, as
@@ -19,7 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from panther_ops.core.reimage.device import human_size
-from panther_ops.core.reimage.fsalloc import Extents, ext4_used, fat_used
+from panther_ops.core.reimage.fsalloc import Extents, ext4_unread, ext4_used, fat_used
 from panther_ops.core.reimage.parttable import Partition, read_table
 
 Reader = Callable[[int, int], bytes]
@@ -42,14 +48,35 @@ def _within(data: Extents | None, lo: int, hi: int) -> Extents:
     return [(lo, hi)] if data is None else _clip(data, lo, hi)
 
 
-def _total(extents: Extents) -> int:
+def _merged(extents: Extents) -> Extents:
     merged: Extents = []
     for s, e in sorted(extents):
         if merged and s <= merged[-1][1]:
             merged[-1] = (merged[-1][0], max(merged[-1][1], e))
-        else:
+        elif e > s:
             merged.append((s, e))
-    return sum(e - s for s, e in merged)
+    return merged
+
+
+def _total(extents: Extents) -> int:
+    return sum(e - s for s, e in _merged(extents))
+
+
+def _minus(extents: Extents, cut: Extents) -> Extents:
+    """``extents`` less every byte in ``cut``."""
+    out: Extents = []
+    cut = _merged(cut)
+    for s, e in _merged(extents):
+        pos = s
+        for a, b in cut:
+            if b <= pos or a >= e:
+                continue
+            if a > pos:
+                out.append((pos, a))
+            pos = max(pos, b)
+        if pos < e:
+            out.append((pos, e))
+    return out
 
 
 def _partition(read: Reader, p: Partition, image_size: int, data: Extents | None, out: Mapped) -> None:
@@ -70,6 +97,9 @@ def _partition(read: Reader, p: Partition, image_size: int, data: Extents | None
                          f"FAT file system read there: {how}")
     else:
         mapped = _clip([(p.start + s, p.start + e) for s, e in used], p.start, end)
+        unread = ext4_unread(sub, end - p.start) if fs == "ext4" else None
+        if unread:
+            mapped = _minus(mapped, [(p.start + s, p.start + e) for s, e in unread])
     out.extents += mapped
     out.regions.append({"partition": p.number, "start": p.start, "bytes": end - p.start, "type": p.kind,
                         "filesystem": fs or None, "mapped_bytes": _total(mapped)})
