@@ -154,7 +154,7 @@ def _history(robot: str, part: dict[str, Any]) -> tuple[str, str]:
     colour = "green" if status.startswith("applied") else ("magenta" if "rolled" in status else "yellow")
     change = (f"{esc(last.get('command', '?'))} ({esc(last.get('summary', ''))}), [{colour}]{esc(status)}[/], "
               f"{esc(_when(str(last.get('created', ''))))}")
-    backup = (f"{esc(last['id'])} ({h.get('backups')} in all); the files as before: "
+    backup = (f"{esc(last['id'])} ({h.get('backups')} in all); undo the change: "
               f"panther-ops config rollback -r {esc(robot)} --to {esc(last['id'])}")
     return change, backup
 
