@@ -96,7 +96,10 @@ class TransportError(OpsError):
 
 
 class UnreachableError(TransportError):
-    """The robot did not answer (network, DNS, refused, timeout, authentication)."""
+    """The robot did not answer (network, DNS, refused, timeout, authentication). Exit code 4
+    when it ends a one-robot command (``trust``, ``teleop``): the robot was not reached."""
+
+    exit_code = ExitCode.UNREACHABLE
 
 
 class HostKeyError(UnreachableError):

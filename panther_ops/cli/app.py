@@ -30,9 +30,14 @@ Exit codes: 0 ok, 1 unexpected error, 2 bad input (nothing done), 3 some robots 
 rolled back or were unreachable, 4 every robot unreachable, 5 declined at the confirmation,
 6 config diff --exit-code found drift, 130 interrupted, 141 stdout closed (| head).
 
-Try the demo fleet (no robot needed):  panther-ops demo init && panther-ops -i demo-fleet status --all
+\b
+Try the demo fleet (no robot needed):
+  panther-ops demo init
+  panther-ops -i demo-fleet status --all
 
-Shell completion (bash, zsh, fish, docs/getting-started.md):  panther-ops --install-completion
+\b
+Shell completion (bash, zsh, fish, docs/getting-started.md):
+  panther-ops --install-completion
 """
 
 app = typer.Typer(
@@ -74,7 +79,7 @@ def root(
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version.")
     ] = False,
 ) -> None:
-    """Global options come before the command: panther-ops -i fleet.yaml status --all."""
+    """Global options go before or after the command: panther-ops -i fleet.yaml status --all."""
     from panther_ops.cli.output import configure, set_wide
 
     configure(color, quiet)
@@ -193,6 +198,7 @@ def main(argv: list[str] | None = None) -> int:
 
     args = list(sys.argv[1:] if argv is None else argv)
     _register(*_command_words(args))
+    args = _in_place(args)
     envelope.start()
     try:
         rv = app(args=args, standalone_mode=False, prog_name="panther-ops")
@@ -251,6 +257,16 @@ def _ended(exc: BaseException, debug: bool) -> tuple[int, dict[str, Any] | None]
         said = f"internal error (a bug): traceback written to {log}; please report it"
         return int(ExitCode.ERROR), error_of(exc, ExitCode.ERROR, said)
     return None
+
+
+def _in_place(args: list[str]) -> list[str]:
+    """Global options after the command, and a command's options before it, moved to where
+    click reads them (cli/argv_order.py)."""
+    from typer.main import get_command
+
+    from panther_ops.cli.argv_order import in_place
+
+    return in_place(args, get_command(app))
 
 
 def _command_name(args: list[str]) -> str:

@@ -36,11 +36,13 @@ def router_show(fleet: Fleet, address: Address = "10.15.20.1") -> int:
     """The router's GNSS switch, NMEA forwarding (enabled, hostname, port, protocol) and the
     sentences it forwards, per robot. The router's certificate is pinned on first use.
 
-    Example: PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
+    \b
+    Example:
+      PANTHER_OPS_ROUTER_PASSWORD=... panther-ops gps router show --all
     """
     from panther_ops.cli.views.gps import print_router
-    from panther_ops.core.gps.router import show_task
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
+    from panther_ops.core.gps.router.read import show_task
 
     check_address(address)
     return fleet.run("gps router show", show_task(address, credentials()), print_router, read_only=True)
@@ -63,10 +65,13 @@ def router_set(
     """Set the router's NMEA forwarding; only what differs is sent (PUT, values as strings),
     then read back. Shows the change and asks first (--yes: without asking).
 
-    Example: panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
+    \b
+    Example:
+      panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
-    from panther_ops.core.gps.router import apply_router, plan_router
-    from panther_ops.core.gps.router_plan import RouterRequest, check_address, parse_sentences
+    from panther_ops.core.gps.router.apply import apply_router
+    from panther_ops.core.gps.router.plan import RouterRequest, check_address, parse_sentences
+    from panther_ops.core.gps.router.read import read_and_plan_router as plan_router
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))

@@ -9,17 +9,18 @@ from __future__ import annotations
 
 import os
 import secrets
-import socket
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from panther_ops.errors import HostKeyError, TransportError, UnreachableError
+from panther_ops.errors import TransportError, UnreachableError
 from panther_ops.transport import scripts
+from panther_ops.transport import ssh_failures as failures
 from panther_ops.transport.base import Command, Endpoint
 from panther_ops.transport.conversation import Conversation, Conversing
 from panther_ops.transport.filecache import parsed
 from panther_ops.transport.hostkeys import fingerprint, known_hosts_name
 from panther_ops.transport.ssh_config import Hop, resolve
+from panther_ops.transport.ssh_failures import UnknownHostKey
 from panther_ops.transport.tcp import connect_tcp
 
 T = TypeVar("T")
@@ -35,12 +36,7 @@ def _refuse_unknown_policy() -> Any:
 
     class RefuseUnknown(paramiko.MissingHostKeyPolicy):
         def missing_host_key(self, client: paramiko.SSHClient, hostname: str, key: Any) -> None:
-            raise HostKeyError(
-                hostname,
-                f"host key {key.get_name()} {fingerprint(key)} is not in known_hosts: refused",
-                offered=fingerprint(key),
-                hint="check the fingerprint on the robot, then run `panther-ops trust ROBOT`",
-            )
+            raise UnknownHostKey(key.get_name(), fingerprint(key))
 
     return RefuseUnknown()
 
@@ -92,33 +88,21 @@ def open_client(hop: Hop, robot: str, clients: list[paramiko.SSHClient]) -> para
             allow_agent=True,
             look_for_keys=not hop.key_files,
         )
-    except HostKeyError as exc:
+    except UnknownHostKey as exc:
         client.close()
-        raise HostKeyError(
-            robot, f"{hop.hostname}:{hop.port}: {exc.message}", offered=exc.offered, hint=exc.hint
-        ) from None
+        raise failures.unknown_host_key(robot, hop, exc) from None
     except paramiko.BadHostKeyException as exc:
         client.close()
-        got, want = fingerprint(exc.key), fingerprint(exc.expected_key)
-        raise HostKeyError(
-            robot,
-            f"HOST KEY CHANGED for {known_hosts_name(hop.hostname, hop.port)}: offered {got}, "
-            f"known_hosts has {want}. Refused: this may be a reinstalled robot or an attack.",
-            offered=got,
-            expected=want,
-            hint="if the robot was reinstalled, remove the old key (ssh-keygen -R HOST) "
-            "and run `panther-ops trust ROBOT`",
-        ) from None
+        raise failures.changed_host_key(robot, hop, fingerprint(exc.key), fingerprint(exc.expected_key)) from None
     except paramiko.AuthenticationException as exc:
         client.close()
-        raise UnreachableError(
-            robot, f"authentication as {hop.user}@{hop.hostname} failed: {exc}",
-            hint="panther-ops uses keys only: set identity_file or load the key into ssh-agent",
-        ) from None
+        raise failures.auth_failed(robot, hop, exc) from None
     except (OSError, paramiko.SSHException, EOFError) as exc:
+        started = client.get_transport()  # None: TCP never came up
         client.close()
-        what = "timed out" if isinstance(exc, (socket.timeout, TimeoutError)) else str(exc)
-        raise UnreachableError(robot, f"cannot connect to {hop.hostname}:{hop.port}: {what}") from None
+        if str(exc) == "No authentication methods available":  # nothing to offer: no key anywhere
+            raise failures.auth_failed(robot, hop, exc) from None
+        raise failures.cannot_connect(robot, hop, exc, started) from None
     clients.append(client)
     return client
 
@@ -348,13 +332,13 @@ def fetch_host_key(endpoint: Endpoint) -> tuple[Hop, Any]:
             try:
                 sock = connect_tcp(hop.hostname, hop.port, hop.connect_timeout)
             except OSError as exc:
-                raise UnreachableError(endpoint.name, f"cannot connect to {hop.hostname}:{hop.port}: {exc}") from None
+                raise failures.cannot_connect(endpoint.name, hop, exc, None) from None
         t = paramiko.Transport(sock)
         try:
             t.start_client(timeout=hop.connect_timeout)
             return hop, t.get_remote_server_key()
         except (paramiko.SSHException, EOFError, OSError) as exc:
-            raise UnreachableError(endpoint.name, f"SSH handshake with {hop.hostname} failed: {exc}") from None
+            raise failures.cannot_connect(endpoint.name, hop, exc, t) from None
         finally:
             t.close()
     finally:

@@ -37,7 +37,7 @@ from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Need, Reads
 from panther_ops.core.gps.plan import GpsOptions, plan_disable, plan_enable
-from panther_ops.core.gps.router_plan import RouterRequest, router_plan
+from panther_ops.core.gps.router.plan import RouterRequest, router_plan
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.manager_ops.bundle import ManagerBundle

@@ -84,8 +84,9 @@ def test_help_texts_are_complete(capsys: pytest.CaptureFixture[str]) -> None:
         assert "Usage:" in out
         if argv in (["--help"], ["inventory", "--help"]):  # a group: its commands listed
             assert "Commands" in out and "Example:" not in out, argv
-        else:  # a command: with a real example
-            assert "Example:" in out and "panther-ops " in out.split("Example:", 1)[1], argv
+        else:  # a command: with a real example (one, or several)
+            marker = "Examples:" if "Examples:" in out else "Example:"
+            assert marker in out and "panther-ops " in out.split(marker, 1)[1], argv
 
 
 def test_the_background_imports_end_before_the_interpreter(demo: Path, monkeypatch: pytest.MonkeyPatch) -> None:

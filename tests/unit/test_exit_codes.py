@@ -61,7 +61,7 @@ def test_declining_the_confirmation_is_exit_5_not_bad_input(demo: Path) -> None:
     before = compose.read_text()
     run = on_pty(["-i", str(demo), "config", "set", "wheel_type", "WH02", "-r", "panther-01"], cols=120, typed="n\n")
     shown = plain(run.out)
-    assert "Apply to 1 robot(s): panther-01?" in shown, shown
+    assert "Apply to 1 robot: panther-01?" in shown, shown
     assert run.code == ExitCode.DECLINED == 5, shown
     assert "nothing was changed on any robot" in shown and "error" not in shown, shown
     assert compose.read_text() == before

@@ -10,8 +10,8 @@ import pytest
 
 from panther_ops.cli.app import main
 from panther_ops.core.kinds.webui_settings import SettingError, dds_profile
+from panther_ops.core.remote.webui.apply import apply_settings
 from panther_ops.core.remote.webui.defaults import RobotNamespace
-from panther_ops.core.remote.webui.remote import apply_settings
 from panther_ops.core.remote.webui.state import parse_state, plan_changes
 from panther_ops.transport.base import Command, CommandResult
 

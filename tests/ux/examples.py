@@ -56,8 +56,8 @@ def _example_lines(text: str, *, root: bool) -> list[str]:
         if re.match(r"Examples?:", line):
             seen = True
             line = re.sub(r"^Examples?:\s*", "", line)
-        if root and ":  panther-ops " in line:  # the root help: "Try ...:  panther-ops ..."
-            seen, line = True, line.split(":  ", 1)[1]
+        if root and line.startswith("panther-ops "):  # the root help: "Try ...:" then the commands
+            seen = True
         if seen and line.startswith("panther-ops "):
             lines += [part.strip() for part in line.split("&&")]
     return lines

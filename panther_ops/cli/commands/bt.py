@@ -23,7 +23,9 @@ def validate(
     warns when a custom Safety tree drops one of the default safety behaviours (the manual's
     caution). Exit 2 when it would be refused.
 
-    Example: panther-ops bt validate my_trees/PantherSafetyBT.btproj
+    \b
+    Example:
+      panther-ops bt validate my_trees/PantherSafetyBT.btproj
     """
     from panther_ops.cli.views.findings import report_findings
     from panther_ops.core.kinds.bt import service_name_findings

@@ -54,7 +54,9 @@ def get(fleet: Fleet, key: KeyArg) -> int:
     """Show KEY on each robot: the value in its compose.yaml command (or controller file), else the
     stack's default, with where it came from. No robot chosen: every robot of the inventory.
 
-    Example: panther-ops config get wheel_type --all
+    \b
+    Example:
+      panther-ops config get wheel_type --all
     """
     from panther_ops.core.config.checks import precheck_key
     from panther_ops.core.config.read import read_arg
@@ -90,6 +92,7 @@ def set_(
     places that keep the old one (gamepad service, ROBOT_NAMESPACE, the WebUI); --everywhere
     changes the first two in the same plan.
 
+    \b
     Examples:
       panther-ops config set wheel_type WH02 -r panther-01 --yes
       panther-ops config set controller.linear.x.max_velocity 1.0 -g warehouse --dry-run
@@ -119,7 +122,9 @@ def set_(
 def unset(fleet: Fleet, key: KeyArg) -> int:
     """Remove a launch argument from the driver's command (the stack's default applies again).
 
-    Example: panther-ops config unset wheel_type -r panther-01 --yes
+    \b
+    Example:
+      panther-ops config unset wheel_type -r panther-01 --yes
     """
     from panther_ops.core.config.checks import precheck_key
 
@@ -146,6 +151,7 @@ def diff(
     --exit-code: the answer in the exit code for a script (0 no drift, 6 drift; 3 or 4 when a
     robot could not be read).
 
+    \b
     Examples:
       panther-ops config diff --all
       panther-ops -q config diff --all --exit-code
@@ -162,6 +168,7 @@ def history(fleet: Fleet, file: LocalFile = None) -> int:
     command, what changed, and how the attempt ended (applied, rolled-back and why). --file:
     the backups of a local hosts file, kept beside it by `shutdown hosts add|remove FILE`.
 
+    \b
     Examples:
       panther-ops config history -r panther-01
       panther-ops config history --file hosts.yaml
@@ -204,6 +211,7 @@ def rollback(
     the same pipeline: diff, confirm, backup, atomic write, recreate, verify. --file: a local
     hosts file from its own backups (nothing recreated).
 
+    \b
     Examples:
       panther-ops config rollback -r panther-01 --to 20261122T101500Z --yes
       panther-ops config rollback --file hosts.yaml --dry-run
@@ -239,7 +247,9 @@ def push(
     one command, with diff, backup, recreate, verify and roll back. A BT project brings the XML
     files it includes; a user animations file brings the images it references.
 
-    Example: panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
+    \b
+    Example:
+      panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
     from panther_ops.core.config.push import push_kind, read_bundle
     from panther_ops.core.config.read import read_and_plan_push as plan_push
@@ -268,7 +278,9 @@ def pull(
     project (bt-lights, bt-safety) comes with the files it includes, from the same place,
     written beside it (-o/--dest) at the paths the project names.
 
-    Example: panther-ops config pull controller -r panther-01 -o controller.yaml
+    \b
+    Example:
+      panther-ops config pull controller -r panther-01 -o controller.yaml
     """
     from panther_ops.cli.context import info, run
     from panther_ops.cli.output import write_bytes
@@ -329,7 +341,9 @@ def apply(fleet: Fleet, force: Force = False, ask_sudo_password: AskPassword = F
     pipeline, and desired.webui on each robot's User Computer (sudo snap set, the WebUI
     restarted when it was running; ros.namespace defaults to the robot's namespace).
 
-    Example: panther-ops apply -g warehouse --canary 1 --yes
+    \b
+    Example:
+      panther-ops apply -g warehouse --canary 1 --yes
     """
     from panther_ops.core.apply.apply import desired_applier
     from panther_ops.core.apply.read import read_and_plan_desired as plan_desired

@@ -23,7 +23,10 @@ def init(
     prints the `export PANTHER_OPS_INVENTORY=...` line that makes it the inventory in use (no
     -i needed then).
 
-    Example: panther-ops demo init && panther-ops -i demo-fleet status --all
+    \b
+    Examples:
+      panther-ops demo init
+      panther-ops -i demo-fleet status --all
     """
     import shlex
 

@@ -33,7 +33,9 @@ def status(fleet: Fleet) -> int:
     A driver that is not running (exited, restarting, unhealthy, missing) is `failed` (exit 3).
     A demo robot has no docker engine: `skipped`.
 
-    Example: panther-ops driver status --all
+    \b
+    Example:
+      panther-ops driver status --all
     """
     from panther_ops.cli.views.driver import print_status
     from panther_ops.core.driver.containers import status_task
@@ -57,6 +59,7 @@ def logs(
     """The driver container's output (stdout and stderr), as `docker logs` shows it. With several
     robots every line starts with `<robot> | `, robots one after the other.
 
+    \b
     Examples:
       panther-ops driver logs -r panther-01 -n 50
       panther-ops driver logs -g warehouse --since 10m
@@ -84,7 +87,9 @@ def restart(fleet: Fleet) -> int:
 
     `changed` when it came back up, `failed` (exit 3) when it did not (see `driver logs`).
 
-    Example: panther-ops driver restart -r panther-01 --yes
+    \b
+    Example:
+      panther-ops driver restart -r panther-01 --yes
     """
     from panther_ops.core.driver.apply import apply_restart
     from panther_ops.core.driver.read import read_and_plan_restart as plan_restart
@@ -102,7 +107,9 @@ def stop(fleet: Fleet) -> int:
 
     `changed` when it stopped, `ok` when it was already stopped.
 
-    Example: panther-ops driver stop -r panther-01 --yes
+    \b
+    Example:
+      panther-ops driver stop -r panther-01 --yes
     """
     from panther_ops.core.driver.apply import apply_run_state
     from panther_ops.core.driver.read import read_and_plan_stop as plan_stop
@@ -120,7 +127,9 @@ def start(fleet: Fleet) -> int:
     `changed` when it started, `ok` when it was already running, `failed` (exit 3) when it did
     not stay up (see `driver logs`).
 
-    Example: panther-ops driver start -r panther-01 --yes
+    \b
+    Example:
+      panther-ops driver start -r panther-01 --yes
     """
     from panther_ops.core.driver.apply import apply_run_state
     from panther_ops.core.driver.read import read_and_plan_start as plan_start
@@ -143,6 +152,7 @@ def versions(
     released Humble tags (humble-X.Y.Z-YYYYMMDD[-stable]) and, per robot, the newer ones of its
     repository; asked from this machine with a 5 s timeout, "registry unreachable" otherwise.
 
+    \b
     Examples:
       panther-ops driver versions --all
       panther-ops driver versions -r panther-01 --remote
@@ -198,6 +208,7 @@ def update(
     pulled by `docker compose up` (warned in the plan), or first with --pull; a failed pull rolls
     back. Bad tags exit 2 before anything is changed anywhere.
 
+    \b
     Examples:
       panther-ops driver update humble-2.1.1-20240828 -g warehouse --dry-run
       panther-ops driver update humble-2.1.2-20241125 -r panther-01 --pull --yes
@@ -230,7 +241,9 @@ def restore_defaults(
     arguments pointing into /config (what `config push` added) are removed through the pipeline:
     diff, confirm, backup, write, recreate, verify, roll back. The files stay in ~/config.
 
-    Example: panther-ops config restore-defaults -r panther-01 --dry-run
+    \b
+    Example:
+      panther-ops config restore-defaults -r panther-01 --dry-run
     """
     from panther_ops.core.driver.apply import apply_restore
     from panther_ops.core.driver.read import read_and_plan_restore_defaults as plan_restore_defaults

@@ -18,7 +18,9 @@ def status(fleet: Fleet) -> int:
     """Each robot's E-stop (the driver's hardware/e_stop topic) and the nodes publishing on
     cmd_vel, asked inside the driver container in the robot's namespace.
 
-    Example: panther-ops estop status --all
+    \b
+    Example:
+      panther-ops estop status --all
     """
     from panther_ops.cli.views.estop import print_state
     from panther_ops.core.remote.estop.calls import status_task
@@ -33,7 +35,9 @@ def trigger(fleet: Fleet) -> int:
     emergency, so no confirmation, no fork limit, all connections opened in parallel; the
     driver's answer per robot. Exit 3 when any robot did not confirm.
 
-    Example: panther-ops estop trigger --all
+    \b
+    Example:
+      panther-ops estop trigger --all
     """
     from panther_ops.core.remote.estop.calls import trigger_task
 
@@ -51,7 +55,9 @@ def reset(fleet: Fleet) -> int:
     while messages arrive); a robot whose E-stop is not triggered is left alone. Then names
     each robot to be reset and asks (--yes), resets them and reads the E-stop back.
 
-    Example: panther-ops estop reset -r panther-01 --yes
+    \b
+    Example:
+      panther-ops estop reset -r panther-01 --yes
     """
     from panther_ops.cli.mutate import require
     from panther_ops.cli.render import print_results

@@ -18,7 +18,9 @@ def status(fleet: Fleet) -> int:
 
     One SSH connection per robot (docker state rides the same connection).
 
-    Example: panther-ops -i fleet.yaml status --all --json
+    \b
+    Example:
+      panther-ops -i fleet.yaml status --all --json
     """
     from panther_ops.cli.views.status import print_status
     from panther_ops.core.health.status import status_task
@@ -38,12 +40,15 @@ def doctor(
     the fleet), key authentication, docker and compose v2, free disk, supported stack, and
     whether the default password is still accepted. Every finding comes with its fix.
 
-    Example: panther-ops doctor --all
+    \b
+    Example:
+      panther-ops doctor --all
     """
     from panther_ops.cli.views.status import print_doctor
-    from panther_ops.core.health.doctor import fleet_findings, make_doctor_task
+    from panther_ops.core.health.doctor import fleet_findings, make_doctor_task, unreached_findings
 
     result = fleet.results("doctor", make_doctor_task(password_check=password_check), read_only=True)
+    unreached_findings(result)
     result.data["fleet_findings"] = fleet_findings(result)
     return fleet.show(result, print_doctor)
 
@@ -62,6 +67,7 @@ def describe(
     gps status, estop status, config history and doctor (without --password-check, which
     needs a second connection). Exit 0 when the robot was read, 4 when it is unreachable.
 
+    \b
     Examples:
       panther-ops describe panther-01
       panther-ops describe panther-01 --json | jq .robots[0].data.status.containers

@@ -49,7 +49,9 @@ def listen(
     checksums. Exit 0 when --count fixes arrived (or Ctrl-C/--timeout without --count),
     3 when --timeout passed before --count fixes.
 
-    Example: panther-ops gps listen --udp 0.0.0.0:5000 --count 3 --json
+    \b
+    Example:
+      panther-ops gps listen --udp 0.0.0.0:5000 --count 3 --json
     """
     from panther_ops.cli.views.gps import fix_line, print_listened
     from panther_ops.core.gps.listen import listen as run_listen
@@ -117,6 +119,7 @@ def enable(
     applied after the driver (credentials as for `gps router`). Then `gps status` confirms
     the fix from the robot's fix topic.
 
+    \b
     Examples:
       panther-ops gps enable --all --dry-run
       panther-ops gps enable -r panther-01 --yes
@@ -125,7 +128,7 @@ def enable(
     from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
     from panther_ops.core.gps.read import read_and_plan_enable as plan_enable
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
@@ -146,7 +149,9 @@ def disable(fleet: Fleet) -> int:
     panther-ops wrote.
     After an enable, compose.yaml is restored byte for byte.
 
-    Example: panther-ops gps disable -r panther-01 --yes
+    \b
+    Example:
+      panther-ops gps disable -r panther-01 --yes
     """
     from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.read import read_and_plan_disable as plan_disable
@@ -177,12 +182,13 @@ def status(
     view. `ok` only with a fix; `failed` (exit 3) otherwise. Demo robots answer with a
     recorded NMEA file.
 
+    \b
     Examples:
       panther-ops gps status --all
       panther-ops gps status -r panther-01 --router --json
     """
     from panther_ops.cli.views.gps import print_status
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
 
     check_address(address)
@@ -209,14 +215,16 @@ def watch(
     (one table per refresh when piped), until Ctrl-C or --count refreshes. With --json (and
     --count) one document: every refresh's robots.
 
-    Example: panther-ops gps watch -r panther-01 --router
+    \b
+    Example:
+      panther-ops gps watch -r panther-01 --router
     """
     import time
 
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.gps import watch_display
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.gps.router_plan import check_address
+    from panther_ops.core.gps.router.plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
     from panther_ops.errors import UsageError
 

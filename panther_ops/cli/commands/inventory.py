@@ -38,7 +38,9 @@ def _robot_json(r: Any, inv: Any) -> dict[str, Any]:
 def list_(fleet: Fleet) -> int:
     """List robots with how each is reached. With no selection, every robot is listed.
 
-    Example: panther-ops inventory list -g warehouse
+    \b
+    Example:
+      panther-ops inventory list -g warehouse
     """
     inv = context.load(fleet.ctx)
     robot, group = fleet.robot or [], fleet.group or []
@@ -63,7 +65,9 @@ def show(
 ) -> int:
     """Show one robot with defaults and group values applied (its effective desired state).
 
-    Example: panther-ops inventory show panther-01
+    \b
+    Example:
+      panther-ops inventory show panther-01
     """
     inv = context.load(ctx)
     (robot,) = inv.select([name], [], False)[:1]
@@ -89,7 +93,9 @@ def validate(ctx: typer.Context, json_out: Json = False) -> int:
 
     Errors name the file, line and key, with what is allowed; exit code 2.
 
-    Example: panther-ops -i inventory/ inventory validate
+    \b
+    Example:
+      panther-ops -i inventory/ inventory validate
     """
     inv = context.load(ctx)
     context.check_keys(inv, list(inv.robots.values()))

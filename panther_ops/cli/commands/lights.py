@@ -34,7 +34,9 @@ def validate(
     paths, hex colours, segments and segments_map names defined, channels present in panels,
     led_range inside its panel. Every rule has its own message; exit 2 when the file would be refused.
 
-    Example: panther-ops lights validate my_awesome_user_animations.yaml --stack 2.1.1
+    \b
+    Example:
+      panther-ops lights validate my_awesome_user_animations.yaml --stack 2.1.1
     """
     from panther_ops.cli.views.findings import report_findings
     from panther_ops.core.stack import stack_option
@@ -61,7 +63,9 @@ def preview(
     controller's 50 Hz (duration x 50 x repeat frames). --json: the GIF written, its animation,
     frames and frame time.
 
-    Example: panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
+    \b
+    Example:
+      panther-ops lights preview my_animations.yaml --id 21 --out anim.gif
     """
     from panther_ops.core.parse.numbers import NumberError, decimal
     from panther_ops.errors import UsageError
@@ -96,7 +100,9 @@ def deploy(
     """Validate, then push a user animations file with its images to the robots and point the
     driver at it (user_led_animations_file, 2.2: user_led_animations_path) through the pipeline.
 
-    Example: panther-ops lights deploy my_animations.yaml -g warehouse --yes
+    \b
+    Example:
+      panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
     from panther_ops.core.config.push import read_bundle
     from panther_ops.core.config.read import read_and_plan_push as plan_push
@@ -118,7 +124,9 @@ def test(
     """Show an animation on the robot now: the lights/set_animation service call, made inside
     the driver container (as the manual's `ros2 service call` example).
 
-    Example: panther-ops lights test 21 --repeating -r panther-01
+    \b
+    Example:
+      panther-ops lights test 21 --repeating -r panther-01
     """
     from panther_ops.core.manager_ops.lights import set_animation
     from panther_ops.errors import UsageError

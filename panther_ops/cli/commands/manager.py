@@ -53,6 +53,7 @@ def run(
     With --json, one JSON document with a snapshot per tick instead; when stdout is not a terminal the
     simulation runs as fast as it can and prints one line per simulated second.
 
+    \b
     Examples:
       panther-ops manager run --sim --scenario battery_overheat --speed 10
       panther-ops manager run --sim --xml --duration 30 --json | jq '.snapshots[].calls'
@@ -119,6 +120,7 @@ def deploy(
 
     Refused on panther_ros 2.0.0 (no disable_manager). See docs/manager-deploy.md.
 
+    \b
     Examples:
       panther-ops manager deploy -r panther-01 --dry-run
       panther-ops manager deploy -g warehouse --canary 1 --yes
@@ -147,7 +149,9 @@ def remove(fleet: Fleet) -> int:
     byte-identical to before), delete the uploaded files, recreate the driver so the stock
     manager runs again — through the pipeline, rolled back if the driver does not stay up.
 
-    Example: panther-ops manager remove -r panther-01 --yes
+    \b
+    Example:
+      panther-ops manager remove -r panther-01 --yes
     """
     from panther_ops.core.manager_ops.apply import apply_manager
     from panther_ops.core.manager_ops.read import read_and_plan_remove as plan_remove
@@ -165,7 +169,9 @@ def status(fleet: Fleet) -> int:
     `failed` (exit 3) when the service's container is not running, or when it runs while
     disable_manager is not set (two managers would drive the same lights and E-stop).
 
-    Example: panther-ops manager status --all
+    \b
+    Example:
+      panther-ops manager status --all
     """
     from panther_ops.cli.views.manager import print_status
     from panther_ops.core.manager_ops.status import status_task
@@ -185,6 +191,7 @@ def logs(
     simulation every service call and a status line every 10 s. With several robots every line
     starts with `<robot> | `.
 
+    \b
     Examples:
       panther-ops manager logs -r panther-01 -n 20
       panther-ops manager logs -r panther-01 -f

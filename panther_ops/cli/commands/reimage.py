@@ -52,7 +52,9 @@ def flash(
     least the image's size. Exit 2: refused, nothing written; exit 3: the card does not read
     back as the image, or the image did not match its checksum.
 
-    Example: panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
+    \b
+    Example:
+      panther-ops reimage flash panther-2.1.1.img.xz --device /dev/sdb --yes
     """
     from panther_ops.cli.render import emit_json, error
     from panther_ops.cli.views.reimage import progress
@@ -159,7 +161,9 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, bmap: BmapOpt
     sha256 is checked first, before the device, when --sha256 or IMAGE.sha256 gives one.
     Exit 3 when the device differs.
 
-    Example: panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
+    \b
+    Example:
+      panther-ops reimage verify panther-2.1.1.img.xz --device /dev/sdb
     """
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.reimage import progress
@@ -202,7 +206,9 @@ def bmap_cmd(
     else is mapped whole, and said so); a sparse image's holes are left out. Map a fleet's
     image once; `reimage flash` (and `bmaptool copy`) then find it beside the image.
 
-    Example: panther-ops reimage bmap panther-2.1.1.img.xz
+    \b
+    Example:
+      panther-ops reimage bmap panther-2.1.1.img.xz
     """
     from pathlib import Path
 
@@ -239,7 +245,9 @@ def plan(fleet: Fleet) -> int:
     deployed manager, and the inventory's desired: block; per file its mode, owner, size and
     whether it is a secret.
 
-    Example: panther-ops reimage plan -r panther-01
+    \b
+    Example:
+      panther-ops reimage plan -r panther-01
     """
     from panther_ops.cli.views.reimage import print_carried
     from panther_ops.core.reimage.tasks import plan_task
@@ -259,7 +267,9 @@ def backup(
     robot, model, serial, stack and version, OS build, host key fingerprint, and per file its
     path, mode, owner, sha256 and whether it is a secret (private keys, shutdown secrets).
 
-    Example: panther-ops reimage backup --all --out backups/
+    \b
+    Example:
+      panther-ops reimage backup --all --out backups/
     """
     from panther_ops.cli.render import print_results
     from panther_ops.core.reimage.archive import out_dir
@@ -293,7 +303,9 @@ def restore(
     re-applied onto it; across release lines restore is refused (exit 2). --json: the restore's
     document, the apply's and the doctor's in it under "apply" and "doctor".
 
-    Example: panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
+    \b
+    Example:
+      panther-ops reimage restore -r panther-01 --from backups/panther-01-20261124T031330Z.tar.gz
     """
     from panther_ops.cli.envelope import under
     from panther_ops.cli.views.status import print_doctor

@@ -66,7 +66,9 @@ def shutdown(
     per host ping (no answer: skipped), the command over SSH or the signed HTTP request, then
     ping until it is gone or its timeout passes. Names every host and asks first (--yes).
 
-    Example: panther-ops shutdown --hosts hosts.yaml --yes
+    \b
+    Example:
+      panther-ops shutdown --hosts hosts.yaml --yes
     """
     if fleet.ctx.invoked_subcommand is not None:
         if hosts is not None or via is not None:
@@ -164,7 +166,9 @@ def setup(
     without a password; checked with visudo, 0440), and the host in the robot's hosts file.
     On 2.2.1+ robots: checks husarion-shutdown and its secret instead. Re-running changes nothing.
 
-    Example: panther-ops shutdown setup -r panther-01 --host 10.15.20.3 --user husarion --ask-password
+    \b
+    Example:
+      panther-ops shutdown setup -r panther-01 --host 10.15.20.3 --user husarion --ask-password
     """
     import getpass
 
@@ -206,7 +210,9 @@ def check(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     it off: ping, host key, login with the robot's key (batch), `sudo -n -l <command>`; HTTP hosts:
     the service answers and accepts the secret. Names the failing step and its fix.
 
-    Example: panther-ops shutdown check -r panther-01
+    \b
+    Example:
+      panther-ops shutdown check -r panther-01
     """
     from panther_ops.cli.views.shutdown import print_check
     from panther_ops.core.shutdown.check import check_robot
@@ -222,7 +228,9 @@ def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     side and from the robot (their failures do not stop it), then the Built-in Computer.
     Names the robot and every host and asks first (--yes).
 
-    Example: panther-ops shutdown robot -r panther-01 --yes
+    \b
+    Example:
+      panther-ops shutdown robot -r panther-01 --yes
     """
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.shutdown.plan import RobotShutdownPlan

@@ -43,7 +43,9 @@ def _local_or_robots(file: Path | None, fleet: Fleet) -> None:
 def hosts_list(fleet: Fleet, file: FileArg = None, power_budget: PowerBudget = 15.0) -> int:
     """Show the hosts of a local FILE, or of each robot's hosts file (the one its manager reads).
 
-    Example: panther-ops shutdown hosts list -r panther-01
+    \b
+    Example:
+      panther-ops shutdown hosts list -r panther-01
     """
     from panther_ops.core.kinds.hostsfile import load_hosts_file
     from panther_ops.results import FleetResult, Outcome, RobotResult
@@ -97,7 +99,9 @@ def hosts_validate(
     shutdown/poweroff and timeouts longer than the robot gives before cutting the power.
     Exit 2 when there are errors.
 
-    Example: panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
+    \b
+    Example:
+      panther-ops shutdown hosts validate my_hosts.yaml --stack 2.1.1
     """
     from panther_ops.core.kinds.hostsfile import Mode, load_hosts_file
     from panther_ops.results import FleetResult
@@ -196,6 +200,7 @@ def hosts_add(
     (diff, confirm, backup in .panther-ops/backups/ beside it, atomic write) and keeps a secret
     given with --secret-env as {env: VAR}; a robot's file gets the value (its manager reads it).
 
+    \b
     Examples:
       panther-ops shutdown hosts add -r panther-01 --ip 10.15.20.3 --user husarion --yes
       panther-ops shutdown hosts add hosts.yaml --ip 10.15.20.5 --http --secret-env NUC_SECRET
@@ -239,7 +244,9 @@ def hosts_remove(
 ) -> int:
     """Remove a host's entries (every entry of --ip, narrowed by --user/--port).
 
-    Example: panther-ops shutdown hosts remove -r panther-01 --ip 10.15.20.3 --yes
+    \b
+    Example:
+      panther-ops shutdown hosts remove -r panther-01 --ip 10.15.20.3 --yes
     """
     from panther_ops.core.kinds.hostsfile import remove_host
 

@@ -74,7 +74,9 @@ def gps_add(
     ANT02, parent_link cover_link, xyz 0.185 -0.12 0.0, rpy 0.0 0.0 3.14, device_namespace
     gps), the rest of the file kept. An ANT02 entry already there gets these values.
 
-    Example: panther-ops sim gps add components.yaml --dry-run
+    \b
+    Example:
+      panther-ops sim gps add components.yaml --dry-run
     """
     from panther_ops.core.sim.components import add_ant02, check_triple
 
@@ -130,7 +132,9 @@ def world_set(
     """Set the world origin's latitude, longitude, elevation, heading; only those texts change.
     A world without <spherical_coordinates> gets the manual's block first.
 
-    Example: panther-ops sim world set my_world.sdf --latitude 52.2297 --longitude 21.0122 --yes
+    \b
+    Example:
+      panther-ops sim world set my_world.sdf --latitude 52.2297 --longitude 21.0122 --yes
     """
     from panther_ops.core.sim.world import set_coordinates
     from panther_ops.errors import UsageError
@@ -188,6 +192,7 @@ def battery_charge(
     the exact command; it asks (or --yes); --dry-run only shows it. The service must be among
     those the simulation serves (`ign service --list`), else exit 3 naming the ones it has.
 
+    \b
     Examples:
       panther-ops sim battery charge start --yes
       panther-ops sim battery charge stop --namespace panther --yes

@@ -33,7 +33,9 @@ def teleop(
     needs; warns when another node publishes on cmd_vel. Exactly one robot. Keys as
     teleop_twist_keyboard's: u i o j l m , . move, k stops, q/z w/x e/c speeds, Ctrl-C ends.
 
-    Example: panther-ops teleop -r panther-01
+    \b
+    Example:
+      panther-ops teleop -r panther-01
     """
     from panther_ops.cli.render import error
     from panther_ops.core.fleet.runner import Connections, RobotContext

@@ -26,7 +26,9 @@ def trust(
     --replace. Host keys are never accepted silently. --json: the key, its state (new, known,
     changed) and whether it was recorded (the messages on stderr).
 
-    Example: panther-ops trust panther-07
+    \b
+    Example:
+      panther-ops trust panther-07
     """
     from panther_ops.cli.mutate import require
     from panther_ops.core.fleet.trust import plan_trust, record
@@ -56,7 +58,8 @@ def trust(
         if not replace:
             raise HostKeyError(robot.name, "host key changed: refused",
                                offered=plan.fingerprint, expected=", ".join(plan.known_fingerprints),
-                               hint="if you reinstalled the robot and checked the fingerprint, add --replace")
+                               hint="if you reinstalled the robot and checked the fingerprint on it: "
+                               f"panther-ops trust {robot.name} --replace")
     require(f"Record this key in {plan.known_hosts_file}?", yes, "not recording: pass --yes when not interactive",
             "nothing was recorded")
     record(plan)

@@ -22,9 +22,11 @@ def status(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """Installed revision and channel, every key, running or not, and whether
     http://<host>:<port>/ui answers (fetched on the robot).
 
-    Example: panther-ops webui status --all
+    \b
+    Example:
+      panther-ops webui status --all
     """
-    from panther_ops.core.remote.webui.remote import status_task
+    from panther_ops.core.remote.webui.read import status_task
 
     return fleet.run("webui status", status_task(sudo_password(ask_sudo_password)), read_only=True)
 
@@ -34,9 +36,11 @@ def status(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 def get(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """Every key of the snap (`snap get -d husarion-webui`), defaults filled in.
 
-    Example: panther-ops webui get -r panther-01 --json
+    \b
+    Example:
+      panther-ops webui get -r panther-01 --json
     """
-    from panther_ops.core.remote.webui.remote import status_task
+    from panther_ops.core.remote.webui.read import status_task
 
     return fleet.run("webui get", status_task(sudo_password(ask_sudo_password)), read_only=True)
 
@@ -48,7 +52,9 @@ def install(fleet: Fleet, channel: Annotated[str, typer.Option("--channel", help
     """Check the clocks of the User Computer, the robot and this machine (refused beyond 1 s,
     with the fix), then `sudo snap install husarion-webui --channel=humble`; idempotent.
 
-    Example: panther-ops webui install -r panther-01 --ask-sudo-password
+    \b
+    Example:
+      panther-ops webui install -r panther-01 --ask-sudo-password
     """
     from panther_ops.core.kinds.webui_settings import PROFILE
     from panther_ops.core.remote.webui.install import install_task
@@ -65,9 +71,11 @@ def install(fleet: Fleet, channel: Annotated[str, typer.Option("--channel", help
 def start(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """`sudo husarion-webui.start` where it is not running.
 
-    Example: panther-ops webui start -r panther-01
+    \b
+    Example:
+      panther-ops webui start -r panther-01
     """
-    from panther_ops.core.remote.webui.remote import start_stop_task
+    from panther_ops.core.remote.webui.apply import start_stop_task
 
     return fleet.run("webui start", start_stop_task(True, sudo_password(ask_sudo_password)))
 
@@ -77,9 +85,11 @@ def start(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 def stop(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """`sudo husarion-webui.stop` where it runs.
 
-    Example: panther-ops webui stop -r panther-01
+    \b
+    Example:
+      panther-ops webui stop -r panther-01
     """
-    from panther_ops.core.remote.webui.remote import start_stop_task
+    from panther_ops.core.remote.webui.apply import start_stop_task
 
     return fleet.run("webui stop", start_stop_task(False, sudo_password(ask_sudo_password)))
 
@@ -89,9 +99,11 @@ def stop(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
 def url(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
     """The WebUI's addresses: on the robot's LAN and the Husarnet form (port from the snap).
 
-    Example: panther-ops webui url -r panther-01
+    \b
+    Example:
+      panther-ops webui url -r panther-01
     """
-    from panther_ops.core.remote.webui.remote import url_task
+    from panther_ops.core.remote.webui.read import url_task
 
     return fleet.run("webui url", url_task(sudo_password(ask_sudo_password)), read_only=True)
 
@@ -112,12 +124,15 @@ def set_(
     the plan (current -> new) per robot, confirm, `sudo snap set`, restart the WebUI where it
     was running, read back.
 
-    Example: panther-ops webui set ros.transport=rmw_cyclonedds_cpp webui.layout=panther -r panther-01 --yes
+    \b
+    Example:
+      panther-ops webui set ros.transport=rmw_cyclonedds_cpp webui.layout=panther -r panther-01 --yes
     """
     from panther_ops.cli.mutate import require
     from panther_ops.cli.render import print_results
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.remote.webui.remote import set_apply_task, set_plan_task
+    from panther_ops.core.remote.webui.apply import set_apply_task
+    from panther_ops.core.remote.webui.read import set_plan_task
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
     password = sudo_password(ask_sudo_password)

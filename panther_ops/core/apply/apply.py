@@ -21,7 +21,7 @@ def desired_applier(password: Secret | None) -> Any:
     """Carry out `read_and_plan_desired`'s plans: the files through the pipeline, then the WebUI's
     settings (files that failed or rolled back leave the WebUI untouched)."""
     def apply(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-        from panther_ops.core.remote.webui.desired import apply_desired_webui
+        from panther_ops.core.remote.webui.apply import apply_desired_webui
         from panther_ops.core.remote.webui.plan import ACTION
 
         result = apply_plan(ctx, plan, opts)

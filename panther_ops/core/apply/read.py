@@ -23,8 +23,8 @@ from panther_ops.errors import UsageError
 def read_and_plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPlan:
     """Converge the robot to the inventory's ``desired:`` launch_args, controller, image, GPS,
     shutdown hosts and WebUI."""
-    from panther_ops.core.remote.webui.desired import read_desired_webui
     from panther_ops.core.remote.webui.plan import FACT
+    from panther_ops.core.remote.webui.read import read_desired_webui
     from panther_ops.core.shutdown.plan import DEFAULT_FACT
 
     desired = ctx.robot.desired

@@ -155,7 +155,7 @@ def status_task(ctx: RobotContext) -> RobotResult:
     if ctr is None:
         res = RobotResult(ctx.robot.name, Outcome.FAILED, f"no container for service {service}",
                           data={**base, "state": "missing"})
-        res.data["hint"] = "start it: panther-ops driver restart"
+        res.data["hint"] = f"start it: panther-ops driver restart -r {ctx.robot.name}"
         return res
     view = describe_container(ctr.attrs, compose_image=image, compose_argv=argv, now=engine_now(client))
     data = {**base, **view.data}

@@ -16,8 +16,8 @@ from panther_ops.core.gps.apply import apply_gps
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.core.gps.read import read_and_plan_enable
-from panther_ops.core.gps.router import NoRouter, open_router, read_state
-from panther_ops.core.gps.router_plan import RouterRequest, changes, describe, summary_of, with_router
+from panther_ops.core.gps.router.plan import RouterRequest, changes, describe_puts, summary_of, with_router
+from panther_ops.core.gps.router.read import NoRouter, open_router, read_state
 from panther_ops.results import Outcome, RobotResult
 
 
@@ -49,7 +49,7 @@ def enable_applier(address: str, creds: Credentials, opts: GpsOptions) -> Any:
         left = changes(state, router_request(opts))
         if left:
             result.outcome = Outcome.FAILED
-            result.message = f"{plan.summary}; the router did not keep: {describe(state, left)}"
+            result.message = f"{plan.summary}; the router did not keep: {describe_puts(state, left)}"
         else:
             result.outcome = Outcome.CHANGED
             result.message = plan.summary

@@ -93,7 +93,7 @@ class StatusOptions:
         """Bad input refused before any robot is contacted (exit 2)."""
         import math
 
-        from panther_ops.core.gps.router_plan import check_address
+        from panther_ops.core.gps.router.plan import check_address
         from panther_ops.core.gps.udp_address import check_port
 
         check_port(self.port, "--port")
@@ -189,8 +189,8 @@ def status_task(opts: StatusOptions) -> Any:
         router = None
         warnings: list[str] = []
         if opts.router is not None and opts.credentials is not None:
-            from panther_ops.core.gps.router import open_router, read_state
-            from panther_ops.core.gps.router_plan import summary_of
+            from panther_ops.core.gps.router.plan import summary_of
+            from panther_ops.core.gps.router.read import open_router, read_state
 
             api = open_router(ctx, opts.router, opts.credentials)
             router = summary_of(read_state(api))

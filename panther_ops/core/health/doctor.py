@@ -45,7 +45,8 @@ def make_doctor_task(*, password_check: bool = True, gps: Task | None = None) ->
         else:
             findings.append(Finding("ssh key auth", "ok", f"connected as {ctx.robot.user} with a key"))
         if offset is None:
-            findings.append(Finding("clock", "warn", "could not read the robot's clock"))
+            findings.append(Finding("clock", "warn", "could not read the robot's clock",
+                                    "on the robot: `timedatectl` shows its time and whether NTP syncs it"))
         elif abs(offset) > CLOCK_LIMIT_S:
             findings.append(Finding(
                 "clock", "warn", f"robot clock is {signed_seconds(offset)} off this machine",
@@ -92,7 +93,7 @@ def make_doctor_task(*, password_check: bool = True, gps: Task | None = None) ->
 
 def _disk(free: int | None, total: int | None) -> Finding:
     if free is None or not total:
-        return Finding("disk", "warn", "could not read free disk space")
+        return Finding("disk", "warn", "could not read free disk space", "on the robot: `df -h /` shows it")
     share = free / total
     detail = f"{free / 1024**3:.1f} GiB free ({share:.0%})"
     if free < DISK_MIN_BYTES or share < DISK_MIN_SHARE:
@@ -107,13 +108,27 @@ def _password(ctx: RobotContext) -> Finding:
     try:
         accepted = default_password_accepted(ctx.inventory.endpoint(ctx.robot), DEFAULT_PASSWORD)
     except Exception as exc:  # a check that cannot run is a warning, not a crash
-        return Finding("default password", "warn", f"could not check: {exc}")
+        return Finding("default password", "warn", f"could not check: {exc}",
+                       f"check by hand: ssh -o PubkeyAuthentication=no -p {ctx.robot.port or 22} "
+                       f"{ctx.robot.user}@{ctx.robot.host} (the default password must not let you in)")
     if accepted:
         return Finding(
             "default password", "warn", f"sshd accepts the default password for {ctx.robot.user}",
             "change it (`passwd` on the robot) or set `PasswordAuthentication no` in /etc/ssh/sshd_config",
         )
     return Finding("default password", "ok", "the default password is not accepted")
+
+
+def unreached_findings(fleet: FleetResult) -> None:
+    """A robot the doctor could not check (not reached, or its checks failed before any finding)
+    gets one finding saying why, with its fix: the hint of the error (the next command, filled
+    in), else running the doctor again on it."""
+    for r in fleet.results:
+        if r.data.get("findings"):
+            continue
+        check = "ssh connect" if r.outcome is Outcome.UNREACHABLE else "doctor"
+        fix = r.data.get("hint") or f"run the checks again on it: panther-ops doctor -r {r.robot}"
+        r.data["findings"] = [Finding(check, "fail", r.message, str(fix)).to_json()]
 
 
 def fleet_findings(fleet: FleetResult) -> list[dict[str, Any]]:

@@ -50,7 +50,7 @@ def gps_finding(ctx: RobotContext, read: Task | None = None) -> Finding:
     try:
         result = (read or gps_task(ctx))(ctx)
     except OpsError as exc:
-        return Finding("gps", "warn", f"could not check: {exc}", "panther-ops gps status -r ROBOT")
+        return Finding("gps", "warn", f"could not check: {exc}", f"panther-ops gps status -r {ctx.robot.name}")
     d = result.data
     verdict, detail = d.get("verdict", "?"), d.get("detail", result.message)
     driver = (d.get("driver") or {}).get("mode")

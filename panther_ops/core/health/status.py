@@ -119,7 +119,7 @@ def status_task(ctx: RobotContext) -> RobotResult:
             )
         state = driver["state"] if driver else "no driver container"
         message = f"{stack.label() if stack else 'stack unknown'}; driver {state}"
-    from panther_ops.core.remote.webui.remote import status_column
+    from panther_ops.core.remote.webui.read import status_column
 
     data["webui"] = status_column(ctx)
     if data["webui"] and "error" in data["webui"]:

@@ -279,6 +279,8 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         sim_only_until=_v("2.0.1"),
     ),
     ArgSpec("publish_robot_state", _BOOL, "publish the robot description and TF", default="True"),
+    # panther_ros@2.0.4, @2.1.1:panther_bringup/launch/bringup.launch.py; husarion_ugv_ros@2.2.0, @2.2.2:
+    # husarion_ugv_localization/launch/localization.launch.py (included by bringup): default "True"
     ArgSpec("use_ekf", _BOOL, "fuse wheel odometry and IMU with the EKF", default="True"),
     ArgSpec(
         "ekf_config_path",

@@ -130,7 +130,7 @@ def open_logs(ctx: RobotContext, opts: LogOptions) -> tuple[str, Any]:
     ctrs = manager_containers(client)
     if not ctrs:
         raise RemoteStateError(f"no container for service {SERVICE}: the manager is not deployed",
-                               hint="panther-ops manager deploy -r ROBOT")
+                               hint=f"panther-ops manager deploy -r {ctx.robot.name}")
     ctr = ctrs[0]
     return read_logs(client, ctr, opts)
 

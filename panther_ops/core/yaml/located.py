@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from panther_ops.core.yaml.tabs import tab_problem
 from panther_ops.errors import InputError
 
 
@@ -113,6 +114,7 @@ def load_yaml(text: str, path: str) -> Any:
         # the libyaml of PyYAML >= 6.0.4 stops at its own depth limit: the same refusal
         # as the RecursionError below, in the same words
         problem = "nested too deeply" if "nesting depth" in (exc.problem or "") else exc.problem
+        problem = tab_problem(text, exc.problem_mark) or problem
         raise InputError(f"invalid YAML: {problem}", path=path, line=line) from None
     except yaml.YAMLError as exc:
         raise InputError(f"invalid YAML: {exc}", path=path) from None

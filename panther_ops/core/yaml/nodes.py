@@ -25,6 +25,7 @@ from panther_ops.core.yaml.paths import DocumentError, PathError, PathPart, as_i
 from panther_ops.core.yaml.render import (
     Indentation,
 )
+from panther_ops.core.yaml.tabs import tab_problem
 from panther_ops.core.yaml.values import AliasRef, construct_scalar, plain_value, py_set, thread_parser
 
 _MERGE_TAG = "tag:yaml.org,2002:merge"
@@ -149,7 +150,7 @@ class YamlNodes:
         except MarkedYAMLError as exc:
             mark = exc.problem_mark or exc.context_mark
             line = mark.line + 1 if mark is not None else None
-            problem = exc.problem or exc.context or "invalid YAML"
+            problem = tab_problem(text, mark) or exc.problem or exc.context or "invalid YAML"
             raise DocumentError(f"invalid YAML: {problem}", path=self.path, line=line) from exc
         except YAMLError as exc:
             raise DocumentError(f"invalid YAML: {exc}", path=self.path) from exc

@@ -9,16 +9,15 @@ from collections.abc import Callable
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.webui_settings import SNAP
-from panther_ops.core.remote.webui.remote import (
+from panther_ops.core.remote.webui.apply import apply_settings, sudo
+from panther_ops.core.remote.webui.read import (
     Task,
-    apply_settings,
     demo_skip,
     no_user_computer,
     open_webui_session,
     read_state,
     read_webui,
     robot_namespace,
-    sudo,
 )
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult

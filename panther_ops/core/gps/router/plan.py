@@ -1,9 +1,9 @@
 """The planner of `gps router set` (and of the router half of `gps enable --router`): a pure
-function of the router's state as read (`router.read_state`) and what was asked.
+function of the router's state as read (`read.read_state`) and what was asked.
 
 The request types and checks are here too (what the operator asked, checked before any
-robot is contacted); the reads and the writes (the router's REST API through the robot's
-SSH connection) are `router.py`'s.
+robot is contacted); the reads (the router's REST API through the robot's SSH connection)
+are `read.py`'s, the writes `apply.py`'s.
 """
 
 from __future__ import annotations
@@ -106,7 +106,7 @@ def changes(state: dict[str, Any], req: RouterRequest) -> dict[str, Any]:
     return out
 
 
-def describe(state: dict[str, Any], puts: dict[str, Any]) -> str:
+def describe_puts(state: dict[str, Any], puts: dict[str, Any]) -> str:
     bits = []
     for path, body in puts.items():
         if path == RULES:
@@ -125,7 +125,7 @@ def router_plan(robot: str, address: str, state: dict[str, Any], req: RouterRequ
                 pinned_now: bool) -> RobotPlan:
     """`gps router set`: the PUTs that take ``state`` to ``req``."""
     puts = changes(state, req)
-    plan = RobotPlan(robot, f"change router {address}: {describe(state, puts)}" if puts else "",
+    plan = RobotPlan(robot, f"change router {address}: {describe_puts(state, puts)}" if puts else "",
                      noop=None if puts else f"router {address} already as asked")
     plan.data.update({"router": address, "before": summary_of(state), "certificate": fingerprint})
     if puts:
@@ -144,7 +144,7 @@ def with_router(plan: RobotPlan, address: str, state: dict[str, Any], req: Route
     if pinned_now:
         plan.warnings.append(f"router certificate pinned on first use: {fingerprint}")
     if puts:
-        text = f"router {address}: {describe(state, puts)}"
+        text = f"router {address}: {describe_puts(state, puts)}"
         plan.data["router_puts"] = puts
         plan.data["action"] = "router"
         plan.summary = f"{plan.summary}; {text}" if plan.edits else text

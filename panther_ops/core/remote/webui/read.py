@@ -1,21 +1,24 @@
-"""husarion-webui on the robot's User Computer: read its state, plan and apply, the tasks.
+"""husarion-webui on the robot's User Computer, read: the snap's state (or a demo robot's
+recording), whether its UI answers, the robot's namespace (the default of ``ros.namespace``),
+and the read-only tasks (`webui status|url`, the plan of `webui set`, the status column, the
+fact ``desired.webui`` plans from). Planners: `plan.py` and `state.py` (pure); changes:
+`apply.py`.
 
 Everything runs on the User Computer through a fabric session over the robot's connection
 (:mod:`panther_ops.core.remote.user_computer.access`): one read of the snap's state (``snap list``,
-``snap get -d``, ``snap services``, the DDS profiles ``dds-config-*.xml``), then ``sudo snap ...`` /
-``sudo husarion-webui.start|stop`` as the manual does. Whether ``http://<host>:<port>/ui``
-answers is asked from the robot (curl there), i.e. through the robot's connection.
+``snap get -d``, ``snap services``, the DDS profiles ``dds-config-*.xml``). Whether
+``http://<host>:<port>/ui`` answers is asked from the robot (curl there), i.e. through the
+robot's connection.
 """
 
 from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, profile_path, validate
+from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, validate
 from panther_ops.core.remote.user_computer.access import open_session
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import (
@@ -24,6 +27,7 @@ from panther_ops.core.remote.webui.defaults import (
     unknown_namespace,
     with_robot_namespace,
 )
+from panther_ops.core.remote.webui.plan import WebuiRead
 from panther_ops.core.remote.webui.state import WebuiState, parse_state, plan_changes, plan_text
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
@@ -63,16 +67,6 @@ def ui_answers(ctx: RobotContext, url: str, timeout: float = 3.0) -> int | None:
 
 def open_webui_session(ctx: RobotContext, password: Secret | None) -> UserComputerSession:
     return open_session(ctx, password)
-
-
-def sudo(session: UserComputerSession, *argv: str) -> None:
-    res = session.sudo(Command.of(*argv), timeout=120)
-    if not res.ok:
-        why = (res.stderr.strip() or res.stdout.strip())[-400:]
-        if "password is required" in why:
-            raise RemoteStateError(f"sudo on {session.address.name} needs a password",
-                                   hint="pass --ask-sudo-password or set PANTHER_OPS_SUDO_PASSWORD")
-        raise RemoteStateError(f"`sudo {' '.join(argv)}` failed on {session.address.name}: {why}")
 
 
 Task = Callable[[RobotContext], RobotResult]
@@ -180,7 +174,7 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
         state, _ = read_webui(ctx, password)
         if not state.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
-                               data={"hint": "panther-ops webui install"})
+                               data={"hint": f"panther-ops webui install -r {ctx.robot.name} --ask-sudo-password"})
         full, note = with_robot_namespace(wanted, state.value(NS_KEY), robot_namespace(ctx))
         try:
             validate(full, state.profiles)
@@ -196,111 +190,6 @@ def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
         return RobotResult(ctx.robot.name, Outcome.CHANGED, f"would change: {plan_text(plan, note)}",
                            data={**data, "dry_run": True})
     return task
-
-
-@dataclass
-class Applied:
-    """What `apply_settings` did: the state before and after, the changes, a restart."""
-
-    before: WebuiState
-    after: WebuiState
-    wanted: dict[str, str]
-    changes: list[tuple[str, str, str]]
-    restarted: bool
-
-    @property
-    def wrong(self) -> list[str]:
-        """Keys that did not read back as set."""
-        return [k for k in self.wanted if self.after.value(k) != self.wanted[k]]
-
-
-def apply_settings(session: UserComputerSession, wanted: dict[str, str], robot: RobotNamespace,
-                   dds: tuple[str, bytes] | None = None) -> Applied:
-    """Upload the DDS profile, `sudo snap set` what differs (``ros.namespace`` defaulting to the
-    robot's), restart the WebUI when it was running, read back: one path for `webui set` and
-    `apply`."""
-    before = read_state(session)
-    wanted, _ = with_robot_namespace(wanted, before.value(NS_KEY), robot)
-    if dds is not None:
-        name, data = dds
-        _upload(session, profile_path(name), data)  # where the configure hook resolves <name> to
-    plan = plan_changes(before, wanted)
-    if plan:
-        sudo(session, "snap", "set", SNAP, *(f"{k}={v}" for k, _, v in plan))
-    restarted = False
-    if plan and before.running:
-        sudo(session, f"{SNAP}.stop")
-        sudo(session, f"{SNAP}.start")
-        restarted = True
-    return Applied(before, read_state(session), wanted, plan, restarted)
-
-
-def set_apply_task(wanted: dict[str, str], password: Secret | None, dds: tuple[str, bytes] | None = None) -> Task:
-    """Phase 2 of `webui set`: `apply_settings` on the robot's User Computer."""
-    def task(ctx: RobotContext) -> RobotResult:
-        if ctx.robot.transport == "local":
-            return demo_skip(ctx, "set")
-        robot = robot_namespace(ctx)
-        session = open_webui_session(ctx, password)
-        try:
-            done = apply_settings(session, wanted, robot, dds)
-        finally:
-            session.close()
-        data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
-        if done.wrong:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
-                               data=data_out)
-        if not done.changes and dds is None:
-            return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
-        text = ", ".join(f"{k}={v}" for k, _, v in done.changes) or "DDS profile uploaded"
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {text}" + ("; restarted" if done.restarted else ""),
-                           data=data_out)
-    return task
-
-
-def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
-    """Write ``data`` to ``target`` as root (a here-document of the validated XML)."""
-    import base64
-
-    encoded = base64.b64encode(data).decode()
-    sudo(session, "sh", "-c", 'printf %s "$1" | base64 -d > "$2.tmp" && chmod 644 "$2.tmp" && mv "$2.tmp" "$2"',
-          "sh", encoded, target)
-
-
-def start_stop_task(start: bool, password: Secret | None) -> Task:
-    def task(ctx: RobotContext) -> RobotResult:
-        if ctx.robot.transport == "local":
-            if (skipped := no_user_computer(ctx)) is not None:
-                return skipped
-            state, _ = read_webui(ctx, password)
-            done = _start_stop_needless(ctx, state, start)
-            return done or demo_skip(ctx, "start" if start else "stop")
-        session = open_webui_session(ctx, password)
-        try:
-            state = read_state(session)
-            done = _start_stop_needless(ctx, state, start)
-            if done is not None:
-                return done
-            sudo(session, f"{SNAP}.{'start' if start else 'stop'}")
-            after = read_state(session)
-        finally:
-            session.close()
-        if after.running != start:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"still {'stopped' if start else 'running'}",
-                               data=after.to_json())
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, "started" if start else "stopped", data=after.to_json())
-    return task
-
-
-def _start_stop_needless(ctx: RobotContext, state: WebuiState, start: bool) -> RobotResult | None:
-    """The result when there is nothing to start or stop (not installed, or already so)."""
-    if not state.installed:
-        return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
-                           data={"hint": "panther-ops webui install"})
-    if state.running == start:
-        return RobotResult(ctx.robot.name, Outcome.OK, f"already {'running' if start else 'stopped'}",
-                           data=state.to_json())
-    return None
 
 
 def url_task(password: Secret | None) -> Task:
@@ -344,3 +233,19 @@ def _column(data: dict[str, Any], host: str) -> dict[str, Any]:
     port = (data.get("settings") or {}).get("webui.port")
     return {"installed": bool(data.get("installed")), "running": bool(data.get("running")), "port": port,
             "url": ui_url(host, str(port)) if port else None}
+
+
+def read_desired_webui(ctx: RobotContext, _key: str = "") -> WebuiRead:
+    """The fact `plan.py` plans from: the snap's state on the User Computer (no sudo),
+    or a demo robot's recording; or why there is none to converge."""
+    if ctx.robot.transport != "local" and ctx.robot.user_computer is None:
+        return WebuiRead(None, warning=f"desired.webui not converged: no user_computer: for {ctx.robot.name} "
+                                       "in the inventory (add `user_computer: {}` for the manual's "
+                                       "husarion@10.15.20.3, or host/user/key)")
+    try:
+        state, host = read_webui(ctx, None)
+    except RemoteStateError as exc:
+        if ctx.robot.transport == "local":
+            return WebuiRead(None, warning=f"desired.webui not converged: demo robot: {exc.message}")
+        raise
+    return WebuiRead(state, host)

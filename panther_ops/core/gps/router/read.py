@@ -1,4 +1,4 @@
-"""`gps router show|set`: the RUTX11's NMEA forwarding, through its REST API.
+"""`gps router show|set`, read: the RUTX11's NMEA forwarding, through its REST API.
 
 The router sits on the robot's LAN (10.15.20.1); panther-ops reaches it through the robot's
 SSH connection (a direct-tcpip channel), logs in (``POST /api/login``) and reads or writes
@@ -9,27 +9,18 @@ three resources, every value a string (the API takes only ``"0"``/``"1"`` for sw
 - ``/api/gps/nmea/rules/config``: per sentence ``id``, ``forwarding_enabled``,
   ``forwarding_interval``.
 
-Reads are ``GET`` on the same paths. Credentials: `core.gps.credentials`.
+Reads are ``GET`` on the same paths. Credentials: `core.gps.credentials`. This module reads
+(and runs `gps router show`); the planner is `plan.py` (pure), the PUTs are `apply.py`'s.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.gps.credentials import Credentials
-from panther_ops.core.gps.router_plan import (
-    FORWARDING,
-    GLOBAL,
-    RULES,
-    RouterRequest,
-    changes,
-    describe,
-    router_plan,
-    summary_of,
-)
+from panther_ops.core.gps.router.plan import FORWARDING, GLOBAL, RULES, RouterRequest, router_plan, summary_of
 from panther_ops.errors import UsageError
 from panther_ops.results import Outcome, RobotResult
 
@@ -76,30 +67,11 @@ def show_task(address: str, creds: Credentials) -> Any:
     return task
 
 
-def plan_router(ctx: RobotContext, address: str, creds: Credentials, req: RouterRequest) -> RobotPlan:
-    """Read the router's state over the robot's connection; plan (`router_plan.py`). A demo
+def read_and_plan_router(ctx: RobotContext, address: str, creds: Credentials, req: RouterRequest) -> RobotPlan:
+    """Read the router's state over the robot's connection; plan (`plan.py`). A demo
     robot has no router: skipped, as `gps router show` skips it."""
     try:
         api = open_router(ctx, address, creds)
     except NoRouter as exc:
         return RobotPlan(ctx.robot.name, "", skipped=exc.message)
     return router_plan(ctx.robot.name, address, read_state(api), req, api.fingerprint, api.pinned_now)
-
-
-def apply_router(address: str, creds: Credentials, req: RouterRequest) -> Any:
-    """Carry out a plan: the PUTs, then the state read back must be as asked (else failed)."""
-    def apply(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-        result = RobotResult(ctx.robot.name, Outcome.CHANGED, plan.summary, warnings=list(plan.warnings),
-                             data=dict(plan.data))
-        api = open_router(ctx, address, creds)
-        for path, body in plan.data["puts"].items():
-            api.call("PUT", path, {"data": body})
-        state = read_state(api)
-        result.data["after"] = summary_of(state)
-        left = changes(state, req)
-        if left:
-            result.outcome = Outcome.FAILED
-            result.message = f"the router did not keep: {describe(state, left)}"
-        return result
-
-    return apply
