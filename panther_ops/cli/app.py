@@ -99,7 +99,7 @@ _NEEDS = {
     "driver": ("driver",), "trust": ("trust",), "shutdown": ("shutdown",), "inventory": ("inventory",),
     "demo": ("demo",), "bt": ("bt",), "lights": ("lights",), "manager": ("manager",),
     "gps": ("gps",), "sim": ("sim",), "estop": ("estop",), "webui": ("webui",), "teleop": ("teleop",),
-    "reimage": ("reimage",),
+    "reimage": ("reimage",), "describe": ("fleet",),
 }
 """Top-level command word -> the modules that register it (config gains restore-defaults from driver)."""
 _registered: dict[str, tuple[list[CommandInfo], list[TyperInfo]]] = {}

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Optional, TypeVar
 import typer
 from typer.models import ArgumentInfo
 
+from panther_ops.cli import complete
 from panther_ops.cli.context import Fleet
 
 if TYPE_CHECKING:
@@ -75,11 +76,12 @@ OptPath = Optional[Path]  # noqa: UP045
 
 Robots = Annotated[
     Optional[list[str]],  # noqa: UP045 - typer needs Optional on Python 3.10
-    typer.Option("--robot", "-r", help="Robot name or glob (repeatable), e.g. -r 'panther-0*'."),
+    typer.Option("--robot", "-r", help="Robot name or glob (repeatable), e.g. -r 'panther-0*'.",
+                 autocompletion=complete.robots),
 ]
 Groups = Annotated[
     Optional[list[str]],  # noqa: UP045
-    typer.Option("--group", "-g", help="Inventory group (repeatable)."),
+    typer.Option("--group", "-g", help="Inventory group (repeatable).", autocompletion=complete.groups),
 ]
 All = Annotated[bool, typer.Option("--all", help="Every robot of the inventory.")]
 Json = Annotated[bool, typer.Option("--json", help="One versioned JSON document on stdout (docs/json.md).")]

@@ -86,13 +86,14 @@ def test_install_set_start_with_password_sudo_then_idempotent_then_port(
 
     # `panther-ops status`: the WebUI column (read without sudo), r02's not installed yet or installed
     code, doc, _ = cli(capsys, inv, "status", "-r", "r01", "--json")
-    assert doc["robots"][0]["data"]["webui"] == {"installed": True, "running": True, "port": "8081"}
+    url = f"http://{lab.computer('w1').ip}:8081/ui"
+    assert doc["robots"][0]["data"]["webui"] == {"installed": True, "running": True, "port": "8081", "url": url}
 
     code, doc, _ = cli(capsys, inv, "webui", "stop", "-r", "r01", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "changed"
     assert ui_status(lab, "r01", "w1", 8081) == "000"
     code, doc, _ = cli(capsys, inv, "status", "-r", "r01", "--json")
-    assert doc["robots"][0]["data"]["webui"] == {"installed": True, "running": False, "port": "8081"}
+    assert doc["robots"][0]["data"]["webui"] == {"installed": True, "running": False, "port": "8081", "url": url}
 
 
 def test_without_the_password_sudo_fails_with_the_way_out(wlab: tuple[Lab, Path],

@@ -9,8 +9,8 @@ import pytest
 
 from panther_ops.cli import app as cli_app
 
-TOP = ["status", "doctor", "apply", "trust", "config", "driver", "shutdown", "inventory", "demo", "bt", "lights",
-       "manager", "gps", "sim", "estop", "webui",
+TOP = ["status", "doctor", "describe", "apply", "trust", "config", "driver", "shutdown", "inventory", "demo", "bt",
+       "lights", "manager", "gps", "sim", "estop", "webui",
        "teleop", "reimage"]
 
 

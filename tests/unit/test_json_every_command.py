@@ -22,6 +22,7 @@ R = ["-r", "panther-01"]
 VALID: dict[str, list[str]] = {
     "status": ["--all"],
     "doctor": ["--all"],
+    "describe": ["panther-01"],
     "apply": ["--all", "--dry-run"],
     "config get": ["wheel_type", "--all"],
     "config set": ["wheel_type", "WH02", *R, "--dry-run"],

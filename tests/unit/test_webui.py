@@ -135,8 +135,9 @@ def test_status_has_a_webui_column_from_the_recording(demo: str, capsys: pytest.
     capsys.readouterr()
     assert main(["-i", demo, "status", "--all", "--json"]) == 0
     data = {r["robot"]: r["data"]["webui"] for r in json.loads(capsys.readouterr().out)["robots"]}
-    assert data == {"panther-01": {"installed": True, "running": True, "port": "8080"}, "panther-02": None,
-                    "panther-03": {"installed": True, "running": False, "port": "8080"}}
+    url = "http://10.15.20.3:8080/ui"  # the recorded User Computer's
+    assert data == {"panther-01": {"installed": True, "running": True, "port": "8080", "url": url},
+                    "panther-02": None, "panther-03": {"installed": True, "running": False, "port": "8080", "url": url}}
     (Path(demo) / "robots/panther-01/var/lib/panther-ops-demo/ros.json").unlink()  # a fleet from before
     assert main(["-i", demo, "status", "-r", "panther-01", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["robots"][0]["data"]["webui"] is None

@@ -109,6 +109,7 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
      "talks to the robot's RUTX11 router (credentials, its REST API behind the robot's SSH; "
      "tests/integration/test_gps_router_lab.py runs it on the lab's stand-in router)"),
     (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
+    (r"<TAB>", "a shell completing the line (tests/ux/test_completion.py asks the entry point as bash and zsh do)"),
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
 

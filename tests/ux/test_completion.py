@@ -78,3 +78,111 @@ def test_help_lists_the_completion_options(capsys: pytest.CaptureFixture[str]) -
     assert main(["--help"]) == 0
     out = capsys.readouterr().out
     assert "--install-completion" in out and "--show-completion" in out
+
+
+# ---------------------------------------------------------------- names from the inventory in use (issue 26)
+
+
+def _complete(line: str, cwd: Path, env: dict[str, str] | None = None) -> tuple[list[str], str]:
+    """What bash's installed function gets for the command ``line`` (its last word is being
+    completed; a trailing space: an empty word), asked the way it asks the entry point."""
+    words = line.split(" ")
+    run_env = _env(cwd) | (env or {}) | {"_PANTHER_OPS_COMPLETE": "complete_bash",
+                                         "COMP_WORDS": line, "COMP_CWORD": str(len(words) - 1)}
+    p = subprocess.run([_cli()], env=run_env, cwd=cwd, capture_output=True, text=True, timeout=60, check=True)
+    return p.stdout.split(), p.stderr
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A directory with a demo fleet in ./demo-fleet (groups warehouse and field)."""
+    home = tmp_path_factory.mktemp("complete")
+    subprocess.run([_cli(), "demo", "init", "--dest", "demo-fleet"], env=_env(home), cwd=home,
+                   capture_output=True, text=True, timeout=60, check=True)
+    return home
+
+
+ROBOTS = ["panther-01", "panther-02", "panther-03"]
+
+
+def test_robot_names_after_r_from_the_i_given(demo: Path) -> None:
+    assert _complete("panther-ops -i demo-fleet status -r ", demo) == (ROBOTS, "")
+    assert _complete("panther-ops -i demo-fleet config set wheel_type WH02 -r panther-0", demo)[0] == ROBOTS
+    # a robot given already is not offered again
+    assert _complete("panther-ops -i demo-fleet status -r panther-01 -r ", demo)[0] == ROBOTS[1:]
+    assert _complete("panther-ops -i demo-fleet describe ", demo)[0] == ROBOTS
+
+
+def test_the_inventory_in_use_is_found_as_a_run_finds_it(demo: Path, tmp_path: Path) -> None:
+    fleet = str(demo / "demo-fleet")
+    # no -i: $PANTHER_OPS_INVENTORY, else ./inventory
+    assert _complete("panther-ops status -g ", tmp_path, {"PANTHER_OPS_INVENTORY": fleet})[0] == ["warehouse", "field"]
+    (tmp_path / "inventory").symlink_to(fleet)
+    assert _complete("panther-ops estop status -r panther-03", tmp_path)[0] == ["panther-03"]
+    # -i wins over the environment
+    other = tmp_path / "other.yaml"
+    other.write_text("version: 1\nrobots:\n  lab-r01:\n    host: 127.0.0.1\n")
+    assert _complete(f"panther-ops -i {other} status -r ", tmp_path, {"PANTHER_OPS_INVENTORY": fleet})[0] == ["lab-r01"]
+
+
+def test_groups_after_g_but_not_those_given(demo: Path) -> None:
+    assert _complete("panther-ops -i demo-fleet apply -g ", demo)[0] == ["warehouse", "field"]
+    assert _complete("panther-ops -i demo-fleet apply -g warehouse -g ", demo)[0] == ["field"]
+
+
+def test_zsh_and_fish_see_what_each_name_is(demo: Path) -> None:
+    env = _env(demo) | {"_TYPER_COMPLETE_ARGS": "panther-ops -i demo-fleet status -g ",
+                        "_PANTHER_OPS_COMPLETE": "complete_zsh"}
+    got = subprocess.run([_cli()], env=env, cwd=demo, capture_output=True, text=True, timeout=60, check=True).stdout
+    assert '"warehouse":"indoor robots on mecanum wheels"' in got and '"field":"outdoor robots"' in got
+
+
+def test_config_keys_kinds_and_scenarios(demo: Path) -> None:
+    assert _complete("panther-ops config set wheel_t", demo)[0] == ["wheel_type"]
+    keys = _complete("panther-ops config get ", demo)[0]
+    assert {"wheel_type", "namespace", "controller.linear.x.max_velocity", "controller.linear.y.max_velocity"} <= set(keys)
+    assert _complete("panther-ops config unset controller.angular.z.max_v", demo)[0] == [
+        "controller.angular.z.max_velocity"]
+    kinds = ["controller", "wheel", "components", "led", "user-animations", "bt-lights", "bt-safety",
+             "shutdown-hosts", "battery", "joy2twist"]
+    assert _complete("panther-ops config push my.yaml --as ", demo)[0] == kinds
+    assert _complete("panther-ops config pull bt-", demo)[0] == ["bt-lights", "bt-safety"]
+    assert _complete("panther-ops manager run --sim --scenario battery_", demo)[0] == [
+        "battery_faults", "battery_overheat"]
+    assert "low_battery" in _complete("panther-ops manager deploy --sim --scenario ", demo)[0]
+
+
+def test_an_inventory_that_cannot_be_read_completes_nothing_silently(tmp_path: Path) -> None:
+    (tmp_path / "broken.yaml").write_text("version: 1\nrobots: [\n")
+    assert _complete("panther-ops -i broken.yaml status -r ", tmp_path) == ([], "")
+    assert _complete("panther-ops -i missing.yaml status -g ", tmp_path) == ([], "")
+    assert _complete("panther-ops status -r ", tmp_path) == ([], "")  # no ./inventory
+
+
+def test_completing_contacts_no_robot(tmp_path: Path) -> None:
+    import socket
+    import time
+
+    with socket.socket() as server:  # a robot's sshd would listen here
+        server.bind(("127.0.0.1", 0))
+        server.listen()
+        server.setblocking(False)
+        port = server.getsockname()[1]
+        inv = tmp_path / "fleet.yaml"
+        inv.write_text(f"version: 1\nrobots:\n  r1:\n    host: 127.0.0.1\n    port: {port}\n"
+                       f"  r2:\n    host: 127.0.0.1\n    port: {port}\n")
+        start = time.monotonic()
+        assert _complete(f"panther-ops -i {inv} driver restart -r ", tmp_path) == (["r1", "r2"], "")
+        assert time.monotonic() - start < 10
+        with pytest.raises(BlockingIOError):
+            server.accept()  # nobody connected
+
+
+def test_bash_completes_robot_names_with_the_installed_script(demo: Path, tmp_path: Path) -> None:
+    _install("bash", tmp_path)
+    script = tmp_path / ".bash_completions" / "panther-ops.sh"
+    probe = (f"cd '{demo}'; source '{script}'; COMP_WORDS=(panther-ops -i demo-fleet status -r panther-0); "
+             "COMP_CWORD=5; _panther_ops_completion panther-ops; printf '%s\\n' \"${COMPREPLY[@]}\"")
+    got = subprocess.run([_shell("bash"), "-c", probe], env=_env(tmp_path), capture_output=True, text=True,
+                         timeout=60, check=True)
+    assert got.stdout.split() == ROBOTS and got.stderr == ""

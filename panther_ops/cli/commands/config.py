@@ -7,6 +7,7 @@ from typing import Annotated, Any
 
 import typer
 
+from panther_ops.cli import complete
 from panther_ops.cli.context import Fleet
 from panther_ops.cli.options import (
     GATED,
@@ -29,7 +30,8 @@ app = typer.Typer(
 
 """What planning a change imports: loaded in the background while the robots connect."""
 
-KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.")]
+KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) or controller.<axis>.<limit>.",
+                                       autocompletion=complete.config_keys)]
 
 
 def _parse_value(text: str) -> Any:
@@ -236,7 +238,8 @@ def push(
     fleet: Fleet,
     local: Annotated[Path, typer.Argument(help="The file to push (a .btproj for bt-lights/bt-safety).")],
     as_: Annotated[str, typer.Option("--as", help="What it is: controller, wheel, components, led, "
-                                     "user-animations, bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
+                                     "user-animations, bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.",
+                                     autocompletion=complete.kinds)],
     force: Force = False,
 ) -> int:
     """Upload a config file, mount it into the driver container and point its launch argument
@@ -262,7 +265,8 @@ def push(
 def pull(
     fleet: Fleet,
     kind: Annotated[str, typer.Argument(help="controller, wheel, components, led, user-animations, "
-                                        "bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.")],
+                                        "bt-lights, bt-safety, shutdown-hosts, battery, joy2twist.",
+                                        autocompletion=complete.kinds)],
     output: Annotated[OptPath, typer.Option("--output", "-o",
                                             help="Write to this file (one robot) instead of stdout.")] = None,
     dest: Annotated[OptPath, typer.Option("--dest", help="Several robots: write DEST/<robot>/<file>.")] = None,

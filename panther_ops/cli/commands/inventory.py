@@ -6,7 +6,7 @@ from typing import Annotated, Any
 
 import typer
 
-from panther_ops.cli import context
+from panther_ops.cli import complete, context
 from panther_ops.cli.context import Fleet
 from panther_ops.cli.options import TARGETS, Json, shared
 
@@ -60,7 +60,7 @@ def list_(fleet: Fleet) -> int:
 @app.command("show")
 def show(
     ctx: typer.Context,
-    name: Annotated[str, typer.Argument(help="Robot name.")],
+    name: Annotated[str, typer.Argument(help="Robot name.", autocompletion=complete.robot)],
     json_out: Json = False,
 ) -> int:
     """Show one robot with defaults and group values applied (its effective desired state).

@@ -8,6 +8,7 @@ from typing import Annotated, Any
 
 import typer
 
+from panther_ops.cli import complete
 from panther_ops.cli.context import Fleet
 from panther_ops.cli.options import (
     READ,
@@ -33,7 +34,7 @@ def run(
     sim: Annotated[bool, typer.Option("--sim", help="Run on the simulated Panther (the only mode off-robot).")] = False,
     scenario: Annotated[OptStr, typer.Option(
         "--scenario", help="A shipped scenario (charging, low_battery, ...) or a scenario YAML file (timed events); "
-        "default: charging.")] = None,
+        "default: charging.", autocompletion=complete.scenarios)] = None,
     duration: Annotated[OptFloat, typer.Option("--duration", parser=real_number(0.1),
                                                help="Simulated seconds (default: the scenario's).")] = None,
     speed: Annotated[float, typer.Option("--speed", parser=real_number(0.1),
@@ -106,7 +107,8 @@ def deploy(
         "--sim/--ros2", help="Simulation adapter (labs) or the robot's ROS 2 graph; default: desired.manager.mode, "
         "else ros2.")] = None,
     scenario: Annotated[OptStr, typer.Option(
-        "--scenario", help="With --sim: a shipped scenario (charging, low_battery, ...) or a file.")] = None,
+        "--scenario", help="With --sim: a shipped scenario (charging, low_battery, ...) or a file.",
+        autocompletion=complete.scenarios)] = None,
 ) -> int:
     """Install the runtime manager on each robot as the compose service panther_ops_manager, on
     the robot's own driver image, and set disable_manager:=True on the driver so the stock

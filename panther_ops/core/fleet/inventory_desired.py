@@ -256,7 +256,7 @@ def scenario_path(name: str) -> Path:
         path = Path(name)
     if not path.is_file():
         raise ScenarioError(f"{name}: no such shipped scenario or file",
-                            "shipped: " + ", ".join(sorted(p.stem for p in _scenarios())))
+                            "shipped: " + ", ".join(shipped_scenarios()))
     return path
 
 
@@ -266,8 +266,13 @@ def _scenarios() -> list[Path]:
     return sorted(template_path("manager", "scenarios").glob("*.yaml"))
 
 
+def shipped_scenarios() -> list[str]:
+    """The names of the scenarios panther-ops ships (``--scenario NAME``), sorted."""
+    return [p.stem for p in _scenarios()]
+
+
 def _shipped(name: str) -> bool:
-    return any(p.stem == name for p in _scenarios())
+    return name in shipped_scenarios()
 
 
 # ---------------------------------------------------------------------------------- launch_args, controller

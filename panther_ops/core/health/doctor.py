@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.fleet.facts import signed_seconds
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.runner import RobotContext, Task
 from panther_ops.core.health.status import detect_stack, gather_facts
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -33,7 +33,10 @@ class Finding:
         return {"check": self.check, "state": self.state, "detail": self.detail, "fix": self.fix}
 
 
-def make_doctor_task(*, password_check: bool = True) -> Any:
+def make_doctor_task(*, password_check: bool = True, gps: Task | None = None) -> Any:
+    """The checks of each robot; ``password_check``: try the default password (a second
+    connection); ``gps``: how a robot's `gps status` is read (default: with doctor's window),
+    for a robot whose inventory says it has GNSS."""
     def doctor_task(ctx: RobotContext) -> RobotResult:
         findings: list[Finding] = []
         facts, offset = gather_facts(ctx)
@@ -77,7 +80,7 @@ def make_doctor_task(*, password_check: bool = True) -> Any:
         from panther_ops.core.health.gps_check import gps_finding, wants_gps
 
         if wants_gps(ctx.robot.desired):  # an ANT02: NMEA should arrive with a fix
-            findings.append(gps_finding(ctx))
+            findings.append(gps_finding(ctx, gps))
         data: dict[str, Any] = {"findings": [f.to_json() for f in findings], "clock_offset_s": offset}
         worst = "fail" if any(f.state == "fail" for f in findings) else (
             "warn" if any(f.state == "warn" for f in findings) else "ok")

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.runner import RobotContext, Task
 from panther_ops.core.gps.plan import DEFAULT_PORT
 from panther_ops.core.gps.status import (
     BUSY,
@@ -38,11 +38,17 @@ def wants_gps(desired: Any) -> bool:
     return isinstance(gps, dict) and gps.get("enabled") is True
 
 
-def gps_finding(ctx: RobotContext) -> Finding:
+def gps_task(ctx: RobotContext) -> Task:
+    """`gps status` of the robot as doctor reads it: its inventory's port, a short window."""
     gps = ctx.robot.desired.get("gps") or {}
     port = gps.get("port", DEFAULT_PORT)  # a port: the inventory checked desired.gps when it loaded
+    return status_task(StatusOptions(port=port, window_s=WINDOW_S))  # type: ignore[no-any-return]
+
+
+def gps_finding(ctx: RobotContext, read: Task | None = None) -> Finding:
+    """The finding of the robot's `gps status` (``read``: how it is read, default :func:`gps_task`)."""
     try:
-        result = status_task(StatusOptions(port=port, window_s=WINDOW_S))(ctx)
+        result = (read or gps_task(ctx))(ctx)
     except OpsError as exc:
         return Finding("gps", "warn", f"could not check: {exc}", f"panther-ops gps status -r {ctx.robot.name}")
     d = result.data

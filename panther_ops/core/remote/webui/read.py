@@ -213,7 +213,7 @@ def status_column(ctx: RobotContext) -> dict[str, Any] | None:
             res = _demo_status(ctx)
         except OpsError:  # a demo fleet from before the recordings
             return None
-        return None if not res.data.get("installed") else _column(res.data)
+        return None if not res.data.get("installed") else _column(res.data, str(res.data.get("user_computer")))
     if ctx.robot.user_computer is None:
         return None
     try:
@@ -225,12 +225,14 @@ def status_column(ctx: RobotContext) -> dict[str, Any] | None:
     except OpsError as exc:
         return {"error": exc.message}
     return _column({"installed": state.installed, "running": state.running,
-                    "settings": state.to_json()["settings"]})
+                    "settings": state.to_json()["settings"]}, session.address.host)
 
 
-def _column(data: dict[str, Any]) -> dict[str, Any]:
-    return {"installed": bool(data.get("installed")), "running": bool(data.get("running")),
-            "port": (data.get("settings") or {}).get("webui.port")}
+def _column(data: dict[str, Any], host: str) -> dict[str, Any]:
+    """Installed, running, its port and the URL of its UI on the robot's LAN."""
+    port = (data.get("settings") or {}).get("webui.port")
+    return {"installed": bool(data.get("installed")), "running": bool(data.get("running")), "port": port,
+            "url": ui_url(host, str(port)) if port else None}
 
 
 def read_desired_webui(ctx: RobotContext, _key: str = "") -> WebuiRead:
