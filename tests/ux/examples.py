@@ -211,7 +211,8 @@ EXPECTED_EXIT = {
     'panther-ops -i demo-fleet config set wheel_config_path "/config/my wheel.yaml" -r panther-03 --yes': 2,
     "panther-ops -i demo-fleet config set controller_config_path /home/husarion/c.yaml -r panther-03 --yes": 2,
     "panther-ops -i demo-fleet config push no_prefix_controller.yaml --as controller -r panther-02 --yes": 2,
-    "panther-ops -i demo-fleet -q config diff --all --exit-code": 6,  # the demo fleet's warehouse group wants WH02: drift
+    "panther-ops -q config diff --all --exit-code": 6,  # the demo fleet's warehouse group wants WH02: drift
+    "panther-ops -i demo-fleet -q config diff --all --exit-code": 6,
     "panther-ops -i demo-fleet status -r panther-9 --json": 2,  # docs/json.md: an error's document
 }
 """Examples that show a refusal: their exit code."""
