@@ -76,12 +76,88 @@ def doc_examples() -> list[Example]:
             if not in_block:
                 continue
             line = raw.strip()
-            if line.startswith("$ panther-ops ") or line.startswith("$ .venv/bin/panther-ops "):
-                line = line[2:].replace(".venv/bin/", "")
+            if (command := prompt_command(line)) is not None:
+                line = command
             elif not (raw.startswith("panther-ops ") and not re.search(r"[\[\](]|\w\|\w|  \S", line[12:])):
                 continue
             line = re.sub(r"\s+#.*$", "", line)
             out += [Example(f"{f.relative_to(ROOT)}:{n}", part.strip()) for part in line.split("&&")]
+    return out
+
+
+def prompt_command(line: str) -> str | None:
+    """The ``panther-ops`` command of a console line ``$ panther-ops ...`` (a ``.venv/bin/``
+    prefix dropped), else None."""
+    if line.startswith("$ panther-ops ") or line.startswith("$ .venv/bin/panther-ops "):
+        return line[2:].replace(".venv/bin/", "")
+    return None
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One ``$ ...`` line of a console block and the output lines under it, as written."""
+    line: int
+    """Its 0-based line number in the file."""
+    command: str
+    """The shell line after ``$ ``."""
+    output: tuple[str, ...]
+
+    @property
+    def example(self) -> Example | None:
+        """The panther-ops command it runs (its environment assignments dropped), if any."""
+        words = self.command.split()
+        while words and re.fullmatch(r"[A-Z_][A-Z0-9_]*=\S*", words[0]):
+            words.pop(0)
+        command = prompt_command("$ " + " ".join(words))
+        return None if command is None else Example("", re.sub(r"\s+#.*$", "", command))
+
+
+@dataclass(frozen=True)
+class ConsoleBlock:
+    """A fenced ```console block of a doc: its fences' 0-based line numbers, the words after
+    ``console`` (``lab``: it needs the lab or a robot), its indent and its samples."""
+    doc: Path
+    start: int
+    end: int
+    marks: tuple[str, ...]
+    indent: str
+    head: tuple[str, ...]
+    """Lines above its first ``$`` line, as written."""
+    samples: tuple[Sample, ...]
+
+    @property
+    def where(self) -> str:
+        return f"{self.doc.relative_to(ROOT)}:{self.start + 1}"
+
+
+def console_blocks(doc: Path) -> list[ConsoleBlock]:
+    """The ```console blocks of ``doc`` that hold a ``$ panther-ops`` line."""
+    lines = doc.read_text().splitlines()
+    out: list[ConsoleBlock] = []
+    n = 0
+    while n < len(lines):
+        fence = re.fullmatch(r"(\s*)```console\b(.*)", lines[n])
+        if not fence:
+            n += 1
+            continue
+        indent, end = fence.group(1), n + 1
+        while not lines[end].strip().startswith("```"):
+            end += 1
+        samples: list[Sample] = []
+        head: list[str] = []
+        for at in range(n + 1, end):
+            text = lines[at][len(indent):] if lines[at].startswith(indent) else lines[at].lstrip()
+            if text.startswith("$ "):
+                samples.append(Sample(at, text[2:], ()))
+            elif samples:
+                last = samples[-1]
+                samples[-1] = Sample(last.line, last.command, (*last.output, text))
+            else:
+                head.append(lines[at])
+        if any(s.example is not None for s in samples):
+            out.append(ConsoleBlock(doc, n, end, tuple(fence.group(2).split()), indent, tuple(head),
+                                    tuple(samples)))
+        n = end + 1
     return out
 
 
@@ -116,8 +192,8 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
 EXPECTED_EXIT = {
     "panther-ops lights validate bad_animations.yaml": 2,
     "panther-ops shutdown hosts validate bad.yaml": 2,
-    "panther-ops -i demo config push bad_hosts.yaml --as shutdown-hosts -r panther-01 --yes": 2,
-    "panther-ops -i demo config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
+    "panther-ops -i demo-fleet config push bad_hosts.yaml --as shutdown-hosts -r panther-01 --yes": 2,
+    "panther-ops -i demo-fleet config push proj/My.btproj --as bt-lights -r panther-01 --yes": 2,
     "panther-ops manager run --sim --scenario low_batery": 2,
     "panther-ops shutdown hosts validate hosts.yaml --stack 9.9.9": 2,
     "panther-ops sim world set w.sdf --latitude 91 --yes": 2,
@@ -136,22 +212,28 @@ EXPECTED_EXIT = {
     'panther-ops -i demo-fleet config set wheel_config_path "/config/my wheel.yaml" -r panther-03 --yes': 2,
     "panther-ops -i demo-fleet config set controller_config_path /home/husarion/c.yaml -r panther-03 --yes": 2,
     "panther-ops -i demo-fleet config push no_prefix_controller.yaml --as controller -r panther-02 --yes": 2,
-    "panther-ops -q config diff --all --exit-code": 6,
-    "panther-ops -i demo-fleet status -r panther-9 --json": 2,  # docs/json.md: an error's document  # the demo fleet's warehouse group wants WH02: drift
+    "panther-ops -q config diff --all --exit-code": 6,  # the demo fleet's warehouse group wants WH02: drift
+    "panther-ops -i demo-fleet -q config diff --all --exit-code": 6,
+    "panther-ops -i demo-fleet status -r panther-9 --json": 2,  # docs/json.md: an error's document
 }
 """Examples that show a refusal: their exit code."""
 
 AFTER = {
-    "panther-ops config set wheel_type custom -r panther-01 --yes": (
-        "panther-ops config push my_wheels.yaml --as wheel -r panther-01 --yes",
-        "panther-ops config push my_wheels_controller.yaml --as controller -r panther-01 --yes"),
+    "panther-ops -i demo-fleet config set wheel_type custom -r panther-01 --yes": (
+        "panther-ops -i demo-fleet config push my_wheels.yaml --as wheel -r panther-01 --yes",
+        "panther-ops -i demo-fleet config push my_wheels_controller.yaml --as controller -r panther-01 --yes"),
     "panther-ops bt validate MyLightsBT.btproj": (
-        "panther-ops -i demo config pull bt-lights -r panther-01 -o MyLightsBT.btproj",),
-    "panther-ops -i demo config push MyLightsBT.btproj --as bt-lights -r panther-01 --yes": (
-        "panther-ops -i demo config pull bt-lights -r panther-01 -o MyLightsBT.btproj",),
+        "panther-ops -i demo-fleet config pull bt-lights -r panther-01 -o MyLightsBT.btproj",),
+    "panther-ops -i demo-fleet config push MyLightsBT.btproj --as bt-lights -r panther-01 --yes": (
+        "panther-ops -i demo-fleet config pull bt-lights -r panther-01 -o MyLightsBT.btproj",),
+    "panther-ops bt validate PantherSafetyBT.btproj": (
+        "panther-ops -i demo-fleet config pull bt-safety -r panther-01 -o PantherSafetyBT.btproj",),
+    "panther-ops lights preview led_config.yaml --id 1 --out ready.gif": (
+        "panther-ops -i demo-fleet config pull led -r panther-01 -o led_config.yaml",),
 }
 """Examples that continue the ones above them in their block (the manual's custom wheels:
-both files pushed, then ``wheel_type custom``; a pulled BT project validated and pushed back):
+both files pushed, then ``wheel_type custom``; a pulled BT project validated and pushed back;
+the stock file of a robot's release pulled, then read):
 run alone, those run first."""
 
 

@@ -58,13 +58,26 @@ def on_pty(args: list[str], *, cols: int = 70, cwd: Path | None = None, env: dic
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
     with tempfile.TemporaryFile() as piped_out:
-        return _pty_run(args, master, slave, piped_out, cwd=cwd, env=env, timeout=timeout,
+        return _pty_run([*CLI, *args], master, slave, piped_out, cwd=cwd,
+                        env=_env({"TERM": "xterm-256color", **(env or {})}), timeout=timeout,
                         stdout_pipe=stdout_pipe, stderr_pipe=stderr_pipe, typed=typed)
 
 
-def _pty_run(args: list[str], master: int, slave: int, piped_out: IO[bytes], *, cwd: Path | None,
-             env: dict[str, str] | None, timeout: float, stdout_pipe: bool, stderr_pipe: bool, typed: str) -> Run:
-    p = subprocess.Popen([*CLI, *args], cwd=cwd, env=_env({"TERM": "xterm-256color", **(env or {})}),
+def shell_on_pty(script: str, *, cols: int, cwd: Path, env: dict[str, str], timeout: float = 120,
+                 typed: str = "") -> Run:
+    """``bash -c script`` with stdin, stdout and stderr on one pseudo-terminal ``cols`` wide, as
+    an operator's shell runs a command line, in exactly the environment ``env``; ``Run.out`` is
+    everything the terminal was sent."""
+    master, slave = pty.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
+    with tempfile.TemporaryFile() as unused:
+        return _pty_run(["bash", "-c", script], master, slave, unused, cwd=cwd, env=env, timeout=timeout,
+                        stdout_pipe=False, stderr_pipe=False, typed=typed)
+
+
+def _pty_run(argv: list[str], master: int, slave: int, piped_out: IO[bytes], *, cwd: Path | None,
+             env: dict[str, str], timeout: float, stdout_pipe: bool, stderr_pipe: bool, typed: str) -> Run:
+    p = subprocess.Popen(argv, cwd=cwd, env=env,
                          stdin=slave, stdout=piped_out if stdout_pipe else slave,
                          stderr=piped_out if stderr_pipe else slave, close_fds=True)
     os.close(slave)
@@ -75,7 +88,7 @@ def _pty_run(args: list[str], master: int, slave: int, piped_out: IO[bytes], *, 
         ready, _, _ = select.select([master], [], [], timeout)
         if not ready:
             p.kill()
-            raise TimeoutError(f"panther-ops {' '.join(args)}: no output for {timeout} s")
+            raise TimeoutError(f"{' '.join(argv)}: no output for {timeout} s")
         try:
             data = os.read(master, 65536)
         except OSError:  # the child closed the terminal

@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""Re-capture every console sample of docs/*.md and README.md from a real run.
+
+Each ``$ panther-ops ...`` line of a ```console block (and the shell lines beside it) is run
+as a reader runs it: on a fresh demo fleet, in a temporary directory shown as ``/home/me``, on
+an 80-column terminal with NO_COLOR=1, the samples of a page in the page's order
+(tests/ux/docsamples.py says exactly how, and what is normalised before comparing: backup ids,
+dates, fingerprints, durations, clock offsets, sizes). A sample whose output differs is
+rewritten in place with what the terminal showed.
+
+Not run, and listed with the reason: blocks marked ```console lab, and commands that need a
+robot reached over SSH (tests/ux/examples.py: NEEDS_A_ROBOT).
+
+Examples:
+  python scripts/capture_docs.py                     # rewrite the samples that differ
+  python scripts/capture_docs.py --check             # exit 1 and a diff when one differs
+  python scripts/capture_docs.py --check docs/commands.md --list
+
+Exit status: 0 when every run sample matches (or was rewritten), 1 with --check when one
+differs, 2 on bad usage.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from tests.ux.docsamples import docs, follow  # noqa: E402
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("docs", nargs="*", type=Path, help="Docs to capture (default: every doc with a sample).")
+    parser.add_argument("--check", action="store_true", help="Change nothing: exit 1 and a diff when a sample differs.")
+    parser.add_argument("--list", action="store_true", help="List the samples not run, with the reason.")
+    parser.add_argument("--jobs", type=int, default=2, help="Docs followed at once (default 2).")
+    args = parser.parse_args(argv)
+    chosen = [p.resolve() for p in args.docs] or docs()
+    for p in chosen:
+        if p not in docs():
+            parser.error(f"{p}: not a doc with a console sample (docs/*.md, README.md)")
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        outcomes = list(pool.map(follow, chosen))
+    differ = 0
+    for outcome in outcomes:
+        rel = outcome.doc.relative_to(ROOT)
+        for diff in outcome.diffs:
+            sys.stdout.write(diff)
+        if outcome.diffs:
+            differ += len(outcome.diffs)
+            if not args.check:
+                outcome.doc.write_text(outcome.text)
+                print(f"{rel}: {len(outcome.diffs)} sample(s) re-captured", file=sys.stderr)
+        if args.list:
+            for where, command, reason in outcome.skipped:
+                print(f"not run {where}: $ {command}\n  {reason}", file=sys.stderr)
+    skipped = sum(len(o.skipped) for o in outcomes)
+    print(f"{len(outcomes)} docs: {differ} sample(s) {'differ' if args.check else 're-captured'}, "
+          f"{skipped} not run (--list says why)", file=sys.stderr)
+    return 1 if args.check and differ else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

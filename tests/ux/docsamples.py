@@ -1,0 +1,237 @@
+"""Every console sample of docs/*.md and README.md, re-run as a reader runs it, and compared
+with (or written over) what the doc shows (scripts/capture_docs.py; tests/ux/test_docs_samples.py).
+
+A sample is a ``$ ...`` line of a ```console block and the lines under it. Per doc, the
+samples run in the order of the page (a reader follows it) in one fresh directory that holds
+the demo fleet (``panther-ops demo init``) and the files the examples name
+(tests/ux/workspace.py; no ``templates/``: an installed user has none), each line through
+``bash`` on a pseudo-terminal 80 columns wide with ``NO_COLOR=1`` (what an operator's
+terminal shows, live progress redrawn in place, the recap included; tests/ux/screen.py), the
+shell's variables, directory and ``$?`` carried from one line to the next.
+
+Not run, with the reason listed (``--list``): a block marked ```console lab (the lab of
+docs/lab.md or a real robot), and a sample whose command needs one (tests/ux/examples.py:
+NEEDS_A_ROBOT). Their text is left as written.
+
+What varies from run to run is normalised before comparing (:func:`comparable`), and only the
+directory's path in what is written (:func:`shown`)."""
+
+from __future__ import annotations
+
+import contextlib
+import difflib
+import io
+import re
+import shlex
+import shutil
+import sys
+import tempfile
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+from .examples import DOC_FILES, NEEDS_A_ROBOT, ROOT, ConsoleBlock, Sample, console_blocks, needs_a_robot
+from .screen import Screen
+from .termrun import shell_on_pty
+from .workspace import reader_workspace
+
+COLS = 80
+HOME = "/home/me"
+"""The reader's directory (and $HOME) as the docs show it."""
+
+LAB = "lab"
+"""The mark of a block that needs the lab (```console lab)."""
+
+
+def shown(text: str, workspace: Path) -> str:
+    """The output as the doc shows it: the temporary directory is the reader's ``/home/me``."""
+    return text.replace(str(workspace), HOME)
+
+
+_VARIES = (
+    (re.compile(r"\d{8}T\d{4,6}Z?(-[0-9a-f]{4})?"), "<backup-id>"),  # backup ids, archive stamps
+    (re.compile(r"\d{4}-\d\d-\d\d[T ]\d\d:\d\d(:\d\d(\.\d+)?)?(Z|[+-]\d\d:?\d\d)?"), "<time>"),
+    (re.compile(r"SHA256:[A-Za-z0-9+/]{43}"), "SHA256:<fingerprint>"),
+    (re.compile(r"[+-]?\d+(\.\d+)? ?(s|ms|GiB|MiB|KiB|B|%)(?!\w)"), "<n> \\2"),  # times, clock offsets, sizes
+    (re.compile(r"\b(\d+m )?\d+s\b"), "<uptime>"),
+    (re.compile(r"[━─═]+"), "─"),  # a rule as long as a column that holds one of the above
+    (re.compile(r" +"), " "),
+)
+
+
+def comparable(lines: list[str] | tuple[str, ...]) -> list[str]:
+    """The lines with what varies run to run replaced (backup ids, times and dates, host key
+    fingerprints, durations, clock offsets and sizes, and so the widths of the columns that
+    hold them); trailing blank lines dropped."""
+    out = []
+    for line in lines:
+        text = line
+        for pattern, repl in _VARIES:
+            text = pattern.sub(repl, text)
+        out.append(text.rstrip())
+    while out and not out[-1]:
+        out.pop()
+    return out
+
+
+ELIDED = "..."
+"""An output line that stands for any number of lines of the real output (as doctest's ELLIPSIS)."""
+
+LONGEST = 40
+"""A longer output is written abridged: its first and last lines, ``...`` between."""
+
+
+def matches(sample: list[str] | tuple[str, ...], real: list[str]) -> bool:
+    """Whether the sample shows the real output: line for line once normalised, an ``...``
+    line matching any run of lines."""
+    pattern = "".join("(?:.*\n)*?" if line == ELIDED else re.escape(line) + "\n" for line in comparable(sample))
+    return re.fullmatch(pattern, "".join(f"{line}\n" for line in comparable(real))) is not None
+
+
+def abridged(real: list[str]) -> list[str]:
+    if len(real) <= LONGEST:
+        return real
+    return [*real[:10], ELIDED, *real[-20:]]
+
+
+@dataclass
+class Outcome:
+    doc: Path
+    diffs: list[str]
+    """A unified diff per sample that differs from its run."""
+    skipped: list[tuple[str, str, str]]
+    """(where, command, reason) of the samples not run."""
+    text: str
+    """The doc with every run sample's output as captured."""
+
+
+AS_WRITTEN = "as-written"
+"""The mark of a block shown as written, not re-run (```console as-written): it needs a real
+robot, the user's shell, a card reader, or a file the text describes."""
+
+
+def skip_reasons(block: ConsoleBlock) -> list[str | None]:
+    """Per sample of the block, why it is not run (None: it is). A shell line (``echo $?``)
+    goes with the panther-ops command above it (or, at the top, below it)."""
+    own = [needs_a_robot(s.example) if s.example is not None else None for s in block.samples]
+    if LAB in block.marks or AS_WRITTEN in block.marks:
+        mark = ("the block is marked `console lab`" if LAB in block.marks else
+                "the block is marked `console as-written` (shown as written, not re-run)")
+        return [reason or mark for reason in own]
+    commands = [n for n, s in enumerate(block.samples) if s.example is not None]
+    out: list[str | None] = []
+    for n, sample in enumerate(block.samples):
+        if sample.example is not None:
+            out.append(own[n])
+            continue
+        above = [c for c in commands if c < n]
+        ruling = above[-1] if above else min(c for c in commands if c > n)
+        out.append(own[ruling] and f"goes with `{block.samples[ruling].command}`: {own[ruling]}")
+    return out
+
+
+def marks(block: ConsoleBlock) -> tuple[str, ...]:
+    """The block's marks as they should be when none of its commands runs on the demo fleet:
+    ``lab`` (one needs the lab) or ``as-written`` (a real robot, the user's shell, a card ...)."""
+    reasons = [r for s, r in zip(block.samples, skip_reasons(block), strict=True) if s.example is not None]
+    if AS_WRITTEN in block.marks or LAB in block.marks or any(r is None for r in reasons):
+        return block.marks
+    return (LAB if NEEDS_A_ROBOT[0][1] in reasons else AS_WRITTEN, *block.marks)
+
+
+_IN_PROCESS = threading.Lock()
+"""The directories are filled by panther-ops run in this process (its cwd, sys.stdout): one at a time."""
+
+
+class Reader:
+    """One reader's directory and shell state, following one doc."""
+
+    def __init__(self, root: Path) -> None:
+        self.dir = root / "home"
+        self.dir.mkdir()
+        bin_dir = root / "bin"
+        bin_dir.mkdir()
+        (bin_dir / "panther-ops").write_text(
+            f"#!{sys.executable}\nfrom panther_ops.cli.app import run\nrun()\n")
+        (bin_dir / "panther-ops").chmod(0o755)
+        self.state = root / "state"
+        self.state.mkdir()
+        with _IN_PROCESS, contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            extra = reader_workspace(self.dir)
+        self.env = {
+            **{k: v for k, v in extra.items() if k != "PATH"},
+            "PATH": f"{bin_dir}:{ROOT / 'tests' / 'standins'}:/usr/local/bin:/usr/bin:/bin",
+            "HOME": str(self.dir), "TERM": "xterm-256color", "NO_COLOR": "1", "LANG": "C.UTF-8",
+            "PYTHONPATH": str(ROOT), "PYTHONDONTWRITEBYTECODE": "1",
+        }
+        (self.state / "cwd").write_text(str(self.dir))
+        (self.state / "rc").write_text("0")
+        (self.state / "env").write_text("")
+
+    def run(self, sample: Sample) -> list[str]:
+        """What the terminal shows after ``$ command``: its lines."""
+        example = sample.example
+        if example is not None and example.argv[:2] == ["demo", "init"] and "--dest" not in example.argv:
+            shutil.rmtree(self.dir / "demo-fleet", ignore_errors=True)  # the reader creates it here
+        s = shlex.quote(str(self.state))
+        script = (f"cd \"$(cat {s}/cwd)\"; . {s}/env; (exit $(cat {s}/rc))\n{sample.command}\n"
+                  f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
+        typed = "".join(m.group(1) + "\n" for line in sample.output
+                        if (m := re.search(r"\[y/N\]: (\w+)$", line)))
+        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, typed=typed)
+        screen = Screen(10**6)  # a line the terminal wraps at its edge is one line (as copied from it)
+        screen.feed(run.out)
+        lines = screen.text()
+        while lines and not lines[-1]:
+            lines.pop()
+        return [shown(line, self.dir) for line in lines]
+
+
+def follow(doc: Path) -> Outcome:
+    """Run the samples of ``doc`` in order; the diffs, the skipped ones, and the doc rewritten."""
+    lines = doc.read_text().splitlines()
+    diffs: list[str] = []
+    skipped: list[tuple[str, str, str]] = []
+    blocks = console_blocks(doc)
+    with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
+        reader = Reader(Path(tmp))
+        for block in reversed(_in_order(blocks, reader, skipped, diffs, doc)):
+            lines[block[0]:block[1]] = block[2]
+    text = "\n".join(lines) + "\n"
+    return Outcome(doc, diffs, skipped, text)
+
+
+def _in_order(blocks: list[ConsoleBlock], reader: Reader, skipped: list[tuple[str, str, str]],
+              diffs: list[str], doc: Path) -> list[tuple[int, int, list[str]]]:
+    """Each block's new lines (its opening fence to its closing one, not included), from the top."""
+    out = []
+    rel = doc.relative_to(ROOT)
+    for block in blocks:
+        body: list[str] = []
+        if marks(block) != block.marks:
+            diffs.append(f"{block.where}: mark the block ```{' '.join(('console', *marks(block)))} "
+                         "(none of its commands runs on the demo fleet)\n")
+        body.append(block.indent + " ".join(("```console", *marks(block))))
+        body += block.head
+        for sample, reason in zip(block.samples, skip_reasons(block), strict=True):
+            where = f"{rel}:{sample.line + 1}"
+            if reason is not None:
+                skipped.append((where, sample.command, reason))
+                output = list(sample.output)
+            else:
+                real = reader.run(sample)
+                output = list(sample.output)
+                if not matches(sample.output, real) or len(sample.output) > LONGEST:
+                    output = abridged(real)
+                    diffs.append("".join(difflib.unified_diff(
+                        [f"{x}\n" for x in sample.output], [f"{x}\n" for x in real],
+                        f"{where} (the doc): $ {sample.command}", f"{where} (a real run)")))
+            body.append(f"{block.indent}$ {sample.command}")
+            body += [(block.indent + x) if x else "" for x in output]
+        out.append((block.start, block.end, body))
+    return out
+
+
+def docs() -> list[Path]:
+    """The docs that hold a console sample."""
+    return [f for f in DOC_FILES if console_blocks(f)]

@@ -1,0 +1,48 @@
+"""Every console sample of docs/ and README.md shows what a real run shows (issue 26, finding 7):
+each doc's samples re-run on a fresh demo fleet by scripts/capture_docs.py's code
+(tests/ux/docsamples.py) and compared; a difference fails with its diff (re-capture with
+``python scripts/capture_docs.py``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from .docsamples import ELIDED, comparable, docs, follow, marks, matches
+from .examples import ROOT, console_blocks
+
+DOCS = docs()
+
+
+@pytest.mark.parametrize("doc", DOCS, ids=[str(d.relative_to(ROOT)) for d in DOCS])
+def test_every_sample_of_the_doc_is_what_a_run_shows(doc: Path) -> None:
+    outcome = follow(doc)
+    assert not outcome.diffs, "".join(outcome.diffs) + "\nre-capture: python scripts/capture_docs.py " + \
+        str(doc.relative_to(ROOT))
+
+
+def test_the_samples_are_the_docs_console_blocks_and_most_run() -> None:
+    """Not vacuous: the docs hold samples, most of them run on the demo fleet, and a block that
+    does not run is marked as such."""
+    blocks = [b for d in DOCS for b in console_blocks(d)]
+    assert {d.name for d in DOCS} >= {"getting-started.md", "commands.md", "configuration.md", "output.md"}
+    run = [b for b in blocks if "lab" not in b.marks and "as-written" not in b.marks]
+    assert len(run) >= 40
+    assert all(marks(b) == b.marks for b in blocks)
+
+
+def test_a_changed_sample_is_caught(tmp_path: Path) -> None:
+    """The comparison: what varies run to run is not a difference; a changed word, a missing
+    line (the inventory line, the recap) is; ``...`` stands for lines left out."""
+    real = ["inventory: demo-fleet (from -i)", "┃ panther-01 │ changed │ backup 20261122T164449Z-dec5 │",
+            "3 robots: 3 changed in 0.8 s", "recap", "panther-01  changed  connect 0.0 s  plan 0.7 s"]
+    again = ["inventory: demo-fleet (from -i)", "┃ panther-01 │ changed │ backup 20270101T000000Z-ab12 │",
+             "3 robots: 3 changed in 12.5 s", "recap", "panther-01  changed  connect 0.1 s  plan 0.6 s"]
+    assert matches(again, real)
+    assert comparable(again) == comparable(real)
+    assert not matches(real[1:], real)  # no inventory line
+    assert not matches(real[:3], real)  # no recap
+    assert not matches([line.replace("changed", "ok") for line in real], real)
+    assert matches([real[0], ELIDED, real[-1]], real)
+    assert not matches([real[0], ELIDED, "4 robots: 4 changed in 0.8 s"], real)
