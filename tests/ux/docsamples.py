@@ -51,6 +51,8 @@ def shown(text: str, workspace: Path) -> str:
 _VARIES = (
     (re.compile(r"\d{8}T\d{4,6}Z?(-[0-9a-f]{4})?"), "<backup-id>"),  # backup ids, archive stamps
     (re.compile(r"\d{4}-\d\d-\d\d[T ]\d\d:\d\d(:\d\d(\.\d+)?)?(Z|[+-]\d\d:?\d\d)?"), "<time>"),
+    (re.compile(r"\b\d{4}-\d\d-\d\d\b"), "<date>"),  # a date the terminal wrapped from its time
+    (re.compile(r"\b\d\d:\d\d:\d\d\b"), "<clock>"),  # and the time on the next line
     (re.compile(r"SHA256:[A-Za-z0-9+/]{43}"), "SHA256:<fingerprint>"),
     (re.compile(r"[+-]?\d+(\.\d+)? ?(s|ms|GiB|MiB|KiB|B|%)(?!\w)"), "<n> \\2"),  # times, clock offsets, sizes
     (re.compile(r"\b(\d+m )?\d+s\b"), "<uptime>"),
@@ -174,7 +176,8 @@ class Reader:
         if example is not None and example.argv[:2] == ["demo", "init"] and "--dest" not in example.argv:
             shutil.rmtree(self.dir / "demo-fleet", ignore_errors=True)  # the reader creates it here
         s = shlex.quote(str(self.state))
-        script = (f"cd \"$(cat {s}/cwd)\"; . {s}/env; (exit $(cat {s}/rc))\n{sample.command}\n"
+        command = sample.command.replace(HOME, str(self.dir))  # the doc's /home/me is the reader's directory
+        script = (f"cd \"$(cat {s}/cwd)\"; . {s}/env; (exit $(cat {s}/rc))\n{command}\n"
                   f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
         typed = "".join(m.group(1) + "\n" for line in sample.output
                         if (m := re.search(r"\[y/N\]: (\w+)$", line)))
