@@ -487,6 +487,8 @@ class Lab:
         d = self.dir
         d.mkdir(parents=True, exist_ok=True, mode=0o700)
         (d / "bin").mkdir(exist_ok=True)
+        if os.path.exists("/etc/ssh/moduli"):
+            shutil.copy("/etc/ssh/moduli", d / "etc-ssh-moduli")
         shutil.copy(F.DATA / "robot-init.sh", d / "bin" / "robot-init.sh")
         os.chmod(d / "bin" / "robot-init.sh", 0o755)
         priv, pub = F.ed25519_keypair(f"panther-ops-lab-{st.prefix}")
@@ -567,9 +569,13 @@ class Lab:
         _write(d / "etc/hostname", f"{r.name}\n".encode(), 0o644)
         _write(d / "etc/hosts", F.etc_hosts(r.name, r.ip).encode(), 0o644)
         _write(d / "etc/sudoers.d/husarion", F.SUDOERS.encode(), 0o440)
-        for f in ("ssh_config", "moduli"):
-            if os.path.exists(f"/etc/ssh/{f}"):
-                shutil.copy(f"/etc/ssh/{f}", d / "etc/ssh" / f)
+        if os.path.exists("/etc/ssh/ssh_config"):
+            shutil.copy("/etc/ssh/ssh_config", d / "etc/ssh/ssh_config")
+        moduli = self.dir / "etc-ssh-moduli"  # 0.6 MB: one copy per lab, hard-linked
+        if moduli.exists():
+            with contextlib.suppress(FileNotFoundError):
+                (d / "etc/ssh/moduli").unlink()
+            os.link(moduli, d / "etc/ssh/moduli")
         priv, pub = F.ed25519_keypair(f"root@{r.name}")
         _write(d / "etc/ssh/ssh_host_ed25519_key", priv, 0o600)
         _write(d / "etc/ssh/ssh_host_ed25519_key.pub", (pub + "\n").encode(), 0o644)
