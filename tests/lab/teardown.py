@@ -101,10 +101,12 @@ def _teardown_processes(st: LabState) -> None:
     inner = [p.key() for r in robots for p in r.procs if p.role not in WRAPPERS]
     inner += lab_processes(st.prefix, Path(st.dir))
     inner = [p for p in dict.fromkeys(inner) if p[0] not in wrapper_pids]
-    for r in robots:  # init ignores SIGTERM: SIGKILL ends the robot's whole PID namespace
-        p = r.proc("init")
-        if p is not None:
-            signal_recorded(p.pid, p.start, signal.SIGKILL)
+    # init ignores SIGTERM: SIGKILL ends the robot's whole PID namespace (also an init that
+    # was never recorded: PID 1 of its own PID namespace)
+    inits = [p.key() for r in robots for p in r.procs if p.role == "init"]
+    inits += [p for p in inner if _ns_init(p[0])]
+    for pid, start in inits:
+        signal_recorded(pid, start, signal.SIGKILL)
     terminate(inner, timeout=5.0)
     terminate(wrappers, timeout=2.0)
     left = lab_processes(st.prefix, Path(st.dir))  # e.g. a wrapper nobody recorded
@@ -136,6 +138,17 @@ def _teardown_network(st: LabState) -> None:
         run(["ip", "link", "del", st.bridge], check=False)
     for route in st.routes:
         run(["ip", "route", "del", *route.split()], check=False)
+
+
+def _ns_init(pid: int) -> bool:
+    """Is `pid` PID 1 of a PID namespace of its own (NSpid: <host pid> ... 1)?"""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            line = next((x for x in f if x.startswith("NSpid:")), "")
+    except OSError:
+        return False
+    ids = line.split()[1:]
+    return len(ids) > 1 and ids[-1] == "1"
 
 
 def owned(name: str, prefix: str) -> bool:
