@@ -23,6 +23,7 @@ import pytest
 from tests.lab import DEFAULT_BASE
 from tests.lab._sys import alive
 from tests.lab.state import LabState
+from tests.lab.teardown import host_links, netns_list  # `ip netns list`, `ip -o link show`
 
 pytestmark = pytest.mark.lab
 
@@ -41,19 +42,9 @@ def panther_ops() -> str:
     return found
 
 
-def netns_names() -> list[str]:
-    out = subprocess.run(["ip", "netns", "list"], capture_output=True, text=True, check=True).stdout
-    return [line.split()[0] for line in out.splitlines() if line.strip()]
-
-
-def link_names() -> list[str]:
-    out = subprocess.run(["ip", "-o", "link", "show"], capture_output=True, text=True, check=True).stdout
-    return re.findall(r"^\d+: ([^:@]+)", out, flags=re.M)
-
-
 def assert_nothing_left(prefix: str, procs: list[tuple[int, int | None]]) -> None:
-    assert [n for n in netns_names() if n.startswith(prefix + "-")] == []
-    assert [x for x in link_names() if x.startswith(prefix + "-")] == []
+    assert [n for n in netns_list() if n.startswith(prefix + "-")] == []
+    assert [x for x in host_links() if x.startswith(prefix + "-")] == []
     assert [p for p in procs if alive(*p)] == []
     assert not (DEFAULT_BASE / prefix).exists()
     left = lab_cli("leftovers", "--prefix", prefix)
@@ -78,7 +69,7 @@ def test_up_used_down_leaves_nothing_behind(lab_ready: None) -> None:
         assert len(relays) == 1  # one delay relay process carries the 12 robots
         procs = [p.key() for r in st.robots.values() for p in r.procs]
         assert all(alive(*p) for p in procs)
-        assert len([n for n in netns_names() if n.startswith(prefix + "-")]) == 12
+        assert len([n for n in netns_list() if n.startswith(prefix + "-")]) == 12
 
         used = subprocess.run([panther_ops(), "-i", inventory.group(1), "config", "get", "wheel_type", "--all",
                                "--json"], capture_output=True, text=True, timeout=60, check=False)
