@@ -328,7 +328,8 @@ class Fleet:
         self.sshd_log = {r.name: Path(r.dir) / "var" / "log" / "sshd.log" for r in self.robots}
         self.pids = robot_pids(lab)
         self.extra = {name: (roles.get("dockerd"),) for name, roles in _roles(lab).items()}
-        self.relays = [roles["relay"] for roles in _roles(lab).values() if "relay" in roles]
+        # one relay process carries up to 100 robots: each PID once
+        self.relays = sorted({roles["relay"] for roles in _roles(lab).values() if "relay" in roles})
         self.cgroup = Path("/sys/fs/cgroup/cpuacct") / lab.st.cgroup_parent.lstrip("/") / "cpuacct.usage"
 
     def relay_cpu(self) -> float:

@@ -11,6 +11,7 @@ import os
 import shutil
 import subprocess
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 from tests.ports import free_port
@@ -37,7 +38,8 @@ class LoopbackSshd:
     """sshd on 127.0.0.1:``port`` with its own host key; ``authorize(key)`` lets a key in and
     ``known_hosts`` is a file that knows the host key (as ``panther-ops trust`` would write it)."""
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, extra: Sequence[str] = ()) -> None:
+        """``extra``: more sshd_config lines (e.g. an AuthorizedKeysCommand)."""
         self.root = root
         root.mkdir(parents=True, exist_ok=True)
         self.port = free_port()
@@ -60,6 +62,7 @@ class LoopbackSshd:
             "PermitRootLogin prohibit-password",
             "StrictModes no",
             "LogLevel VERBOSE",
+            *extra,
         ]) + "\n")
         Path("/run/sshd").mkdir(exist_ok=True)  # its privilege-separation directory
         with (root / "sshd.log").open("wb") as log:

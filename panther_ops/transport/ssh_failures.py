@@ -87,12 +87,22 @@ def _default_keys() -> list[str]:
     return [os.path.join(ssh_dir, k) for k in DEFAULT_KEYS if os.path.isfile(os.path.join(ssh_dir, k))]
 
 
+AUTH_TIMEOUT = "Authentication timeout."
+"""paramiko's AuthenticationException when its auth_timeout ran out (paramiko/auth_handler.py)."""
+
+
 def auth_failed(robot: str, hop: Hop, exc: Exception) -> UnreachableError:
     """The robot answered but did not let us in (paramiko's AuthenticationException), or there
     was no key to offer (paramiko: "No authentication methods available")."""
     import paramiko
 
     who = f"{hop.user}@{hop.hostname}"
+    if str(exc) == AUTH_TIMEOUT:  # no answer yet, not a refusal: a robot or a machine too busy
+        return UnreachableError(
+            robot, f"{who} did not finish logging in within {hop.connect_timeout:g} s (the key was not refused)",
+            hint="the robot or this machine is too busy to log in in time (many logins at once?): run again "
+            "with fewer robots at once (--forks), or allow more time (connect_timeout: in the inventory, "
+            "ConnectTimeout in ssh_config)")
     if isinstance(exc, paramiko.BadAuthenticationType) and "publickey" not in exc.allowed_types:
         return UnreachableError(
             robot, f"{who} does not take keys (the robot's sshd allows: {', '.join(exc.allowed_types) or 'nothing'})",

@@ -111,13 +111,15 @@ def add_computers(lab: Lab, specs: list[ComputerSpec]) -> list[Computer]:
         names.add(s.name)
     for jump in sorted({s.behind for s in specs if s.behind}):
         _ensure_lan(lab, jump)
-    used = {r.index for r in st.robots.values() if r.kind == KIND}
+    taken = {r.ip for r in st.robots.values()}  # robots of a large lab reach .101 and beyond
     states = []
     with lab._lock:
         for s in specs:
-            index = next(i for i in range(FIRST_HOST + 1, 250) if i not in used)
-            used.add(index)
             w = st.jump_subnets[s.behind] if s.behind else st.subnet
+            index = next((i for i in range(FIRST_HOST + 1, 251) if f"10.200.{w}.{i}" not in taken), None)
+            if index is None:
+                raise LabError(f"{s.name}: no free address left on 10.200.{w}.0/24")
+            taken.add(f"10.200.{w}.{index}")
             r = RobotState(
                 name=s.name, index=index, ns=f"{st.prefix}-{s.name}", ip=f"10.200.{w}.{index}",
                 dir=str(lab.dir / s.name), image="2.1.1", serial="", docker=False, jump=s.behind,

@@ -41,16 +41,31 @@ from ._sys import (
 )
 from .image import IMPORT_CHANGES, VERSION_LABEL, build_rootfs, find_static_busybox, with_version
 from .state import DEFAULT_BASE, LabState, Proc, RobotState, all_states, base_lock
+from .teardown import (
+    CGROUP_ROOT,
+    PREFIX_RE,
+    host_links,
+    lab_processes,
+    netns_list,
+    rmtree_lab,
+    teardown,
+)
 
 SUBNET_BASE = "10.200"
-CGROUP_ROOT = "/panther-ops-lab"
 JUMP_BRIDGE = "jbr0"
-MAX_ROBOTS = 99
+ROBOTS_PER_24 = 240
+"""Robots of one /24 of the lab LAN: .11 to .250 (the host's side is .1)."""
+MAX_ROBOTS = 4 * ROBOTS_PER_24
+"""A lab's LAN is at most a /22 (4 consecutive /24s)."""
+RELAY_ROBOTS = 100
+"""Robots per delay relay process (one event loop carries about this many at 150 ms)."""
+BUILD_WORKERS = 16
+BUILD_BATCH = 32
+"""Robots built in parallel (threads), and per save of the state file."""
 SSHD = "/usr/sbin/sshd"
 INNER_SSHD = ("127.0.0.1", 2222)
 """Where a robot's sshd listens inside its namespace when a delay relay is in front of it."""
 RELAY = Path(__file__).with_name("relay.py")
-_PREFIX_RE = re.compile(r"^[a-z][a-z0-9]{0,7}$")
 
 #: robot path -> path relative to the robot directory (the bind mounts of robot-init.sh)
 _BIND_DIRS = {
@@ -129,6 +144,28 @@ def faketime_library() -> str | None:
     return found[0] if found else None
 
 
+def robot_name(i: int, n: int) -> str:
+    """Name of robot `i` of a lab of `n`: r01..r99, or r001..r960 in a lab of 100 or more."""
+    return f"r{i:02d}" if n < 100 else f"r{i:03d}"
+
+
+def lan_span(n: int) -> int:
+    """/24s a lab of `n` robots needs on its LAN (1, 2 or 4: a /24, /23 or /22)."""
+    need = -(-n // ROBOTS_PER_24)
+    return 1 if need <= 1 else 2 if need == 2 else 4
+
+
+def lan_prefixlen(span: int) -> int:
+    return {1: 24, 2: 23, 4: 22}[span]
+
+
+def robot_ip(w: int, i: int) -> str:
+    """Address of robot `i` on the LAN starting at 10.200.w.0: 10.200.w.(10+i) for the first 240
+    robots, then the next /24 (.11 to .250 again)."""
+    block, host = divmod(i - 1, ROBOTS_PER_24)
+    return f"{SUBNET_BASE}.{w + block}.{11 + host}"
+
+
 @dataclass(frozen=True)
 class Robot:
     """Read-only view of one robot (names and addresses as the operator sees them)."""
@@ -196,7 +233,7 @@ class Lab:
     ) -> None:
         if not 1 <= n <= MAX_ROBOTS:
             raise ValueError(f"n must be within 1..{MAX_ROBOTS}")
-        if prefix is not None and not _PREFIX_RE.match(prefix):
+        if prefix is not None and not PREFIX_RE.match(prefix):
             raise ValueError("prefix: 1-8 characters, a-z then a-z0-9")
         if rtt_ms < 0 or jitter_ms < 0 or (jitter_ms and jitter_ms > rtt_ms / 2):
             raise ValueError("rtt_ms and jitter_ms: >= 0, and the jitter at most half the round trip")
@@ -216,16 +253,18 @@ class Lab:
         self.timings: dict[str, float] = {}
         self._lock = threading.RLock()
         self._popen: dict[int, subprocess.Popen] = {}  # type: ignore[type-arg]
+        self._batching = False
         names = [self._name(i) for i in range(1, n + 1)]
         for hidden, jump in self.jumps.items():
             if hidden not in names or jump not in names or hidden == jump:
                 raise ValueError(f"jump {hidden} -> {jump}: both must be robots of the lab")
+            if names.index(hidden) >= ROBOTS_PER_24:  # a jump robot's LAN is one /24
+                raise ValueError(f"jump {hidden} -> {jump}: only the first {ROBOTS_PER_24} robots can be hidden")
             if jump in self.jumps:
                 raise ValueError(f"jump robot {jump} cannot itself be behind a jump host")
 
-    @staticmethod
-    def _name(i: int) -> str:
-        return f"r{i:02d}"
+    def _name(self, i: int) -> str:
+        return robot_name(i, self.n)
 
     # ===================================================================================
     # attach / context manager
@@ -334,11 +373,14 @@ class Lab:
             self.st.save()
 
     def _record(self, r: RobotState, role: str, pid: int) -> Proc:
+        """Record a started process in the state file (during `up`: at the end of its batch,
+        as teardown also finds it in the robot's network namespace)."""
         p = Proc(role, pid, start_time(pid))
         with self._lock:
             r.drop(role)
             r.procs.append(p)
-            self.st.save()
+            if not self._batching:
+                self.st.save()
         return p
 
     def _init_pid(self, r: RobotState) -> int:
@@ -377,10 +419,11 @@ class Lab:
             if old.is_file():
                 teardown(LabState.load(old), log=self._log_cb)
             elif labdir.exists():
-                _rmtree_lab(labdir, self.base)
+                rmtree_lab(labdir, self.base)
             used = _used_subnets(self.base)
-            subnet = _free_subnet(used)
-            used.add(subnet)
+            span = lan_span(self.n)
+            subnet = _free_subnet(used, span)
+            used.update(range(subnet, subnet + span))
             st = LabState(
                 prefix=prefix,
                 dir=str(labdir),
@@ -392,6 +435,7 @@ class Lab:
                 rtt_ms=self.rtt_ms,
                 jitter_ms=self.jitter_ms,
                 rate=self.rate,
+                span=span,
             )
             if self.ephemeral:
                 st.owner = Proc("owner", os.getpid(), start_time(os.getpid()))
@@ -408,7 +452,7 @@ class Lab:
                     name=name,
                     index=i,
                     ns=f"{prefix}-{name}",
-                    ip=f"{SUBNET_BASE}.{w}.{10 + i}",
+                    ip=robot_ip(w, i),
                     dir=str(labdir / name),
                     image=self.images[(i - 1) % len(self.images)],
                     serial=f"{1000 + i:04d}",
@@ -421,8 +465,8 @@ class Lab:
             st.save()  # claims prefix and subnets for other lab processes
 
     def _free_prefix(self) -> str:
-        netns = set(_netns_list())
-        links = set(_host_links())
+        netns = set(netns_list())
+        links = set(host_links())
         for i in range(1, 1000):
             p = f"pl{i}"
             labdir = self.base / p
@@ -433,7 +477,7 @@ class Lab:
                 if st is None or st.owner is None or alive(st.owner.pid, st.owner.start):
                     continue  # persistent (CLI) lab, or one whose process still runs
                 teardown(st, log=self._log_cb)  # ephemeral lab whose process is gone
-                netns, links = set(_netns_list()), set(_host_links())
+                netns, links = set(netns_list()), set(host_links())
             if not any(n.startswith(p + "-") for n in netns) and f"{p}-br" not in links:
                 return p
         raise LabError("no free lab prefix")
@@ -443,6 +487,8 @@ class Lab:
         d = self.dir
         d.mkdir(parents=True, exist_ok=True, mode=0o700)
         (d / "bin").mkdir(exist_ok=True)
+        if os.path.exists("/etc/ssh/moduli"):
+            shutil.copy("/etc/ssh/moduli", d / "etc-ssh-moduli")
         shutil.copy(F.DATA / "robot-init.sh", d / "bin" / "robot-init.sh")
         os.chmod(d / "bin" / "robot-init.sh", 0o755)
         priv, pub = F.ed25519_keypair(f"panther-ops-lab-{st.prefix}")
@@ -457,7 +503,7 @@ class Lab:
 
         # network: bridge, host routes, namespaces, jump bridges
         run(["ip", "link", "add", st.bridge, "type", "bridge"])
-        run(["ip", "addr", "add", f"{SUBNET_BASE}.{st.subnet}.1/24", "dev", st.bridge])
+        run(["ip", "addr", "add", f"{SUBNET_BASE}.{st.subnet}.1/{lan_prefixlen(st.span)}", "dev", st.bridge])
         run(["ip", "link", "set", st.bridge, "up"])
         for route in st.routes:
             run(["ip", "route", "add", *route.split()])
@@ -465,9 +511,21 @@ class Lab:
         for jump, w in st.jump_subnets.items():
             self._jump_bridge(st.robots[jump], w)
 
-        workers = min(len(st.robots), 16)
-        with ThreadPoolExecutor(max_workers=workers) as ex:
-            list(ex.map(self._build_robot, st.robots.values()))
+        # robots in batches: the state file is saved once per batch, not once per process
+        # (each save writes every robot: per process it would grow with the square of N)
+        robots = list(st.robots.values())
+        workers = min(len(robots), BUILD_WORKERS)
+        self._batching = True
+        try:
+            with ThreadPoolExecutor(max_workers=workers) as ex:
+                for k in range(0, len(robots), BUILD_BATCH):
+                    list(ex.map(self._build_robot, robots[k : k + BUILD_BATCH]))
+                    self._save()
+        finally:
+            self._batching = False
+            self._save()
+        if st.rtt_ms > 0:
+            self._start_relays(robots)
         self._write_operator_files()
 
     def _build_robot(self, r: RobotState) -> None:
@@ -476,8 +534,6 @@ class Lab:
         self._wire(r)
         self._start_init(r)
         self._start_sshd(r)
-        if self.st.rtt_ms > 0:
-            self._start_relay(r)
         if self.st.rate:
             run(["ip", "netns", "exec", r.ns, "tc", "qdisc", "add", "dev", "eth0", "root", "tbf",
                  "rate", self.st.rate, "burst", "32kbit", "latency", "400ms"])
@@ -513,9 +569,13 @@ class Lab:
         _write(d / "etc/hostname", f"{r.name}\n".encode(), 0o644)
         _write(d / "etc/hosts", F.etc_hosts(r.name, r.ip).encode(), 0o644)
         _write(d / "etc/sudoers.d/husarion", F.SUDOERS.encode(), 0o440)
-        for f in ("ssh_config", "moduli"):
-            if os.path.exists(f"/etc/ssh/{f}"):
-                shutil.copy(f"/etc/ssh/{f}", d / "etc/ssh" / f)
+        if os.path.exists("/etc/ssh/ssh_config"):
+            shutil.copy("/etc/ssh/ssh_config", d / "etc/ssh/ssh_config")
+        moduli = self.dir / "etc-ssh-moduli"  # 0.6 MB: one copy per lab, hard-linked
+        if moduli.exists():
+            with contextlib.suppress(FileNotFoundError):
+                (d / "etc/ssh/moduli").unlink()
+            os.link(moduli, d / "etc/ssh/moduli")
         priv, pub = F.ed25519_keypair(f"root@{r.name}")
         _write(d / "etc/ssh/ssh_host_ed25519_key", priv, 0o600)
         _write(d / "etc/ssh/ssh_host_ed25519_key.pub", (pub + "\n").encode(), 0o644)
@@ -624,7 +684,8 @@ class Lab:
             )
         run(
             ["ip", "-n", r.ns, "-batch", "-"],
-            input=(f"addr add {r.ip}/24 dev eth0\nlink set eth0 up\nlink set lo up\n"),
+            input=(f"addr add {r.ip}/{24 if r.jump else lan_prefixlen(self.st.span)} dev eth0\n"
+                   "link set eth0 up\nlink set lo up\n"),
         )
 
     # -- processes ---------------------------------------------------------------------
@@ -694,17 +755,38 @@ class Lab:
         self._start_until(r, argv, Path(r.dir) / "sshd.out", ("sshd-nsenter", "sshd"), "sshd",
                           lambda: self._sshd_listening(r) > before, log=Path(r.dir) / "var/log/sshd.log")
 
-    def _start_relay(self, r: RobotState) -> None:
-        """The delay relay on the robot's public address:22, in front of its inner sshd."""
-        log = Path(r.dir) / "relay.log"
-        argv = ["nsenter", "-t", str(self._init_pid(r)), "-n", "--", sys.executable, "-I", str(RELAY),
-                "--listen", f"{r.ip}:22", "--to", f"{INNER_SSHD[0]}:{INNER_SSHD[1]}",
-                "--delay-ms", f"{self.st.rtt_ms / 2:g}", "--jitter-ms", f"{self.st.jitter_ms:g}"]
-        if self.relay_trace:  # one line per chunk: the round trips of each connection
-            argv += ["--trace", str(Path(r.dir) / "relay.trace")]
-        # nsenter without a PID namespace execs the relay itself: one process
-        self._start_until(r, argv, log, ("relay",), "the delay relay",
-                          lambda: "ready" in log.read_text(errors="replace"))
+    def _start_relays(self, robots: list[RobotState]) -> None:
+        """The delay relays: one process per RELAY_ROBOTS robots, each listening on its robots'
+        public address:22 in their namespaces, in front of their inner sshd (tests/lab/relay.py).
+        Each robot records its relay under the role `relay` (the same PID for its group)."""
+        groups = [robots[k : k + RELAY_ROBOTS] for k in range(0, len(robots), RELAY_ROBOTS)]
+
+        def start(k: int, group: list[RobotState]) -> None:
+            conf = self.dir / f"relay-{k}.json"
+            log = self.dir / f"relay-{k}.log"
+            routes = [{"netns": f"/run/netns/{r.ns}", "listen": f"{r.ip}:22",
+                       "to": f"{INNER_SSHD[0]}:{INNER_SSHD[1]}",
+                       "trace": str(Path(r.dir) / "relay.trace") if self.relay_trace else None} for r in group]
+            _write(conf, json.dumps(routes, indent=1).encode(), 0o600)
+            argv = [sys.executable, "-I", str(RELAY), "--robots", str(conf),
+                    "--delay-ms", f"{self.st.rtt_ms / 2:g}", "--jitter-ms", f"{self.st.jitter_ms:g}"]
+            p = self._spawn(argv, log)
+            proc = Proc("relay", p.pid, start_time(p.pid))
+            with self._lock:  # recorded before it is waited for: teardown finds it
+                for r in group:
+                    r.drop("relay")
+                    r.procs.append(proc)
+                self.st.save()
+
+            def ready() -> bool:
+                if p.poll() is not None:
+                    raise LabError(f"the delay relay of {group[0].name}..{group[-1].name} exited:\n{_tail(log)}")
+                return "ready" in log.read_text(errors="replace")
+
+            wait_for(ready, 30.0, f"the delay relay of {group[0].name}..{group[-1].name}")
+
+        with ThreadPoolExecutor(max_workers=len(groups)) as ex:
+            list(ex.map(start, range(1, len(groups) + 1), groups))
 
     def _reload_sshd(self, r: RobotState) -> None:
         """SIGHUP: sshd re-executes itself (same PID) and reads its configuration again."""
@@ -1145,7 +1227,9 @@ class Lab:
         run(["ip", "-n", r.ns, "link", "del", "eth0"], check=False)
         r.jump = jump
         r.link = f"v-{name}"
-        r.ip = f"{SUBNET_BASE}.{w}.{10 + r.index}"
+        if r.index > ROBOTS_PER_24:
+            raise LabError(f"only the first {ROBOTS_PER_24} robots can be moved behind a jump robot")
+        r.ip = robot_ip(w, r.index)
         self._save()
         self._wire(r)
         _write_in_place(Path(r.dir) / "etc/hosts", F.etc_hosts(r.name, r.ip).encode())
@@ -1275,7 +1359,7 @@ def lab_status(st: LabState) -> dict[str, Any]:
     return {
         "prefix": st.prefix,
         "dir": st.dir,
-        "subnet": f"{SUBNET_BASE}.{st.subnet}.0/24",
+        "subnet": f"{SUBNET_BASE}.{st.subnet}.0/{lan_prefixlen(st.span)}",
         "docker": st.docker,
         "rtt_ms": st.rtt_ms,
         "jitter_ms": st.jitter_ms,
@@ -1288,163 +1372,47 @@ def lab_status(st: LabState) -> dict[str, Any]:
     }
 
 
-def teardown(st: LabState, log: Callable[[str], None] | None = None) -> None:
-    """Remove what the lab owns, in the order of the lab notes. Tolerates partial labs."""
-    say = log or (lambda _m: None)
-    robots = list(st.robots.values())
-    _teardown_docker(robots, say)  # 1. containers, 2. dockerd
-    _cleanup_cgroups(st.cgroup_parent)  # 3. what is left in the lab's cgroups
-    netns = set(_netns_list())
-    _teardown_processes(robots, netns)  # 4. processes of the robots
-    _teardown_network(st, netns)  # 5. veths, namespaces, bridge, routes
-    _rmtree_lab(Path(st.dir), Path(st.dir).parent)  # 6. the lab directory
-    say(f"lab {st.prefix}: down")
-
-
-def _teardown_docker(robots: list[RobotState], say: Callable[[str], None]) -> None:
-    """`docker rm -f` through each robot's own socket, then SIGTERM each recorded dockerd."""
-
-    def rm_containers(r: RobotState) -> None:
-        p = r.proc("dockerd")
-        sock = Path(r.dir) / "run" / "docker.sock"
-        if p is None or not alive(p.pid, p.start) or not sock.exists():
-            return
-        try:
-            import docker
-
-            c = docker.DockerClient(base_url=f"unix://{sock}", version="1.41", timeout=20)
-            for ctr in c.containers.list(all=True):
-                ctr.remove(force=True)
-            c.close()
-        except Exception as exc:
-            say(f"{r.name}: docker rm -f: {exc}")
-
-    docker_robots = [r for r in robots if r.proc("dockerd")]
-    if docker_robots:
-        with ThreadPoolExecutor(max_workers=min(16, len(docker_robots))) as ex:
-            list(ex.map(rm_containers, docker_robots))
-    dockerds = [p.key() for r in robots for p in r.procs if p.role == "dockerd"]
-    for pid, start in dockerds:
-        signal_recorded(pid, start, signal.SIGTERM)
-    for pid, start in wait_gone(dockerds, 20.0):
-        signal_recorded(pid, start, signal.SIGKILL)
-
-
-def _teardown_processes(robots: list[RobotState], netns: set[str]) -> None:
-    """Every process of the robots' network namespaces and every recorded PID.
-
-    The nsenter/unshare wrappers are not signalled at first: they reap their child and exit
-    by themselves. Killed first, their child would wait for the host's (slow) reaper and
-    hold the robot's PID namespace open.
-    """
-    wrappers = [p.key() for r in robots for p in r.procs if p.role in _WRAPPERS]
-    inner: list[tuple[int, int | None]] = []
-    for r in robots:
-        if r.ns in netns:
-            out = run(["ip", "netns", "pids", r.ns], check=False).stdout.split()
-            inner += [(int(x), start_time(int(x))) for x in out if x.isdigit()]
-        inner += [p.key() for p in r.procs if p.role not in _WRAPPERS]
-    wrapper_pids = {pid for pid, _ in wrappers}
-    inner = [p for p in dict.fromkeys(inner) if p[0] not in wrapper_pids]
-    for r in robots:  # init ignores SIGTERM: SIGKILL ends the robot's whole PID namespace
-        p = r.proc("init")
-        if p is not None:
-            signal_recorded(p.pid, p.start, signal.SIGKILL)
-    terminate(inner, timeout=5.0)
-    terminate(wrappers, timeout=2.0)
-
-
-def _teardown_network(st: LabState, netns: set[str]) -> None:
-    links = set(_host_links())
-    own = [r.link for r in st.robots.values() if not r.jump and r.link in links]
-    if own:  # synchronous, unlike the veth cleanup of a deleted namespace
-        run(["ip", "-force", "-batch", "-"], input="".join(f"link del {x}\n" for x in own), check=False)
-    for r in st.robots.values():
-        if r.ns in netns:
-            run(["ip", "netns", "del", r.ns], check=False)
-    if st.bridge in links:
-        run(["ip", "link", "del", st.bridge], check=False)
-    for route in st.routes:
-        run(["ip", "route", "del", *route.split()], check=False)
-
-
-_WRAPPERS = ("unshare", "sshd-nsenter", "dockerd-nsenter")
-
-
-def _cleanup_cgroups(parent: str) -> None:
-    for mnt in _host_cgroup_dirs():
-        top = Path(mnt + parent)
-        if not top.is_dir():
-            continue
-        dirs = sorted((p for p in top.rglob("*") if p.is_dir()), key=lambda p: -len(p.parts))
-        for d in [*dirs, top]:
-            procs_file = d / "cgroup.procs"
-            with contextlib.suppress(OSError):
-                for pid in procs_file.read_text().split():
-                    with contextlib.suppress(ProcessLookupError):
-                        os.kill(int(pid), signal.SIGKILL)
-            for _ in range(50):
-                try:
-                    d.rmdir()
-                    break
-                except FileNotFoundError:
-                    break
-                except OSError:
-                    time.sleep(0.02)
-        with contextlib.suppress(OSError):
-            Path(mnt + CGROUP_ROOT).rmdir()  # only when no other lab uses it
-
-
-def _rmtree_lab(path: Path, base: Path) -> None:
-    path = path.resolve()
-    if path.parent != base.resolve() or not _PREFIX_RE.match(path.name):
-        raise LabError(f"refusing to remove {path}: not a lab directory under {base}")
-    with open("/proc/self/mountinfo") as f:
-        mounted = [ln.split()[4] for ln in f if ln.split()[4].startswith(str(path) + "/")]
-    for m in sorted(mounted, key=len, reverse=True):  # not expected: robots mount privately
-        run(["umount", "-l", m], check=False)
-    shutil.rmtree(path, ignore_errors=True)
+def lab_memory(st: LabState) -> dict[str, Any]:
+    """Memory of the lab's processes now: count, summed RSS and PSS (shared pages split), MB."""
+    procs = {pid for r in st.robots.values() for pid, s in (p.key() for p in r.procs) if alive(pid, s)}
+    procs |= {pid for pid, _ in lab_processes(st.prefix, Path(st.dir))}
+    rss = pss = 0
+    for pid in procs:
+        with contextlib.suppress(OSError, ValueError, IndexError):
+            with open(f"/proc/{pid}/smaps_rollup") as f:
+                fields = {line.split(":")[0]: int(line.split()[1]) for line in f if line.endswith("kB\n")}
+            rss += fields.get("Rss", 0)
+            pss += fields.get("Pss", 0)
+    return {"processes": len(procs), "rss_mb": rss / 1024, "pss_mb": pss / 1024}
 
 
 # =======================================================================================
 # small helpers
 # =======================================================================================
-def _netns_list() -> list[str]:
-    out = run(["ip", "netns", "list"], check=False).stdout
-    return [line.split()[0] for line in out.splitlines() if line.strip()]
-
-
-def _host_links() -> list[str]:
-    out = run(["ip", "-o", "link", "show"], check=False).stdout
-    return [m.group(1) for m in re.finditer(r"^\d+: ([^:@]+)", out, flags=re.M)]
 
 
 def _used_subnets(base: Path) -> set[int]:
+    """Third octets of 10.200.x.y in use: host addresses and routes (a /22 covers 4), labs."""
     used: set[int] = set()
-    pat = re.compile(r"\b10\.200\.(\d+)\.")
+    pat = re.compile(r"\b10\.200\.(\d+)\.\d+(?:/(\d+))?")
     for cmd in (["ip", "-4", "-o", "addr", "show"], ["ip", "-4", "route", "show", "table", "all"]):
-        used |= {int(m) for m in pat.findall(run(cmd, check=False).stdout)}
+        for third, plen in pat.findall(run(cmd, check=False).stdout):
+            w, bits = int(third), int(plen or 32)
+            size = 1 << (24 - bits) if 16 <= bits < 24 else 1
+            used.update(range(w - w % size, w - w % size + size))
     for st in all_states(base):
         used |= st.all_subnets()
     return used
 
 
-def _free_subnet(used: Iterable[int]) -> int:
+def _free_subnet(used: Iterable[int], span: int = 1) -> int:
+    """First free 10.200.w.0/24 (`span` consecutive ones, w a multiple of span; w >= 1)."""
     taken = set(used)
-    for w in range(1, 255):
-        if w not in taken:
+    for w in range(span, 255 - span + 1, span):
+        if not taken & set(range(w, w + span)):
             return w
-    raise LabError("no free 10.200.x.0/24 subnet")
+    raise LabError(f"no free 10.200.x.0/{lan_prefixlen(span)} subnet")
 
-
-def _host_cgroup_dirs() -> list[str]:
-    out = []
-    with open("/proc/self/mounts") as f:
-        for line in f:
-            _dev, mnt, fstype = line.split()[:3]
-            if fstype in ("cgroup", "cgroup2") and mnt.startswith("/sys/fs/cgroup"):
-                out.append(mnt)
-    return out
 
 
 def _cgroup_mounts() -> str:

@@ -14,8 +14,16 @@ real link), and nothing reaches either side earlier than it would there (the cli
 banner arrives at 1.5 round trips, sshd's at 2, as over a real link).
 
     python -m tests.lab.relay --listen IP:22 --to 127.0.0.1:2222 --delay-ms 75 --jitter-ms 5
+    python -m tests.lab.relay --robots ROBOTS.json --delay-ms 75
 
-Prints ``ready`` on stdout once it listens. Runs until killed. ``--trace FILE`` appends one
+``--robots``: one relay process for many robots (a lab of hundreds: one Python process per
+robot would cost ~12 MB and ~0.25 s of CPU each). The file is a JSON list of
+``{"netns": "/run/netns/NS", "listen": "IP:22", "to": "127.0.0.1:2222", "trace": FILE|null}``;
+the relay creates each robot's listening socket and each connection to its sshd inside the
+robot's network namespace (``setns`` on its own thread, then back: a socket stays in the
+namespace it was created in), so the relay itself runs in the host's namespace.
+
+Prints ``ready`` on stdout once it listens (on every address). Runs until killed. ``--trace FILE`` appends one
 line per chunk: connection number, direction (``>`` client to sshd, ``<`` back), the time
 the relay received it and the time it delivered it (seconds since the client connected),
 and its size: the round trips of each connection, as a timeline.
@@ -25,15 +33,97 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
+import ctypes
+import json
+import os
 import random
+import resource
 import socket
 import sys
 from collections import deque
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+CLONE_NEWNET = 0x40000000
 
 
 def _split(addr: str) -> tuple[str, int]:
     host, _, port = addr.rpartition(":")
     return host, int(port)
+
+
+def _setns(fd: int) -> None:
+    """setns(2) into a network namespace (os.setns from Python 3.12 on; libc before)."""
+    if hasattr(os, "setns"):
+        os.setns(fd, CLONE_NEWNET)
+        return
+    libc = ctypes.CDLL(None, use_errno=True)
+    if libc.setns(fd, CLONE_NEWNET) != 0:
+        err = ctypes.get_errno()
+        raise OSError(err, f"setns: {os.strerror(err)}")
+
+
+@contextlib.contextmanager
+def netns(path: str | None) -> Iterator[None]:
+    """This thread in the network namespace `path` (None: stay), then back in its own."""
+    if path is None:
+        yield
+        return
+    home = os.open("/proc/thread-self/ns/net", os.O_RDONLY)
+    try:
+        target = os.open(path, os.O_RDONLY)
+        try:
+            _setns(target)
+        finally:
+            os.close(target)
+        try:
+            yield
+        finally:
+            _setns(home)
+    finally:
+        os.close(home)
+
+
+@dataclass(frozen=True)
+class Route:
+    """One robot: where the client connects, where its sshd listens, in which namespace."""
+
+    listen: tuple[str, int]
+    to: tuple[str, int]
+    netns: str | None = None
+    trace: str | None = None
+
+
+def _socket(path: str | None) -> socket.socket:
+    with netns(path):
+        s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    s.setblocking(False)
+    return s
+
+
+async def _open_inner(route: Route) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
+    if route.netns is None:
+        return await asyncio.open_connection(*route.to)
+    s = _socket(route.netns)
+    try:
+        await asyncio.get_running_loop().sock_connect(s, route.to)
+    except BaseException:
+        s.close()
+        raise
+    return await asyncio.open_connection(sock=s)
+
+
+def _listener(route: Route) -> socket.socket:
+    s = _socket(route.netns)
+    try:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        s.bind(route.listen)
+        s.listen(256)
+    except BaseException:
+        s.close()
+        raise
+    return s
 
 
 class Trace:
@@ -111,14 +201,14 @@ def _nodelay(writer: asyncio.StreamWriter) -> None:
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
 
-async def _serve(listen: tuple[str, int], to: tuple[str, int], delay: float, jitter: float, seed: int | None,
-                 trace: Trace) -> None:
+async def _serve(routes: list[Route], delay: float, jitter: float, seed: int | None) -> None:
     rnd = random.Random(seed)
     loop = asyncio.get_running_loop()
     rtt = 2 * delay
-    tasks: deque[asyncio.Task[None]] = deque(maxlen=4096)
+    tasks: deque[asyncio.Task[None]] = deque(maxlen=4096 * len(routes))
 
-    async def handle(creader: asyncio.StreamReader, cwriter: asyncio.StreamWriter) -> None:
+    async def handle(route: Route, trace: Trace, creader: asyncio.StreamReader,
+                     cwriter: asyncio.StreamWriter) -> None:
         _nodelay(cwriter)
         accepted = loop.time()
         up, down = Link(delay, jitter, rnd), Link(delay, jitter, rnd)
@@ -132,7 +222,7 @@ async def _serve(listen: tuple[str, int], to: tuple[str, int], delay: float, jit
         deliver_up = asyncio.ensure_future(_deliver(up_q, None, opened))
         await asyncio.sleep(max(0.0, accepted + rtt + delay - loop.time()))
         try:
-            sreader, swriter = await asyncio.open_connection(*to)
+            sreader, swriter = await _open_inner(route)
         except OSError:
             opened.set_result(None)
             sock = cwriter.get_extra_info("socket")
@@ -151,27 +241,53 @@ async def _serve(listen: tuple[str, int], to: tuple[str, int], delay: float, jit
         for w in (swriter, cwriter):
             w.close()
 
-    def spawn(r: asyncio.StreamReader, w: asyncio.StreamWriter) -> None:
-        tasks.append(asyncio.ensure_future(handle(r, w)))
+    def spawner(route: Route):  # type: ignore[no-untyped-def]
+        trace = Trace(route.trace)
 
-    server = await asyncio.start_server(spawn, *listen, reuse_address=True, backlog=256)
+        def spawn(r: asyncio.StreamReader, w: asyncio.StreamWriter) -> None:
+            tasks.append(asyncio.ensure_future(handle(route, trace, r, w)))
+
+        return spawn
+
+    servers = [await asyncio.start_server(spawner(route), sock=_listener(route)) for route in routes]
     sys.stdout.write("ready\n")
     sys.stdout.flush()
-    async with server:
-        await server.serve_forever()
+    await asyncio.gather(*(server.serve_forever() for server in servers))
+
+
+def _routes(path: str) -> list[Route]:
+    with open(path, encoding="utf-8") as f:
+        items = json.load(f)
+    return [Route(_split(x["listen"]), _split(x["to"]), x.get("netns"), x.get("trace")) for x in items]
+
+
+def _raise_nofile() -> None:
+    """Two descriptors per open connection and one per listener: the hard limit, not 1024."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if soft != hard:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
 
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m tests.lab.relay", description=__doc__.splitlines()[0])
-    p.add_argument("--listen", required=True, help="IP:PORT the client connects to")
-    p.add_argument("--to", required=True, help="IP:PORT of sshd inside the namespace")
+    p.add_argument("--listen", help="IP:PORT the client connects to")
+    p.add_argument("--to", help="IP:PORT of sshd inside the namespace")
+    p.add_argument("--robots", help="JSON list of robots to relay for (instead of --listen/--to)")
     p.add_argument("--delay-ms", type=float, required=True, help="one-way delay (half the round trip)")
     p.add_argument("--jitter-ms", type=float, default=0.0, help="each chunk: delay ± up to this much")
     p.add_argument("--seed", type=int, default=None)
     p.add_argument("--trace", default=None, help="append a line per chunk to this file")
     a = p.parse_args(argv)
-    asyncio.run(_serve(_split(a.listen), _split(a.to), a.delay_ms / 1000.0, a.jitter_ms / 1000.0, a.seed,
-                       Trace(a.trace)))
+    if a.robots:
+        if a.listen or a.to or a.trace:
+            p.error("--robots replaces --listen, --to and --trace")
+        routes = _routes(a.robots)
+    elif a.listen and a.to:
+        routes = [Route(_split(a.listen), _split(a.to), None, a.trace)]
+    else:
+        p.error("--listen and --to, or --robots")
+    _raise_nofile()
+    asyncio.run(_serve(routes, a.delay_ms / 1000.0, a.jitter_ms / 1000.0, a.seed))
     return 0
 
 

@@ -63,7 +63,7 @@ class RobotState:
 class LabState:
     prefix: str
     dir: str
-    subnet: int  # robots on 10.200.<subnet>.0/24
+    subnet: int  # robots on 10.200.<subnet>.0/<24, 23 or 22> (see `span`)
     bridge: str
     cgroup_parent: str
     docker: bool
@@ -76,6 +76,7 @@ class LabState:
     rtt_ms: float = 0.0  # > 0: each robot's sshd behind a delay relay (tests/lab/relay.py)
     jitter_ms: float = 0.0
     rate: str | None = None  # `tc tbf` rate on each robot's eth0 (e.g. "20mbit"); None: none
+    span: int = 1  # /24s of the lab's LAN, from `subnet` on (1, 2 or 4: over 240 robots)
 
     # -- persistence ---------------------------------------------------------------------
     def to_json(self) -> str:
@@ -104,7 +105,7 @@ class LabState:
 
     # -- addresses -----------------------------------------------------------------------
     def all_subnets(self) -> set[int]:
-        return {self.subnet, *self.jump_subnets.values()}
+        return {*range(self.subnet, self.subnet + self.span), *self.jump_subnets.values()}
 
 
 @contextlib.contextmanager

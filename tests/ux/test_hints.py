@@ -110,6 +110,30 @@ def test_an_unknown_host_key_hint_is_trust_with_the_robots_name(
     assert hint.endswith(f"then: panther-ops trust {ROBOT}"), hint
 
 
+def test_a_login_that_takes_longer_than_the_timeout_is_not_called_a_refused_key(
+        home: Path, tmp_path: Path, capsys: Capsys) -> None:
+    """sshd checks the key with an AuthorizedKeysCommand that takes 3 s (a robot too busy to
+    answer in time, as 300 logins at once on a small machine): paramiko's auth_timeout runs out.
+    The key is good: the message says the login did not finish in time, not that it was refused."""
+    why = missing()
+    if why:
+        pytest.skip(why)
+    key = keygen(tmp_path / "id_ed25519")
+    root = tmp_path / "sshd"
+    slow_keys = tmp_path / "slow_keys"  # not the AuthorizedKeysFile: only the command finds the key
+    slow_keys.write_text(Path(f"{key}.pub").read_text())
+    slow = LoopbackSshd(root, extra=["AuthorizedKeysCommandUser root",
+                                     f"AuthorizedKeysCommand /bin/sh -c 'sleep 3; cat {slow_keys}'"])
+    try:
+        message, hint = _unreachable(capsys, _inventory(tmp_path, slow.port, f"    identity_file: {key}\n",
+                                                        slow.known_hosts))
+    finally:
+        slow.close()
+    assert message == "root@127.0.0.1 did not finish logging in within 1 s (the key was not refused)", message
+    assert "--forks" in hint and "connect_timeout" in hint, hint
+    assert "ssh-copy-id" not in hint  # installing the key again is not the fix
+
+
 @pytest.fixture
 def silent() -> Iterator[Silent]:
     s = Silent()
