@@ -24,6 +24,19 @@ ANSI = re.compile(r"\x1b\[[0-9;?]*[A-Za-z]|\x1b\][^\x07]*\x07")
 CLI = [sys.executable, "-c", "from panther_ops.cli.app import run; run()"]
 
 
+
+def _drain(fd: int, chunks: list[bytes], wait: float) -> None:
+    """Read what is left on ``fd`` until it stays quiet for ``wait`` seconds or ends."""
+    while True:
+        readable, _, _ = select.select([fd], [], [], wait)
+        try:
+            data = os.read(fd, 65536) if readable else b""
+        except OSError:
+            data = b""
+        if not data:
+            return
+        chunks.append(data)
+
 def plain(text: str) -> str:
     """``text`` without terminal escape sequences and carriage returns."""
     return ANSI.sub("", text).replace("\r", "")
@@ -146,15 +159,7 @@ def interrupted(args: list[str], ready: Callable[[str], bool], *, on_terminal: b
                 chunks.append(data)
             if p.poll() is not None:
                 ended = time.monotonic()
-        while True:  # what is left in the stream
-            readable, _, _ = select.select([source], [], [], 0.5)
-            try:
-                data = os.read(source, 65536) if readable else b""
-            except OSError:
-                data = b""
-            if not data:
-                break
-            chunks.append(data)
+        _drain(source, chunks, 0.5)  # what is left in the stream
     finally:
         if p.poll() is None:
             p.kill()
@@ -197,15 +202,7 @@ def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 1
             done, status = os.waitpid(pid, os.WNOHANG)
             if done:
                 ended = time.monotonic()
-        while True:
-            readable, _, _ = select.select([master], [], [], 0.2)
-            try:
-                data = os.read(master, 65536) if readable else b""
-            except OSError:
-                data = b""
-            if not data:
-                break
-            chunks.append(data)
+        _drain(master, chunks, 0.2)
     finally:
         if ended is None:
             os.kill(pid, signal.SIGKILL)
