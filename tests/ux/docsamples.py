@@ -43,9 +43,14 @@ LAB = "lab"
 """The mark of a block that needs the lab (```console lab)."""
 
 
+INSTALLED = "<panther-ops>"
+"""Where panther-ops' own files are (this checkout, or site-packages when installed), as the docs show it."""
+
+
 def shown(text: str, workspace: Path) -> str:
-    """The output as the doc shows it: the temporary directory is the reader's ``/home/me``."""
-    return text.replace(str(workspace), HOME)
+    """The output as the doc shows it: the temporary directory is the reader's ``/home/me``,
+    panther-ops' own directory `INSTALLED`."""
+    return text.replace(str(workspace), HOME).replace(str(ROOT), INSTALLED)
 
 
 _VARIES = (
