@@ -310,7 +310,7 @@ def restore(
     from panther_ops.cli.envelope import under
     from panther_ops.cli.views.status import print_doctor
     from panther_ops.core.apply.apply import desired_applier
-    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
+    from panther_ops.core.apply.read import read_and_plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.restore import load_backup, restore_planner
     from panther_ops.errors import UsageError
@@ -342,7 +342,7 @@ def restore(
         return code
     if target.desired:
         with under("apply"):
-            code = fleet.change("apply", plan_desired, on=(inv, [target]),
+            code = fleet.change("apply", read_and_plan_desired, on=(inv, [target]),
                                 applier=desired_applier(sudo_password(False)), applier_for_actions=True)
     summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"),
                           json_out=fleet.json_out)

@@ -46,7 +46,7 @@ def plan_writes(got: dict[str, bytes], kind: FileKind, output: Path | None, dest
     project includes (``includes``: robot -> relative name -> content) beside it; a robot's
     directory under --dest, or an included file, that resolves outside its directory (a link)
     is refused."""
-    from panther_ops.core.config.plan import BT_ARGS
+    from panther_ops.core.robot.push import BT_ARGS
 
     mains: dict[str, Path] = {}
     if dest is not None:
