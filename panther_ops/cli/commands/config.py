@@ -285,7 +285,7 @@ def pull(
     from panther_ops.cli.context import info, run
     from panther_ops.cli.output import write_bytes
     from panther_ops.cli.render import print_warnings
-    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, settle, write_files
+    from panther_ops.core.config.pull_files import check_dest, check_output, local_writes, settle, write_files
     from panther_ops.core.robot.pull import pull as pull_file
     from panther_ops.core.robot.pull import pull_project
     from panther_ops.core.robot.push import BT_ARGS, push_kind
@@ -315,7 +315,7 @@ def pull(
                            data={"source": source, "includes": list(inc.files)}, warnings=warnings)
 
     result = run("config pull", inv, chosen, task, json_out=True)
-    writes, same = settle(plan_writes(got, k, output, dest, includes), force)
+    writes, same = settle(local_writes(got, k, output, dest, includes), force)
     write_files(writes)
     for r in result.results:  # which files this machine now has, each named
         written = [str(w.path) for w in writes if w.robot == r.robot]
