@@ -1,4 +1,5 @@
-"""The gamepad's parameters file (``config push --as joy2twist``), per stack version.
+"""The gamepad's parameters file (``config push --as joy2twist``, planned by
+`config/plan.py`'s ``plan_joy2twist``; pulled by `pull.py`), per stack version.
 
 Where the gamepad runs decides where its parameters go (evidence below):
 

@@ -1,5 +1,6 @@
-"""`config push` / `config pull`: the manual's four-step "Modification of configuration
-files" procedure as one command, and its inverse.
+"""The file of a kind in use on a robot (`config pull`, and the file `shutdown hosts` and
+`apply` start from). Its inverse, `config push` (`push.py`), is the manual's four-step
+"Modification of configuration files" procedure as one command.
 
 push: upload the file under ``/home/husarion/config/<package>/...`` (the 2.2 layout, used on
 every version), mount it into the driver container and point the launch argument at it
