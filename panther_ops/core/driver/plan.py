@@ -211,6 +211,9 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
         plan = compose_plan(reads.robot, cfg, "no change", warnings, [], f"compose.yaml already has {current}")
         plan.data.update(image_from=current, image_to=new_ref)
         return plan
+    crossing = (old_stack.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0))
+    if crossing:  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
+        return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
     old_service = cfg.service
     renamed_from: str | None = None
     if new_stack.family is not old_stack.family:
@@ -259,6 +262,27 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
                      stack_from=old_stack.label(), stack_to=new_stack.label())
     if renamed_from:
         plan.data["service_from"] = renamed_from
+    return plan
+
+
+def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, warnings: list[str],
+               pull: bool) -> RobotPlan:
+    from panther_ops.core.driver.migrate.plan import plan_migration, plan_way_back
+
+    old_stack = cfg.stack
+    if reads.stack != "auto":
+        warnings.append(f"the inventory pins stack: {reads.stack} for this robot: change it to "
+                        f"{new_stack.version_str} (or auto) with the update")
+    present = reads.fact(IMAGE, new_ref)
+    if present is False:
+        warnings.append(f"{new_ref} is not on the robot: it needs a pull (internet on the robot); "
+                        + ("--pull runs" if not pull else "--pull given: runs") + " docker compose pull first")
+    if new_stack.version >= (2, 3, 0):
+        plan = plan_migration(cfg, reads, new_ref, new_stack, warnings)
+    else:
+        plan = plan_way_back(cfg, reads, new_ref, new_stack, warnings)
+    plan.data.update(image_from=old_stack.image, image_to=new_ref, image_local=present, pull=pull,
+                     stack_from=old_stack.label(), stack_to=new_stack.label())
     return plan
 
 
