@@ -15,7 +15,7 @@ import re
 from panther_ops.core.driver.migrate.translated import Translated
 
 _CONTINUATION = re.compile(r"[ \t]*\\\n|\\(?=&#10;)")
-"""A line continuation: `` \`` before a newline (safety.xml's form) or ``\`` before the
+"""A line continuation: a space and backslash before a newline (safety.xml's form) or a backslash before the
 ``&#10;`` entity (lights.xml's form); upstream removed the first with its space, the second alone."""
 
 
