@@ -16,6 +16,7 @@ Pure functions of compose.yaml as read and the files and facts asked for (:class
 
 from __future__ import annotations
 
+import functools
 import posixpath
 from collections.abc import Callable
 
@@ -70,6 +71,12 @@ def _check_target(cfg: RobotConfig, new: Stack) -> None:
                  "--help`), then migrate")
 
 
+@functools.lru_cache(maxsize=256)
+def translated(translator: Translator, text: str, path: str, target: tuple[int, int, int]) -> Translated:
+    """``translator(text, path, target)``, once per fleet: robots with the same file share it (pure)."""
+    return translator(text, path, target)
+
+
 def _edit(edits: list[FileEdit], notes: list[str], path: str, before: bytes | None, out: Translated) -> None:
     after = out.text.encode()
     notes.extend(out.notes)
@@ -82,7 +89,7 @@ def _translate(reads: Reads, path: str, translator: Translator, target: tuple[in
     before = reads.file(path)
     if before is None:
         return False
-    _edit(edits, notes, path, before, translator(before.decode(), path, target))
+    _edit(edits, notes, path, before, translated(translator, before.decode(), path, target))
     return True
 
 
@@ -104,7 +111,7 @@ def _joy2twist(reads: Reads, tree: str, model: str, target: tuple[int, int, int]
         notes.append(f"{new}: created from 2.2.2's stock gamepad file (the tree had none; 2.3.2's teleop reads it)")
     else:
         source = text.decode()
-    out = translate_joy2twist(source, new, target)
+    out = translated(translate_joy2twist, source, new, target)
     if new != old:
         _edit(edits, notes, new, reads.file(new), out)
         if text is not None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
+from typing import Any
 
 from panther_ops.core.yaml.document import PathPart, YamlDocument
 from panther_ops.core.yaml.paths import DocumentError
@@ -42,10 +43,17 @@ def trailing_comment(doc: YamlDocument, path: Path) -> str:
     return m.group(1) if m else ""
 
 
+def scalar(text: str) -> Any:
+    """What a plain scalar written as ``text`` reads back as (``.NAN`` -> nan, ``-2.7`` -> -2.7)."""
+    from ruamel.yaml import YAML
+
+    return YAML(typ="safe", pure=True).load(f"- {text}" if text else "- ")[0]
+
+
 def set_raw(doc: YamlDocument, path: Path, text: str) -> bool:
     """Write the scalar at ``path`` as ``text`` (its comment and everything else kept)."""
     info = doc.info(path)
-    return doc.replace_span(info.start, info.end, text, path=path)
+    return doc.replace_span(info.start, info.end, text, path=path, expected=scalar(text))
 
 
 def insert_after(doc: YamlDocument, after: Path, key: str, text: str, comment: str = "") -> None:
@@ -55,7 +63,8 @@ def insert_after(doc: YamlDocument, after: Path, key: str, text: str, comment: s
     line = doc.text[start:end]
     col = len(line) - len(line.lstrip(" "))
     new = "\n" + " " * col + f"{key}: {text}" + (f" {comment}" if comment else "")
-    doc.replace_span(end, end, new, path=after[:-1])
+    parent = doc.get(after[:-1])
+    doc.replace_span(end, end, new, path=after[:-1], expected={**parent, key: scalar(text)})
 
 
 def rename_key(doc: YamlDocument, path: Path, new: str) -> None:
