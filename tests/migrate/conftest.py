@@ -1,0 +1,5 @@
+"""The demo fleet fixture of the unit tests (a fresh demo fleet per test)."""
+
+from tests.unit.conftest import demo
+
+__all__ = ["demo"]
