@@ -102,8 +102,8 @@ def parse_target(text: str, *, force: bool = False) -> TargetImage:
                          hint="tags look like humble-<X.Y.Z>-<YYYYMMDD>, e.g. humble-2.1.2-20241125 "
                               "(panther-ops driver versions --remote lists them)")
     version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
-    if m["distro"] == "jazzy" and not (2, 3, 0) <= version < (2, 4, 0) or m["distro"] == "humble" and \
-            version >= (2, 3, 0):
+    if (m["distro"] == "jazzy" and not (2, 3, 0) <= version < (2, 4, 0)) or (m["distro"] == "humble" and \
+            version >= (2, 3, 0)):
         raise _crossed(tag, m["distro"], version)
     if m["distro"] not in ("humble", "jazzy"):
         raise UsageError(f"{tag}: ROS 2 {m['distro'].capitalize()} is not a Panther driver distribution here",

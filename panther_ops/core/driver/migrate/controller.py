@@ -52,7 +52,9 @@ _STOCK_Y = {"has_velocity_limits": True, "has_acceleration_limits": True, "has_j
 _STOCK_ORIENTATION = [1.8e-3, 0.0, 0.0, 0.0, 1.8e-3, 0.0, 0.0, 0.0, 1.8e-3]
 """``imu_broadcaster.static_covariance_orientation`` of every 2.2.2 controller file."""
 PLACEHOLDER = "<static_covariance_orientation>"
-MECANUM = {"mecanum_drive_controller/MecanumDriveController": "husarion_mecanum_drive_controller/MecanumDriveController"}
+MECANUM = {"mecanum_drive_controller/MecanumDriveController":
+           "husarion_mecanum_drive_controller/MecanumDriveController"}
+"""WH02's drive controller type: 2.3.2 runs Husarion's own mecanum controller."""
 
 
 def _number(path: str, doc: YamlDocument, at: Path) -> float:
@@ -201,9 +203,7 @@ def translate_controller(text: str, path: str, target: tuple[int, int, int]) -> 
             _declare_mux(doc, manager)
         if not doc.exists((top, "twist_mux_controller")):
             doc.set((top, "twist_mux_controller"), _mux_section(holonomic))
-            text = doc.text
-            if not text.endswith("\n\n" + "  twist_mux_controller:\n") and "\n\n  twist_mux_controller:\n" not in text:
-                doc = _blank_line_before(doc, top)
+            _blank_line_before(doc, top)
     return Translated(doc.text, tuple(notes))
 
 
@@ -240,11 +240,9 @@ def _imu(doc: YamlDocument, top: str, name: str, notes: list[str]) -> None:
                      "ships a placeholder filled at launch from use_madgwick_filter, which this value overrides")
 
 
-def _blank_line_before(doc: YamlDocument, top: str) -> YamlDocument:
+def _blank_line_before(doc: YamlDocument, top: str) -> None:
     """A blank line before the added ``twist_mux_controller`` section, as between upstream's sections."""
     info = doc.info((top, "twist_mux_controller"))
     start = doc.text.rfind("\n", 0, doc.text.rfind("\n", 0, info.start)) + 1
-    if doc.text[start - 2:start] == "\n\n":
-        return doc
-    doc.replace_span(start, start, "\n", path=(top,))
-    return doc
+    if doc.text[start - 2:start] != "\n\n":
+        doc.replace_span(start, start, "\n", path=(top,))

@@ -28,7 +28,7 @@ from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_
 from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
-from panther_ops.core.driver.migrate.translated import MUX_SINCE, Translated, version_label
+from panther_ops.core.driver.migrate.translated import Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.stack import Stack
@@ -197,16 +197,17 @@ def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warn
     if changed:
         notes.append("changed on 2.3 since the migration, and set back to their 2.2 form: " + ", ".join(changed))
     for e in restore.edits:
-        if e.path == cfg.compose_path and e.after is not None:
+        after = e.after
+        if e.path == cfg.compose_path and after is not None:
             from panther_ops.core.config.compose import ComposeFile
 
-            back = ComposeFile.parse(e.after.decode(), cfg.compose_path)
+            back = ComposeFile.parse(after.decode(), cfg.compose_path)
             saved = back.driver_image
             if saved != new_ref:
                 back.set_image(new_ref, back.driver_service())
                 notes.append(f"the backup's image {saved} replaced by {new_ref}")
-            e = FileEdit(e.path, e.before, back.text().encode(), cfg.mode)
-        edits.append(FileEdit(e.path, e.before, e.after, e.mode))
+            after = back.text().encode()
+        edits.append(FileEdit(e.path, e.before, after, cfg.mode if e.path == cfg.compose_path else e.mode))
     if not any(e.path == cfg.compose_path for e in edits):
         cfg.compose.set_image(new_ref, cfg.service)
         edits.insert(0, FileEdit(cfg.compose_path, cfg.before, cfg.compose.text().encode(), cfg.mode))
