@@ -27,11 +27,17 @@ def joy2twist_path(package_dir: str, model: str, target: tuple[int, int, int]) -
 
 
 def _params(doc: YamlDocument, path: str) -> Path:
+    """``/**: ros__parameters`` (upstream's form) or ``/**: <node>: ros__parameters``."""
     data = doc.to_plain()
     if isinstance(data, dict):
         for top, body in data.items():
-            if isinstance(body, dict) and isinstance(body.get("ros__parameters"), dict):
+            if not isinstance(body, dict):
+                continue
+            if isinstance(body.get("ros__parameters"), dict):
                 return (str(top), "ros__parameters")
+            for node, inner in body.items():
+                if isinstance(inner, dict) and isinstance(inner.get("ros__parameters"), dict):
+                    return (str(top), str(node), "ros__parameters")
     raise MigrationRefused("no <node>.ros__parameters mapping: not a joy2twist parameters file", path=path,
                            hint="the file's top is `/**: ros__parameters:` as in husarion_ugv_ros@2.2.2")
 
