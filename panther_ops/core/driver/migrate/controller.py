@@ -38,8 +38,10 @@ _STALE_COMMENTS = (
     "# Whenever a min_* is unspecified, default to -max_*",
     "# min_velocity -  When unspecified `min_velocity=-max_velocity`",
     "# min_acceleration - When unspecified, `min_acceleration=-max_acceleration`",
+    "# Whenever a min_* is unspecified it defaults to -max_*.",
 )
-"""husarion_ugv_ros@2.2.2's comments on the Humble rules; 2.3's files drop them."""
+"""husarion_ugv_ros@2.2.2's comments on the Humble rules (and the same rule as panther-ops' 2.2
+templates word it); 2.3's files drop them."""
 NAN = ".NAN"
 AXES: tuple[tuple[str, str], ...] = (("linear", "x"), ("angular", "z"))
 _HAS = ("has_velocity_limits", "has_acceleration_limits", "has_jerk_limits")
@@ -85,8 +87,8 @@ def _write(doc: YamlDocument, axis: Path, key: str, text: str, comment_from: str
         doc.set(at, float("nan") if text == NAN else float(text))
         set_raw(doc, at, text)
         return
-    source = (*axis, comment_from) if doc.exists((*axis, comment_from)) else (*axis, before[-1])
-    insert_after(doc, (*axis, before[-1]), key, text, trailing_comment(doc, source))
+    comment = trailing_comment(doc, (*axis, comment_from)) if doc.exists((*axis, comment_from)) else ""
+    insert_after(doc, (*axis, before[-1]), key, text, comment)
 
 
 def _axis(path: str, doc: YamlDocument, axis: Path, name: str, notes: list[str]) -> None:
@@ -133,7 +135,7 @@ def _axis(path: str, doc: YamlDocument, axis: Path, name: str, notes: list[str])
         doc.delete((*axis, h))
     comment_of = {"min_velocity": "max_velocity", "max_deceleration": "max_acceleration",
                   "max_acceleration_reverse": "max_acceleration", "max_deceleration_reverse": "max_acceleration",
-                  "min_jerk": "max_jerk", "max_jerk": "max_acceleration"}
+                  "min_jerk": "max_jerk"}
     for key in _ORDER:
         _write(doc, axis, key, values[key], comment_of.get(key, key))
 

@@ -19,7 +19,8 @@ from panther_ops.core.yaml.paths import DocumentError
 
 Path = tuple[PathPart, ...]
 
-_UNIT = re.compile(r"[ \t]+(#[^\n]*)$")
+_UNIT = re.compile(r"[ \t]+(#[ \t]*(?:m|rad)/s(?:\^[23])?)[ \t]*$")
+"""A unit comment at the end of a line (``# m/s``, ``# rad/s^2``), as upstream's limits carry."""
 
 
 def line_bounds(doc: YamlDocument, index: int) -> tuple[int, int]:
@@ -36,7 +37,8 @@ def raw(doc: YamlDocument, path: Path) -> str:
 
 
 def trailing_comment(doc: YamlDocument, path: Path) -> str:
-    """The comment at the end of the value's line (``# m/s``), or ""."""
+    """The unit comment at the end of the value's line (``# m/s``), or "" (an operator's own
+    comment stays on its own line, not copied)."""
     info = doc.info(path)
     _start, end = line_bounds(doc, info.end)
     m = _UNIT.search(doc.text[info.end:end])
