@@ -103,8 +103,8 @@ def test_parse_target_accepts_humble_tags_and_images(text: str, repo: str | None
 
 @pytest.mark.parametrize(("text", "needle"), [
     ("jazzy-2.4.0-20270101", "ROS 2 Jazzy from 2.3.x"),
-    ("husarion/husarion-ugv:jazzy-2.2.2-20250702", "no jazzy 2.2.2 driver exists"),
-    ("humble-2.3.0-20260101", "no humble 2.3.0 driver exists"),
+    ("husarion/husarion-ugv:jazzy-2.2.2-20250702", "jazzy 2.2.2 is not a driver panther-ops supports"),
+    ("humble-2.3.0-20260101", "humble 2.3.0 is not a driver panther-ops supports"),
     ("rolling-2.2.2-20250702", "Rolling is not a Panther driver"),
     ("latest", "does not say the driver version"),
     ("humble", "does not say the driver version"),

@@ -61,8 +61,9 @@ class TargetImage:
 
 def _crossed(tag: str, distro: str, version: tuple[int, int, int]) -> UsageError:
     return UsageError(
-        f"{tag}: no {distro} {'.'.join(map(str, version))} driver exists: husarion_ugv runs ROS 2 Humble up to 2.2.x "
-        "and ROS 2 Jazzy from 2.3.x (2.4 and later are not supported yet)",
+        f"{tag}: {distro} {'.'.join(map(str, version))} is not a driver panther-ops supports: husarion_ugv runs ROS 2 "
+        "Humble up to 2.2.x and ROS 2 Jazzy from 2.3.x (there is no Humble 2.3 nor Jazzy 2.2; 2.4 and later are "
+        "not supported yet)",
         hint=f"the newest Humble driver is {NEWEST_HUMBLE}; the newest Jazzy one {NEWEST_JAZZY}",
     )
 

@@ -159,14 +159,15 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     after = cfg.compose.text().encode()
     edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
     old_label, new_label = version_label(cfg.stack.version), version_label(target)
+    written = [e.path for e in edits[1:] if e.after is not None]
     summary = (f"{MIGRATION} husarion_ugv {old_label} -> {new_label}: image {current} -> {new_ref}"
-               + (f"; {len(edits) - 1} config file(s) translated" if len(edits) > 1 else ""))
+               + (f"; {len(written)} config file(s) translated" if written else ""))
     words = tuple(f"{k}:={v}" for k, v in cfg.compose.args.items())
     lacks = tuple(f"{k}:={old_args[k]}" for k in launch.dropped)
     plan = RobotPlan(reads.robot, summary, edits, (service,), cfg.compose_path, [Verify(service, words, lacks)],
                      None, [*warnings, *notes, *cfg.compose.notes], home=cfg.home)
     plan.data.update(stack=cfg.stack.label(), migration={
-        "from": old_label, "to": new_label, "translated": [e.path for e in edits[1:] if e.after is not None],
+        "from": old_label, "to": new_label, "translated": written,
         "removed": [e.path for e in edits if e.after is None], "kept": kept,
         "launch_args_removed": list(launch.dropped)})
     return plan
