@@ -127,3 +127,22 @@ def test_migration_to_2_3_0_is_refused_naming_the_supported_ones(demo: Path,
     code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.0-20250425", "-r", ROBOT,
                               "--yes")
     assert code == 2 and "2.3.1 and 2.3.2" in err
+
+
+def test_a_stack_pin_does_not_make_a_2_3_robot_migrate_again(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The inventory pins stack: 2.2.2; the robot already runs 2.3.2: moving it to 2.3.1 is no
+    migration of its (2.3) files, and the pin is named."""
+    code, _, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes")
+    assert code == 0
+    inv = demo / "inventory.yaml"
+    text = inv.read_text()
+    assert "  panther-03:\n" in text
+    inv.write_text(text.replace("  panther-03:\n", "  panther-03:\n    stack: 2.2.2\n", 1))
+    before = tree_files(demo)
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "-r", ROBOT,
+                              "--dry-run", "--json")
+    assert code == 0, doc
+    (r,) = doc["robots"]
+    assert "migration" not in r["data"] and len(r["diffs"]) == 1  # compose.yaml's image only
+    assert any("pins stack: 2.2.2" in w for w in r["warnings"])
+    assert tree_files(demo) == before

@@ -211,3 +211,11 @@ def test_launch_arguments_removed_or_refused() -> None:
     with pytest.raises(MigrationRefused, match=r"\[launch_gamepad\]"):
         migrate_launch({"launch_gamepad": "false"}, T232, "~/compose.yaml")
     assert migrate_launch({"launch_gamepad": "false"}, T231, "~/compose.yaml").dropped == ()
+
+
+@needs_mirror
+def test_a_controller_file_already_in_the_jazzy_schema_is_kept() -> None:
+    path = "husarion_ugv_controller/config/WH01_controller.yaml"
+    stock = show("2.3.2", path)
+    out = translate_controller(stock, path, T232)
+    assert out.text == stock and any("already in the Jazzy schema" in n for n in out.notes)

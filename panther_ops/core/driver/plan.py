@@ -211,8 +211,9 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
         plan = compose_plan(reads.robot, cfg, "no change", warnings, [], f"compose.yaml already has {current}")
         plan.data.update(image_from=current, image_to=new_ref)
         return plan
-    crossing = (old_stack.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0))
-    if crossing:  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
+    running = _image_stack(cfg.compose) or old_stack  # the image, not an inventory pin, tells the files' schema
+    if (running.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0)):
+        cfg.stack = running  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
         return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
     old_service = cfg.service
     renamed_from: str | None = None
@@ -263,6 +264,14 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
     if renamed_from:
         plan.data["service_from"] = renamed_from
     return plan
+
+
+def _image_stack(compose: ComposeFile) -> Any:
+    """The stack compose.yaml's driver image names (None: not a driver image panther-ops reads)."""
+    try:
+        return compose.stack()
+    except OpsError:
+        return None
 
 
 def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, warnings: list[str],

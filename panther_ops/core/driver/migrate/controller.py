@@ -91,7 +91,15 @@ def _write(doc: YamlDocument, axis: Path, key: str, text: str, comment_from: str
     insert_after(doc, (*axis, before[-1]), key, text, comment)
 
 
+_JAZZY_ONLY = ("max_deceleration", "max_acceleration_reverse", "max_deceleration_reverse")
+"""Keys only the Jazzy schema has: an axis holding one and no ``has_*_limits`` is already 2.3's."""
+
+
 def _axis(path: str, doc: YamlDocument, axis: Path, name: str, notes: list[str]) -> None:
+    keys = doc.keys(axis)
+    if any(k in keys for k in _JAZZY_ONLY) and not any(h in keys for h in _HAS):
+        notes.append(f"{name}: {'.'.join(map(str, axis[-2:]))} already in the Jazzy schema: kept")
+        return
     has_v, has_a, has_j = (_flag(path, doc, (*axis, h)) for h in _HAS)
     where = ".".join(map(str, axis[-2:]))
     values: dict[str, str] = {}
