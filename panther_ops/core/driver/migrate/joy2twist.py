@@ -11,7 +11,7 @@ moves with 2.3.2 (update_config_directory copies it from husarion_ugv_teleop), s
 
 from __future__ import annotations
 
-from panther_ops.core.driver.migrate.textedit import Path, insert_after, set_raw
+from panther_ops.core.driver.migrate.textedit import Path, insert_after, insert_before, set_raw
 from panther_ops.core.driver.migrate.translated import MUX_SINCE, MigrationRefused, Translated
 from panther_ops.core.yaml.document import YamlDocument
 
@@ -71,11 +71,3 @@ def translate_joy2twist(text: str, path: str, target: tuple[int, int, int]) -> T
                          f"the twist mux only on {MANUAL_TOPIC} (priority 100); other topics are not mux inputs")
     return Translated(doc.text, tuple(notes))
 
-
-def insert_before(doc: YamlDocument, at: Path, key: str, text: str) -> None:
-    """A new ``key: text`` line right before the entry at ``at`` (a scalar), at its column."""
-    info = doc.info(at)
-    start = doc.text.rfind("\n", 0, info.start) + 1
-    line = doc.text[start:info.start]
-    col = len(line) - len(line.lstrip(" "))
-    doc.replace_span(start, start, " " * col + f"{key}: {text}\n", path=at[:-1])

@@ -69,6 +69,16 @@ def insert_after(doc: YamlDocument, after: Path, key: str, text: str, comment: s
     doc.replace_span(end, end, new, path=after[:-1], expected={**parent, key: scalar(text)})
 
 
+def insert_before(doc: YamlDocument, at: Path, key: str, text: str) -> None:
+    """A new ``key: text`` line right before the entry at ``at`` (a scalar), at its column."""
+    info = doc.info(at)
+    start = doc.text.rfind("\n", 0, info.start) + 1
+    line = doc.text[start:info.start]
+    col = len(line) - len(line.lstrip(" "))
+    parent = doc.get(at[:-1])
+    doc.replace_span(start, start, " " * col + f"{key}: {text}\n", path=at[:-1], expected={**parent, key: scalar(text)})
+
+
 def rename_key(doc: YamlDocument, path: Path, new: str) -> None:
     """Rename the mapping key at ``path`` (the last part) to ``new`` on its own line."""
     info = doc.info(path)
