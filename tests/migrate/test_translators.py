@@ -219,3 +219,14 @@ def test_a_controller_file_already_in_the_jazzy_schema_is_kept() -> None:
     stock = show("2.3.2", path)
     out = translate_controller(stock, path, T232)
     assert out.text == stock and any("already in the Jazzy schema" in n for n in out.notes)
+
+
+def test_a_flow_mapping_that_needs_new_keys_is_refused_with_the_fix() -> None:
+    from panther_ops.core.driver.migrate.plan import translated
+
+    text = ("/**:\n  drive_controller:\n    ros__parameters:\n      linear:\n"
+            "        x: {has_velocity_limits: true, max_velocity: 1.0}\n")
+    with pytest.raises(MigrationRefused) as err:
+        translated(translate_controller, text, "/home/husarion/config/WH01_controller.yaml", T231)
+    assert err.value.message.startswith("/home/husarion/config/WH01_controller.yaml") and err.value.exit_code == 2
+    assert "block mappings" in (err.value.hint or "")

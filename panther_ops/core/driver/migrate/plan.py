@@ -28,10 +28,11 @@ from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_
 from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
-from panther_ops.core.driver.migrate.translated import Translated, version_label
+from panther_ops.core.driver.migrate.translated import MigrationRefused, Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.stack import Stack
+from panther_ops.core.yaml.paths import DocumentError
 from panther_ops.errors import UsageError
 
 Translator = Callable[[str, str, tuple[int, int, int]], Translated]
@@ -73,8 +74,22 @@ def _check_target(cfg: RobotConfig, new: Stack) -> None:
 
 @functools.lru_cache(maxsize=256)
 def translated(translator: Translator, text: str, path: str, target: tuple[int, int, int]) -> Translated:
-    """``translator(text, path, target)``, once per fleet: robots with the same file share it (pure)."""
-    return translator(text, path, target)
+    """``translator(text, path, target)``, once per fleet: robots with the same file share it (pure).
+
+    Raises:
+        MigrationRefused: the translator's refusals, and a file the in-place editor cannot
+            change without touching more than the keys (a flow mapping ``{...}`` where a key
+            must be added), named with the fix.
+    """
+    try:
+        return translator(text, path, target)
+    except MigrationRefused:
+        raise
+    except DocumentError as exc:
+        raise MigrationRefused(
+            f"cannot be translated in place ({exc.message})", path=path,
+            hint="write the mappings the migration adds keys to as block mappings (one key per line, as "
+                 "husarion_ugv_ros writes them), then migrate") from exc
 
 
 def _edit(edits: list[FileEdit], notes: list[str], path: str, before: bytes | None, out: Translated) -> None:
