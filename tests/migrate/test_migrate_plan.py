@@ -146,3 +146,20 @@ def test_a_stack_pin_does_not_make_a_2_3_robot_migrate_again(demo: Path, capsys:
     assert "migration" not in r["data"] and len(r["diffs"]) == 1  # compose.yaml's image only
     assert any("pins stack: 2.2.2" in w for w in r["warnings"])
     assert tree_files(demo) == before
+
+
+def test_files_named_by_launch_arguments_are_translated_too(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A customised EKF file mounted and named by localization_config_path: translated with the tree."""
+    (home(demo) / "my_ekf.yaml").write_text("/**:\n  ekf_filter:\n    ros__parameters:\n      use_control: true\n"
+                                           "      control_timeout: 0.5\n")
+    compose = home(demo) / "compose.yaml"
+    text = compose.read_text()
+    compose.write_text(text.replace("      - /home/husarion/config:/config\n",
+                                    "      - /home/husarion/config:/config\n"
+                                    "      - /home/husarion/my_ekf.yaml:/ekf/my_ekf.yaml\n")
+                       .replace("launch_gamepad:=true", "launch_gamepad:=true localization_config_path:=/ekf/my_ekf.yaml"))
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes", "--json")
+    assert code == 0, doc
+    assert "/home/husarion/my_ekf.yaml" in doc["robots"][0]["data"]["migration"]["translated"]
+    assert load(home(demo) / "my_ekf.yaml") == {"/**": {"ekf_filter": {"ros__parameters": {
+        "use_control": True, "stamped_control": True, "control_timeout": 0.2}}}}

@@ -55,7 +55,8 @@ UNCHANGED = ("husarion_ugv_lights/config/user_animations.yaml", "husarion_ugv_li
 user_animations and shutdown_hosts; 2.3.2's LightsBT.btproj and animations only add models and
 ids that a 2.2 file can go without)."""
 _ARG_KINDS: dict[str, Translator] = {"controller_config_path": translate_controller,
-                                     "components_config_path": translate_components}
+                                     "components_config_path": translate_components,
+                                     "localization_config_path": translate_localization}
 """Launch arguments naming a file of a kind that changed: a customised file they point to is translated too."""
 
 
