@@ -163,3 +163,13 @@ def test_files_named_by_launch_arguments_are_translated_too(demo: Path, capsys: 
     assert "/home/husarion/my_ekf.yaml" in doc["robots"][0]["data"]["migration"]["translated"]
     assert load(home(demo) / "my_ekf.yaml") == {"/**": {"ekf_filter": {"ros__parameters": {
         "use_control": True, "stamped_control": True, "control_timeout": 0.2}}}}
+
+
+def test_an_update_between_2_3_releases_warns_that_files_are_not_translated(
+        demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes")
+    assert code == 0
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "-r", ROBOT,
+                              "--dry-run", "--json")
+    assert code == 0, doc
+    assert any("not translated between 2.3 releases" in w for w in doc["robots"][0]["warnings"])

@@ -215,6 +215,10 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
     if (running.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0)):
         cfg.stack = running  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
         return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
+    if running.version >= (2, 3, 0) and (running.version >= (2, 3, 2)) != (new_stack.version >= (2, 3, 2)):
+        warnings.append(f"{running.version_str} -> {new_stack.version_str}: 2.3.2 brought the twist mux, the IMU "
+                        "covariance placeholder and the gamepad file in husarion_ugv_teleop; the files in ~/config are "
+                        "not translated between 2.3 releases (check them, or `config restore-defaults` after)")
     old_service = cfg.service
     renamed_from: str | None = None
     if new_stack.family is not old_stack.family:
