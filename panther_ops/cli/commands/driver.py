@@ -190,8 +190,8 @@ def versions(
 def update(
     fleet: Fleet,
     tag: Annotated[OptStr, typer.Argument(
-        help="Tag (humble-2.1.2-20241125) or image (husarion/panther:humble-...); default: the inventory's desired "
-        "image.")] = None,
+        help="Tag (humble-2.1.2-20241125, jazzy-2.3.2-20260622) or image (husarion/panther:humble-...); default: "
+        "the inventory's desired image.")] = None,
     pull: Annotated[bool, typer.Option("--pull", help="docker compose pull the driver before recreating it "
                                        "(the robot needs internet).")] = False,
     force: Annotated[bool, typer.Option("--force", help="Allow a move between husarion/panther (<=2.1) and "
@@ -201,7 +201,12 @@ def update(
     """Change the driver image in compose.yaml and recreate the driver, through the pipeline:
     plan, diff, confirm, backup, atomic write, recreate, verify, roll back on failure.
 
-    Humble tags only (Jazzy, 2.3+, is refused). A tag takes the repository of its version; a
+    Humble 2.0-2.2 and Jazzy 2.3.1/2.3.2 tags. On a husarion_ugv 2.2 robot a 2.3 tag is a
+    migration: every file of ~/config the driver reads is translated into its 2.3 form in the
+    same plan (controller limits, gamepad moved to husarion_ugv_teleop, components, EKF), files
+    whose schema did not change are left as they are, and a value 2.3 cannot carry is refused
+    (exit 2) naming the file, the key and the fix; a 2.2 tag on a migrated robot restores the
+    migration's backup (docs/jazzy.md, "Migrating a robot"). A tag takes the repository of its version; a
     move between panther_ros (<=2.1, husarion/panther, service panther_ros) and husarion_ugv_ros
     (2.2, husarion/husarion-ugv, service husarion_ugv_ros) is a reinstall and needs --force (then
     the service is renamed, the launch package and arguments migrated). A tag not on the robot is
@@ -212,6 +217,7 @@ def update(
     Examples:
       panther-ops driver update humble-2.1.1-20240828 -g warehouse --dry-run
       panther-ops driver update humble-2.1.2-20241125 -r panther-01 --pull --yes
+      panther-ops driver update jazzy-2.3.2-20260622 -r panther-03 --canary 1 --yes
     """
     from panther_ops.core.driver.apply import apply_update
     from panther_ops.core.driver.images import parse_target
