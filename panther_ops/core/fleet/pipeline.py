@@ -115,12 +115,9 @@ def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, session: 
     }
     final = not plan.recreate or not opts.restart
     status = ("applied" + (" (not recreated)" if plan.recreate else "")) if final else ""
+    data = _write_input(ctx, plan, f"{BACKUP_ROOT}/{backup_id}", manifest, status)
     session = session if session is not None else ctx.transport.session()
-    try:
-        _stage(ctx, plan, session, f"{BACKUP_ROOT}/{backup_id}", manifest, status)
-    except BaseException:
-        session.close()
-        raise
+    session.stage(data)
     return Staged(backup_id, final, session)
 
 
@@ -193,10 +190,9 @@ def _compare_values(before: bytes, after: bytes) -> bool:
     return strip(old) == strip(new)
 
 
-def _stage(ctx: RobotContext, plan: RobotPlan, session: Session, backup_dir: str, manifest: dict[str, Any],
-           status: str) -> None:
-    """Send the backup and the staged files (validated by the robot's docker compose where the
-    compose file changes more than values) to the write session."""
+def _write_input(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[str, Any], status: str) -> bytes:
+    """What the write session is sent: the backup and the staged files (validated by the robot's
+    docker compose where the compose file changes more than values)."""
     name = ctx.robot.name
     home = plan.home or ctx.transport.home()
 
@@ -209,7 +205,7 @@ def _stage(ctx: RobotContext, plan: RobotPlan, session: Session, backup_dir: str
     files = [FileWrite(absolute(e.path), e.before, e.after, e.mode,
                        validate=e.path == plan.compose_file and not _values_only(e.before, e.after))
              for e in plan.edits]
-    session.stage(stage_input(absolute(backup_dir), manifest, status, files, f"{os.getpid()}.{secrets.token_hex(4)}"))
+    return stage_input(absolute(backup_dir), manifest, status, files, f"{os.getpid()}.{secrets.token_hex(4)}")
 
 
 def _commit(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, session: Session) -> str | None:
@@ -293,12 +289,9 @@ def _restore_files(ctx: RobotContext, plan: RobotPlan, backup_id: str) -> str | 
     manifest = {"id": f"{backup_id}/rollback", "robot": ctx.robot.name, "summary": undo.summary,
                 "files": [{"path": e.path, "backup": f"files/{i}" if e.before is not None else None}
                           for i, e in enumerate(undo.edits)]}
+    data = _write_input(ctx, undo, f"{BACKUP_ROOT}/{backup_id}/rollback", manifest, "")
     session = ctx.transport.session()
-    try:
-        _stage(ctx, undo, session, f"{BACKUP_ROOT}/{backup_id}/rollback", manifest, "")
-    except BaseException:
-        session.close()
-        raise
+    session.stage(data)
     res = session.go()
     if res.exit_status == scripts_apply.CHANGED_EXIT:
         return (res.stderr.strip().splitlines() or ["a file"])[-1].replace(" since it was read", " since")
