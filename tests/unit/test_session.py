@@ -247,3 +247,10 @@ def test_a_change_costs_one_read_and_one_session(demo_ctx: RobotContext) -> None
     assert demo_ctx.transport.calls == ["run", "session"]  # type: ignore[attr-defined]
     compose = plan.edits[0].path
     assert b"wheel_type:=WH04" in (demo_ctx.transport.root / compose.lstrip("/")).read_bytes()  # type: ignore[attr-defined]
+
+
+def test_the_transport_has_nine_members() -> None:
+    from panther_ops.transport.base import Transport
+
+    members = {n for n in vars(Transport) if not n.startswith("_")} | set(Transport.__annotations__)
+    assert members == {"name", "connect", "run", "read_file", "exists", "home", "docker", "session", "close"}
