@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config.compose import ComposeError, ComposeFile, Volume, image_repo, is_driver_image
-from panther_ops.core.config.launchcmd import CommandForm
+from panther_ops.core.robot.compose import ComposeError, ComposeFile, Volume, image_repo, is_driver_image
+from panther_ops.core.robot.launchcmd import CommandForm
 from panther_ops.core.yaml.diff import changed_lines
 from panther_ops.core.yaml.document import DocumentError
 from panther_ops.errors import InputError, RemoteStateError, UsageError

@@ -13,7 +13,6 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.containers.logs import prefix_lines
 from panther_ops.core.containers.times import human_duration, parse_timestamp
 from panther_ops.core.driver.containers import argv_matches, describe_container, last_line, parse_duration
@@ -32,6 +31,7 @@ from panther_ops.core.driver.read import read_and_plan_restore_defaults, read_an
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.errors import RemoteStateError, UsageError
 from tests.clirun import run_cli
 from tests.ports import free_port

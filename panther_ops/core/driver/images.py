@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.compose import image_repo
+from panther_ops.core.robot.compose import image_repo
 from panther_ops.core.stack import PANTHER_REPO, UGV_REPO
 from panther_ops.errors import OpsError, UsageError
 

@@ -11,15 +11,15 @@ import posixpath
 import re
 from typing import Any
 
-from panther_ops.core.config.arg_edits import migrate_args
-from panther_ops.core.config.arg_rules import check_args
-from panther_ops.core.config.compose import ComposeError, ComposeFile
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
-from panther_ops.core.config.plan import compose_plan
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.arg_edits import migrate_args
+from panther_ops.core.robot.compose import ComposeError, ComposeFile
+from panther_ops.core.robot.edits import compose_plan
+from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
+from panther_ops.core.robot.launch_args import check_args
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.stack import Family, parse_image
 from panther_ops.errors import OpsError, RemoteStateError, UsageError
 
@@ -111,7 +111,7 @@ def plan_restore_defaults(raw: ComposeRead, reads: Reads, *, hard: bool = False)
     warnings = []
     if args.get("wheel_type") == "custom" and {"controller_config_path", "wheel_config_path"} & set(drop):
         drop.append("wheel_type")
-        from panther_ops.core.config.robot_model import default_wheel_type
+        from panther_ops.core.robot.robot_model import default_wheel_type
 
         warnings.append("wheel_type:=custom needs the controller/wheel files being removed: wheel_type is unset too "
                         f"(the stack's default for this robot, {default_wheel_type(reads, cfg)}, applies; set yours "

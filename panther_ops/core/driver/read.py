@@ -4,7 +4,6 @@ there is an engine to run ``update_config_directory``); then the plan."""
 
 from __future__ import annotations
 
-from panther_ops.core.config.robot import read_compose
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver import plan as planners
 from panther_ops.core.driver.images import TargetImage
@@ -12,6 +11,7 @@ from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.robot.read import read_compose
 from panther_ops.transport.docker_client import EngineRefused, NotInEngine, engine_errors
 
 
