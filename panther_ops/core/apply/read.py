@@ -30,7 +30,7 @@ def read_and_plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPla
     desired = ctx.robot.desired
     if desired.get("shutdown_hosts") is not None:
         desired = {**desired, "shutdown_hosts": _resolved_hosts(ctx, desired["shutdown_hosts"])}
-    raw = read_compose(ctx, keep=bool(desired))
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planner.plan_desired(raw, reads, desired, force=force),
                          {FACT: read_desired_webui, DEFAULT_FACT: _image_hosts})
 

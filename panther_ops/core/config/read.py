@@ -21,14 +21,14 @@ from panther_ops.core.robot.read import read_compose, read_config
 def read_and_plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
               everywhere: bool = False) -> RobotPlan:
     """``config set/unset``: read compose.yaml (kept for the write) and what the plan needs; plan."""
-    raw = read_compose(ctx, keep=True)
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planners.plan_args(raw, reads, sets, unsets, force=force,
                                                                everywhere=everywhere))
 
 
 def read_and_plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False) -> RobotPlan:
     """``config set controller.<key> VALUE``: read compose.yaml and the controller file; plan."""
-    raw = read_compose(ctx, keep=True)
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planners.plan_controller(raw, reads, limits, force=force))
 
 

@@ -12,10 +12,10 @@ from panther_ops.core.robot.read import read_compose
 
 
 def read_and_plan_enable(ctx: RobotContext, opts: GpsOptions) -> RobotPlan:
-    raw = read_compose(ctx, keep=True)
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planner.plan_enable(raw, reads, opts))
 
 
 def read_and_plan_disable(ctx: RobotContext) -> RobotPlan:
-    raw = read_compose(ctx, keep=True)
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planner.plan_disable(raw, reads))

@@ -24,7 +24,7 @@ class RobotConfig:
     compose: ComposeFile
     stack: Stack
     mode: int | None = None
-    """compose.yaml's permission bits, where the read learnt them (a kept read does)."""
+    """compose.yaml's permission bits where known (None: the write gives the new file the old one's mode)."""
 
     @property
     def service(self) -> str:
