@@ -34,20 +34,6 @@ KeyArg = Annotated[str, typer.Argument(help="Launch argument (e.g. wheel_type) o
                                        autocompletion=complete.config_keys)]
 
 
-def _parse_value(text: str) -> Any:
-    """A controller limit's value as typed: true/false, a number in ASCII digits, else the text
-    (which the limit's validator refuses, naming it)."""
-    from panther_ops.core.parse.numbers import NumberError, ascii_int, decimal
-
-    lowered = text.strip().lower()
-    if lowered in ("true", "false"):
-        return lowered == "true"
-    try:
-        return decimal(text.strip()) if any(c in text for c in ".eE") else ascii_int(text.strip(), signed=True)
-    except NumberError:
-        return text
-
-
 @app.command("get")
 @shared(*READ)
 def get(fleet: Fleet, key: KeyArg) -> int:
@@ -97,9 +83,9 @@ def set_(
       panther-ops config set wheel_type WH02 -r panther-01 --yes
       panther-ops config set controller.linear.x.max_velocity 1.0 -g warehouse --dry-run
     """
-    from panther_ops.core.config.checks import precheck
+    from panther_ops.core.config.checks import parse_value, precheck
 
-    parsed = _parse_value(value) if key.startswith("controller.") else value
+    parsed = parse_value(value) if key.startswith("controller.") else value
     precheck({key: parsed}, force=force)
     if key.startswith("controller."):
         def planner(c: Any) -> Any:

@@ -110,3 +110,41 @@ def validate(ctx: typer.Context, json_out: Json = False) -> int:
     else:
         typer.echo(msg)
     return 0
+
+
+@app.command("export")
+def export(
+    ctx: typer.Context,
+    ansible: Annotated[bool, typer.Option("--ansible", help="As an Ansible YAML inventory (the one format so far).")]
+    = False,
+    out: Annotated[str | None, typer.Option("--out", "-o", help="Write it to this file (atomically), "
+                                            "not to standard output.")] = None,
+) -> int:
+    """Write the inventory as an Ansible inventory: each robot a host (ansible_host, ansible_port,
+    ansible_user, ansible_ssh_private_key_file, panther_ops_<key> for the rest), each group a child
+    of `all`, the known_hosts files as panther_ops_known_hosts. `-i` reads it back (docs/ansible.md).
+
+    \b
+    Example:
+      panther-ops inventory export --ansible -o hosts.yaml
+    """
+    from panther_ops.errors import UsageError
+
+    if not ansible:
+        raise UsageError("choose the format to export", hint="--ansible (an Ansible YAML inventory)")
+    import yaml
+
+    from panther_ops.core.fleet.inventory_ansible import export_ansible
+
+    inv = context.load(ctx)
+    text = yaml.safe_dump(export_ansible(inv), sort_keys=False, default_flow_style=False)
+    if out is None:
+        typer.echo(text, nl=False)
+        return 0
+    from pathlib import Path
+
+    from panther_ops.transport.localfile import write_atomic
+
+    write_atomic(Path(out), text.encode())
+    context.info(f"wrote {out}")
+    return 0

@@ -77,3 +77,17 @@ def _has_key(stack: Any, key: str) -> bool:
         return spec(key).available(stack)
     except UsageError:
         return False
+
+
+def parse_value(text: str) -> Any:
+    """A controller limit's value as typed: true/false, a number in ASCII digits, else the text
+    (which the limit's validator refuses, naming it)."""
+    from panther_ops.core.parse.numbers import NumberError, ascii_int, decimal
+
+    lowered = text.strip().lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    try:
+        return decimal(text.strip()) if any(c in text for c in ".eE") else ascii_int(text.strip(), signed=True)
+    except NumberError:
+        return text

@@ -4,6 +4,7 @@ line and key named in each refusal (docs/inventory.md)."""
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +29,7 @@ from panther_ops.core.fleet.inventory_values import (
     relative_to,
     user_value,
 )
-from panther_ops.core.yaml.located import LineDict, LineList, load_yaml_file
+from panther_ops.core.yaml.located import LineDict, LineList, as_located, load_yaml, load_yaml_file
 from panther_ops.errors import InventoryError
 
 ENV_VAR = "PANTHER_OPS_INVENTORY"
@@ -57,12 +58,46 @@ def load_inventory(explicit: str | None = None) -> Inventory:
                                  hint="create one, or run `panther-ops demo init` for a demo fleet")
     elif path.exists():
         files = [path]
+        ansible = _ansible_document(path)
+        if ansible is not None:
+            return inventory_from_documents(path, origin, [(path, ansible)])
     else:
         raise InventoryError(
             f"inventory not found (from {origin})", path=str(path),
             hint=f"pass -i FILE, set ${ENV_VAR}, or create ./{DEFAULT_DIR}/",
         )
     return _Loader(path, origin).load(files)
+
+
+_NATIVE = re.compile(r"^(robots|version|settings|defaults):", re.MULTILINE)
+
+
+def _ansible_document(path: Path) -> dict[str, Any] | None:
+    """The file as a panther-ops inventory document when it is an Ansible inventory (INI, YAML
+    or ``ansible-inventory --list`` JSON: core/fleet/inventory_ansible.py), else None."""
+    from panther_ops.core.fleet.inventory_ansible import ansible_document
+    from panther_ops.errors import InputError
+
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InventoryError("not a UTF-8 text file", path=str(path)) from None
+    if _NATIVE.search(text):
+        return None  # a panther-ops inventory: read once, by the loader
+    try:
+        parsed = load_yaml(text, str(path))
+    except InputError:
+        parsed = None  # an INI inventory is not YAML; a broken YAML one is refused by the loader
+    return ansible_document(path, text, plain(parsed))
+
+
+def inventory_from_documents(path: Path, origin: str, docs: list[tuple[Path, dict[str, Any]]]) -> Inventory:
+    """An inventory from documents already read (an Ansible inventory's, a host's variables),
+    through the same checks as a file's."""
+    loader = _Loader(path, origin)
+    for f, doc in docs:
+        loader.read_doc(as_located(doc), f)
+    return loader.finish([f for f, _ in docs])
 
 
 class _Loader:
@@ -87,6 +122,9 @@ class _Loader:
     def load(self, files: list[Path]) -> Inventory:
         for f in files:
             self.read_file(f)
+        return self.finish(files)
+
+    def finish(self, files: list[Path]) -> Inventory:
         if not self.raw_robots:
             raise InventoryError("the inventory defines no robots", path=str(self.path),
                                  hint="add a `robots:` mapping (docs/inventory.md)")
@@ -121,7 +159,9 @@ class _Loader:
         return inv
 
     def read_file(self, f: Path) -> None:
-        doc = load_yaml_file(f)
+        self.read_doc(load_yaml_file(f), f)
+
+    def read_doc(self, doc: Any, f: Path) -> None:
         if doc is None:
             return
         if not isinstance(doc, LineDict):

@@ -103,6 +103,20 @@ def _build_collection(node: Any, path: str, scalars: Any, budget: _Budget) -> An
     return seq
 
 
+def as_located(value: Any, line: int = 0) -> Any:
+    """Plain data (a document built in memory, e.g. from an Ansible inventory) as the located
+    form :func:`load_yaml` gives, every line ``line`` (no file line to name)."""
+    if isinstance(value, dict):
+        out = LineDict((str(k), as_located(v, line)) for k, v in value.items())
+        out.line, out.key_lines = line, {}
+        return out
+    if isinstance(value, list):
+        seq = LineList(as_located(v, line) for v in value)
+        seq.line, seq.item_lines = line, [line] * len(value)
+        return seq
+    return value
+
+
 def load_yaml(text: str, path: str) -> Any:
     """Parse YAML text; syntax errors become :class:`InputError` naming file and line."""
     import yaml
