@@ -8,8 +8,9 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.core.fleet.inventory import Inventory, Robot
-from panther_ops.core.fleet.inventory_ansible import robot_entry
+from panther_ops.core.fleet.inventory_ansible import in_ansible_terms, robot_entry
 from panther_ops.core.fleet.inventory_file import inventory_from_documents
+from panther_ops.errors import InventoryError
 
 
 def robot_from_hostvars(name: str, hostvars: Mapping[str, Any], *, source: str = "ansible") -> tuple[Inventory, Robot]:
@@ -24,5 +25,8 @@ def robot_from_hostvars(name: str, hostvars: Mapping[str, Any], *, source: str =
     if known is not None:
         settings["known_hosts"] = known
     doc = {"settings": settings, "robots": {name: robot_entry(name, hostvars, source)}}
-    inv = inventory_from_documents(Path(source), "ansible", [(Path(source), doc)])
+    try:
+        inv = inventory_from_documents(Path(source), "ansible", [(Path(source), doc)])
+    except InventoryError as exc:
+        raise in_ansible_terms(exc, source) from None
     return inv, inv.robots[name]

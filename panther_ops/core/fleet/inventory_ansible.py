@@ -42,7 +42,7 @@ CONNECTION_VARS = {
 
 PREFIX = "panther_ops_"
 SETTING_VARS = {"panther_ops_known_hosts": "known_hosts", "panther_ops_forks": "forks"}
-ROBOT_VARS = sorted(f"{PREFIX}{k}" for k in ROBOT_KEYS if k not in ("host", "port", "user", "identity_file"))
+ROBOT_VARS = sorted(f"{PREFIX}{k}" for k in ROBOT_KEYS if k not in ("host", "port", "user", "identity_file", "groups"))
 _PATTERN = re.compile(r"\[[^\]]*:[^\]]*\]")  # host ranges: www[01:50]
 
 
@@ -71,6 +71,21 @@ def robot_entry(name: str, hostvars: Mapping[str, Any], where: str | Path) -> di
     if free:
         entry["vars"] = {**free, **(entry.get("vars") or {})}
     return entry
+
+
+def in_ansible_terms(exc: InventoryError, path: str | Path) -> InventoryError:
+    """A refusal of the inventory's checks (``[robots.r01.port]``) naming the Ansible variable the
+    value came from (``[r01.ansible_port]``) in ``path``."""
+    parts = (exc.key or "").split(".")
+    if len(parts) < 3 or parts[0] != "robots":
+        return exc
+    name, key = parts[1], parts[2]
+    var = {"host": "ansible_host", "port": "ansible_port", "user": "ansible_user",
+           "identity_file": "ansible_ssh_private_key_file"}.get(key, PREFIX + key)
+    where = (exc.path or "") + (f":{exc.line}" if exc.line else "") + (f" [{exc.key}]" if exc.key else "")
+    message = exc.message.removeprefix(f"{where}: ") if where else exc.message
+    out = InventoryError(message, path=str(path), key=".".join([name, var, *parts[3:]]), hint=exc.hint)
+    return out
 
 
 def _port(value: Any) -> Any:

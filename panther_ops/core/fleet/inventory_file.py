@@ -60,7 +60,12 @@ def load_inventory(explicit: str | None = None) -> Inventory:
         files = [path]
         ansible = _ansible_document(path)
         if ansible is not None:
-            return inventory_from_documents(path, origin, [(path, ansible)])
+            from panther_ops.core.fleet.inventory_ansible import in_ansible_terms
+
+            try:
+                return inventory_from_documents(path, origin, [(path, ansible)])
+            except InventoryError as exc:
+                raise in_ansible_terms(exc, path) from None
     else:
         raise InventoryError(
             f"inventory not found (from {origin})", path=str(path),
