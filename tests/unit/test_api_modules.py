@@ -84,3 +84,40 @@ def test_check_run_again_and_refusal_on_a_demo_robot(demo: Path, capsys: pytest.
     assert code == 2 and refused["failed"] is True and refused["rc"] == 2
     assert "error " + " ".join(refused["msg"].split()) in " ".join(err.split())
     assert compose.read_bytes() == after
+
+
+INPUTS = Path(__file__).resolve().parents[1] / "golden/inputs"
+
+
+@pytest.mark.parametrize(("module", "args", "argv"), [
+    ("gps", {"state": "enabled"}, ["gps", "enable"]),
+    ("gps", {"state": "disabled"}, ["gps", "disable"]),
+    ("driver", {"state": "updated", "tag": "humble-2.1.2-20241125"}, ["driver", "update", "humble-2.1.2-20241125"]),
+    ("driver", {"state": "restarted"}, ["driver", "restart"]),
+    ("shutdown_hosts", {"src": str(INPUTS / "shutdown_hosts-manual.yaml")},
+     ["config", "push", str(INPUTS / "shutdown_hosts-manual.yaml"), "--as", "shutdown-hosts"]),
+    ("apply", {}, ["apply"]),
+])
+def test_check_mode_is_the_dry_run(demo: Path, capsys: pytest.CaptureFixture[str], module: str,
+                                   args: dict[str, object], argv: list[str]) -> None:
+    """Each module's check mode is its command's --dry-run: the same outcome, message and diffs."""
+    from panther_ops.core.fleet.inventory_file import load_inventory
+
+    inv = load_inventory(str(demo))  # the demo fleet's panther-01, its desired state included
+    robot = inv.robots["panther-01"]
+    before = sorted((p, p.read_bytes()) for p in (demo / "robots").rglob("*") if p.is_file())
+    checked = run_module(module, args, inv, robot, check=True)
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), *argv, "-r", "panther-01", "--dry-run", "--json")
+    assert code in (0, 6), doc
+    (r,) = doc["robots"]
+    assert (checked["outcome"], checked["msg"]) == (r["outcome"], r["message"])
+    assert checked.get("diff", {}).get("prepared", "") == "".join(d["unified"] for d in r["diffs"])
+    assert sorted((p, p.read_bytes()) for p in (demo / "robots").rglob("*") if p.is_file()) == before
+
+
+def test_estop_check_mode_contacts_nothing(tmp_path: Path) -> None:
+    inv, robot = robot_from_hostvars("panther-09", {"ansible_host": "127.0.0.1", "ansible_port": 1})
+    out = run_module("estop", {}, inv, robot, check=True)
+    assert (out["changed"], out["failed"]) == (True, False) and "would trigger" in out["msg"]
+    ran = run_module("estop", {}, inv, robot)  # nothing listens: panther-ops's own unreachable result
+    assert (ran["failed"], ran["outcome"]) == (True, "unreachable")
