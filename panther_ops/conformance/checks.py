@@ -156,7 +156,8 @@ def check_release(table: Mapping[str, Any]) -> list[Result]:
         return results
     refused = f"panther-ops refuses {preview.distro} {tag} (core/stack.py parse_image)"
     return [Result(tag, "release", tag, False,
-                   f"{refused}: {preview.issue}; the items below are checked as on {preview.base}, the release "
+                   f"{refused}: {preview.issue}; its default files and configuration templates are checked "
+                   f"with its own file-kind rules, the other items as on {preview.base}, the release "
                    f"panther-ops supports nearest to it"), *results]
 
 
@@ -317,10 +318,10 @@ def untraced_templates(tables: Iterable[Mapping[str, Any]]) -> list[Result]:
     traced: set[str] = set()
     for table in tables:
         try:
-            stack = stack_from_version(table["tag"])
+            stack, base = kinds_stack(table["tag"]), checked_stack(table["tag"])
         except (OpsError, ValueError):
             continue
-        traced.update(p.template for p in template_pairs(table, stack) if p.template)
+        traced.update(p.template for p in template_pairs(table, stack, base) if p.template)
     used = _used_by_generation()
     root = templates_dir()
     out: list[Result] = []

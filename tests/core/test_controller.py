@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from panther_ops.core.config import controller as ctl
 from panther_ops.core.config.files import config_file
-from panther_ops.core.kinds import FileKind
+from panther_ops.core.kinds import FileKind, FileKindError
 from panther_ops.core.kinds import controller_limits as lim
-from panther_ops.core.stack import stack_from_version
+from panther_ops.core.stack import Stack, stack_from_version
 from panther_ops.errors import UsageError
 
 S204, S211, S222 = (stack_from_version(v) for v in ("2.0.4", "2.1.1", "2.2.2"))
@@ -117,3 +119,64 @@ def test_no_default_for_custom_or_wh05_before_22() -> None:
         config_file(S211, FileKind.CONTROLLER, wheel_type="WH05")
     # husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH05_controller.yaml (the Lynx wheels)
     assert "wheel_radius: 0.144" in ctl.default_controller_text(S222, "WH05")
+
+
+S230 = Stack("husarion/husarion-ugv:jazzy-2.3.0-20250425", "jazzy", (2, 3, 0), "20250425")
+S232 = Stack("husarion/husarion-ugv:jazzy-2.3.2-20260622", "jazzy", (2, 3, 2), "20260622")
+"""husarion_ugv 2.3 (ROS 2 Jazzy): the stacks its image tags give (core/stack.py does not accept them yet)."""
+
+
+@pytest.mark.parametrize("stack", [S230, S232], ids=["2.3.0", "2.3.2"])
+def test_jazzy_limits_schema(stack: Stack) -> None:
+    """ros2_controllers' jazzy schema: deceleration and reverse limits, .nan for no limit, signs per parameter."""
+    assert lim.validate_limit(stack, "WH01", "controller.linear.x.max_deceleration", "-2.7").value == -2.7
+    assert lim.validate_limit(stack, "WH01", "controller.angular.z.max_deceleration_reverse", 5.74).value == 5.74
+    assert math.isnan(lim.validate_limit(stack, "WH01", "controller.linear.x.max_jerk", ".nan").value)
+    assert math.isnan(lim.validate_limit(stack, "WH01", "controller.linear.x.max_velocity", float("nan")).value)
+    with pytest.raises(lim.ControllerError, match="must not be positive"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.max_acceleration_reverse", 1.0)
+    with pytest.raises(lim.ControllerError, match="must not be negative"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.max_deceleration_reverse", -1.0)
+    with pytest.raises(lim.LimitExceededError, match="WH04 limit"):
+        lim.validate_limit(stack, "WH04", "controller.linear.x.max_deceleration", -1.6)
+    with pytest.raises(lim.ControllerError, match=r"\.nan for no limit"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.has_velocity_limits", "true")
+    with pytest.raises(lim.ControllerError, match="max_deceleration"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.min_acceleration", -1.0)
+    with pytest.raises(lim.ControllerError, match="finite"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.max_jerk", "inf")
+
+
+def test_jazzy_limits_are_refused_on_humble() -> None:
+    with pytest.raises(lim.ControllerError, match=r"husarion_ugv 2\.3"):
+        lim.validate_limit(S222, "WH01", "controller.linear.x.max_deceleration", -1.0)
+    with pytest.raises(lim.ControllerError, match="finite"):
+        lim.validate_limit(S222, "WH01", "controller.linear.x.max_jerk", ".nan")
+
+
+@pytest.mark.parametrize("stack", [S230, S232], ids=["2.3.0", "2.3.2"])
+@pytest.mark.parametrize("wheel", ["WH01", "WH02", "WH04", "WH05"])
+def test_jazzy_default_files_are_accepted_and_carry_the_wheel_limits(stack: Stack, wheel: str) -> None:
+    from panther_ops.core.kinds import Target, check_file
+
+    config = ctl.ControllerConfig.default(stack, wheel)
+    assert check_file(FileKind.CONTROLLER, "f", config.text().encode(), target=Target(stack, wheel)) == []
+    limits = lim.WHEEL_LIMITS[wheel]
+    got = config.limits()
+    assert got["controller.linear.x.max_deceleration"] == -limits.linear_acceleration
+    assert got["controller.angular.z.min_velocity"] == -limits.angular_velocity
+    assert math.isnan(got["controller.angular.z.min_jerk"])
+    assert "controller.linear.x.has_velocity_limits" not in got
+    humble = ctl.ControllerConfig.default(S222, wheel).text().encode()
+    with pytest.raises(FileKindError, match="not a limit of husarion_ugv"):
+        check_file(FileKind.CONTROLLER, "f", humble, target=Target(stack, wheel))
+
+
+def test_covariance_placeholder_is_filled_from_2_3_2_only() -> None:
+    from panther_ops.core.kinds import Target, check_file
+
+    text = ctl.ControllerConfig.default(S232, "WH01").text()
+    assert "<static_covariance_orientation>" in text
+    assert check_file(FileKind.CONTROLLER, "f", text.encode(), target=Target(S232, "WH01")) == []
+    with pytest.raises(FileKindError, match="replaces no placeholder"):
+        check_file(FileKind.CONTROLLER, "f", text.encode(), target=Target(S230, "WH01"))

@@ -36,8 +36,8 @@ from panther_ops.core.kinds.controller_limits import (
     validate_limit,
 )
 from panther_ops.core.kinds.registry import FileKindError, Target
-from panther_ops.core.stack import Stack
 from panther_ops.core.kinds.stock_wheels import controller_file_wheels, limits_wheel, mismatch
+from panther_ops.core.stack import Stack
 
 WHAT = "controller file"
 KINEMATICS = ("wheel_radius", "wheel_separation", "wheel_separation_x", "wheel_separation_y",
