@@ -32,9 +32,6 @@ FINDINGS: dict[str, str] = {
 KNOWN: dict[str, tuple[str, str]] = {
     # issue #25: husarion_ugv 2.3 (Jazzy), checked as on 2.2.2 (preview.py); docs/jazzy.md explains each.
     "2.3.[012]:release:2.3.[012]": ("issue #25", "core/stack.py refuses jazzy images and 2.3+"),
-    "2.3.2:defaults:husarion_ugv_manager/behavior_trees/LightsBT.btproj":
-        ("issue #25", "the Lights tree uses CheckStringMsg (2.3.2) and IfThenElse: the runtime manager (bt validate) "
-                      "knows neither"),
     "2.3.0:launch:animations_config_path": ("issue #25", "2.3.0 reads the animations from the image, as 2.2.0"),
     "2.3.0:launch:launch_gamepad": ("issue #25", "2.3.0 runs the gamepad as its own compose service, as 2.2.0"),
     "2.3.[012]:launch:publish_robot_state": ("issue #25", "gone from controller.launch.py on 2.3"),
