@@ -180,3 +180,14 @@ def test_covariance_placeholder_is_filled_from_2_3_2_only() -> None:
     assert check_file(FileKind.CONTROLLER, "f", text.encode(), target=Target(S232, "WH01")) == []
     with pytest.raises(FileKindError, match="replaces no placeholder"):
         check_file(FileKind.CONTROLLER, "f", text.encode(), target=Target(S230, "WH01"))
+
+
+def test_jazzy_stock_limits_compare_equal_despite_nan() -> None:
+    """A 2.3 file's NaN jerk (NaN != NaN) read as another NaN object: still the same limits, so a
+    wheel change sees the stock limits as stock (core/config/wheel_change.py)."""
+    a = ctl.ControllerConfig.default(S232, "WH01").limits()
+    b = {k: float("nan") if isinstance(v, float) and math.isnan(v) else v for k, v in a.items()}
+    assert a != b  # plain equality fails on distinct NaN objects
+    assert lim.same_limits(a, b)
+    b["controller.linear.x.max_velocity"] = 1.0
+    assert not lim.same_limits(a, b)

@@ -365,6 +365,17 @@ def file_limits(doc: YamlDocument, top: str, controller_key: str) -> dict[str, A
     return out
 
 
+def same_limit(a: Any, b: Any) -> bool:
+    """Two limit values are the same: equal, or both NaN (Jazzy's "no limit", which != itself)."""
+    nan = [isinstance(v, float) and math.isnan(v) for v in (a, b)]
+    return all(nan) or (not any(nan) and bool(a == b))
+
+
+def same_limits(a: dict[str, Any], b: dict[str, Any]) -> bool:
+    """Two files' limits (`file_limits`) are the same, key for key (`same_limit`)."""
+    return a.keys() == b.keys() and all(same_limit(a[k], b[k]) for k in a)
+
+
 def limit_warnings(limits: dict[str, Any], wheel_type: str) -> list[str]:
     """Warnings about a file's limits as they are: above the wheel limits, enabled limits at 0."""
     warnings: list[str] = []
