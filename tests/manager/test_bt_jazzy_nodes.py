@@ -18,16 +18,16 @@ from panther_ops.manager.errors import BtProjectError, ScenarioError
 from panther_ops.manager.robot_io import StringMsg
 from panther_ops.manager.sim.model import PantherModel
 from tests.manager.doubles import FakeRobotIO, make_ctx, tick
+from tests.manager.test_bt_standard_nodes import write
 
 MUX = "twist_mux_controller/source"
 
 
 def build(tmp_path: Path, clock: ManualClock, body: str, entries: dict[str, object] | None = None) -> Any:
-    path = tmp_path / "t.xml"
-    path.write_text(f'<?xml version="1.0"?>\n<root BTCPP_format="4"><BehaviorTree ID="T">{body}'
-                    f'</BehaviorTree></root>\n')
+    """The tree ``T`` of ``body`` and its context (its blackboard, its topics)."""
     ctx = make_ctx(FakeRobotIO(), clock, entries)
-    return load_bt_project(path).build("T", ctx), ctx
+    project = load_bt_project(write(tmp_path / "t.xml", f'<BehaviorTree ID="T">{body}</BehaviorTree>'))
+    return project.build("T", ctx), ctx
 
 
 def test_if_then_else_picks_the_branch_and_resumes_it(tmp_path: Path, clock: ManualClock) -> None:
