@@ -4,6 +4,8 @@ on the twist mux, components' name, 2.3.2's animation images). Facts: docs/jazzy
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from panther_ops.core.config.files import config_file, family_dirs
@@ -75,3 +77,22 @@ def test_2_3_2_animations_need_2_3_2s_images() -> None:
     assert check_file(FileKind.LED, "a", stock, target=Target(S232)) == []
     with pytest.raises(FileKindError, match=r"flood_light|goal_failed"):
         check_file(FileKind.LED, "a", stock, target=Target(S231))
+
+
+def test_manager_deploys_2_3_2s_stock_projects(tmp_path: Path) -> None:
+    """`manager deploy` on 2.3.2: 2.3.2's Lights project and safety.xml over 2.2's SafetyBT.btproj and
+    shutdown.xml (core/manager_ops/projects.py), and the manager validates what it deploys."""
+    from panther_ops.core.manager_ops.projects import deployed_projects
+    from panther_ops.manager.bt.validate import validate_bt_project
+
+    projects = deployed_projects(S232)
+    origin = {name: path.parent.parent.parent.name for name, (path, _) in projects.files.items()}
+    assert origin == {"LightsBT.btproj": "husarion-ugv-2.3.2", "lights.xml": "husarion-ugv-2.3.2",
+                      "safety.xml": "husarion-ugv-2.3.2", "SafetyBT.btproj": "husarion-ugv-2.2",
+                      "shutdown.xml": "husarion-ugv-2.2"}
+    out = tmp_path
+    for name, (path, _) in projects.files.items():
+        (out / name).write_bytes(path.read_bytes())
+    assert validate_bt_project(out / projects.lights) == []
+    assert validate_bt_project(out / projects.safety) == []
+    assert "CheckStringMsg" in (out / "lights.xml").read_text()
