@@ -191,3 +191,26 @@ def test_jazzy_stock_limits_compare_equal_despite_nan() -> None:
     assert lim.same_limits(a, b)
     b["controller.linear.x.max_velocity"] = 1.0
     assert not lim.same_limits(a, b)
+
+
+def test_twist_mux_is_needed_from_2_3_2() -> None:
+    """2.3.2 spawns twist_mux_controller with the drive controller as a group: a 2.3.0 file (no mux)
+    starts no controller there; 2.3.2's file on 2.3.1 declares a mux nobody spawns."""
+    from panther_ops.core.kinds import Target, check_file
+
+    file_230 = ctl.ControllerConfig.default(S230, "WH01").text().encode()
+    with pytest.raises(FileKindError, match="activate-as-group"):
+        check_file(FileKind.CONTROLLER, "f", file_230, target=Target(S232, "WH01"))
+    forced = check_file(FileKind.CONTROLLER, "f", file_230, target=Target(S232, "WH01"), force=True)
+    assert any("(forced)" in w for w in forced)
+    file_232 = ctl.ControllerConfig.default(S232, "WH02").text()
+    s231 = Stack("husarion/husarion-ugv:jazzy-2.3.1-20250701", "jazzy", (2, 3, 1), "20250701")
+    no_placeholder = file_232.replace("<static_covariance_orientation>", "[1.8e-3, 0.0, 0.0, 0.0, 1.8e-3, 0.0, 0.0, "
+                                                                          "0.0, 1.8e-3]")
+    (warning,) = check_file(FileKind.CONTROLLER, "f", no_placeholder.encode(), target=Target(s231, "WH02"))
+    assert "spawns no twist mux" in warning
+    manual = "          timeout: 0.2\n          priority: 100\n"
+    assert manual in file_232
+    broken = file_232.replace(manual, "          timeout: 0\n          priority: high\n")
+    with pytest.raises(FileKindError, match=r"manual\.timeout=0 .*\n.*manual\.priority='high'"):
+        check_file(FileKind.CONTROLLER, "f", broken.encode(), target=Target(S232, "WH02"))

@@ -35,6 +35,7 @@ from panther_ops.core.kinds.controller_limits import (
     locate,
     validate_limit,
 )
+from panther_ops.core.kinds.controller_mux import mux_findings
 from panther_ops.core.kinds.registry import FileKindError, Target
 from panther_ops.core.kinds.stock_wheels import controller_file_wheels, limits_wheel, mismatch
 from panther_ops.core.stack import Stack
@@ -129,6 +130,12 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
         if wrong:
             check.warnings.append(wrong)
         check.warnings.extend(_gone(plain, target.stack))
+        mux = mux_findings(plain, target.stack)
+        if force:
+            check.warnings.extend(e + " (forced)" for e in mux.errors)
+        else:
+            check.errors.extend(mux.errors)
+        check.warnings.extend(mux.warnings)
         imu = imu_findings(plain, target.stack, target.namespace)
         if force:
             check.warnings.extend(e + " (forced)" for e in imu.errors)
