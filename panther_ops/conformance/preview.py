@@ -10,7 +10,7 @@ that adds the line (`Preview.issue`), listed in `known` under that label; docs/c
 renders these releases in their own section, and docs/jazzy.md says what each item means.
 
 The file kinds are the exception: their rules are chosen by the release (core/kinds,
-core/config/files.py know 2.3), so a preview release's default files and templates are checked
+core/robot/files.py know 2.3), so a preview release's default files and templates are checked
 with its own stack (`kinds_stack`), built from the tag as the stack panther-ops will read from
 the release's image.
 

@@ -6,10 +6,10 @@ import math
 
 import pytest
 
-from panther_ops.core.config import controller as ctl
-from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError
 from panther_ops.core.kinds import controller_limits as lim
+from panther_ops.core.robot import controller as ctl
+from panther_ops.core.robot.files import config_file
 from panther_ops.core.stack import Stack, stack_from_version
 from panther_ops.errors import UsageError
 
@@ -184,7 +184,7 @@ def test_covariance_placeholder_is_filled_from_2_3_2_only() -> None:
 
 def test_jazzy_stock_limits_compare_equal_despite_nan() -> None:
     """A 2.3 file's NaN jerk (NaN != NaN) read as another NaN object: still the same limits, so a
-    wheel change sees the stock limits as stock (core/config/wheel_change.py)."""
+    wheel change sees the stock limits as stock (core/robot/wheel_change.py)."""
     a = ctl.ControllerConfig.default(S232, "WH01").limits()
     b = {k: float("nan") if isinstance(v, float) and math.isnan(v) else v for k, v in a.items()}
     assert a != b  # plain equality fails on distinct NaN objects

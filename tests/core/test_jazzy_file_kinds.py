@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config.files import config_file, family_dirs
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
+from panther_ops.core.robot.files import config_file, family_dirs
 from panther_ops.core.stack import Stack, stack_from_version
 from panther_ops.errors import UsageError
 

@@ -47,7 +47,7 @@ STOCK = {  # generation directory, package, lights project, safety project, inte
 }
 OVERLAY = {"2.2.0": ("husarion-ugv-2.2.0",), "2.3.2": ("husarion-ugv-2.3", "husarion-ugv-2.3.2")}
 """2.2.0's own lights.xml, SafetyBT.btproj and shutdown.xml; 2.3.2's LightsBT.btproj, lights.xml and
-safety.xml; the rest as 2.2.1+ (core/config/files.py family_dirs, base first)."""
+safety.xml; the rest as 2.2.1+ (core/robot/files.py family_dirs, base first)."""
 
 
 def project_dir(tag: str, tmp: Path) -> Path:

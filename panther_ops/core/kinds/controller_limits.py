@@ -33,7 +33,7 @@ Two schemas, chosen by the robot's release (`schema_params`):
   types' limits bound the absolute value of every velocity, acceleration and deceleration.
 
 The rules shared by the controller file's validator (`controller.py`) and its editor
-(`core.config.controller.ControllerConfig`, ``config set controller.<key>``): the same value
+(`core.robot.controller.ControllerConfig`, ``config set controller.<key>``): the same value
 gets the same message whichever path writes it.
 """
 
