@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import sys
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import typer
 
 if TYPE_CHECKING:
-    from panther_ops.core.fleet.changes import Applier, Planner
+    from panther_ops.core.fleet.changes import Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
+    from panther_ops.secret import Secret
 
 
 def confirm(question: str, yes: bool, refusal: str) -> bool:
@@ -46,36 +48,45 @@ def question(verb: str, subject: str, to_change: list[str], chosen: list[Robot])
     return f"{verb} {len(names)} {subject}{'' if len(names) == 1 else 's'}: {', '.join(names)}?"
 
 
-def mutate(
-    command: str,
-    inv: Inventory,
-    chosen: list[Robot],
-    planner: Planner,
-    *,
-    yes: bool,
-    dry_run: bool,
-    restart: bool = True,
-    settle: float = 5.0,
-    json_out: bool = False,
-    forks: int | None = None,
-    canary: int = 0,
-    max_fail: float | None = None,
-    applier: Applier | None = None,
-    verb: str = "Apply to",
-    read_only: bool = False,
-    applier_for_actions: bool = False,
-    drift_exit: bool = False,
-) -> int:
-    """Plan every robot, show the diffs, confirm, apply (with ``applier``, default the pipeline).
+@dataclass(frozen=True)
+class ChangeOptions:
+    """The shared options of every change, built once from the command line (`Fleet.change`)."""
+
+    yes: bool = False
+    dry_run: bool = False
+    restart: bool = True
+    settle: float = 5.0
+    json_out: bool = False
+    forks: int | None = None
+    canary: int = 0
+    max_fail: float | None = None
+    sudo_password: Secret | None = None
+    """For a plan's steps that run sudo beside the robot (`apply`'s WebUI settings)."""
+
+
+@dataclass(frozen=True)
+class Change:
+    """What one command changes and how it asks: ``verb`` starts the question (``Apply to 2
+    robots: ...?``); ``read_only``: a command that only compares (``config diff``): the plan
+    is shown as a dry run's, without speaking of one; ``drift_exit``: a comparison's exit code
+    says whether a robot would change (``config diff --exit-code``: 6, docs/results.md)."""
+
+    command: str
+    planner: Planner
+    verb: str = "Apply to"
+    read_only: bool = False
+    drift_exit: bool = False
+
+
+def mutate(change: Change, inv: Inventory, chosen: list[Robot], options: ChangeOptions) -> int:
+    """Plan every robot, show the diffs, confirm, apply through the pipeline (each plan's
+    steps by their executors, `core/fleet/steps.py`).
 
     Asked first (no ``--yes``), the plan is a table of every robot with the diffs under it;
     with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
-    applied, and the results table follows. ``read_only``: a command that only compares
-    (``config diff``): the plan is shown as a dry run's, without speaking of one.
-    ``applier_for_actions``: the applier differs from the pipeline only for plans with an
-    action (``apply``'s WebUI change); the others are staged while planning as usual.
-    ``drift_exit``: a comparison's exit code says whether a robot would change (``config diff
-    --exit-code``: 6, docs/results.md).
+    applied, and the results table follows. With ``--yes`` a plan of file edits alone is
+    staged while the others are planned (`changes.plan_fleet`); a plan with steps waits for
+    phase 2.
     """
     from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.cli.render import error, finish, print_plan_diffs, print_results
@@ -84,13 +95,15 @@ def mutate(
     from panther_ops.core.fleet.runner import Connections, RunOptions
     from panther_ops.errors import ExitCode
 
-    opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
-    apply = ApplyOptions(restart=restart, settle_s=settle, command=command)
-    early = yes and not dry_run and (applier is None or applier_for_actions)  # no question: stage while planning
+    command, o = change.command, options
+    yes, dry_run, json_out = o.yes and not change.read_only, o.dry_run or change.read_only, o.json_out
+    opts = RunOptions(forks=o.forks or inv.forks, canary=o.canary, max_fail_pct=o.max_fail)
+    apply = ApplyOptions(restart=o.restart, settle_s=o.settle, command=command, sudo_password=o.sudo_password)
+    early = yes and not dry_run  # no question: stage while planning
     progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out))
     with Connections(inv) as conns:
         with progress.live():
-            fp = plan_fleet(command, inv, chosen, planner, conns, opts, progress, stage=apply if early else None,
+            fp = plan_fleet(command, inv, chosen, change.planner, conns, opts, progress, stage=apply if early else None,
                             go_early=early)
         if fp.usage_errors:
             unstage_fleet(fp, inv, chosen, conns, opts)
@@ -108,20 +121,19 @@ def mutate(
                             inv.subject + "s": {name: error_of(exc, ExitCode.USAGE) for name, exc in refused}})
             return int(ExitCode.USAGE)
         if dry_run or not fp.to_change:
-            shown = dry_run_result(fp, read_only=read_only) if dry_run else fp.results
-            shown.drift_exit = drift_exit
+            shown = dry_run_result(fp, read_only=change.read_only) if dry_run else fp.results
+            shown.drift_exit = change.drift_exit
             return finish(shown, json_out, print_results)
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)
             else:  # before the question nothing has changed: each change is what the robot would get
                 print_results(dry_run_result(fp, read_only=True), title=f"plan: {command}")
-        require(question(verb, inv.subject, fp.to_change, chosen), yes,
+        require(question(change.verb, inv.subject, fp.to_change, chosen), yes,
                 "changes need confirmation: pass --yes when not interactive (or --dry-run to only look)",
                 "nothing was changed" + (" on any robot" if inv.subject == "robot" else ""))
         with progress.live():
-            result = apply_fleet(fp, inv, chosen, conns, opts, apply, progress, applier=applier) if applier else \
-                apply_fleet(fp, inv, chosen, conns, opts, apply, progress)
+            result = apply_fleet(fp, inv, chosen, conns, opts, apply, progress)
     code = finish(result, json_out, lambda f: print_results(f, title=command, show_diffs=False))
     progress.recap()  # last, as Ansible's
     return code

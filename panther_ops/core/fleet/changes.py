@@ -36,13 +36,11 @@ from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
 Planner = Callable[[RobotContext], RobotPlan]
-Applier = Callable[[RobotContext, RobotPlan, ApplyOptions], RobotResult]
-"""Carries out one robot's plan: `pipeline.apply_plan` unless a command needs its own step."""
 
 
 def does_something(plan: RobotPlan) -> bool:
-    """A plan with file edits, or with an action (e.g. a reset the image's script carries out)."""
-    return bool(plan.edits or plan.data.get("action"))
+    """A plan with file edits, or with an action step (e.g. a reset the image's script carries out)."""
+    return bool(plan.edits or plan.action)
 
 
 @dataclass
@@ -110,7 +108,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
             raise
         finally:
             decide(ctx.robot.name)
-        writes = stage is not None and plan.edits and not plan.data.get("action") and not stage.dry_run
+        writes = stage is not None and plan.edits and not plan.steps and not stage.dry_run  # steps: in phase 2
         if writes and go_early and stage is not None:
             with all_decided:
                 all_decided.wait_for(lambda: len(decided) >= len(robots) or interrupted.is_set())
@@ -148,8 +146,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
 
 
 def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
-                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None,
-                applier: Applier = apply_plan) -> FleetResult:
+                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None) -> FleetResult:
     """Apply every plan that does something; the others keep their plan-phase result."""
     by_name = {r.robot: r for r in fp.results.results}
     early = [fp.applied.pop(r.name) for r in robots if r.name in fp.applied]  # went ahead in phase 1
@@ -163,7 +160,7 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
     def task(ctx: RobotContext) -> RobotResult:
         plan = fp.plans[ctx.robot.name]
         staged = fp.staged.pop(ctx.robot.name, None)
-        return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
+        return apply_plan(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 
     try:
         applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
@@ -205,7 +202,7 @@ def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
                       subject=fp.results.subject)
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
-            action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
+            action = r.robot in fp.plans and fp.plans[r.robot].action
             out.add(replace(r, message=f"would {r.message}" if action else f"would change: {r.message}",
                             data={**r.data, "dry_run": True}))
         else:

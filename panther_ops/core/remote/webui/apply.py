@@ -15,10 +15,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.steps import Write, executes
 from panther_ops.core.kinds.webui_settings import SNAP, profile_path
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import RobotNamespace, with_robot_namespace
+from panther_ops.core.remote.webui.plan import SetWebui
 from panther_ops.core.remote.webui.read import (
     Task,
     demo_skip,
@@ -29,7 +33,7 @@ from panther_ops.core.remote.webui.read import (
     robot_namespace,
 )
 from panther_ops.core.remote.webui.state import WebuiState, plan_changes
-from panther_ops.errors import RemoteStateError
+from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.secret import Secret
 from panther_ops.transport.base import Command
@@ -169,3 +173,27 @@ def apply_desired_webui(ctx: RobotContext, wanted: dict[str, str], password: Sec
         return Outcome.OK, "WebUI already as desired", data
     text = ", ".join(f"{k}={v}" for k, _, v in done.changes)
     return Outcome.CHANGED, f"set WebUI {text}" + ("; restarted it" if done.restarted else ""), data
+
+
+@executes(SetWebui)
+def set_webui(ctx: RobotContext, plan: RobotPlan, step: SetWebui, opts: ApplyOptions, write: Write) -> RobotResult:
+    """`apply`'s plans: the files through the pipeline, then the WebUI's settings (files that
+    failed or rolled back leave the WebUI untouched; ``sudo`` with ``opts.sudo_password``)."""
+    result = write(opts)
+    if opts.dry_run or (plan.edits and result.outcome is not Outcome.CHANGED):
+        return result
+    files = f"{step.files_summary}; " if plan.edits else ""
+    try:
+        outcome, message, after = apply_desired_webui(ctx, dict(step.wanted), opts.sudo_password)
+    except OpsError as exc:
+        outcome, message, after = Outcome.FAILED, f"WebUI: {exc.message}", {}
+        if exc.hint:
+            result.warnings.append(exc.hint)
+    result.data["webui_after"] = after
+    if outcome is Outcome.SKIPPED and plan.edits:
+        result.warnings.append(message)
+        result.message = step.files_summary or result.message
+    else:
+        result.outcome = outcome if outcome is not Outcome.OK or not plan.edits else Outcome.CHANGED
+        result.message = files + message
+    return result

@@ -9,9 +9,11 @@ without a recording) is skipped with a warning, as `desired.py` explains.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.fleet.plan import Step
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds.webui_settings import SNAP, SettingError, validate
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
@@ -22,6 +24,16 @@ from panther_ops.errors import UsageError
 ACTION = "webui"
 FACT = "webui"
 """Fact: the snap's state on the robot's User Computer (:class:`WebuiRead`)."""
+
+
+@dataclass(frozen=True)
+class SetWebui(Step):
+    """`apply`'s ``desired.webui`` after the robot's files: ``wanted`` set on the User Computer
+    (`apply.apply_settings`; the namespace default already decided). ``files_summary``: what
+    the files' part of the plan says (empty: the plan has no file edits)."""
+
+    wanted: Mapping[str, str]
+    files_summary: str
 
 
 @dataclass(frozen=True)
