@@ -12,7 +12,7 @@ import typer
 if TYPE_CHECKING:
     import threading
 
-    from panther_ops.cli.mutate import ChangeOptions
+    from panther_ops.cli.mutate import Asking, ChangeOptions
     from panther_ops.core.fleet.changes import Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.runner import Task
@@ -204,17 +204,19 @@ class Fleet:
         return self.show(self.results(command, task, read_only=read_only, at_once=at_once, on=on),
                          view)
 
-    def change(self, command: str, planner: Planner, *, verb: str = "Apply to", read_only: bool = False,
-               on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None,
-               drift_exit: bool = False, sudo_password: Secret | None = None) -> int:
+    def change(self, command: str, planner: Planner, *, verb: str = "Apply to", asking: Asking | None = None,
+               read_only: bool = False, on: tuple[Inventory, list[Robot]] | None = None,
+               restart: bool | None = None, drift_exit: bool = False, sudo_password: Secret | None = None,
+               view: Callable[[FleetResult], None] | None = None) -> int:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
         targets given; ``read_only``: only compare (a dry run that does not call itself one);
-        ``verb``, ``drift_exit``: see :class:`~panther_ops.cli.mutate.Change`; ``sudo_password``:
-        for steps that run sudo beside the robot."""
-        from panther_ops.cli.mutate import Change, mutate
+        ``verb`` (or all of ``asking``), ``drift_exit``, ``view``: see
+        :class:`~panther_ops.cli.mutate.Change`; ``sudo_password``: for steps that run sudo
+        beside the robot."""
+        from panther_ops.cli.mutate import Asking, Change, mutate
 
         inv, chosen = on or self.targets(read_only)
-        return mutate(Change(command, planner, verb, read_only, drift_exit), inv, chosen,
+        return mutate(Change(command, planner, asking or Asking(verb), read_only, drift_exit, view), inv, chosen,
                       self.change_options(restart, sudo_password))
 
     def change_options(self, restart: bool | None = None, sudo_password: Secret | None = None) -> ChangeOptions:

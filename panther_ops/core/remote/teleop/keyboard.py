@@ -16,7 +16,8 @@ from dataclasses import dataclass
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop.answers import Section
-from panther_ops.core.remote.estop.calls import CMD_VEL, ask, is_demo, read_state
+from panther_ops.core.remote.estop.calls import ask, is_demo
+from panther_ops.core.remote.estop.plan import CMD_VEL, read_state
 from panther_ops.core.remote.teleop.program import CHECK, PROGRAM
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.transport.base import Command
