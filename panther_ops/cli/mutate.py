@@ -92,7 +92,8 @@ class Change:
     """What one command changes: ``read_only``: a command that only compares (``config
     diff``): the plan is shown as a dry run's, without speaking of one; ``drift_exit``: a
     comparison's exit code says whether a robot would change (``config diff --exit-code``: 6,
-    docs/results.md); ``view``: how the results are shown (default: the generic table)."""
+    docs/results.md); ``view``: how the results of the change are shown (default: the generic
+    table; a plan or a dry run is always the table)."""
 
     command: str
     planner: Planner
@@ -140,7 +141,7 @@ def mutate(change: Change, inv: Inventory, chosen: list[Robot], options: ChangeO
             elif asking.idle and not names and all(r.outcome.value == "ok" for r in shown.results):
                 shown.notes.append(asking.idle)
             shown.drift_exit = change.drift_exit
-            return finish(shown, json_out, change.view or print_results)
+            return finish(shown, json_out, print_results)
         if not json_out:
             if yes:  # nothing waits on the plan: its diffs now, each robot's outcome once applied
                 print_plan_diffs(fp.results, command)

@@ -22,7 +22,7 @@ from panther_ops.core.fleet.steps import Write, executes
 from panther_ops.core.kinds.webui_settings import SNAP, profile_path
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import RobotNamespace, with_robot_namespace
-from panther_ops.core.remote.webui.plan import SetWebui
+from panther_ops.core.remote.webui.plan import SetKeys, SetWebui
 from panther_ops.core.remote.webui.read import (
     Task,
     demo_skip,
@@ -87,27 +87,26 @@ def apply_settings(session: UserComputerSession, wanted: dict[str, str], robot: 
     return Applied(before, read_state(session), wanted, plan, restarted)
 
 
-def set_apply_task(wanted: dict[str, str], password: Secret | None, dds: tuple[str, bytes] | None = None) -> Task:
-    """Phase 2 of `webui set`: `apply_settings` on the robot's User Computer."""
-    def task(ctx: RobotContext) -> RobotResult:
-        if ctx.robot.transport == "local":
-            return demo_skip(ctx, "set")
-        robot = robot_namespace(ctx)
-        session = open_webui_session(ctx, password)
-        try:
-            done = apply_settings(session, wanted, robot, dds)
-        finally:
-            session.close()
-        data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
-        if done.wrong:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
-                               data=data_out)
-        if not done.changes and dds is None:
-            return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
-        text = ", ".join(f"{k}={v}" for k, _, v in done.changes) or "DDS profile uploaded"
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {text}" + ("; restarted" if done.restarted else ""),
+@executes(SetKeys)
+def set_keys(ctx: RobotContext, plan: RobotPlan, step: SetKeys, opts: ApplyOptions, write: Write) -> RobotResult:
+    """`webui set`: `apply_settings` on the robot's User Computer (a demo robot: skipped)."""
+    if ctx.robot.transport == "local":
+        return demo_skip(ctx, "set")
+    robot = robot_namespace(ctx)
+    session = open_webui_session(ctx, opts.sudo_password)
+    try:
+        done = apply_settings(session, dict(step.wanted), robot, step.dds)
+    finally:
+        session.close()
+    data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
+    if done.wrong:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
                            data=data_out)
-    return task
+    if not done.changes and step.dds is None:
+        return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
+    text = ", ".join(f"{k}={v}" for k, _, v in done.changes) or "DDS profile uploaded"
+    return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {text}" + ("; restarted" if done.restarted else ""),
+                       data=data_out)
 
 
 def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
