@@ -37,10 +37,10 @@ from panther_ops.core.remote.estop.plan import (
     RESET_SERVICE,
     ROS_TIMEOUT_S,
     TRIGGER_SERVICE,
-    describe,
+    answer_tail,
     plan_reset,
-    read_state,
-    tail,
+    state_of,
+    state_text,
 )
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult
@@ -108,12 +108,12 @@ def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
 
 def status_task(ctx: RobotContext) -> RobotResult:
     """`estop status`: the E-stop and who publishes on cmd_vel."""
-    state = read_state(ask(ctx, ("status", "publishers")))
+    state = state_of(ask(ctx, ("status", "publishers")))
     data = {**state.to_json(), "recorded": is_demo(ctx)}
     if state.problems:
         return RobotResult(ctx.robot.name, Outcome.FAILED, "; ".join(state.problems), data=data)
     note = " (recorded answer: demo robot)" if is_demo(ctx) else ""
-    return RobotResult(ctx.robot.name, Outcome.OK, describe(state) + note, data=data)
+    return RobotResult(ctx.robot.name, Outcome.OK, state_text(state) + note, data=data)
 
 
 def trigger_task(ctx: RobotContext) -> RobotResult:
@@ -126,7 +126,7 @@ def trigger_task(ctx: RobotContext) -> RobotResult:
 
 def read_and_plan_reset(ctx: RobotContext) -> RobotPlan:
     """`estop reset`'s read (the E-stop and cmd_vel's publishers, one command), then its plan."""
-    return plan_reset(ctx.robot.name, read_state(ask(ctx, ("status", "publishers"))))
+    return plan_reset(ctx.robot.name, state_of(ask(ctx, ("status", "publishers"))))
 
 
 def reset_task(ctx: RobotContext) -> RobotResult:
@@ -136,7 +136,7 @@ def reset_task(ctx: RobotContext) -> RobotResult:
     got = ask(ctx, ("reset", "status"))
     result = _service_result(ctx, got, "reset", RESET_SERVICE, "E-stop reset")
     if result.outcome is Outcome.CHANGED:
-        state = read_state(got)
+        state = state_of(got)
         result.data.update(state.to_json())
         if state.triggered is not False:
             result.outcome = Outcome.FAILED
@@ -153,7 +153,7 @@ def _service_result(ctx: RobotContext, got: answers.Answers, action: str, servic
     if response is None:
         text = section.text if section is not None else ""
         return RobotResult(ctx.robot.name, Outcome.FAILED,
-                           f"no answer from {name} within {ROS_TIMEOUT_S} s{tail(text)}", data=data)
+                           f"no answer from {name} within {ROS_TIMEOUT_S} s{answer_tail(text)}", data=data)
     success, message = response
     data.update(success=success, response=message)
     if not success:

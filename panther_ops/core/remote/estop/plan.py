@@ -41,27 +41,27 @@ class State:
         return {"namespace": self.namespace, "e_stop": self.triggered, "cmd_vel_publishers": self.publishers}
 
 
-def read_state(got: answers.Answers) -> State:
+def state_of(got: answers.Answers) -> State:
     state = State(got.namespace, None, None)
     status, pubs = got.get("status"), got.get("publishers")
     if status is not None:
         state.triggered = answers.e_stop_state(status.text)
         if state.triggered is None:
             state.problems.append(f"no message on {state.topic(E_STOP_TOPIC)} within {ROS_TIMEOUT_S} s"
-                                  + tail(status.text))
+                                  + answer_tail(status.text))
     if pubs is not None:
         state.publishers = answers.publishers(pubs.text)
         if state.publishers is None:
-            state.problems.append(f"no answer about {state.topic(CMD_VEL)}" + tail(pubs.text))
+            state.problems.append(f"no answer about {state.topic(CMD_VEL)}" + answer_tail(pubs.text))
     return state
 
 
-def tail(text: str) -> str:
+def answer_tail(text: str) -> str:
     lines = [ln for ln in text.strip().splitlines() if ln.strip() and "waiting for service" not in ln]
     return f": {lines[-1][-200:]}" if lines else ""
 
 
-def describe(state: State) -> str:
+def state_text(state: State) -> str:
     what = {True: "E-stop triggered", False: "E-stop released", None: "E-stop state unknown"}[state.triggered]
     if state.publishers:
         what += f"; publishing on {state.topic(CMD_VEL)}: {', '.join(state.publishers)}"
@@ -76,7 +76,7 @@ def plan_reset(robot: str, state: State) -> RobotPlan:
     data: dict[str, Any] = state.to_json()
     if state.triggered is False:
         return RobotPlan(robot, "", noop="E-stop not triggered: nothing to reset"
-                         + (f" ({describe(state)})" if state.publishers else ""), data=data)
+                         + (f" ({state_text(state)})" if state.publishers else ""), data=data)
     if state.publishers:
         raise RemoteStateError(f"refused: {', '.join(state.publishers)} publishes on {state.topic(CMD_VEL)} "
                                "(no reset while messages arrive)",
