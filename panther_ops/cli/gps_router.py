@@ -70,7 +70,7 @@ def router_set(
       panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
     from panther_ops.core.gps.router.plan import RouterRequest, check_address, parse_sentences
-    from panther_ops.core.gps.router.read import read_and_plan_router as plan_router
+    from panther_ops.core.gps.router.read import read_and_plan_router
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))
@@ -78,4 +78,5 @@ def router_set(
         raise UsageError("nothing to set", hint="--enable/--disable, --hostname, --port or --sentences")
     check_address(address)
     creds = credentials()
-    return fleet.change("gps router set", lambda c: plan_router(c, address, creds, req), verb="Change the router of")
+    return fleet.change("gps router set", lambda c: read_and_plan_router(c, address, creds, req),
+                        verb="Change the router of")

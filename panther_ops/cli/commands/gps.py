@@ -126,7 +126,7 @@ def enable(
       panther-ops gps enable -r panther-01 --router --yes
     """
     from panther_ops.core.gps.plan import GpsOptions
-    from panther_ops.core.gps.read import read_and_plan_enable as plan_enable
+    from panther_ops.core.gps.read import read_and_plan_enable
     from panther_ops.core.gps.router.plan import check_address
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
@@ -136,7 +136,7 @@ def enable(
 
         creds = _credentials()
         return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds))
-    return fleet.change("gps enable", lambda c: plan_enable(c, opts))
+    return fleet.change("gps enable", lambda c: read_and_plan_enable(c, opts))
 
 
 @app.command("disable")
@@ -151,9 +151,9 @@ def disable(fleet: Fleet) -> int:
     Example:
       panther-ops gps disable -r panther-01 --yes
     """
-    from panther_ops.core.gps.read import read_and_plan_disable as plan_disable
+    from panther_ops.core.gps.read import read_and_plan_disable
 
-    return fleet.change("gps disable", plan_disable)
+    return fleet.change("gps disable", read_and_plan_disable)
 
 
 @app.command("status")

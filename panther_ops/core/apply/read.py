@@ -13,10 +13,10 @@ from __future__ import annotations
 from typing import Any
 
 from panther_ops.core.apply import plan as planner
-from panther_ops.core.config.robot import read_compose
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.robot.read import read_compose
 from panther_ops.errors import UsageError
 
 
@@ -37,8 +37,8 @@ def read_and_plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPla
 
 def _image_hosts(ctx: RobotContext, _key: str) -> bytes:
     """The shutdown hosts file the robot's image ships (or panther-ops' template of its release)."""
-    from panther_ops.core.config.push import pull
     from panther_ops.core.kinds import FileKind
+    from panther_ops.core.robot.pull import pull
 
     return pull(ctx, FileKind.SHUTDOWN_HOSTS)[0]
 

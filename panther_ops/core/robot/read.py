@@ -8,9 +8,9 @@ from __future__ import annotations
 import posixpath
 import secrets
 
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.confine import compose_path_problem
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.errors import OpsError, RemoteStateError, TransportError, UsageError
 from panther_ops.transport import scripts, scripts_apply
 from panther_ops.transport.base import Command
