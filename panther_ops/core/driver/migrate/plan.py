@@ -20,8 +20,6 @@ import functools
 import posixpath
 from collections.abc import Callable
 
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.driver.migrate.components import translate_components
 from panther_ops.core.driver.migrate.controller import translate_controller
 from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_joy2twist
@@ -31,6 +29,8 @@ from panther_ops.core.driver.migrate.localization import translate_localization
 from panther_ops.core.driver.migrate.translated import MigrationRefused, Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Stack
 from panther_ops.core.yaml.paths import DocumentError
 from panther_ops.errors import UsageError
@@ -119,8 +119,8 @@ def _joy2twist(reads: Reads, tree: str, model: str, target: tuple[int, int, int]
     if text is None and new == old:
         return
     if text is None:
-        from panther_ops.core.config.files import config_file
         from panther_ops.core.kinds import FileKind
+        from panther_ops.core.robot.files import config_file
         from panther_ops.core.stack import stack_from_version
 
         source = config_file(stack_from_version("2.2.2"), FileKind.JOY2TWIST, robot_model=model).template_text()
@@ -140,7 +140,7 @@ def _joy2twist(reads: Reads, tree: str, model: str, target: tuple[int, int, int]
 def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
     """2.2 -> 2.3: compose.yaml's image and arguments, and every tree file translated (see the module)."""
     _check_target(cfg, new)
-    from panther_ops.core.config.robot_model import robot_model_of
+    from panther_ops.core.robot.robot_model import robot_model_of
 
     target = new.version
     service = cfg.service
@@ -216,7 +216,7 @@ def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warn
     for e in restore.edits:
         after = e.after
         if e.path == cfg.compose_path and after is not None:
-            from panther_ops.core.config.compose import ComposeFile
+            from panther_ops.core.robot.compose import ComposeFile
 
             back = ComposeFile.parse(after.decode(), cfg.compose_path)
             saved = back.driver_image
