@@ -125,7 +125,6 @@ def enable(
       panther-ops gps enable -r panther-01 --yes
       panther-ops gps enable -r panther-01 --router --yes
     """
-    from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
     from panther_ops.core.gps.read import read_and_plan_enable
     from panther_ops.core.gps.router.plan import check_address
@@ -133,12 +132,11 @@ def enable(
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
     if router:
-        from panther_ops.core.gps.combined import enable_applier, plan_enable_with_router
+        from panther_ops.core.gps.combined import plan_enable_with_router
 
         creds = _credentials()
-        return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds),
-                            applier=enable_applier(address, creds, opts))
-    return fleet.change("gps enable", lambda c: read_and_plan_enable(c, opts), applier=apply_gps)
+        return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds))
+    return fleet.change("gps enable", lambda c: read_and_plan_enable(c, opts))
 
 
 @app.command("disable")
@@ -153,10 +151,9 @@ def disable(fleet: Fleet) -> int:
     Example:
       panther-ops gps disable -r panther-01 --yes
     """
-    from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.read import read_and_plan_disable
 
-    return fleet.change("gps disable", read_and_plan_disable, applier=apply_gps)
+    return fleet.change("gps disable", read_and_plan_disable)
 
 
 @app.command("status")

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Step, Verify
 from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, FileKindError, check_file
@@ -189,6 +189,22 @@ def shutdown_plan(robot: str, rf: RobotHostsFile, power_budget: float = POWER_BU
                          hint=f"fix it first (panther-ops shutdown hosts validate -r {robot}); nothing was "
                          "shut down")
     return RobotShutdownPlan(robot, rf, parsed, parsed.hosts())
+
+
+@dataclass(frozen=True)
+class ShutdownRobot(Step):
+    """`shutdown robot`: the hosts of ``plan`` (side by side, from the robot), then the Built-in
+    Computer (`run.shutdown_robot`)."""
+
+    plan: RobotShutdownPlan
+
+
+def robot_shutdown(sp: RobotShutdownPlan) -> RobotPlan:
+    """`shutdown robot`'s change: its hosts named, then the robot itself."""
+    names = ", ".join(h.describe() for h in sp.hosts)
+    first = f"{len(sp.hosts)} host(s) first ({names}), then " if sp.hosts else "no hosts in its file; "
+    return RobotPlan(sp.robot, f"shut down {first}the Built-in Computer", warnings=[str(f) for f in sp.parsed.warnings],
+                     data={"hosts_file": sp.hosts_file.source}, steps=[ShutdownRobot(sp)])
 
 
 DEFAULT_FACT = "shutdown_hosts_default"
