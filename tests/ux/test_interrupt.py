@@ -135,3 +135,17 @@ def test_ctrl_c_during_a_write_ends_at_once_and_the_file_is_old_or_new(demo: Pat
         time.sleep(0.05)
     assert not list(home.glob(".compose.yaml.panther-ops.*"))
     assert compose.read_bytes() in (before, new)
+
+
+def test_ctrl_c_at_the_confirmation_says_nothing_was_written_and_exits_130(demo: Path) -> None:
+    compose = demo / "robots/panther-01/home/husarion/compose.yaml"
+    before = compose.read_bytes()
+    got = interrupted(["-i", str(demo), "config", "set", "wheel_type", "WH04", "-r", "panther-01"],
+                      lambda out: "[y/N]" in out)
+    shown = plain(got.run.err)
+    assert got.run.code == 130, shown
+    assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
+    _no_traceback(shown)
+    assert "interrupted at the confirmation (Ctrl-C): nothing was changed (no robot written)" in shown, shown
+    assert compose.read_bytes() == before
+    assert not list(compose.parent.glob(".panther-ops/backups/*"))
