@@ -11,7 +11,6 @@ import os
 import sys
 from typing import TYPE_CHECKING, Annotated, Any, Optional
 
-import click
 import typer
 from typer.core import TyperGroup
 
@@ -47,7 +46,7 @@ class _Root(TyperGroup):
     where a run reads them (cli/argv_order.py): ``status -i demo -r <TAB>`` completes the robots
     of ``demo``, as ``-i demo status -r <TAB>`` does."""
 
-    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:  # typer's own click Context
         if ctx.resilient_parsing:
             from panther_ops.cli.argv_order import in_place
 

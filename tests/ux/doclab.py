@@ -5,7 +5,9 @@ the docs' samples name (docs/lab.md, "From pytest": 5 robots r01..r05, docker on
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import subprocess
+import sys
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -34,7 +36,42 @@ def page_lab(prefix: str | None = None) -> Iterator[Lab]:
         lab.down()
 
 
+def _panther_ops(lab: Lab, *args: str) -> None:
+    """panther-ops run on the lab (a scene's step, not shown)."""
+    subprocess.run([sys.executable, "-c", "from panther_ops.cli.app import run; run()", "-i",
+                    str(lab.inventory_path), "-q", *args], check=True, capture_output=True, timeout=120)
+
+
+def _drift(lab: Lab) -> None:
+    """docs/driver.md: r02's compose.yaml edited, its container not recreated."""
+    _panther_ops(lab, "config", "set", "wheel_type", "WH02", "-r", "r02", "--yes", "--no-restart")
+
+
+def _crash_loop(lab: Lab) -> None:
+    """docs/driver.md: r05 given a controller file that does not exist (edited by hand, as
+    panther-ops refuses it): the driver's launch fails, and restarts under ``restart: always``."""
+    compose = "/home/husarion/compose.yaml"
+    text = lab.read("r05", compose)
+    launch = "ros2 launch panther_bringup bringup.launch.py"
+    assert launch in text, text
+    lab.write("r05", compose, text.replace(launch, f"{launch} controller_config_path:=/nonexistent/ctrl.yaml", 1))
+    lab.compose("r05", "up", "-d")
+
+
+def _host_key_changed(lab: Lab) -> None:
+    """docs/results.md: r03 offers another host key than known_hosts holds."""
+    lab.rotate_host_key("r03")
+
+
+SCENES: dict[str, Callable[[Lab], None]] = {
+    "r02-drift": _drift,
+    "r05-crash-loop": _crash_loop,
+    "r03-host-key-changed": _host_key_changed,
+}
+"""The states a page's text describes before a sample (```console lab scene=NAME)."""
+
+
 def follow_on_lab(doc: Path, prefix: str | None = None) -> Outcome:
     """The page's lab samples run on a lab of their own (see docsamples.follow)."""
     with page_lab(prefix) as lab:
-        return follow(doc, lab.dir)
+        return follow(doc, lab.dir, lambda name: SCENES[name](lab))

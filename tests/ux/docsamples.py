@@ -34,6 +34,7 @@ import shutil
 import sys
 import tempfile
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,6 +54,21 @@ LAB_STANDIN = "lab-standin"
 """The mark of a lab block that is not re-run (```console lab-standin): what it shows is what the
 lab's stand-in prints for a part the lab cannot run (a real power-off, snapd, a router), from the
 lab test that runs it (named in the sample's reason)."""
+
+SCENE = "scene="
+"""A lab block's mark ``scene=NAME``: before the block runs, the lab is brought into the state the
+text around it describes (tests/ux/doclab.py: SCENES, e.g. a driver in a crash loop); the state
+stays for the rest of the page, as it would for a reader."""
+
+NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
+    ("output.md", "panther-ops -i lab/inventory.yaml config set wheel_type WH04 --all --yes"):
+        "a Ctrl-C in the middle of the change (tests/ux/test_interrupt.py checks it on the demo fleet); "
+        "the lab mode does not send one yet",
+    ("reimage.md", "panther-ops trust r01 --replace --yes"):
+        "continues the `reimage restore` above it (a backup archive of r01 and a reinstalled card: "
+        "tests/integration/test_reimage_restore_lab.py)",
+}
+"""(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
 
 LAB_SUBNET = re.compile(r"\b10\.200\.\d+\.")
 """The lab's addresses: the third byte is the lab's own network (the first free one when it came up)."""
@@ -144,7 +160,8 @@ def skip_reasons(block: ConsoleBlock, in_lab: bool = False) -> list[str | None]:
             why = ("the block is marked `console lab-standin`" if LAB_STANDIN in block.marks
                    else "not a lab block (run on the demo fleet)")
             return [why for _ in block.samples]
-        own = [(needs_a_robot(s.example, in_lab=True) if s.example is not None else None) for s in block.samples]
+        own = [(NOT_YET_IN_LAB.get((block.doc.name, s.command))
+                or (needs_a_robot(s.example, in_lab=True) if s.example is not None else None)) for s in block.samples]
         return _with_commands(block, own)
     own = [needs_a_robot(s.example) if s.example is not None else None for s in block.samples]
     if LAB in block.marks or LAB_STANDIN in block.marks or AS_WRITTEN in block.marks:
@@ -229,10 +246,11 @@ class Reader:
         return [shown(line, self.dir, self.lab_dir) for line in lines]
 
 
-def follow(doc: Path, lab_dir: Path | None = None) -> Outcome:
+def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] | None = None) -> Outcome:
     """Run the samples of ``doc`` in order; the diffs, the skipped ones, and the doc rewritten.
     With ``lab_dir`` (a lab up for this page, tests/ux/doclab.py), the samples of its
-    ```console lab blocks, on that lab; the other blocks are left as they are."""
+    ```console lab blocks, on that lab, ``scene(NAME)`` called before a block marked
+    ``scene=NAME``; the other blocks are left as they are."""
     lines = doc.read_text().splitlines()
     diffs: list[str] = []
     skipped: list[tuple[str, str, str]] = []
@@ -241,18 +259,21 @@ def follow(doc: Path, lab_dir: Path | None = None) -> Outcome:
         blocks = [b for b in blocks if LAB in b.marks or LAB_STANDIN in b.marks]
     with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
         reader = Reader(Path(tmp), lab_dir)
-        for block in reversed(_in_order(blocks, reader, skipped, diffs, doc)):
+        for block in reversed(_in_order(blocks, reader, skipped, diffs, doc, scene)):
             lines[block[0]:block[1]] = block[2]
     text = "\n".join(lines) + "\n"
     return Outcome(doc, diffs, skipped, text)
 
 
 def _in_order(blocks: list[ConsoleBlock], reader: Reader, skipped: list[tuple[str, str, str]],
-              diffs: list[str], doc: Path) -> list[tuple[int, int, list[str]]]:
+              diffs: list[str], doc: Path, scene: Callable[[str], None] | None = None) -> list[tuple[int, int, list[str]]]:
     """Each block's new lines (its opening fence to its closing one, not included), from the top."""
     out = []
     rel = doc.relative_to(ROOT)
     for block in blocks:
+        for mark in block.marks:
+            if mark.startswith(SCENE) and scene is not None and LAB in block.marks:
+                scene(mark.removeprefix(SCENE))
         body: list[str] = []
         if marks(block) != block.marks:
             diffs.append(f"{block.where}: mark the block ```{' '.join(('console', *marks(block)))} "

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from .docsamples import LAB, LAB_STANDIN, lab_docs, skip_reasons
 from .doclab import follow_on_lab
+from .docsamples import LAB, LAB_STANDIN, lab_docs, skip_reasons
 from .examples import ROOT, console_blocks
 
 DOCS = lab_docs()
@@ -21,6 +21,7 @@ DOCS = lab_docs()
 @pytest.mark.parametrize("doc", DOCS, ids=[str(d.relative_to(ROOT)) for d in DOCS])
 def test_every_lab_sample_of_the_doc_is_what_the_lab_shows(doc: Path, lab_ready: None) -> None:
     from tests.conftest import skip_or_fail
+
     from .doclab import lab_unavailable
 
     if (why := lab_unavailable()) is not None:
