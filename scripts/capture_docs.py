@@ -14,9 +14,11 @@ robot reached over SSH (tests/ux/examples.py: NEEDS_A_ROBOT).
 With --lab (as root), the samples of the ```console lab blocks instead: per page, a lab of
 simulated robots of the docs' shape is brought up (tests/ux/doclab.py: r01..r05, real sshd,
 dockerd and Compose v2; docs/lab.md), the page's lab samples run on it in order with the same
-normalisation, and it is torn down. Not run, and listed: blocks marked ```console lab-standin
-(a real power-off, snapd, a router: what they show is what the lab's stand-in prints) and lab
-samples that need more (an interactive terminal, Docker Hub).
+normalisation, and it is torn down. A block marked ``scene=NAME`` first has the lab brought
+into the state its text describes (tests/ux/doclab.py: SCENES). Not run, and listed: blocks
+marked ```console lab-standin, lab samples that need more (an interactive terminal, Docker
+Hub, a password typed), and the pages and samples of docsamples.LAB_PAGES_NOT_YET and
+NOT_YET_IN_LAB (with the reason each).
 
 Examples:
   python scripts/capture_docs.py                     # rewrite the samples that differ
@@ -52,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="Run the ```console lab samples on a lab per page (root; docs/lab.md).")
     args = parser.parse_args(argv)
     known = lab_docs() if args.lab else docs()
-    chosen = [p.resolve() for p in args.docs] or known
+    chosen = [p.resolve() for p in args.docs] or (lab_docs(run=True) if args.lab else known)
     for p in chosen:
         if p not in known:
             parser.error(f"{p}: not a doc with a console {'lab ' if args.lab else ''}sample (docs/*.md, README.md)")

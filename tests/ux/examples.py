@@ -168,7 +168,7 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"--ask-password", "asks a password on the terminal (the lab's shutdown tests run it)"),
     (r"--ask-sudo-password", "asks the User Computers' sudo password on the terminal (tests/integration/"
      "test_webui_lab.py gives it as $PANTHER_OPS_SUDO_PASSWORD)"),
-    (r"^panther-ops teleop ", "drives a robot's driver container from an interactive terminal "
+    (r"^panther-ops (-i \S+ )?teleop ", "drives a robot's driver container from an interactive terminal "
      "(tests/integration/test_teleop_lab.py, on a pty)"),
     (r"^panther-ops shutdown --hosts (?!.*--dry-run)", "powers real computers off (the lab's shutdown tests)"),
     (r"shutdown robot .*--yes", "powers the robot off"),
