@@ -81,8 +81,8 @@ def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
             data = reads.file(host)
             if data is None:
                 raise UsageError(f"{arg}:={current} is mounted from {host}, which does not exist on the robot",
-                                 hint=f"push a hosts file there: panther-ops config push hosts.yaml --as "
-                                 f"shutdown-hosts -r {shlex.quote(robot)} (checked first by panther-ops "
+                                 hint=f"push a hosts file in its place: panther-ops config push hosts.yaml --as "
+                                 f"shutdown-hosts -r {shlex.quote(robot)} (check it first: panther-ops "
                                  "shutdown hosts validate hosts.yaml)")
             return RobotHostsFile(data.decode(errors="replace"), host, f"{host} (mounted, {arg}:={current})",
                                   cfg.stack, cfg)
