@@ -25,10 +25,17 @@ def lab_unavailable() -> str | None:
     return "; ".join(why) if why else None
 
 
+SHAPES: dict[str, tuple[int, dict[str, str]]] = {
+    "remote.md": (3, {}),  # docs/remote.md: r01..r03 on 2.0.4, 2.1.1 and 2.2.2
+}
+"""Pages whose samples name another lab than the docs' one: robots, jumps."""
+
+
 @contextmanager
-def page_lab(prefix: str | None = None) -> Iterator[Lab]:
-    """A lab of the docs' shape, up for one page, torn down after it."""
-    lab = Lab(5, docker=True, images=IMAGES, jumps=JUMPS, prefix=prefix, ephemeral=True)
+def page_lab(prefix: str | None = None, page: str = "") -> Iterator[Lab]:
+    """A lab of the page's shape (the docs' one unless SHAPES says), up for one page, torn down after it."""
+    n, jumps = SHAPES.get(page, (5, JUMPS))
+    lab = Lab(n, docker=True, images=IMAGES, jumps=jumps, prefix=prefix, ephemeral=True)
     lab.up()
     try:
         yield lab
@@ -58,6 +65,13 @@ def _crash_loop(lab: Lab) -> None:
     lab.compose("r05", "up", "-d")
 
 
+def _publisher(lab: Lab) -> None:
+    """docs/remote.md: on r01 a ``ros2 topic pub`` publishes on cmd_vel."""
+    from tests.integration.test_estop_lab import start_publisher
+
+    start_publisher(lab, "r01")
+
+
 def _host_key_changed(lab: Lab) -> None:
     """docs/results.md: r03 offers another host key than known_hosts holds."""
     lab.rotate_host_key("r03")
@@ -67,11 +81,12 @@ SCENES: dict[str, Callable[[Lab], None]] = {
     "r02-drift": _drift,
     "r05-crash-loop": _crash_loop,
     "r03-host-key-changed": _host_key_changed,
+    "r01-cmd-vel-publisher": _publisher,
 }
 """The states a page's text describes before a sample (```console lab scene=NAME)."""
 
 
 def follow_on_lab(doc: Path, prefix: str | None = None) -> Outcome:
     """The page's lab samples run on a lab of their own (see docsamples.follow)."""
-    with page_lab(prefix) as lab:
+    with page_lab(prefix, doc.name) as lab:
         return follow(doc, lab.dir, lambda name: SCENES[name](lab))

@@ -77,13 +77,21 @@ NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
 }
 """(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
 
+NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
+    ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01"):
+        "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/integration/test_teleop_lab.py)",
+    ("remote.md", "export PANTHER_OPS_SUDO_PASSWORD=...      # or --ask-sudo-password"):
+        "a User Computer with the snap stand-in (tests/integration/test_webui_lab.py)",
+    ("remote.md", "panther-ops -i lab/inventory.yaml config diff -r r02"):
+        "a User Computer with the snap stand-in and desired.webui in the inventory (tests/integration/test_webui_lab.py)",
+}
+"""(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
+
 LAB_PAGES_NOT_YET: dict[str, str] = {
     "gps.md": "needs a lab with the nmea-gps image and an NMEA sender on the robots' LAN, and the stand-in "
               "router (tests/integration/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
     "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
                          "(tests/integration/test_manager_deploy_lab.py)",
-    "remote.md": "needs 3 robots with the rclpy stand-in image and a User Computer with the snap stand-in "
-                 "(tests/integration/test_teleop_lab.py, test_webui_lab.py)",
     "shutdown.md": "needs the lab's User Computers set up by shutdown setup (tests/integration/test_shutdown_*_lab.py)",
 }
 """Pages whose lab samples need more than the docs' lab (tests/ux/doclab.py) and are not run yet:
@@ -116,6 +124,7 @@ _VARIES = (
     (re.compile(r"[━─═]+"), "─"),  # a rule as long as a column that holds one of the above
     (LAB_SUBNET, "10.200.<lab>."),
     (re.compile(r"(?<=│ )[0-9a-f]{12}(?= │)"), "<image-id>"),  # a docker image's id, in a table cell
+    (re.compile(r"/_ros2cli_\d+"), "/_ros2cli_<pid>"),  # the node name of a `ros2 topic pub`
     (re.compile(r" +"), " "),
 )
 
@@ -180,8 +189,9 @@ def skip_reasons(block: ConsoleBlock, in_lab: bool = False) -> list[str | None]:
             why = ("the block is marked `console lab-standin`" if LAB_STANDIN in block.marks
                    else "not a lab block (run on the demo fleet)")
             return [why for _ in block.samples]
-        if block.doc.name in LAB_PAGES_NOT_YET:
-            return [LAB_PAGES_NOT_YET[block.doc.name] for _ in block.samples]
+        whole = LAB_PAGES_NOT_YET.get(block.doc.name) or NOT_YET_BLOCKS.get((block.doc.name, block.samples[0].command))
+        if whole:
+            return [whole for _ in block.samples]
         own = [(NOT_YET_IN_LAB.get((block.doc.name, s.command))
                 or (needs_a_robot(s.example, in_lab=True) if s.example is not None else None)) for s in block.samples]
         return _with_commands(block, own)

@@ -34,13 +34,13 @@ def test_every_lab_sample_of_the_doc_is_what_the_lab_shows(doc: Path, lab_ready:
 
 
 def test_most_lab_samples_run_and_the_rest_say_why() -> None:
-    """Not vacuous: on the pages whose lab samples run, most do; every one that does not says
+    """Not vacuous: on the pages whose lab samples run, 25 or more do; every one that does not says
     why, and the exceptions listed are samples of the docs (a list that does not rot)."""
     blocks = [b for d in DOCS for b in console_blocks(d) if LAB in b.marks or LAB_STANDIN in b.marks]
     reasons = [r for b in blocks for s, r in zip(b.samples, skip_reasons(b, in_lab=True), strict=True)
                if s.example is not None]
     run = [r for r in reasons if r is None]
-    assert len(run) >= 20 and len(run) >= 2 * (len(reasons) - len(run)), [r for r in reasons if r]
+    assert len(run) >= 25 and len(reasons) - len(run) <= 25, [r for r in reasons if r]
     commands = {(b.doc.name, s.command) for d in lab_docs() for b in console_blocks(d) for s in b.samples}
     assert set(NOT_YET_IN_LAB) <= commands, set(NOT_YET_IN_LAB) - commands
     assert set(LAB_PAGES_NOT_YET) <= {d.name for d in lab_docs()}
