@@ -28,7 +28,25 @@ def confirm(question: str, yes: bool, refusal: str) -> bool:
 
         error(refusal)
         return False
-    return bool(typer.confirm(question, default=False, err=True))  # stdout is for data (--json)
+    return ask(question)
+
+
+NOTHING_WRITTEN = "interrupted at the confirmation (Ctrl-C): nothing was changed (no robot written)"
+
+
+def ask(question: str) -> bool:
+    """The operator's answer to ``question`` ([y/N], on stderr: stdout is for data). Ctrl-C
+    there is :class:`~panther_ops.errors.Interrupted` (exit 130, saying that nothing was
+    written); an end of input (Ctrl-D) aborts as click does."""
+    from panther_ops.errors import Interrupted
+
+    try:
+        return bool(typer.confirm(question, default=False, err=True))
+    except (typer.Abort, KeyboardInterrupt) as exc:
+        if isinstance(exc.__context__, EOFError):
+            raise
+        sys.stderr.write("\n")  # the prompt's line ends; the message goes on its own
+        raise Interrupted(NOTHING_WRITTEN) from None
 
 
 def require(question: str, yes: bool, refusal: str, nothing: str = "nothing was changed") -> None:
@@ -41,7 +59,7 @@ def require(question: str, yes: bool, refusal: str, nothing: str = "nothing was 
         return
     if not sys.stdin.isatty():
         raise UsageError(refusal)
-    if not typer.confirm(question, default=False, err=True):  # stdout is for data (--json)
+    if not ask(question):
         raise Declined(nothing)
 
 
