@@ -10,9 +10,9 @@ from typing import Any, cast
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.kinds import FileKindError
 from panther_ops.core.kinds.hostsfile import Edit, Mode, add_host, new_entry
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.shutdown.plan import RobotHostsFile, hosts_edit
 from panther_ops.core.stack import stack_from_version
 
