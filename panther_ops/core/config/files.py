@@ -41,6 +41,10 @@ _FAMILY_DIRS: dict[Generation, tuple[str, ...]] = {
     Generation.G2_1_1: ("panther-2.1",),
     Generation.G2_2_0: ("husarion-ugv-2.2.0", "husarion-ugv-2.2"),
     Generation.G2_2_1: ("husarion-ugv-2.2",),
+    # Jazzy: husarion-ugv-2.3 written from 2.3.2, overlays for 2.3.0/2.3.1; what 2.3 left unchanged from 2.2.2
+    Generation.G2_3_0: ("husarion-ugv-2.3.0", "husarion-ugv-2.3", "husarion-ugv-2.2"),
+    Generation.G2_3_1: ("husarion-ugv-2.3.1", "husarion-ugv-2.3", "husarion-ugv-2.2"),
+    Generation.G2_3_2: ("husarion-ugv-2.3", "husarion-ugv-2.2"),
 }
 
 
