@@ -159,6 +159,11 @@ def has_changes_of(stack: Stack, release: tuple[int, int, int]) -> bool:
     return stack.version >= release and release not in _LACKS.get(stack.version, ())
 
 
+def lacking(release: tuple[int, int, int]) -> tuple[str, ...]:
+    """The later releases that lack what ``release`` brought (`_LACKS`): ``("2.3.0",)`` for 2.2.2."""
+    return tuple(".".join(map(str, v)) for v, lacks in _LACKS.items() if release in lacks)
+
+
 def parse_image(image: str) -> Stack:
     """Parse a driver image reference such as ``husarion/panther:humble-2.1.1-20240828``.
 
