@@ -63,7 +63,7 @@ def test_not_a_mapping_and_bad_yaml() -> None:
 
 def test_unsupported_stack_from_image() -> None:
     c = compose("services:\n  panther_ros:\n    image: husarion/husarion-ugv:kilted-2.4.0-20260101\n")
-    with pytest.raises(RemoteStateError, match="kilted 2.4.0"):
+    with pytest.raises(RemoteStateError, match=r"kilted 2\.4\.0"):
         c.stack()
     jazzy = compose("services:\n  husarion_ugv_ros:\n    image: husarion/husarion-ugv:jazzy-2.3.2-20260622\n")
     assert jazzy.stack().version_str == "2.3.2" and jazzy.stack().jazzy

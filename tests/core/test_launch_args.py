@@ -303,7 +303,7 @@ def test_jazzy_defaults_and_where_they_are_read_from() -> None:
 
 def test_launch_gamepad_false_is_refused_where_the_gamepad_always_runs() -> None:
     """husarion_ugv_ros@2.3.2:bringup.launch.py includes teleop with launch_gamepad True: false has no effect."""
-    with pytest.raises(UsageError, match="launch_gamepad:=false has no effect on husarion_ugv 2.3.2"):
+    with pytest.raises(UsageError, match=r"launch_gamepad:=false has no effect on husarion_ugv 2\.3\.2"):
         la.validate_arg(S232, "launch_gamepad", "false")
     forced = la.validate_arg(S232, "launch_gamepad", "false", force=True)
     assert forced.value == "false" and any("(forced)" in w for w in forced.warnings)
@@ -311,5 +311,5 @@ def test_launch_gamepad_false_is_refused_where_the_gamepad_always_runs() -> None
     assert la.validate_arg(S232, "launch_gamepad", "true").value == "true"
     with pytest.raises(UsageError, match="gamepad_controller"):  # 2.3.0: the compose service
         la.validate_arg(S230, "launch_gamepad", "true")
-    with pytest.raises(UsageError, match="publish_robot_state needs .*2.0.0-2.2.2"):
+    with pytest.raises(UsageError, match=r"publish_robot_state needs .*2\.0\.0-2\.2\.2"):
         la.validate_arg(S232, "publish_robot_state", "true")

@@ -3,8 +3,15 @@ from __future__ import annotations
 import pytest
 
 from panther_ops.core.fleet.facts import clock_offset, parse_env, parse_probe
-from panther_ops.core.stack import (Family, Generation, find_driver, has_changes_of, parse_image, stack_from_version,
-                                    stack_option)
+from panther_ops.core.stack import (
+    Family,
+    Generation,
+    find_driver,
+    has_changes_of,
+    parse_image,
+    stack_from_version,
+    stack_option,
+)
 from panther_ops.errors import RemoteStateError, UsageError
 
 
@@ -72,7 +79,7 @@ def test_unsupported_images(image: str, why: str) -> None:
 
 
 def test_stack_option_refuses_an_unknown_line_as_usage() -> None:
-    with pytest.raises(UsageError, match="--stack 2.4.0: stack 2.4.0 is not a release panther-ops knows") as caught:
+    with pytest.raises(UsageError, match=r"--stack 2\.4\.0: stack 2\.4\.0 is not a release panther-ops knows") as caught:
         stack_option("2.4.0")
     assert int(caught.value.exit_code) == 2 and "jazzy: husarion_ugv 2.3.0, 2.3.1, 2.3.2" in (caught.value.hint or "")
     assert stack_option("2.3.2").image == "husarion/husarion-ugv:jazzy-2.3.2"

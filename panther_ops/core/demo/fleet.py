@@ -164,7 +164,8 @@ def _lay_out(root: Path, robot: DemoRobot) -> None:
         version = robot.release
         for rel in CONFIG_TREES[version]:
             (home / "config" / rel).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(tree / rel if version == "2.2.2" else _release_template(version, rel), home / "config" / rel)
+            source = tree / rel if version == "2.2.2" else _release_template(version, rel)
+            shutil.copyfile(source, home / "config" / rel)
         if (tree / "common" / ".env").is_file():
             (home / "config" / "common").mkdir(parents=True, exist_ok=True)
             shutil.copyfile(tree / "common" / ".env", home / "config" / "common" / ".env")
