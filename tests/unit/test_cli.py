@@ -75,12 +75,12 @@ def test_inventory_commands(demo: Path, capsys: pytest.CaptureFixture[str]) -> N
     capsys.readouterr()
     assert main(["-i", str(demo), "inventory", "list", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert [r["name"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03"]
+    assert [r["name"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03", "panther-04"]
     assert main(["-i", str(demo), "inventory", "show", "panther-01", "--json"]) == 0
     shown = json.loads(capsys.readouterr().out)["robot"]
     assert shown["desired"] == {"launch_args": {"wheel_type": "WH02"}}
     assert main(["-i", str(demo), "inventory", "validate"]) == 0
-    assert "3 robots, 2 groups, valid" in capsys.readouterr().out
+    assert "4 robots, 2 groups, valid" in capsys.readouterr().out
 
 
 def test_doctor_on_demo(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
