@@ -118,7 +118,7 @@ def template_pairs(table: Mapping[str, Any], stack: Stack, base: Stack | None = 
                 pairs.append(Pair(template, upstream))
                 paired.add(template)
                 covered.add(upstream)
-    if table.get("tree") and base.version_str in demo_tags():
+    if table.get("tree") and base.version_str in demo_tags() and not base.jazzy:  # 2.3.2: config/ templates
         root = templates_dir() / TREE_TEMPLATE
         for path in sorted(p for p in root.rglob("*") if p.is_file()):
             rel = path.relative_to(root).as_posix()
@@ -301,14 +301,20 @@ def tree_results(table: Mapping[str, Any]) -> list[Result]:
         return []
     if not tree or checked not in demo_tags():
         return []
-    root = templates_dir() / TREE_TEMPLATE
-    ours = {p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file()}
-    ours = {p for p in ours if not own(f"{TREE_TEMPLATE}/{p}")}
+    from panther_ops.core.demo.fleet import CONFIG_TREES
+
+    if checked == "2.2.2":
+        root = templates_dir() / TREE_TEMPLATE
+        ours = {p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file()}
+        ours = {p for p in ours if not own(f"{TREE_TEMPLATE}/{p}")}
+        where = f"templates/{TREE_TEMPLATE}"
+    else:  # laid out from the release's config/ templates (core/demo/fleet.py)
+        ours, where = set(CONFIG_TREES[checked]), f"the demo's {checked} tree (core/demo/fleet.py)"
     upstream = set(tree["panther"])
     missing, extra = sorted(upstream - ours), sorted(ours - upstream)
     details = (*(f"missing: {p}" for p in missing), *(f"not copied by the image: {p}" for p in extra))
-    summary = (f"templates/{TREE_TEMPLATE} holds the {len(upstream)} files {tree['script']} copies for a Panther"
-               if not details else f"templates/{TREE_TEMPLATE}: {len(missing)} missing, {len(extra)} extra "
+    summary = (f"{where} holds the {len(upstream)} files {tree['script']} copies for a Panther"
+               if not details else f"{where}: {len(missing)} missing, {len(extra)} extra "
                f"(against {tree['script']}, Panther)")
     return [Result(table["tag"], "tree", "panther", not details, summary, details)]
 

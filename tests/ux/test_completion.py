@@ -102,7 +102,7 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return home
 
 
-ROBOTS = ["panther-01", "panther-02", "panther-03"]
+ROBOTS = ["panther-01", "panther-02", "panther-03", "panther-04"]
 
 
 def test_robot_names_after_r_from_the_i_given(demo: Path) -> None:

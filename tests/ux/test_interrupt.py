@@ -79,13 +79,13 @@ def _in_connect(silent: Silent) -> bool:
 def test_ctrl_c_while_robots_hang_in_connect_ends_at_once_with_the_partial_recap(fleet: Path,
                                                                                  silent: Silent) -> None:
     got = interrupted(["-i", str(fleet), "status", "--all"],  # the local robots done, the others hanging
-                      lambda out: _in_connect(silent) and "3/5 robots done" in out)
+                      lambda out: _in_connect(silent) and "4/6 robots done" in out)
     shown = plain(got.run.err)
     assert got.run.code == 130, shown
     assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
     _no_traceback(shown)
     assert "interrupted (Ctrl-C)" in shown
-    assert re.search(r"finished: panther-01 \w+, panther-02 \w+, panther-03 \w+", shown), shown
+    assert re.search(r"finished: panther-01 \w+, panther-02 \w+, panther-03 \w+, panther-04 \w+", shown), shown
     assert "cut short: hang-01 (connect), hang-02 (connect)" in shown
     recap = shown[shown.index("recap (interrupted)"):]
     assert re.search(r"^hang-01\s+interrupted\s+connect \d+\.\d s", recap, re.M), recap

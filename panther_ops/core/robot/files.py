@@ -6,7 +6,7 @@ Facts: panther-stack.md sections 1.3-1.9 and 2.2. Templates live in
 ``husarion-ugv-2.2`` (2.2.1+, from husarion_ugv_ros 2.2.2), with overlay directories for the
 versions that differ (``panther-2.0.0`` for 2.0.0-2.0.1, ``panther-2.1.0``,
 ``husarion-ugv-2.2.0``). husarion_ugv 2.3 (ROS 2 Jazzy) keeps 2.2's files where they did not
-change and overlays them (`JAZZY_DIRS`): ``husarion-ugv-2.3`` (every 2.3 tag, written from
+change and overlays them (`_FAMILY_DIRS`): ``husarion-ugv-2.3`` (every 2.3 tag, written from
 2.3.0: the Jazzy limits schema, the EKF's ``stamped_control``), ``husarion-ugv-2.3.1``
 (bringup's stamped joy2twist) and ``husarion-ugv-2.3.2`` (the twist mux, the EKF's 0.2 s
 timeout, animations 16-17, the Lights tree on ``twist_mux_controller/source``, joy2twist in
@@ -46,14 +46,12 @@ _FAMILY_DIRS: dict[Generation, tuple[str, ...]] = {
     Generation.G2_1_1: ("panther-2.1",),
     Generation.G2_2_0: ("husarion-ugv-2.2.0", "husarion-ugv-2.2"),
     Generation.G2_2_1: ("husarion-ugv-2.2",),
+    # Jazzy: husarion_ugv 2.3's overlays, the version's first, in front of 2.2's directories (what 2.3 left
+    # unchanged from 2.2.2 is read from husarion-ugv-2.2)
+    Generation.G2_3_0: ("husarion-ugv-2.3", "husarion-ugv-2.2"),
+    Generation.G2_3_1: ("husarion-ugv-2.3.1", "husarion-ugv-2.3", "husarion-ugv-2.2"),
+    Generation.G2_3_2: ("husarion-ugv-2.3.2", "husarion-ugv-2.3", "husarion-ugv-2.2"),
 }
-JAZZY_DIRS: dict[tuple[int, int, int], tuple[str, ...]] = {
-    (2, 3, 0): ("husarion-ugv-2.3",),
-    (2, 3, 1): ("husarion-ugv-2.3.1", "husarion-ugv-2.3"),
-    (2, 3, 2): ("husarion-ugv-2.3.2", "husarion-ugv-2.3"),
-}
-"""husarion_ugv 2.3's overlays, the version's first, in front of 2.2's directories (a later
-2.3 patch takes 2.3.2's until it has its own)."""
 
 
 @dataclass(frozen=True)
@@ -128,10 +126,7 @@ def stock_bt_project(stack: Stack, which: str) -> tuple[str, str]:
 
 def family_dirs(stack: Stack) -> tuple[str, ...]:
     """The template directories of ``stack``, the version's overlay first."""
-    base = _FAMILY_DIRS[stack.generation] if stack.version < (2, 3, 0) else _FAMILY_DIRS[Generation.G2_2_1]
-    if stack.version < (2, 3, 0):
-        return base
-    return (*JAZZY_DIRS[min(stack.version, max(JAZZY_DIRS))], *base)
+    return _FAMILY_DIRS[stack.generation]
 
 
 def _exists(stack: Stack, package: str, filename: str) -> str | None:
