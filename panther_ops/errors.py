@@ -87,6 +87,13 @@ class Declined(OpsError):
     exit_code = ExitCode.DECLINED
 
 
+class Interrupted(OpsError):
+    """The operator pressed Ctrl-C where nothing had been started (the confirmation question):
+    nothing was done. Exit code 130."""
+
+    exit_code = ExitCode.INTERRUPTED
+
+
 class TransportError(OpsError):
     """A robot could not be reached or a transport step failed."""
 

@@ -11,10 +11,20 @@ rewritten in place with what the terminal showed.
 Not run, and listed with the reason: blocks marked ```console lab, and commands that need a
 robot reached over SSH (tests/ux/examples.py: NEEDS_A_ROBOT).
 
+With --lab (as root), the samples of the ```console lab blocks instead: per page, a lab of
+simulated robots of the docs' shape is brought up (tests/ux/doclab.py: r01..r05, real sshd,
+dockerd and Compose v2; docs/lab.md), the page's lab samples run on it in order with the same
+normalisation, and it is torn down. A block marked ``scene=NAME`` first has the lab brought
+into the state its text describes (tests/ux/doclab.py: SCENES). Not run, and listed: blocks
+marked ```console lab-standin, lab samples that need more (an interactive terminal, Docker
+Hub, a password typed), and the pages and samples of docsamples.LAB_PAGES_NOT_YET and
+NOT_YET_IN_LAB (with the reason each).
+
 Examples:
   python scripts/capture_docs.py                     # rewrite the samples that differ
   python scripts/capture_docs.py --check             # exit 1 and a diff when one differs
   python scripts/capture_docs.py --check docs/commands.md --list
+  sudo python scripts/capture_docs.py --lab docs/driver.md   # the lab samples of one page
 
 Exit status: 0 when every run sample matches (or was rewritten), 1 with --check when one
 differs, 2 on bad usage.
@@ -31,7 +41,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from tests.ux.docsamples import docs, follow  # noqa: E402
+from tests.ux.docsamples import docs, follow, lab_docs  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -39,14 +49,24 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("docs", nargs="*", type=Path, help="Docs to capture (default: every doc with a sample).")
     parser.add_argument("--check", action="store_true", help="Change nothing: exit 1 and a diff when a sample differs.")
     parser.add_argument("--list", action="store_true", help="List the samples not run, with the reason.")
-    parser.add_argument("--jobs", type=int, default=2, help="Docs followed at once (default 2).")
+    parser.add_argument("--jobs", type=int, default=2, help="Docs followed at once (default 2; 1 with --lab).")
+    parser.add_argument("--lab", action="store_true",
+                        help="Run the ```console lab samples on a lab per page (root; docs/lab.md).")
     args = parser.parse_args(argv)
-    chosen = [p.resolve() for p in args.docs] or docs()
+    known = lab_docs() if args.lab else docs()
+    chosen = [p.resolve() for p in args.docs] or (lab_docs(run=True) if args.lab else known)
     for p in chosen:
-        if p not in docs():
-            parser.error(f"{p}: not a doc with a console sample (docs/*.md, README.md)")
-    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        outcomes = list(pool.map(follow, chosen))
+        if p not in known:
+            parser.error(f"{p}: not a doc with a console {'lab ' if args.lab else ''}sample (docs/*.md, README.md)")
+    if args.lab:
+        from tests.ux.doclab import follow_on_lab, lab_unavailable
+
+        if (why := lab_unavailable()) is not None:
+            parser.error(f"--lab: the lab cannot run here: {why}")
+        outcomes = [follow_on_lab(doc) for doc in chosen]
+    else:
+        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+            outcomes = list(pool.map(follow, chosen))
     differ = 0
     for outcome in outcomes:
         rel = outcome.doc.relative_to(ROOT)

@@ -12,6 +12,7 @@ import sys
 from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
+from typer.core import TyperGroup
 
 from panther_ops import __version__
 from panther_ops.cli.context import Settings
@@ -40,8 +41,22 @@ Shell completion (bash, zsh, fish, docs/getting-started.md):
   panther-ops --install-completion
 """
 
+class _Root(TyperGroup):
+    """The root command. Completing a line (click parses it resiliently), its options are read
+    where a run reads them (cli/argv_order.py): ``status -i demo -r <TAB>`` completes the robots
+    of ``demo``, as ``-i demo status -r <TAB>`` does."""
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:  # typer's own click Context
+        if ctx.resilient_parsing:
+            from panther_ops.cli.argv_order import in_place
+
+            args = in_place(args, self)
+        return super().parse_args(ctx, args)
+
+
 app = typer.Typer(
     name="panther-ops",
+    cls=_Root,
     help=HELP,
     no_args_is_help=True,
     pretty_exceptions_enable=False,

@@ -12,10 +12,12 @@ import typer
 if TYPE_CHECKING:
     import threading
 
-    from panther_ops.core.fleet.changes import Applier, Planner
+    from panther_ops.cli.mutate import Asking, ChangeOptions
+    from panther_ops.core.fleet.changes import Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.runner import Task
     from panther_ops.results import FleetResult
+    from panther_ops.secret import Secret
 
 
 @dataclass
@@ -202,18 +204,26 @@ class Fleet:
         return self.show(self.results(command, task, read_only=read_only, at_once=at_once, on=on),
                          view)
 
-    def change(self, command: str, planner: Planner, *, applier: Applier | None = None, verb: str = "Apply to",
-               read_only: bool = False,
-               on: tuple[Inventory, list[Robot]] | None = None, restart: bool | None = None,
-               applier_for_actions: bool = False, drift_exit: bool = False) -> int:
+    def change(self, command: str, planner: Planner, *, verb: str = "Apply to", asking: Asking | None = None,
+               read_only: bool = False, on: tuple[Inventory, list[Robot]] | None = None,
+               restart: bool | None = None, drift_exit: bool = False, sudo_password: Secret | None = None,
+               view: Callable[[FleetResult], None] | None = None) -> int:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
         targets given; ``read_only``: only compare (a dry run that does not call itself one);
-        ``applier_for_actions``, ``drift_exit``: see :func:`~panther_ops.cli.mutate.mutate`."""
-        from panther_ops.cli.mutate import mutate
+        ``verb`` (or all of ``asking``), ``drift_exit``, ``view``: see
+        :class:`~panther_ops.cli.mutate.Change`; ``sudo_password``: for steps that run sudo
+        beside the robot."""
+        from panther_ops.cli.mutate import Asking, Change, mutate
 
         inv, chosen = on or self.targets(read_only)
-        return mutate(command, inv, chosen, planner, yes=self.yes and not read_only,
-                      dry_run=self.dry_run or read_only, restart=not self.no_restart if restart is None else restart,
-                      settle=self.settle, json_out=self.json_out, forks=self.forks, canary=self.canary,
-                      max_fail=self.max_fail, applier=applier, verb=verb, read_only=read_only,
-                      applier_for_actions=applier_for_actions, drift_exit=drift_exit)
+        return mutate(Change(command, planner, asking or Asking(verb), read_only, drift_exit, view), inv, chosen,
+                      self.change_options(restart, sudo_password))
+
+    def change_options(self, restart: bool | None = None, sudo_password: Secret | None = None) -> ChangeOptions:
+        """The shared options of a change, as given (``restart``: when the command decides it)."""
+        from panther_ops.cli.mutate import ChangeOptions
+
+        return ChangeOptions(yes=self.yes, dry_run=self.dry_run,
+                             restart=not self.no_restart if restart is None else restart, settle=self.settle,
+                             json_out=self.json_out, forks=self.forks, canary=self.canary, max_fail=self.max_fail,
+                             sudo_password=sudo_password)

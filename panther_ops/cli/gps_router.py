@@ -69,7 +69,6 @@ def router_set(
     Example:
       panther-ops gps router set -r panther-01 --enable --hostname 10.15.20.2 --port 5000 --yes
     """
-    from panther_ops.core.gps.router.apply import apply_router
     from panther_ops.core.gps.router.plan import RouterRequest, check_address, parse_sentences
     from panther_ops.core.gps.router.read import read_and_plan_router
     from panther_ops.errors import UsageError
@@ -80,4 +79,4 @@ def router_set(
     check_address(address)
     creds = credentials()
     return fleet.change("gps router set", lambda c: read_and_plan_router(c, address, creds, req),
-                        applier=apply_router(address, creds, req), verb="Change the router of")
+                        verb="Change the router of")

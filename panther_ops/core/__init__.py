@@ -1,1 +1,1 @@
-"""Domain logic: readers, pure planners and appliers. No typer, no rich."""
+"""Domain logic: readers, pure planners and the executors of their steps. No typer, no rich."""

@@ -3,6 +3,15 @@
 The stack changes launch arguments, config file locations and shutdown behaviour at the
 patch level (reference: panther-stack.md sections 0 and 1), so the version is kept to the
 patch and grouped into the generations that behave alike.
+
+Two release lines are supported (`LINES`): ROS 2 Humble, panther_ros 2.0-2.1 and
+husarion_ugv 2.2.x (``husarion/husarion-ugv:humble-2.2.2-20250702``), and ROS 2 Jazzy,
+husarion_ugv 2.3.0-2.3.2 (``husarion/husarion-ugv:jazzy-2.3.2-20260622``; the image tags of
+husarion_ugv_ros@2.3.0/2.3.1/2.3.2:docker/demo/compose.hardware.yaml). The Jazzy line is a
+branch of its own: 2.3.0 branched off after 2.2.1 and lacks 2.2.2's changes (2.3.1 has them;
+`has_changes_of`), and its patches differ among themselves, so only the three known releases
+are taken. Any other line (2.4, another distro such as kilted or rolling, a crossed pair such
+as ``humble-2.3.x``) is refused, naming what is supported.
 """
 
 from __future__ import annotations
@@ -38,6 +47,39 @@ class Generation(str, Enum):
     G2_1_1 = "2.1.1-2.1.2"
     G2_2_0 = "2.2.0"
     G2_2_1 = "2.2.1+"
+    G2_3_0 = "2.3.0"
+    """Jazzy; the gamepad is its own compose service, the animations are the image's (as 2.2.0)."""
+    G2_3_1 = "2.3.1"
+    """Jazzy; bringup's launch_gamepad and the animations in ~/config (as 2.2.2)."""
+    G2_3_2 = "2.3.2"
+    """Jazzy; husarion_ugv_teleop runs the gamepad, twist_mux_controller, use_madgwick_filter."""
+
+
+@dataclass(frozen=True)
+class Line:
+    """A release line panther-ops supports: a ROS 2 distro and the versions its images carry."""
+
+    distro: str
+    first: tuple[int, int, int]
+    last: tuple[int, int, int]
+    """Inclusive; ``(2, 2, 999)``: every patch of 2.2."""
+    text: str
+
+    def holds(self, version: tuple[int, int, int]) -> bool:
+        return self.first <= version <= self.last
+
+
+LINES = (
+    Line("humble", (2, 0, 0), (2, 2, 999), "humble: panther_ros 2.0.x-2.1.x, husarion_ugv 2.2.x"),
+    Line("jazzy", (2, 3, 0), (2, 3, 2), "jazzy: husarion_ugv 2.3.0, 2.3.1, 2.3.2"),
+)
+"""The supported lines (husarion_ugv_ros@2.2.2/2.3.x:docker/Dockerfile.hardware `ARG ROS_DISTRO`)."""
+SUPPORTED_TEXT = "; ".join(line.text for line in LINES)
+
+_LACKS: dict[tuple[int, int, int], tuple[tuple[int, int, int], ...]] = {(2, 3, 0): ((2, 2, 2),)}
+"""Releases that a higher version lacks: husarion_ugv_ros 2.3.0 branched off after 2.2.1 (2.2.1 is an
+ancestor of the tag 2.3.0, 2.2.2 is not; 2.3.1 carries 2.2.2's changes: launch_gamepad in bringup,
+the animations read from ~/config)."""
 
 
 @dataclass(frozen=True)
@@ -70,7 +112,9 @@ class Stack:
             return Generation.G2_1_1
         if v < (2, 2, 1):
             return Generation.G2_2_0
-        return Generation.G2_2_1
+        if v < (2, 3, 0):
+            return Generation.G2_2_1
+        return {(2, 3, 0): Generation.G2_3_0, (2, 3, 1): Generation.G2_3_1}.get(v, Generation.G2_3_2)
 
     @property
     def driver_service(self) -> str:
@@ -100,18 +144,24 @@ class Stack:
     def robot_env_file(self) -> str:
         return DRIVER_ENV_FILES[0] if self.family is Family.HUSARION_UGV else DRIVER_ENV_FILES[1]
 
+    @property
+    def jazzy(self) -> bool:
+        """husarion_ugv 2.3 on ROS 2 Jazzy."""
+        return self.distro == "jazzy"
+
     def label(self) -> str:
         return f"{self.family.value} {self.version_str}"
 
 
-def supported_pair(distro: str, version: tuple[int, int, int]) -> bool:
-    """The distro/version pairs panther-ops reads: Humble up to 2.2.x, Jazzy 2.3.x.
+def has_changes_of(stack: Stack, release: tuple[int, int, int]) -> bool:
+    """True when ``stack`` has what ``release`` brought: the version order, but for the branches of
+    `_LACKS` (husarion_ugv 2.3.0 lacks 2.2.2's changes)."""
+    return stack.version >= release and release not in _LACKS.get(stack.version, ())
 
-    MIGRATE (issue #25): the one predicate `driver update` needs to read a 2.3 robot (its way
-    back to 2.2) and to plan 2.2 -> 2.3; the jazzystack work owns the final rule."""
-    if distro == "humble":
-        return version < (2, 3, 0)
-    return distro == "jazzy" and (2, 3, 0) <= version < (2, 4, 0)
+
+def lacking(release: tuple[int, int, int]) -> tuple[str, ...]:
+    """The later releases that lack what ``release`` brought (`_LACKS`): ``("2.3.0",)`` for 2.2.2."""
+    return tuple(".".join(map(str, v)) for v, lacks in _LACKS.items() if release in lacks)
 
 
 def parse_image(image: str) -> Stack:
@@ -119,7 +169,7 @@ def parse_image(image: str) -> Stack:
 
     Raises:
         RemoteStateError: not a Panther driver image, a tag without a version, or a
-            stack panther-ops does not support yet (ROS 2 Jazzy, 2.3+).
+            stack panther-ops does not know (a line or distro not in `LINES`: 2.4, kilted, rolling).
     """
     ref = image.strip()
     name, _, tag = ref.rpartition(":")
@@ -139,14 +189,16 @@ def parse_image(image: str) -> Stack:
         )
     version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
     distro = m["distro"]
-    if not supported_pair(distro, version):
-        raise RemoteStateError(
-            f"stack {distro} {'.'.join(map(str, version))} ({ref}) is not supported yet",
-            hint="panther-ops supports ROS 2 Humble: panther_ros 2.0-2.1 and husarion_ugv 2.2; ROS 2 Jazzy: "
-                 "husarion_ugv 2.3",
-        )
     if version < (2, 0, 0):
         raise RemoteStateError(f"{ref}: ROS 1 stacks (1.x) are not supported")
+    line = next((ln for ln in LINES if ln.holds(version)), None)
+    if line is None or line.distro != distro:
+        text = ".".join(map(str, version))
+        what = f"{distro} {text}" + ("" if line is None else f": {text} is a {line.distro} release")
+        raise RemoteStateError(
+            f"stack {what} ({ref}) is not a release panther-ops knows",
+            hint=f"panther-ops supports {SUPPORTED_TEXT}",
+        )
     return Stack(image=ref, distro=distro, version=version, build_date=m["date"])
 
 
@@ -159,10 +211,21 @@ def parse_version(text: str) -> tuple[int, int, int]:
 
 
 def stack_from_version(text: str) -> Stack:
-    """A Stack for an inventory's explicit ``stack: X.Y.Z`` (no image known)."""
+    """A Stack for an inventory's explicit ``stack: X.Y.Z`` (no image known; the distro is its line's).
+
+    Raises:
+        ValueError: not X.Y.Z.
+        RemoteStateError: a version of no supported line (2.4.0, 2.3.3, 1.x).
+    """
     version = parse_version(text)
     repo = UGV_REPO if version >= (2, 2, 0) else PANTHER_REPO
-    return parse_image(f"{repo}:humble-{text.strip()}")
+    line = next((ln for ln in LINES if ln.holds(version)), None)
+    if line is None:
+        if version < (2, 0, 0):
+            raise RemoteStateError(f"stack {text.strip()}: ROS 1 stacks (1.x) are not supported")
+        raise RemoteStateError(f"stack {text.strip()} is not a release panther-ops knows",
+                               hint=f"panther-ops supports {SUPPORTED_TEXT}")
+    return parse_image(f"{repo}:{line.distro}-{text.strip()}")
 
 
 def stack_option(text: str, option: str = "--stack") -> Stack:
@@ -177,7 +240,7 @@ def stack_option(text: str, option: str = "--stack") -> Stack:
         return stack_from_version(text)
     except ValueError:
         raise UsageError(f"{option} {text!r} is not a version X.Y.Z",
-                         hint="a stack version such as 2.0.4, 2.1.1 or 2.2.2") from None
+                         hint="a stack version such as 2.0.4, 2.1.1, 2.2.2 or 2.3.2") from None
     except RemoteStateError as exc:
         raise UsageError(f"{option} {text}: {exc.message}", hint=exc.hint) from None
 

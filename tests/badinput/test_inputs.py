@@ -259,7 +259,8 @@ STACKS = [
     Case(f"stack-{name}", ["shutdown", "hosts", "validate", "{tmp}/hosts.yaml", "--stack", value], ["--stack", value],
          files={"hosts.yaml": "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"})
     for name, value in [("text", "abc"), ("future", "9.9.9"), ("ros1", "1.0.0"), ("short", "2.1"),
-                        ("injection", "2.1.1;id"), ("jazzy", "2.3.0")]
+                        ("injection", "2.1.1;id"), ("line-2.4", "2.4.0"),
+                        ("jazzy-unknown-patch", "2.3.3")]
 ] + [
     Case("stack-without-file", ["shutdown", "hosts", "validate", "-r", "panther-01", "--stack", "2.1.1"],
          ["--stack", "FILE"]),

@@ -10,7 +10,7 @@ from panther_ops.core.kinds import arg_catalogue
 from panther_ops.core.robot import arg_edits
 from panther_ops.core.robot import launch_args as la
 from panther_ops.core.robot.compose import ComposeFile
-from panther_ops.core.stack import stack_from_version
+from panther_ops.core.stack import Stack, stack_from_version
 from panther_ops.errors import UsageError
 
 S200, S201, S204, S210, S211, S220, S222 = (
@@ -50,7 +50,7 @@ def test_catalogue_is_consistent() -> None:
     ],
 )
 def test_availability_per_version(stack: object, key: str, available: bool) -> None:
-    assert la.spec(key).available(stack) is available  # type: ignore[arg-type]
+    assert la.spec(key).available(stack) is available
     if not available:
         with pytest.raises(la.UnavailableArgError):
             la.validate_arg(stack, key, "True")  # type: ignore[arg-type]
@@ -268,3 +268,48 @@ def test_set_launch_args_refuses_an_unmounted_path_even_one_it_did_not_change() 
     assert not compose.changed
     forced = arg_edits.set_launch_args(compose, {"wheel_type": "WH02"}, force=True)
     assert any("the driver cannot open it" in w and w.endswith("(forced)") for w in forced.warnings)
+
+
+S230, S231, S232 = (stack_from_version(v) for v in ("2.3.0", "2.3.1", "2.3.2"))
+
+
+@pytest.mark.parametrize(
+    ("stack", "key", "available"),
+    [
+        (S222, "publish_robot_state", True),  # husarion_ugv_ros@2.2.2:husarion_ugv_controller/launch/controller.launch.py
+        (S230, "publish_robot_state", False),  # gone from it on 2.3.0-2.3.2
+        (S232, "publish_robot_state", False),
+        (S230, "launch_gamepad", False),  # 2.3.0 (branched after 2.2.1): the gamepad_controller compose service
+        (S231, "launch_gamepad", True),  # bringup.launch.py, as 2.2.2
+        (S232, "launch_gamepad", True),  # husarion_ugv_teleop/launch/teleop.launch.py
+        (S231, "use_madgwick_filter", False),
+        (S232, "use_madgwick_filter", True),  # controller.launch.py and load_urdf.launch.py of 2.3.2
+        (S222, "use_madgwick_filter", False),
+    ],
+)
+def test_availability_on_jazzy(stack: Stack, key: str, available: bool) -> None:
+    assert la.spec(key).available(stack) is available
+
+
+def test_jazzy_defaults_and_where_they_are_read_from() -> None:
+    """2.3.0 reads the animations from the image (as 2.2.0); 2.3.1 and 2.3.2 from ~/config (as 2.2.2)."""
+    anim = la.spec("led_config_file")
+    assert anim.default_for(S230).startswith("$(find husarion_ugv_lights)/") and not anim.default_in_tree(S230)
+    assert anim.default_in_tree(S231) and anim.default_in_tree(S232)
+    assert la.spec("use_madgwick_filter").default_for(S232) == "False"
+    assert la.spec("launch_gamepad").availability() == "2.2.2+ but 2.3.0"
+    assert la.validate_arg(S232, "use_madgwick_filter", "TRUE").value == "true"
+
+
+def test_launch_gamepad_false_is_refused_where_the_gamepad_always_runs() -> None:
+    """husarion_ugv_ros@2.3.2:bringup.launch.py includes teleop with launch_gamepad True: false has no effect."""
+    with pytest.raises(UsageError, match=r"launch_gamepad:=false has no effect on husarion_ugv 2\.3\.2"):
+        la.validate_arg(S232, "launch_gamepad", "false")
+    forced = la.validate_arg(S232, "launch_gamepad", "false", force=True)
+    assert forced.value == "false" and any("(forced)" in w for w in forced.warnings)
+    assert la.validate_arg(S231, "launch_gamepad", "false").value == "false"  # 2.3.1's bringup honours it
+    assert la.validate_arg(S232, "launch_gamepad", "true").value == "true"
+    with pytest.raises(UsageError, match="gamepad_controller"):  # 2.3.0: the compose service
+        la.validate_arg(S230, "launch_gamepad", "true")
+    with pytest.raises(UsageError, match=r"publish_robot_state needs .*2\.0\.0-2\.2\.2"):
+        la.validate_arg(S232, "publish_robot_state", "true")

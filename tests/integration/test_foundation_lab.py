@@ -143,3 +143,33 @@ def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.Captur
     assert doc["recorded"] is False and doc["known_hosts_file"] == str(kh)
     code, doc, _, _ = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 0
+
+
+def test_status_and_doctor_on_a_2_2_2_and_a_2_3_2_robot(lab_factory: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    """A husarion_ugv 2.3.2 (ROS 2 Jazzy) robot beside a 2.2.2 one: status reads its stack from the running
+    driver's image, doctor says the Humble robot lacks the soft E-stop and battery-dead fixes (first in 2.3.2)."""
+    lab = lab_factory(2, docker=True, images=("2.2", "2.3.2"))
+    humble, jazzy = lab.robots
+    assert (humble.stack.key, jazzy.stack.key) == ("2.2.2", "2.3.2")
+    code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")
+    assert code == 0, doc
+    robots = by_robot(doc)
+    for r, version, generation in ((humble, "2.2.2", "2.2.1+"), (jazzy, "2.3.2", "2.3.2")):
+        data = robots[r.name]["data"]
+        assert robots[r.name]["outcome"] == "ok", robots[r.name]
+        assert (data["stack_version"], data["stack_generation"]) == (version, generation)
+        assert data["driver_image"] == r.image and data["driver_state"] == "running"
+    assert robots[jazzy.name]["data"]["driver_image"] == "husarion/husarion-ugv:jazzy-2.3.2-20260622"
+    # the stand-in runs as its release: /version.txt, ROS_DISTRO of the image (Dockerfile.hardware ARG ROS_DISTRO)
+    seen = lab.docker(jazzy.name, "exec", "husarion_ugv_ros", "sh", "-c",
+                      "echo $ROS_DISTRO; cat /version.txt; ls /opt/ros").stdout.split()
+    assert seen == ["jazzy", "2.3.2", "jazzy"]
+    code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "doctor", "--all", "--json")
+    assert code == 0, doc
+    checks = {n: {f["check"]: f for f in r["data"]["findings"]} for n, r in by_robot(doc).items()}
+    assert checks[jazzy.name]["stack"] == {"check": "stack", "state": "ok", "detail": "husarion_ugv 2.3.2", "fix": None}
+    assert checks[jazzy.name]["safety fixes"]["state"] == "ok"
+    assert checks[jazzy.name]["compose v2"]["state"] == "ok"
+    lacking = checks[humble.name]["safety fixes"]
+    assert lacking["state"] == "warn" and "#606/#607" in lacking["detail"] and "#596/#603" in lacking["detail"]
+    assert "first released in husarion_ugv 2.3.2" in lacking["detail"]

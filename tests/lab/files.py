@@ -39,6 +39,12 @@ class StackImage:
         return tuple(int(x) for x in self.key.split(".")) >= (2, 2, 0)
 
     @property
+    def distro(self) -> str:
+        """The image's ROS 2 distro: jazzy for husarion_ugv 2.3 (husarion_ugv_ros@2.3.2:docker/Dockerfile.hardware
+        `ARG ROS_DISTRO=jazzy`), else humble."""
+        return "jazzy" if tuple(int(x) for x in self.key.split(".")) >= (2, 3, 0) else "humble"
+
+    @property
     def group(self) -> str:
         return f"stack-{self.key}"
 
@@ -53,15 +59,18 @@ STACKS = {
     "2.0.4": StackImage("2.0.4", "panther-2.0.4.yaml", "v2.0.0"),
     "2.1.1": StackImage("2.1.1", "panther-2.1.1.yaml", "v2.1.0"),
     "2.2.2": StackImage("2.2.2", "husarion-ugv-2.2.2.yaml", "v2.2.0"),
+    # ROS 2 Jazzy; the OS gate is still v2.2.0 (husarion_ugv_ros@2.3.2:husarion_ugv_bringup/launch/bringup.launch.py
+    # MIN_REQUIRED_OS_VERSION): the same Built-in Computer OS as 2.2.2
+    "2.3.2": StackImage("2.3.2", "husarion-ugv-2.3.2.yaml", "v2.2.0"),
 }
-_ALIASES = {"2.0": "2.0.4", "2.1": "2.1.1", "2.2": "2.2.2"}
+_ALIASES = {"2.0": "2.0.4", "2.1": "2.1.1", "2.2": "2.2.2", "2.3": "2.3.2"}
 
 
 def stack(key: str) -> StackImage:
-    """`2.0`, `2.0.4`, `2.1`, `2.1.1`, `2.2`, `2.2.2` -> the lab's stack image."""
+    """`2.0`, `2.0.4`, `2.1`, `2.1.1`, `2.2`, `2.2.2`, `2.3`, `2.3.2` -> the lab's stack image."""
     k = _ALIASES.get(key.strip(), key.strip())
     if k not in STACKS:
-        raise ValueError(f"unknown image version {key!r}: use one of 2.0, 2.1.1, 2.2")
+        raise ValueError(f"unknown image version {key!r}: use one of 2.0, 2.1.1, 2.2, 2.3.2")
     return STACKS[k]
 
 
@@ -278,12 +287,75 @@ def _controller_yaml(drive: str, wheel: str) -> str:
 """
 
 
-def ugv_config_tree(namespace: str = "panther") -> dict[str, str]:
-    """/home/husarion/config for 2.2 robots: relative path -> content (stand-in contents)."""
+def _jazzy_controller_yaml(wheel: str) -> str:
+    """2.3.2's controller file shape (husarion_ugv_ros@2.3.2:husarion_ugv_controller/config/WH01_controller.yaml):
+    the Jazzy limits schema, the IMU covariance placeholder filled at launch, and the twist mux's inputs."""
+    sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
+    axes = "".join(
+        f"      {axis}:\n        {sub}:\n          max_velocity: {v}\n          min_velocity: -{v}\n"
+        f"          max_acceleration: {a}\n          max_deceleration: -{a}\n          max_acceleration_reverse: -{a}\n"
+        f"          max_deceleration_reverse: {a}\n          max_jerk: .NAN\n          min_jerk: .NAN\n"
+        for axis, sub, v, a in (("linear", "x", 2.0, 2.7), ("angular", "z", 4.0, 5.74)))
+    inputs = "".join(f"        {name}:\n          topic: {topic}\n          timeout: 0.2\n          priority: {prio}\n"
+                     for name, topic, prio in (("manual", "manual/cmd_vel", 100), ("autonomous", "autonomous/cmd_vel", 10),
+                                               ("unknown", "cmd_vel", 1)))
+    return f"""# {wheel}_controller.yaml (panther-ops lab stand-in of the husarion_ugv_controller file, 2.3.2)
+/**:
+  controller_manager:
+    ros__parameters:
+      update_rate: 100
+      joint_state_broadcaster:
+        type: joint_state_broadcaster/JointStateBroadcaster
+      drive_controller:
+        type: diff_drive_controller/DiffDriveController
+      imu_broadcaster:
+        type: imu_sensor_broadcaster/IMUSensorBroadcaster
+      twist_mux_controller:
+        type: twist_mux_controller/TwistMuxController
+
+  imu_broadcaster:
+    ros__parameters:
+      sensor_name: <namespace>/imu
+      frame_id: <namespace>/imu_link
+      static_covariance_orientation: <static_covariance_orientation>
+
+  drive_controller:
+    ros__parameters:
+      left_wheel_names: [fl_wheel_joint, rl_wheel_joint]
+      right_wheel_names: [fr_wheel_joint, rr_wheel_joint]
+      wheel_separation: {sep}
+      wheel_radius: {radius}
+      wheel_separation_multiplier: {mult}
+      publish_rate: 100.0
+      odom_frame_id: odom
+      base_frame_id: base_link
+      enable_odom_tf: false
+      cmd_vel_timeout: 0.2
+      publish_limited_velocity: false
+{axes}
+  twist_mux_controller:
+    ros__parameters:
+      holonomic: false
+      cmd_vel_inputs:
+{inputs}      command_interface_linear_x: drive_controller/linear/velocity
+      command_interface_angular_z: drive_controller/angular/velocity
+"""
+
+
+def ugv_config_tree(namespace: str = "panther", st: StackImage | None = None) -> dict[str, str]:
+    """/home/husarion/config for 2.2+ robots: relative path -> content (stand-in contents).
+
+    On 2.3.2 (``st``) the image copies joy2twist from husarion_ugv_teleop, where it publishes stamped twists
+    on manual/cmd_vel (husarion_ugv_ros@2.3.2:docker/utils/update_config_directory.sh,
+    husarion_ugv_teleop/config/joy2twist_panther.yaml), and the controller files have 2.3.2's shape."""
+    jazzy = st is not None and st.distro == "jazzy"
+    joy2twist = ("husarion_ugv_teleop/config/joy2twist_panther.yaml" if jazzy
+                 else "husarion_ugv_bringup/config/joy2twist_panther.yaml")
+    stamped = "      cmd_vel_topic: manual/cmd_vel\n      cmd_vel_stamped: true\n" if jazzy else ""
     tree = {
         "common/.env": (f"ROS_DOMAIN_ID=0\nRMW_IMPLEMENTATION=rmw_cyclonedds_cpp\nROBOT_NAMESPACE={namespace}\n"),
-        "husarion_ugv_bringup/config/joy2twist_panther.yaml": (
-            "# panther-ops lab stand-in\n/**:\n  joy2twist_node:\n    ros__parameters:\n"
+        joy2twist: (
+            "# panther-ops lab stand-in\n/**:\n  joy2twist_node:\n    ros__parameters:\n" + stamped +
             "      linear_velocity_factor:\n        fast: 1.0\n        regular: 0.5\n        slow: 0.2\n"
         ),
         "husarion_ugv_description/config/components.yaml": "components: []\n",
@@ -312,7 +384,8 @@ def ugv_config_tree(namespace: str = "panther") -> dict[str, str]:
         ),
     }
     for wheel in ("WH01", "WH04"):
-        tree[f"husarion_ugv_controller/config/{wheel}_controller.yaml"] = _controller_yaml("drive_controller", wheel)
+        tree[f"husarion_ugv_controller/config/{wheel}_controller.yaml"] = (
+            _jazzy_controller_yaml(wheel) if jazzy else _controller_yaml("drive_controller", wheel))
     return tree
 
 

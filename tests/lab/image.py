@@ -49,18 +49,28 @@ IMPORT_CHANGES = (
 )
 
 
+def import_changes(distro: str) -> list[str]:
+    """`IMPORT_CHANGES` for a driver image of ``distro``: the real images set ROS_DISTRO from their
+    Dockerfile's `ARG ROS_DISTRO` (humble on 2.0-2.2, jazzy on husarion_ugv_ros@2.3.x:docker/Dockerfile.hardware)."""
+    return [f"ENV ROS_DISTRO={distro}" if c.startswith("ENV ROS_DISTRO=") else c for c in IMPORT_CHANGES]
+
+
 VERSION_FILE = "version.txt"
 VERSION_LABEL = "org.panther-ops.lab.version"
 """Label of a driver stand-in image: the release its /version.txt names."""
 
 
-def with_version(rootfs: bytes, version: str) -> bytes:
-    """A root file system tarball with `/version.txt` holding ``version`` added."""
+def with_version(rootfs: bytes, version: str, distro: str = "humble") -> bytes:
+    """A root file system tarball with `/version.txt` holding ``version`` added, its ROS under
+    /opt/ros/<distro> (the base has /opt/ros/humble; a Jazzy image, husarion_ugv 2.3, has /opt/ros/jazzy)."""
     out = io.BytesIO()
     with tarfile.open(fileobj=io.BytesIO(rootfs)) as src, tarfile.open(fileobj=out, mode="w") as tar:
         for member in src.getmembers():
             if member.name != VERSION_FILE:
-                tar.addfile(member, src.extractfile(member) if member.isfile() else None)
+                data = src.extractfile(member) if member.isfile() else None
+                if member.name.startswith("opt/ros/humble"):
+                    member.name = f"opt/ros/{distro}" + member.name[len("opt/ros/humble"):]
+                tar.addfile(member, data)
         tar_file(tar, VERSION_FILE, f"{version}\n".encode())
     return out.getvalue()
 

@@ -39,7 +39,7 @@ from ._sys import (
     wait_for,
     wait_gone,
 )
-from .image import IMPORT_CHANGES, VERSION_LABEL, build_rootfs, find_static_busybox, with_version
+from .image import IMPORT_CHANGES, VERSION_LABEL, build_rootfs, find_static_busybox, import_changes, with_version
 from .state import DEFAULT_BASE, LabState, Proc, RobotState, all_states, base_lock
 from .teardown import (
     CGROUP_ROOT,
@@ -608,7 +608,7 @@ class Lab:
             0o644,
         )
         if st_img.ugv:
-            for rel, text in F.ugv_config_tree().items():
+            for rel, text in F.ugv_config_tree(st=st_img).items():
                 files[f"config/{rel}"] = (text.encode(), 0o644)
         home.mkdir(mode=0o750, exist_ok=True)
         os.chmod(home, 0o750)
@@ -872,8 +872,8 @@ class Lab:
                 driver = st.images()[0]
                 repo, tag = driver.rsplit(":", 1)
                 client.api.import_image_from_data(
-                    with_version(self._rootfs, st.key), repository=repo, tag=tag,
-                    changes=[*IMPORT_CHANGES, f"LABEL {VERSION_LABEL}={st.key}"],
+                    with_version(self._rootfs, st.key, st.distro), repository=repo, tag=tag,
+                    changes=[*import_changes(st.distro), f"LABEL {VERSION_LABEL}={st.key}"],
                 )
                 drivers.add(driver)
             others = [t for t in F.all_image_tags() if t not in drivers]

@@ -1,7 +1,7 @@
 """Appliers tested end to end on a fake robot (panther_ops.testing.FakeTransport), no lab:
 read (a plain run) -> pure plan -> write session: stage with backup -> go-ahead -> compare-and-rename.
 
-Each test drives the same functions the CLI calls (``read_and_plan_*`` then the applier) and
+Each test drives the same functions the CLI calls (``read_and_plan_*`` then the pipeline with the plan's steps) and
 checks the robot's files, its backup and what the robot was asked, byte for byte."""
 
 from __future__ import annotations
@@ -13,8 +13,7 @@ from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.history import list_history, read_backup
 from panther_ops.core.fleet.pipeline import BACKUP_ROOT, ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.gps.apply import apply_gps
-from panther_ops.core.gps.plan import GpsOptions
+from panther_ops.core.gps.plan import GpsOptions, RemoveService
 from panther_ops.core.gps.read import read_and_plan_disable, read_and_plan_enable
 from panther_ops.results import Outcome
 from panther_ops.transport import scripts, scripts_apply
@@ -101,7 +100,7 @@ def test_gps_enable_then_disable_on_2_0_restores_the_bytes(fake_ctx: Make) -> No
     before = robot.tree(backups=False)
 
     plan = read_and_plan_enable(ctx, GpsOptions())
-    result = apply_gps(ctx, plan, ApplyOptions(command="gps enable"))
+    result = apply_plan(ctx, plan, ApplyOptions(command="gps enable"))
     assert result.outcome is Outcome.CHANGED, result.message
     compose = (robot.get(COMPOSE) or b"").decode()
     assert "  nmea-gps:\n    image: husarion/nmea-gps:humble-2.0.1-20240617\n" in compose
@@ -111,8 +110,8 @@ def test_gps_enable_then_disable_on_2_0_restores_the_bytes(fake_ctx: Make) -> No
     assert not again.edits and "already" in (again.noop or "")
 
     plan = read_and_plan_disable(ctx)
-    assert plan.data.get("remove_service") == "nmea-gps"
-    result = apply_gps(ctx, plan, ApplyOptions(command="gps disable"))
+    assert plan.steps == [RemoveService("nmea-gps")]
+    result = apply_plan(ctx, plan, ApplyOptions(command="gps disable"))
     assert result.outcome is Outcome.CHANGED, result.message
     assert robot.tree(backups=False) == before, "disable gives back the bytes enable changed"
     assert any("container was not removed" in w for w in result.warnings), "no engine: said, not hidden"
@@ -124,7 +123,7 @@ def test_gps_enable_dry_run_writes_nothing(fake_ctx: Make) -> None:
     robot = fake_of(ctx)
     before = robot.tree()
     plan = read_and_plan_enable(ctx, GpsOptions())
-    result = apply_gps(ctx, plan, ApplyOptions(dry_run=True))
+    result = apply_plan(ctx, plan, ApplyOptions(dry_run=True))
     assert result.outcome is Outcome.CHANGED and result.data["dry_run"] is True
     assert "launch_nmea_gps:=true" in plan.diffs[0].unified
     ctx.transport.close()

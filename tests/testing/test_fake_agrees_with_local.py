@@ -21,7 +21,6 @@ from panther_ops.core.fleet.history import list_history
 from panther_ops.core.fleet.inventory import Inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, stage_plan, unstage
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.gps.apply import apply_gps
 from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.core.gps.read import read_and_plan_enable
 from panther_ops.errors import RemoteStateError
@@ -94,7 +93,7 @@ def abandoned(ctx: RobotContext, put: Callable[[str, bytes], None]) -> dict[str,
 
 
 def gps_enable_twice(ctx: RobotContext, put: Callable[[str, bytes], None]) -> dict[str, Any]:
-    first = apply_gps(ctx, read_and_plan_enable(ctx, GpsOptions()), ApplyOptions())
+    first = apply_plan(ctx, read_and_plan_enable(ctx, GpsOptions()), ApplyOptions())
     second = read_and_plan_enable(ctx, GpsOptions())
     return {"first": (first.outcome, first.message), "second": (second.noop, len(second.edits))}
 

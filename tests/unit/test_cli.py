@@ -16,8 +16,34 @@ def test_status_json_on_demo_fleet(demo: Path, capsys: pytest.CaptureFixture[str
     out, err = capsys.readouterr()
     doc = json.loads(out)
     assert doc["schema"] == 1 and doc["command"] == "status" and doc["exit_code"] == 0
-    assert [r["data"]["stack_version"] for r in doc["robots"]] == ["2.1.1", "2.0.4", "2.2.2"]
+    assert [r["data"]["stack_version"] for r in doc["robots"]] == ["2.1.1", "2.0.4", "2.2.2", "2.3.2"]
+    assert [r["data"]["stack_generation"] for r in doc["robots"]][-2:] == ["2.2.1+", "2.3.2"]
     assert f"inventory: {demo} (from -i)" in err
+
+
+def test_doctor_names_the_release_with_the_safety_fixes(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Every release before husarion_ugv 2.3.2 lacks the soft E-stop (#606/#607) and battery-dead (#596/#603)
+    fixes: doctor warns on the Humble robots, naming 2.3.2; the demo's 2.3.2 robot has them."""
+    capsys.readouterr()
+    assert main(["-i", str(demo), "doctor", "--all", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    fixes = {r["robot"]: next(f for f in r["data"]["findings"] if f["check"] == "safety fixes") for r in doc["robots"]}
+    for name in ("panther-01", "panther-02", "panther-03"):
+        assert fixes[name]["state"] == "warn", fixes[name]
+        assert "#606/#607" in fixes[name]["detail"] and "#596/#603" in fixes[name]["detail"]
+        assert "first released in husarion_ugv 2.3.2" in fixes[name]["detail"] and "(Humble)" in fixes[name]["detail"]
+    assert fixes["panther-04"]["state"] == "ok" and "husarion_ugv 2.3.2" in fixes["panther-04"]["detail"]
+
+
+def test_doctor_fails_a_robot_on_a_driver_line_panther_ops_does_not_know(
+        demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    compose = demo / "robots" / "panther-04" / "home" / "husarion" / "compose.yaml"
+    compose.write_text(compose.read_text().replace("jazzy-2.3.2-20260622", "kilted-2.4.0-20270101"))
+    capsys.readouterr()
+    assert main(["-i", str(demo), "doctor", "-r", "panther-04", "--json"]) != 0
+    (robot,) = json.loads(capsys.readouterr().out)["robots"]
+    (stack,) = [f for f in robot["data"]["findings"] if f["check"] == "stack"]
+    assert stack["state"] == "fail" and "stack kilted 2.4.0" in stack["detail"]
 
 
 def test_status_table(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -49,12 +75,12 @@ def test_inventory_commands(demo: Path, capsys: pytest.CaptureFixture[str]) -> N
     capsys.readouterr()
     assert main(["-i", str(demo), "inventory", "list", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert [r["name"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03"]
+    assert [r["name"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03", "panther-04"]
     assert main(["-i", str(demo), "inventory", "show", "panther-01", "--json"]) == 0
     shown = json.loads(capsys.readouterr().out)["robot"]
     assert shown["desired"] == {"launch_args": {"wheel_type": "WH02"}}
     assert main(["-i", str(demo), "inventory", "validate"]) == 0
-    assert "3 robots, 2 groups, valid" in capsys.readouterr().out
+    assert "4 robots, 2 groups, valid" in capsys.readouterr().out
 
 
 def test_doctor_on_demo(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -26,17 +26,18 @@ from panther_ops.conformance.checks import Result, check_release, load_tables, u
 from panther_ops.conformance.digest import compose_leaves, diff, leaves
 from panther_ops.conformance.distil import distil, own_compose
 from panther_ops.conformance.known import FINDINGS, KNOWN, known
-from panther_ops.conformance.preview import checked_stack, preview_for
+from panther_ops.conformance.preview import checked_stack, kinds_stack, preview_for
 from panther_ops.conformance.pyexpr import Unevaluable, evaluate
 from panther_ops.conformance.report import render
 from panther_ops.conformance.upstream import GitRelease, config_tree
 from panther_ops.core.stack import stack_from_version
+from panther_ops.errors import OpsError
 
 ROOT = Path(__file__).resolve().parents[2]
 TABLES = ROOT / "tests" / "golden" / "upstream"
 SUPPORTED = ("2.0.4", "2.1.1", "2.2.0", "2.2.2")
 NOT_YET = ("2.3.0", "2.3.1", "2.3.2")
-"""husarion_ugv 2.3 (Jazzy, issue #25): tabled and reported, checked as on 2.2.2 (conformance/preview.py)."""
+"""husarion_ugv 2.3 (Jazzy, issue #25): supported; its file kinds and config templates are issue #25's to-do."""
 
 _TABLES = load_tables(TABLES)
 _RESULTS: list[Result] = [r for t in _TABLES for r in check_release(t)] + untraced_templates(_TABLES)
@@ -89,30 +90,33 @@ def test_no_failure_is_unknown() -> None:
     assert [r.id for r in _RESULTS if r.failed and known(r.id) is None] == []
 
 
-def test_jazzy_releases_are_checked_as_2_2_2_and_reported_apart() -> None:
-    """2.3.x is refused by panther-ops (one failing ``release`` item, issue #25) and checked with 2.2.2's
-    validators, catalogue and templates; the report lists it under "Not yet supported (issue #25)"."""
-    for tag in SUPPORTED:
+def test_jazzy_releases_are_supported_and_reported_with_the_others() -> None:
+    """2.3.x is a supported stack (core/stack.py): checked as itself (no ``release`` item, no preview), its
+    launch arguments equal to the catalogue and its compose template equal to upstream's; what still fails
+    is issue #25's file kinds and config templates, each listed in known.py."""
+    for tag in (*SUPPORTED, *NOT_YET):
         assert preview_for(tag) is None and checked_stack(tag).version_str == tag
     assert preview_for("2.4.0") is None  # a line no preview covers stays a plain refusal
+    with pytest.raises(OpsError):
+        checked_stack("2.4.0")
     for tag in NOT_YET:
-        preview = preview_for(tag)
-        assert preview is not None and (preview.issue, preview.base) == ("issue #25", "2.2.2")
-        assert checked_stack(tag).version_str == "2.2.2"
+        assert kinds_stack(tag).version_str == tag  # the file kinds: the release's own rules
         mine = [r for r in _RESULTS if r.tag == tag]
-        release = [r for r in mine if r.check == "release"]
-        assert [(r.item, r.ok) for r in release] == [(tag, False)]
-        assert known(release[0].id) == ("issue #25", "core/stack.py refuses jazzy images and 2.3+")
-        assert {r.check for r in mine} >= {"defaults", "launch", "templates"}
+        assert not [r for r in mine if r.check == "release"]
+        assert [r.id for r in mine if r.check == "launch" and not r.ok] == []
+        (compose,) = [r for r in mine if r.item.startswith("compose/")]
+        assert compose.item == f"compose/husarion-ugv-{tag}.yaml" and compose.ok, compose.summary
         assert all(known(r.id) is not None and known(r.id)[0] == "issue #25" for r in mine if r.failed)
     shutdown = next(r for r in _RESULTS if r.id == "2.3.2:defaults:husarion_ugv_manager/config/shutdown_hosts.yaml")
     assert shutdown.ok is True  # unchanged from 2.2.2, accepted by today's validator
+    controllers = [r for r in _RESULTS if r.check == "defaults" and r.tag in NOT_YET and "_controller.yaml" in r.item]
+    assert len(controllers) == 12 and all(r.ok for r in controllers)  # the Jazzy limits schema, per release
     (madgwick,) = [r for r in _RESULTS if r.id == "2.3.2:launch:use_madgwick_filter"]
-    assert madgwick.ok is False and "not in the catalogue" in madgwick.summary
+    assert madgwick.ok is True
+    (tree,) = [r for r in _RESULTS if r.id == "2.3.2:tree:panther"]  # the demo fleet's 2.3.2 robot
+    assert tree.ok is True
     report = render(_TABLES, _RESULTS)
-    head, _, later = report.partition("## Not yet supported (issue #25)")
-    assert later and "### 2.3.2" in later and "#### Default files" in later
-    assert "| 2.3.2 |" not in head and "| 2.2.2 |" in head
+    assert "## Not yet supported" not in report and "| 2.3.2 |" in report
 
 
 def test_report_is_current() -> None:

@@ -53,16 +53,16 @@ def test_dry_run_plans_per_stack(capsys: pytest.CaptureFixture[str], demo: Path)
 def test_enable_twice_then_disable_restores_bytes(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
     before = snapshot(demo)
     code, doc, _ = run(capsys, demo, "gps", "enable", "--all", "--yes", "--json")
-    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 3
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 4
     assert "robot_namespace:=panther" in compose(demo, "panther-02")
     code, doc, _ = run(capsys, demo, "gps", "enable", "--all", "--yes", "--json")
-    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["ok"] * 4
     assert "already" in doc["robots"][0]["message"]
     code, doc, _ = run(capsys, demo, "gps", "disable", "--all", "--yes", "--json")
-    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 3
+    assert code == 0 and [r["outcome"] for r in doc["robots"]] == ["changed"] * 4
     assert snapshot(demo) == before
     code, doc, _ = run(capsys, demo, "gps", "disable", "--all", "--yes", "--json")
-    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 4
 
 
 def test_port_on_22_writes_params_file_and_disable_removes_it(capsys: pytest.CaptureFixture[str], demo: Path) -> None:
@@ -153,7 +153,7 @@ def test_desired_gps_in_config_diff_and_apply(capsys: pytest.CaptureFixture[str]
     assert "    command: >-\n      ros2 launch /husarion_utils/nmea_navsat.launch.py\n      robot_namespace:=rover\n" \
         in compose(demo, "panther-02")
     code, doc, _ = run(capsys, demo, "config", "diff", "--all", "--json")
-    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 4
     inv.write_text(inv.read_text().replace("gps: {enabled: true, router: {enabled: true}}", "gps: {enabled: false}"))
     code, doc, _ = run(capsys, demo, "config", "diff", "-r", "panther-03", "--json")
     assert doc["robots"][0]["outcome"] == "changed" and "unset launch_nmea_gps" in doc["robots"][0]["message"]

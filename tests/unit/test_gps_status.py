@@ -17,7 +17,7 @@ def test_demo_fleet_answers_with_recorded_nmea(tmp_path: Path, capsys: pytest.Ca
     capsys.readouterr()
     assert main(["-i", str(tmp_path / "demo"), "gps", "status", "--all", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 3
+    assert [r["outcome"] for r in doc["robots"]] == ["ok"] * 4
     d = doc["robots"][0]["data"]
     assert d["recorded"] is True and d["verdict"] == FIX and d["driver"] == {"mode": "off"}
     assert abs(d["fix"]["lat"] - 53.1978127) < 1e-6 and abs(d["fix"]["lon"] - 18.3732456) < 1e-6

@@ -81,7 +81,7 @@ def test_one_robot_inventory_needs_no_selection(tmp_path: Path) -> None:
         ("robots:\n  r1:\n    host: a\n    user: Bad User\n", ":4 [robots.r1.user]", "not a POSIX user name"),
         ("robots:\n  r1: {host: a, colour: red}\n", "[robots.r1.colour]", "unknown key 'colour'"),
         ("robots:\n  r1: {port: 22}\n", "[robots.r1.host]", "missing `host:`"),
-        ("robots:\n  r1: {host: a, stack: 2.3.1}\n", "[robots.r1.stack]", "not supported yet"),
+        ("robots:\n  r1: {host: a, stack: 2.4.0}\n", "[robots.r1.stack]", "not a release panther-ops knows"),
         ("robots:\n  r1: {host: a, jump: r9 x}\n", "[robots.r1.jump]", "neither a robot"),
         ("robots:\n  r1: {host: a, jump: r2}\n  r2: {host: b, jump: r1}\n", "", "loop"),
         ("robots:\n  r1:\n    host: a\n    vars:\n      router_password: Husarion1\n", ":5 [robots.r1.vars.router_password]",

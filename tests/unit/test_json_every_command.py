@@ -243,5 +243,5 @@ def test_bad_input_for_each_robot_is_one_json_error_document(fleet: Path, tmp_pa
     doc = json.loads(capsys.readouterr().out)
     assert code == doc["exit_code"] == 2
     assert doc["error"]["code"] == "USAGE" and "nothing was changed" in doc["error"]["message"]
-    assert list(doc["error"]["robots"]) == ["panther-01", "panther-02", "panther-03"]
+    assert list(doc["error"]["robots"]) == ["panther-01", "panther-02", "panther-03", "panther-04"]
     assert "Lynx" in doc["error"]["robots"]["panther-03"]["message"]

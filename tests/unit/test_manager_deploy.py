@@ -20,12 +20,11 @@ import yaml
 from panther_ops.cli.app import main
 from panther_ops.core.fleet.inventory import Inventory
 from panther_ops.core.fleet.inventory_file import load_inventory
-from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.manager_ops import bundle as manager_bundle
-from panther_ops.core.manager_ops.apply import apply_manager
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle, bundle_build
 from panther_ops.core.manager_ops.read import read_and_plan_deploy, read_and_plan_remove
 from panther_ops.core.manager_ops.settings import DBUS_POWEROFF, SERVICE, SSH_POWEROFF, manager_settings
@@ -98,7 +97,7 @@ def rfile(tmp: Path, robot: str, path: str) -> Path:
 
 
 def apply(ctx: RobotContext, plan: RobotPlan) -> Any:
-    return apply_manager(ctx, plan, ApplyOptions(settle_s=0))
+    return apply_plan(ctx, plan, ApplyOptions(settle_s=0))
 
 
 TEMPLATE_ROBOT = {"panther-2.0.4.yaml": "r20", "panther-2.1.1.yaml": "r21", "husarion-ugv-2.2.2.yaml": "r22"}

@@ -24,7 +24,8 @@ def test_dest_gets_one_file_per_robot(demo: Path, tmp_path: Path, capsys: pytest
     dest = tmp_path / "pulled"
     assert main(["-i", str(demo), "config", "pull", "controller", "--all", "--dest", str(dest)]) == 0
     files = sorted(p.relative_to(dest).as_posix() for p in dest.rglob("*") if p.is_file())
-    assert files == ["panther-01/controller.yaml", "panther-02/controller.yaml", "panther-03/controller.yaml"]
+    assert files == ["panther-01/controller.yaml", "panther-02/controller.yaml", "panther-03/controller.yaml",
+                     "panther-04/controller.yaml"]
     assert capsys.readouterr().out.count("panther-0") >= 3  # the results table, not the files
 
 

@@ -3,8 +3,16 @@ from __future__ import annotations
 import pytest
 
 from panther_ops.core.fleet.facts import clock_offset, parse_env, parse_probe
-from panther_ops.core.stack import Family, Generation, find_driver, parse_image
-from panther_ops.errors import RemoteStateError
+from panther_ops.core.stack import (
+    Family,
+    Generation,
+    find_driver,
+    has_changes_of,
+    parse_image,
+    stack_from_version,
+    stack_option,
+)
+from panther_ops.errors import RemoteStateError, UsageError
 
 
 @pytest.mark.parametrize(
@@ -19,6 +27,13 @@ from panther_ops.errors import RemoteStateError
         ("husarion/husarion-ugv:humble-2.2.0-20240227", "2.2.0", Generation.G2_2_0, "husarion_ugv_ros", "drive_controller"),
         ("docker.io/husarion/husarion-ugv:humble-2.2.2-20250702", "2.2.2", Generation.G2_2_1, "husarion_ugv_ros",
          "drive_controller"),
+        # the tags of husarion_ugv_ros@2.3.0/2.3.1/2.3.2:docker/demo/compose.hardware.yaml
+        ("husarion/husarion-ugv:jazzy-2.3.0-20250425", "2.3.0", Generation.G2_3_0, "husarion_ugv_ros",
+         "drive_controller"),
+        ("husarion/husarion-ugv:jazzy-2.3.1-20250701", "2.3.1", Generation.G2_3_1, "husarion_ugv_ros",
+         "drive_controller"),
+        ("husarion/husarion-ugv:jazzy-2.3.2-20260622", "2.3.2", Generation.G2_3_2, "husarion_ugv_ros",
+         "drive_controller"),
     ],
 )
 def test_stack_from_image(image: str, version: str, gen: Generation, service: str, controller: str) -> None:
@@ -29,13 +44,26 @@ def test_stack_from_image(image: str, version: str, gen: Generation, service: st
     assert s.controller_key == controller
     assert s.shutdown_over_http is (s.version >= (2, 2, 1))
     assert (s.family is Family.HUSARION_UGV) is (s.version >= (2, 2, 0))
+    assert s.jazzy is (s.version >= (2, 3, 0)) and s.distro == ("jazzy" if s.jazzy else "humble")
+    assert stack_from_version(version).generation is gen  # an inventory's `stack:` picks the distro
+
+
+def test_2_3_0_lacks_2_2_2s_changes() -> None:
+    """husarion_ugv_ros 2.3.0 branched off after 2.2.1 (2.2.1 is an ancestor of tag 2.3.0, 2.2.2 is not)."""
+    assert not has_changes_of(stack_from_version("2.3.0"), (2, 2, 2))
+    assert has_changes_of(stack_from_version("2.3.0"), (2, 2, 1))
+    assert all(has_changes_of(stack_from_version(v), (2, 2, 2)) for v in ("2.2.2", "2.3.1", "2.3.2"))
 
 
 @pytest.mark.parametrize(
     ("image", "why"),
     [
-        ("husarion/husarion-ugv:jazzy-2.4.0-20270101", "not supported yet"),
-        ("husarion/husarion-ugv:humble-2.3.1-20250701", "not supported yet"),
+        ("husarion/husarion-ugv:jazzy-2.4.0-20270101", "stack jazzy 2.4.0 .* not a release panther-ops knows"),
+        ("husarion/husarion-ugv:jazzy-2.3.3-20270101", "stack jazzy 2.3.3 "),
+        ("husarion/husarion-ugv:rolling-2.3.2-20260622", "stack rolling 2.3.2: 2.3.2 is a jazzy release"),
+        ("husarion/husarion-ugv:kilted-2.4.0-20260622", "stack kilted 2.4.0 "),
+        ("husarion/husarion-ugv:humble-2.3.2-20260622", "stack humble 2.3.2: 2.3.2 is a jazzy release"),
+        ("husarion/husarion-ugv:jazzy-2.2.2-20250702", "stack jazzy 2.2.2: 2.2.2 is a humble release"),
         ("husarion/panther:humble-1.0.0-20231205", "ROS 1"),
         ("husarion/panther:latest", "does not follow"),
         ("husarion/panther", "no tag"),
@@ -43,8 +71,18 @@ def test_stack_from_image(image: str, version: str, gen: Generation, service: st
     ],
 )
 def test_unsupported_images(image: str, why: str) -> None:
-    with pytest.raises(RemoteStateError, match=why):
+    with pytest.raises(RemoteStateError, match=why) as caught:
         parse_image(image)
+    if "knows" in why or "release" in why:  # names every supported line
+        assert caught.value.hint == ("panther-ops supports humble: panther_ros 2.0.x-2.1.x, husarion_ugv 2.2.x; "
+                                     "jazzy: husarion_ugv 2.3.0, 2.3.1, 2.3.2")
+
+
+def test_stack_option_refuses_an_unknown_line_as_usage() -> None:
+    with pytest.raises(UsageError, match=r"--stack 2\.4\.0: stack 2\.4\.0 is not a release panther-ops knows") as caught:
+        stack_option("2.4.0")
+    assert int(caught.value.exit_code) == 2 and "jazzy: husarion_ugv 2.3.0, 2.3.1, 2.3.2" in (caught.value.hint or "")
+    assert stack_option("2.3.2").image == "husarion/husarion-ugv:jazzy-2.3.2"
 
 
 def test_find_driver() -> None:

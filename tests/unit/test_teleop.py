@@ -142,7 +142,7 @@ def test_rate_below_10_hz_one_robot_and_demo_skipped(tmp_path: Path, capsys: pyt
         err = capsys.readouterr().err
         assert bad in err and "--rate" in err and "inventory:" not in err
     assert main(["-i", demo, "teleop", "-r", "panther-0*"]) == 2
-    assert "exactly one robot, 3 chosen" in capsys.readouterr().err
+    assert "exactly one robot, 4 chosen" in capsys.readouterr().err
     # a demo robot is skipped with why (exit 0), as `estop trigger` and `driver logs` skip it
     assert main(["-i", demo, "teleop", "-r", "panther-01"]) == 0
     err = capsys.readouterr().err

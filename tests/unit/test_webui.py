@@ -128,7 +128,7 @@ def test_demo_fleet_webui_status_as_recorded(demo: str, capsys: pytest.CaptureFi
     assert data["panther-02"] == {"recorded": True, "installed": False}
     assert data["panther-03"]["running"] is False and data["panther-03"]["ui_http"] is None
     assert all(d["recorded"] for d in data.values())
-    assert [r["outcome"] for r in doc["robots"]] == ["ok", "skipped", "ok"]
+    assert [r["outcome"] for r in doc["robots"]] == ["ok", "skipped", "ok", "ok"]
 
 
 def test_status_has_a_webui_column_from_the_recording(demo: str, capsys: pytest.CaptureFixture[str]) -> None:
@@ -137,7 +137,8 @@ def test_status_has_a_webui_column_from_the_recording(demo: str, capsys: pytest.
     data = {r["robot"]: r["data"]["webui"] for r in json.loads(capsys.readouterr().out)["robots"]}
     url = "http://10.15.20.3:8080/ui"  # the recorded User Computer's
     assert data == {"panther-01": {"installed": True, "running": True, "port": "8080", "url": url},
-                    "panther-02": None, "panther-03": {"installed": True, "running": False, "port": "8080", "url": url}}
+                    "panther-02": None, "panther-03": {"installed": True, "running": False, "port": "8080", "url": url},
+                    "panther-04": {"installed": True, "running": False, "port": "8080", "url": url}}
     (Path(demo) / "robots/panther-01/var/lib/panther-ops-demo/ros.json").unlink()  # a fleet from before
     assert main(["-i", demo, "status", "-r", "panther-01", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["robots"][0]["data"]["webui"] is None

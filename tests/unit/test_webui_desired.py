@@ -94,4 +94,5 @@ def test_config_get_namespace_reads_robot_namespace_where_the_stack_does(
     assert {n: (r["data"]["value"], r["data"]["source"]) for n, r in robots.items()} == {
         "panther-01": ("panther", "ROBOT_NAMESPACE in compose.yaml"),
         "panther-02": ("panther", "compose.yaml"),
-        "panther-03": ("panther", "ROBOT_NAMESPACE in /home/husarion/config/common/.env")}
+        "panther-03": ("panther", "ROBOT_NAMESPACE in /home/husarion/config/common/.env"),
+        "panther-04": ("panther", "ROBOT_NAMESPACE in /home/husarion/config/common/.env")}

@@ -9,9 +9,16 @@ the demo fleet (``panther-ops demo init``) and the files the examples name
 terminal shows, live progress redrawn in place, the recap included; tests/ux/screen.py), the
 shell's variables, directory and ``$?`` carried from one line to the next.
 
-Not run, with the reason listed (``--list``): a block marked ```console lab (the lab of
-docs/lab.md or a real robot), and a sample whose command needs one (tests/ux/examples.py:
+Not run on the demo fleet, with the reason listed (``--list``): a block marked ```console lab
+(the lab of docs/lab.md), and a sample whose command needs a robot (tests/ux/examples.py:
 NEEDS_A_ROBOT). Their text is left as written.
+
+The lab mode (``follow(doc, lab)``; ``capture_docs.py --lab``; tests/ux/test_docs_samples_lab.py)
+runs the samples of a page's ```console lab blocks, in the page's order, on one lab of simulated
+robots brought up for the page (tests/ux/doclab.py: real sshd, dockerd and Compose v2), the lab's
+directory shown as ``lab/`` beside the reader. A lab sample that needs more than the lab (a real
+power-off, snapd, the router) is in a block marked ```console lab-standin: not run, listed with the
+reason.
 
 What varies from run to run is normalised before comparing (:func:`comparable`), and only the
 directory's path in what is written (:func:`shown`)."""
@@ -27,6 +34,7 @@ import shutil
 import sys
 import tempfile
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,14 +50,66 @@ HOME = "/home/me"
 LAB = "lab"
 """The mark of a block that needs the lab (```console lab)."""
 
+LAB_STANDIN = "lab-standin"
+"""The mark of a lab block that is not re-run (```console lab-standin): what it shows is what the
+lab's stand-in prints for a part the lab cannot run (a real power-off, snapd, a router), from the
+lab test that runs it (named in the sample's reason)."""
+
+SCENE = "scene="
+"""A lab block's mark ``scene=NAME``: before the block runs, the lab is brought into the state the
+text around it describes (tests/ux/doclab.py: SCENES, e.g. a driver in a crash loop); the state
+stays for the rest of the page, as it would for a reader."""
+
+NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
+    ("output.md", "panther-ops -i lab/inventory.yaml config set wheel_type WH04 --all --yes"):
+        "a Ctrl-C in the middle of the change (tests/ux/test_interrupt.py checks it on the demo fleet); "
+        "the lab mode does not send one yet",
+    ("driver.md", "panther-ops -i lab/inventory.yaml driver logs --all -n 1 --since 10m"):
+        "r05's last line is the crash loop's, which of its lines depends on when it is read",
+    ("driver.md", "panther-ops -i lab/inventory.yaml driver logs -r r05 -n 4      # the crash loop above"):
+        "the crash loop's last lines depend on when they are read",
+    ("driver.md", "panther-ops -i lab/inventory.yaml driver restart -r r05 --yes --settle 2"):
+        "what the check after the recreate sees of the crash loop (restarting, or restarted once) depends "
+        "on where the loop is",
+    ("reimage.md", "panther-ops trust r01 --replace --yes"):
+        "continues the `reimage restore` above it (a backup archive of r01 and a reinstalled card: "
+        "tests/integration/test_reimage_restore_lab.py)",
+}
+"""(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
+
+NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
+    ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01"):
+        "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/integration/test_teleop_lab.py)",
+    ("remote.md", "export PANTHER_OPS_SUDO_PASSWORD=...      # or --ask-sudo-password"):
+        "a User Computer with the snap stand-in (tests/integration/test_webui_lab.py)",
+    ("remote.md", "panther-ops -i lab/inventory.yaml config diff -r r02"):
+        "a User Computer with the snap stand-in and desired.webui in the inventory (tests/integration/test_webui_lab.py)",
+}
+"""(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
+
+LAB_PAGES_NOT_YET: dict[str, str] = {
+    "gps.md": "needs a lab with the nmea-gps image and an NMEA sender on the robots' LAN, and the stand-in "
+              "router (tests/integration/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
+    "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
+                         "(tests/integration/test_manager_deploy_lab.py)",
+    "shutdown.md": "needs the lab's User Computers set up by shutdown setup (tests/integration/test_shutdown_*_lab.py)",
+}
+"""Pages whose lab samples need more than the docs' lab (tests/ux/doclab.py) and are not run yet:
+the reason (listed by ``capture_docs.py --lab --list``; their text is left as written)."""
+
+LAB_SUBNET = re.compile(r"\b10\.200\.\d+\.")
+"""The lab's addresses: the third byte is the lab's own network (the first free one when it came up)."""
+
 
 INSTALLED = "<panther-ops>"
 """Where panther-ops' own files are (this checkout, or site-packages when installed), as the docs show it."""
 
 
-def shown(text: str, workspace: Path) -> str:
+def shown(text: str, workspace: Path, lab_dir: Path | None = None) -> str:
     """The output as the doc shows it: the temporary directory is the reader's ``/home/me``,
-    panther-ops' own directory `INSTALLED`."""
+    panther-ops' own directory `INSTALLED`, the lab's directory ``lab`` (as the reader names it)."""
+    if lab_dir is not None:
+        text = text.replace(str(lab_dir), "lab")
     return text.replace(str(workspace), HOME).replace(str(ROOT), INSTALLED)
 
 
@@ -62,6 +122,9 @@ _VARIES = (
     (re.compile(r"[+-]?\d+(\.\d+)? ?(s|ms|GiB|MiB|KiB|B|%)(?!\w)"), "<n> \\2"),  # times, clock offsets, sizes
     (re.compile(r"\b(\d+m )?\d+s\b"), "<uptime>"),
     (re.compile(r"[━─═]+"), "─"),  # a rule as long as a column that holds one of the above
+    (LAB_SUBNET, "10.200.<lab>."),
+    (re.compile(r"(?<=│ )[0-9a-f]{12}(?= │)"), "<image-id>"),  # a docker image's id, in a table cell
+    (re.compile(r"/_ros2cli_\d+"), "/_ros2cli_<pid>"),  # the node name of a `ros2 topic pub`
     (re.compile(r" +"), " "),
 )
 
@@ -69,7 +132,7 @@ _VARIES = (
 def comparable(lines: list[str] | tuple[str, ...]) -> list[str]:
     """The lines with what varies run to run replaced (backup ids, times and dates, host key
     fingerprints, durations, clock offsets and sizes, and so the widths of the columns that
-    hold them); trailing blank lines dropped."""
+    hold them; the lab's network and its images' ids); trailing blank lines dropped."""
     out = []
     for line in lines:
         text = line
@@ -117,14 +180,31 @@ AS_WRITTEN = "as-written"
 robot, the user's shell, a card reader, or a file the text describes."""
 
 
-def skip_reasons(block: ConsoleBlock) -> list[str | None]:
-    """Per sample of the block, why it is not run (None: it is). A shell line (``echo $?``)
-    goes with the panther-ops command above it (or, at the top, below it)."""
+def skip_reasons(block: ConsoleBlock, in_lab: bool = False) -> list[str | None]:
+    """Per sample of the block, why it is not run (None: it is) on the demo fleet, or with
+    ``in_lab`` on the lab (then only the samples of ```console lab blocks run). A shell line
+    (``echo $?``) goes with the panther-ops command above it (or, at the top, below it)."""
+    if in_lab:
+        if LAB not in block.marks:
+            why = ("the block is marked `console lab-standin`" if LAB_STANDIN in block.marks
+                   else "not a lab block (run on the demo fleet)")
+            return [why for _ in block.samples]
+        whole = LAB_PAGES_NOT_YET.get(block.doc.name) or NOT_YET_BLOCKS.get((block.doc.name, block.samples[0].command))
+        if whole:
+            return [whole for _ in block.samples]
+        own = [(NOT_YET_IN_LAB.get((block.doc.name, s.command))
+                or (needs_a_robot(s.example, in_lab=True) if s.example is not None else None)) for s in block.samples]
+        return _with_commands(block, own)
     own = [needs_a_robot(s.example) if s.example is not None else None for s in block.samples]
-    if LAB in block.marks or AS_WRITTEN in block.marks:
-        mark = ("the block is marked `console lab`" if LAB in block.marks else
+    if LAB in block.marks or LAB_STANDIN in block.marks or AS_WRITTEN in block.marks:
+        mark = ("the block is marked `console lab` (capture_docs.py --lab runs it)" if LAB in block.marks else
+                "the block is marked `console lab-standin`" if LAB_STANDIN in block.marks else
                 "the block is marked `console as-written` (shown as written, not re-run)")
         return [reason or mark for reason in own]
+    return _with_commands(block, own)
+
+
+def _with_commands(block: ConsoleBlock, own: list[str | None]) -> list[str | None]:
     commands = [n for n, s in enumerate(block.samples) if s.example is not None]
     out: list[str | None] = []
     for n, sample in enumerate(block.samples):
@@ -141,7 +221,7 @@ def marks(block: ConsoleBlock) -> tuple[str, ...]:
     """The block's marks as they should be when none of its commands runs on the demo fleet:
     ``lab`` (one needs the lab) or ``as-written`` (a real robot, the user's shell, a card ...)."""
     reasons = [r for s, r in zip(block.samples, skip_reasons(block), strict=True) if s.example is not None]
-    if AS_WRITTEN in block.marks or LAB in block.marks or any(r is None for r in reasons):
+    if {AS_WRITTEN, LAB, LAB_STANDIN} & set(block.marks) or any(r is None for r in reasons):
         return block.marks
     return (LAB if NEEDS_A_ROBOT[0][1] in reasons else AS_WRITTEN, *block.marks)
 
@@ -153,9 +233,12 @@ _IN_PROCESS = threading.Lock()
 class Reader:
     """One reader's directory and shell state, following one doc."""
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, lab_dir: Path | None = None) -> None:
         self.dir = root / "home"
         self.dir.mkdir()
+        self.lab_dir = lab_dir
+        if lab_dir is not None:  # docs/lab.md: the docs write the lab's directory as lab/
+            (self.dir / "lab").symlink_to(lab_dir)
         bin_dir = root / "bin"
         bin_dir.mkdir()
         (bin_dir / "panther-ops").write_text(
@@ -192,36 +275,44 @@ class Reader:
         lines = screen.text()
         while lines and not lines[-1]:
             lines.pop()
-        return [shown(line, self.dir) for line in lines]
+        return [shown(line, self.dir, self.lab_dir) for line in lines]
 
 
-def follow(doc: Path) -> Outcome:
-    """Run the samples of ``doc`` in order; the diffs, the skipped ones, and the doc rewritten."""
+def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] | None = None) -> Outcome:
+    """Run the samples of ``doc`` in order; the diffs, the skipped ones, and the doc rewritten.
+    With ``lab_dir`` (a lab up for this page, tests/ux/doclab.py), the samples of its
+    ```console lab blocks, on that lab, ``scene(NAME)`` called before a block marked
+    ``scene=NAME``; the other blocks are left as they are."""
     lines = doc.read_text().splitlines()
     diffs: list[str] = []
     skipped: list[tuple[str, str, str]] = []
     blocks = console_blocks(doc)
+    if lab_dir is not None:
+        blocks = [b for b in blocks if LAB in b.marks or LAB_STANDIN in b.marks]
     with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
-        reader = Reader(Path(tmp))
-        for block in reversed(_in_order(blocks, reader, skipped, diffs, doc)):
+        reader = Reader(Path(tmp), lab_dir)
+        for block in reversed(_in_order(blocks, reader, skipped, diffs, doc, scene)):
             lines[block[0]:block[1]] = block[2]
     text = "\n".join(lines) + "\n"
     return Outcome(doc, diffs, skipped, text)
 
 
 def _in_order(blocks: list[ConsoleBlock], reader: Reader, skipped: list[tuple[str, str, str]],
-              diffs: list[str], doc: Path) -> list[tuple[int, int, list[str]]]:
+              diffs: list[str], doc: Path, scene: Callable[[str], None] | None = None) -> list[tuple[int, int, list[str]]]:
     """Each block's new lines (its opening fence to its closing one, not included), from the top."""
     out = []
     rel = doc.relative_to(ROOT)
     for block in blocks:
+        for mark in block.marks:
+            if mark.startswith(SCENE) and scene is not None and LAB in block.marks:
+                scene(mark.removeprefix(SCENE))
         body: list[str] = []
         if marks(block) != block.marks:
             diffs.append(f"{block.where}: mark the block ```{' '.join(('console', *marks(block)))} "
                          "(none of its commands runs on the demo fleet)\n")
         body.append(block.indent + " ".join(("```console", *marks(block))))
         body += block.head
-        for sample, reason in zip(block.samples, skip_reasons(block), strict=True):
+        for sample, reason in zip(block.samples, skip_reasons(block, reader.lab_dir is not None), strict=True):
             where = f"{rel}:{sample.line + 1}"
             if reason is not None:
                 skipped.append((where, sample.command, reason))
@@ -243,3 +334,11 @@ def _in_order(blocks: list[ConsoleBlock], reader: Reader, skipped: list[tuple[st
 def docs() -> list[Path]:
     """The docs that hold a console sample."""
     return [f for f in DOC_FILES if console_blocks(f)]
+
+
+def lab_docs(*, run: bool = False) -> list[Path]:
+    """The docs that hold a ```console lab block; with ``run``, those with a lab sample that runs."""
+    def runs(f: Path) -> bool:
+        return any(r is None for b in console_blocks(f) if LAB in b.marks for r in skip_reasons(b, in_lab=True))
+
+    return [f for f in DOC_FILES if any(LAB in b.marks for b in console_blocks(f)) and (not run or runs(f))]

@@ -168,7 +168,7 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"--ask-password", "asks a password on the terminal (the lab's shutdown tests run it)"),
     (r"--ask-sudo-password", "asks the User Computers' sudo password on the terminal (tests/integration/"
      "test_webui_lab.py gives it as $PANTHER_OPS_SUDO_PASSWORD)"),
-    (r"^panther-ops teleop ", "drives a robot's driver container from an interactive terminal "
+    (r"^panther-ops (-i \S+ )?teleop ", "drives a robot's driver container from an interactive terminal "
      "(tests/integration/test_teleop_lab.py, on a pty)"),
     (r"^panther-ops shutdown --hosts (?!.*--dry-run)", "powers real computers off (the lab's shutdown tests)"),
     (r"shutdown robot .*--yes", "powers the robot off"),
@@ -237,8 +237,10 @@ the stock file of a robot's release pulled, then read):
 run alone, those run first."""
 
 
-def needs_a_robot(example: Example) -> str | None:
-    for pattern, reason in NEEDS_A_ROBOT:
+def needs_a_robot(example: Example, *, in_lab: bool = False) -> str | None:
+    """Why the example does not run on the demo fleet (None: it does), or with ``in_lab`` on
+    the lab of docs/lab.md (its robots, as the docs name them, are not a reason then)."""
+    for pattern, reason in NEEDS_A_ROBOT[1 if in_lab else 0:]:
         if re.search(pattern, example.line):
             return reason
     return None

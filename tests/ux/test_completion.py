@@ -102,7 +102,7 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return home
 
 
-ROBOTS = ["panther-01", "panther-02", "panther-03"]
+ROBOTS = ["panther-01", "panther-02", "panther-03", "panther-04"]
 
 
 def test_robot_names_after_r_from_the_i_given(demo: Path) -> None:
@@ -186,3 +186,15 @@ def test_bash_completes_robot_names_with_the_installed_script(demo: Path, tmp_pa
     got = subprocess.run([_shell("bash"), "-c", probe], env=_env(tmp_path), capture_output=True, text=True,
                          timeout=60, check=True)
     assert got.stdout.split() == ROBOTS and got.stderr == ""
+
+
+def test_an_i_given_after_the_command_is_the_inventory_in_use(demo: Path, tmp_path: Path) -> None:
+    """``-i`` after the command counts, as a run reads it (cli/argv_order.py), and wins over the
+    environment."""
+    other = tmp_path / "other.yaml"
+    other.write_text("version: 1\nrobots:\n  lab-r01:\n    host: 127.0.0.1\n")
+    assert _complete("panther-ops status -i demo-fleet -r ", demo)[0] == ROBOTS
+    assert _complete("panther-ops config set wheel_type WH02 -r panther-01 --inventory demo-fleet -r ", demo)[0] \
+        == ROBOTS[1:]
+    assert _complete(f"panther-ops apply -i {other} -r ", demo, {"PANTHER_OPS_INVENTORY": "demo-fleet"})[0] == ["lab-r01"]
+    assert _complete("panther-ops status -i demo-fleet -g ", demo)[0] == ["warehouse", "field"]

@@ -34,7 +34,7 @@ def test_the_export_line_makes_the_demo_fleet_the_inventory_in_use(tmp_path: Pat
     run = subprocess.run([bash, "-c", script], env=_env(), capture_output=True, text=True, timeout=120, check=False)
     assert run.returncode == 0, run.stderr
     assert f"inventory: {work / 'demo-fleet'} (from $PANTHER_OPS_INVENTORY)" in run.stderr
-    assert [r["robot"] for r in json.loads(run.stdout)["robots"]] == ["panther-01", "panther-02", "panther-03"]
+    assert [r["robot"] for r in json.loads(run.stdout)["robots"]] == ["panther-01", "panther-02", "panther-03", "panther-04"]
 
 
 def test_the_json_document_carries_the_export_line(tmp_path: Path) -> None:

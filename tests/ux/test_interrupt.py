@@ -79,13 +79,13 @@ def _in_connect(silent: Silent) -> bool:
 def test_ctrl_c_while_robots_hang_in_connect_ends_at_once_with_the_partial_recap(fleet: Path,
                                                                                  silent: Silent) -> None:
     got = interrupted(["-i", str(fleet), "status", "--all"],  # the local robots done, the others hanging
-                      lambda out: _in_connect(silent) and "3/5 robots done" in out)
+                      lambda out: _in_connect(silent) and "4/6 robots done" in out)
     shown = plain(got.run.err)
     assert got.run.code == 130, shown
     assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
     _no_traceback(shown)
     assert "interrupted (Ctrl-C)" in shown
-    assert re.search(r"finished: panther-01 \w+, panther-02 \w+, panther-03 \w+", shown), shown
+    assert re.search(r"finished: panther-01 \w+, panther-02 \w+, panther-03 \w+, panther-04 \w+", shown), shown
     assert "cut short: hang-01 (connect), hang-02 (connect)" in shown
     recap = shown[shown.index("recap (interrupted)"):]
     assert re.search(r"^hang-01\s+interrupted\s+connect \d+\.\d s", recap, re.M), recap
@@ -135,3 +135,41 @@ def test_ctrl_c_during_a_write_ends_at_once_and_the_file_is_old_or_new(demo: Pat
         time.sleep(0.05)
     assert not list(home.glob(".compose.yaml.panther-ops.*"))
     assert compose.read_bytes() in (before, new)
+
+
+def test_ctrl_c_at_the_confirmation_says_nothing_was_written_and_exits_130(demo: Path) -> None:
+    compose = demo / "robots/panther-01/home/husarion/compose.yaml"
+    before = compose.read_bytes()
+    got = interrupted(["-i", str(demo), "config", "set", "wheel_type", "WH04", "-r", "panther-01"],
+                      lambda out: "[y/N]" in out)
+    shown = plain(got.run.err)
+    assert got.run.code == 130, shown
+    assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
+    _no_traceback(shown)
+    assert "interrupted at the confirmation (Ctrl-C): nothing was changed (no robot written)" in shown, shown
+    assert compose.read_bytes() == before
+    assert not list(compose.parent.glob(".panther-ops/backups/*"))
+
+
+def test_ctrl_c_in_gps_watch_between_refreshes_ends_at_once_with_the_recap(demo: Path) -> None:
+    got = interrupted(["-i", str(demo), "gps", "watch", "--all", "--window", "0.5"],
+                      lambda out: "refresh 2)" in out)
+    shown = plain(got.run.out + got.run.err)
+    assert got.run.code == 130, shown
+    assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
+    _no_traceback(shown)
+    assert re.search(r"finished: panther-01 \w+, panther-02 \w+, panther-03 \w+", shown), shown
+    recap = shown[shown.index("recap (interrupted)"):]
+    for robot in ("panther-01", "panther-02", "panther-03"):
+        assert re.search(rf"^{robot}\s+\w+\s+connect \d+\.\d s", recap, re.M), recap
+
+
+def test_ctrl_c_in_gps_watch_during_a_refresh_says_where_each_robot_was(fleet: Path, silent: Silent) -> None:
+    got = interrupted(["-i", str(fleet), "gps", "watch", "--all"], lambda _out: _in_connect(silent))
+    shown = plain(got.run.out + got.run.err)
+    assert got.run.code == 130, shown
+    assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
+    _no_traceback(shown)
+    assert "cut short: hang-01 (connect), hang-02 (connect)" in shown, shown
+    recap = shown[shown.index("recap (interrupted)"):]
+    assert re.search(r"^hang-01\s+interrupted\s+connect \d+\.\d s", recap, re.M), recap

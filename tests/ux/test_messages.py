@@ -19,7 +19,7 @@ Capsys = pytest.CaptureFixture[str]
 def test_a_dry_run_summary_says_would_change(demo: Path, capsys: Capsys) -> None:
     code, _, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all", "--dry-run")
     assert code == 0
-    assert "3 robots: 3 would change in" in err and "3 changed" not in err
+    assert "4 robots: 4 would change in" in err and "4 changed" not in err
     assert "dry run: nothing was written" in err
 
 
@@ -28,7 +28,7 @@ def test_a_dry_run_table_says_would_change_not_changed(demo: Path, capsys: Capsy
     code, out, _ = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all", "--dry-run")
     assert code == 0
     rows = [[c.strip() for c in line.split("│")[1:-1]] for line in out.splitlines() if line.startswith("│ panther-")]
-    assert [r[:2] for r in rows] == [[f"panther-0{i}", "would change"] for i in (1, 2, 3)], out
+    assert [r[:2] for r in rows] == [[f"panther-0{i}", "would change"] for i in (1, 2, 3, 4)], out
 
 
 def test_webui_set_dry_run_says_would_change(demo: Path, capsys: Capsys) -> None:
@@ -65,15 +65,15 @@ def test_the_plan_shown_before_the_question_says_would_change(demo: Path, capsys
     """Refused for want of --yes (stdin is no terminal here): nothing changed, and the plan says so."""
     code, out, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all")
     assert code == 2 and "changes need confirmation: pass --yes" in err
-    assert "3 robots: 3 would change in" in err and "3 changed" not in err
-    assert out.count("│ would change │ wheel_type:=WH02") == 3 and "dry run" not in out + err
+    assert "4 robots: 4 would change in" in err and "4 changed" not in err
+    assert out.count("│ would change │ wheel_type:=WH02") == 4 and "dry run" not in out + err
 
 
 def test_config_diff_does_not_speak_of_a_dry_run(demo: Path, capsys: Capsys) -> None:
     code, out, err = run(capsys, "-i", str(demo), "config", "diff", "--all")
     assert code == 0 and "+++ b/panther-01/home/husarion/compose.yaml" in out  # several robots: one patch
     assert "dry run" not in out + err and "nothing was written" not in out + err
-    assert "2 would change" in err and "1 ok" in err
+    assert "2 would change" in err and "2 ok" in err  # panther-01: desired WH02 (warehouse), panther-04 as panther-03
 
 
 # -- finding 3: the simulation piped shows the shutdown --------------------------------------------
@@ -120,7 +120,7 @@ def test_manager_logs_on_a_demo_robot_is_skipped_like_driver_logs(demo: Path, ca
     for command in ("driver", "manager"):
         code, _, err = run(capsys, "-i", str(demo), command, "logs", "--all")
         assert code == 0, (command, err)
-        assert err.count("skipped: demo robot: no docker engine") == 3, (command, err)
+        assert err.count("skipped: demo robot: no docker engine") == 4, (command, err)
 
 
 def test_config_pull_bt_lights_falls_back_to_the_template(demo: Path, tmp_path: Path, capsys: Capsys) -> None:
@@ -171,7 +171,7 @@ def test_refusals_name_the_service_that_does_it(demo: Path, capsys: Capsys) -> N
 def test_config_get_without_targets_answers_for_every_robot(demo: Path, capsys: Capsys) -> None:
     code, out, err = run(capsys, "-i", str(demo), "config", "get", "wheel_type", "--json")
     assert code == 0, err
-    assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-01", "panther-02", "panther-03"]
+    assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-01", "panther-02", "panther-03", "panther-04"]
     # a change still insists on a choice
     code, _, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--dry-run")
     assert code == 2 and "choose with --robot" in err
@@ -194,8 +194,8 @@ def test_newer_read_only_commands_answer_for_every_robot_when_none_is_chosen(arg
                                                                              capsys: Capsys) -> None:
     code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
     doc = json.loads(out)
-    assert [r["robot"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03"], err
-    assert "no robot chosen: reading all 3 (choose with -r, -g)" in err and "choose with --robot" not in err
+    assert [r["robot"] for r in doc["robots"]] == ["panther-01", "panther-02", "panther-03", "panther-04"], err
+    assert "no robot chosen: reading all 4 (choose with -r, -g)" in err and "choose with --robot" not in err
     assert doc["command"] == " ".join(argv)  # `webui get` says so (it said `webui status`)
     assert code == 0
 
@@ -207,7 +207,7 @@ def test_a_default_group_answers_read_only_commands(demo: Path, capsys: Capsys) 
                  ["doctor"], ["config", "history"], ["driver", "versions"], *NEWER_READ_ONLY):
         code, out, err = run(capsys, "-i", str(demo), *argv, "--json")
         assert code == 0, (argv, err)
-        assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-03"], argv
+        assert [r["robot"] for r in json.loads(out)["robots"]] == ["panther-03", "panther-04"], argv
         assert "no robot chosen: group field (settings.default_group)" in err
     inventory.write_text(inventory.read_text().replace("default_group: field", "default_group: nope"))
     code, _, err = run(capsys, "-i", str(demo), "status")

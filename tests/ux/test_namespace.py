@@ -55,7 +55,7 @@ def test_everywhere_changes_them_in_the_same_plan(demo: Path, capsys: Capsys) ->
     # a second run has nothing left to do
     capsys.readouterr()
     assert main(["-i", str(demo), "config", "set", "namespace", "panther2", "--all", "--everywhere", "--yes"]) == 0
-    assert "3 robots: 3 ok" in capsys.readouterr().err
+    assert "4 robots: 4 ok" in capsys.readouterr().err
 
 
 @pytest.mark.lab

@@ -27,7 +27,7 @@ def test_json_and_the_inventory_where_the_user_puts_them(argv: list[str], demo: 
     code, out, err = run(capsys, *(a.format(demo=demo) for a in argv))
     doc = json.loads(out)
     assert code == doc["exit_code"] == 0 and doc["command"] == "status", err
-    assert {r["robot"] for r in doc["robots"]} == {"panther-01", "panther-02", "panther-03"}
+    assert {r["robot"] for r in doc["robots"]} == {"panther-01", "panther-02", "panther-03", "panther-04"}
     assert f"inventory: {demo} (from -i)" in err
 
 

@@ -43,7 +43,7 @@ def test_diff_lines_are_never_wrapped_on_a_narrow_terminal(demo: Path) -> None:
     assert ("+    command: ros2 launch husarion_ugv_bringup bringup.launch.py common_dir_path:=/config "
             "launch_gamepad:=true wheel_type:=WH02") in shown
     blocks = _diff_blocks(plain(run.out))
-    assert set(blocks) == {"panther-01", "panther-02", "panther-03"}
+    assert set(blocks) == {"panther-01", "panther-02", "panther-03", "panther-04"}
     for robot, block in blocks.items():  # every line of a hunk is marked (nothing folded into a context line)
         assert "wheel_type:=WH02" in block
         assert not any(line.startswith(" ") and "wheel_type:=WH02" in line for line in block.splitlines()), robot
@@ -90,10 +90,10 @@ def test_piped_dry_run_is_a_patch_each_robot_applies_from_its_root(demo: Path, t
                            text=True, check=False)
     assert check.returncode == 0, check.stdout + check.stderr
     assert [line for line in check.stdout.splitlines() if line.startswith("checking file")] == [
-        f"checking file {robot}/home/husarion/compose.yaml" for robot in ("panther-01", "panther-02", "panther-03")]
+        f"checking file {robot}/home/husarion/compose.yaml" for robot in ("panther-01", "panther-02", "panther-03", "panther-04")]
     assert "FAILED" not in check.stdout and "fuzz" not in check.stdout and "offset" not in check.stdout
     subprocess.run([patch, "-p1", "--quiet"], input=run.out, cwd=fleet_tree, text=True, check=True)
-    for robot in ("panther-01", "panther-02", "panther-03"):
+    for robot in ("panther-01", "panther-02", "panther-03", "panther-04"):
         assert "wheel_type:=WH02" in (fleet_tree / robot / "home/husarion/compose.yaml").read_text()
         untouched = (demo / "robots" / robot / "home/husarion/compose.yaml").read_text()
         assert "wheel_type:=WH02" not in untouched  # a dry run wrote nothing

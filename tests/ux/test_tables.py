@@ -318,7 +318,7 @@ def test_dry_run_rows_say_would_change_once(demo: Path, capsys: Capsys) -> None:
     code, out, _ = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all", "--dry-run")
     assert code == 0
     rows = [line for line in out.splitlines() if line.startswith("│ panther-")]
-    assert len(rows) == 3 and all(row.count("would change") == 1 for row in rows), out
+    assert len(rows) == 4 and all(row.count("would change") == 1 for row in rows), out
     code, out, _ = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "--all", "--dry-run", "--json")
     assert all(r["message"].startswith("would change: ") for r in json.loads(out)["robots"])  # JSON as it was
 

@@ -331,13 +331,12 @@ def apply(fleet: Fleet, force: Force = False, ask_sudo_password: AskPassword = F
     Example:
       panther-ops apply -g warehouse --canary 1 --yes
     """
-    from panther_ops.core.apply.apply import desired_applier
     from panther_ops.core.apply.read import read_and_plan_desired
 
     inv, chosen = fleet.targets()
     password = sudo_password(ask_sudo_password) if any(r.desired.get("webui") for r in chosen) else None
     return fleet.change("apply --force" if force else "apply", lambda c: read_and_plan_desired(c, force=force),
-                        on=(inv, chosen), applier=desired_applier(password), applier_for_actions=True)
+                        on=(inv, chosen), sudo_password=password)
 
 
 def register(root: typer.Typer) -> None:

@@ -18,8 +18,8 @@ def init(
     force: Annotated[bool, typer.Option("--force", help="Recreate it if it exists.")] = False,
     json_out: Json = False,
 ) -> int:
-    """Create a demo fleet of three robots (panther_ros 2.1.1 and 2.0.4, husarion_ugv 2.2.2),
-    each a directory standing in for its Built-in Computer, and an inventory for them. It
+    """Create a demo fleet of four robots (panther_ros 2.1.1 and 2.0.4, husarion_ugv 2.2.2 and
+    2.3.2), each a directory standing in for its Built-in Computer, and an inventory for them. It
     prints the `export PANTHER_OPS_INVENTORY=...` line that makes it the inventory in use (no
     -i needed then).
 

@@ -91,10 +91,9 @@ def restart(fleet: Fleet) -> int:
     Example:
       panther-ops driver restart -r panther-01 --yes
     """
-    from panther_ops.core.driver.apply import apply_restart
     from panther_ops.core.driver.read import read_and_plan_restart
 
-    return fleet.change("driver restart", read_and_plan_restart, applier=apply_restart, verb="Recreate")
+    return fleet.change("driver restart", read_and_plan_restart, verb="Recreate")
 
 
 @app.command("stop")
@@ -111,10 +110,9 @@ def stop(fleet: Fleet) -> int:
     Example:
       panther-ops driver stop -r panther-01 --yes
     """
-    from panther_ops.core.driver.apply import apply_run_state
     from panther_ops.core.driver.read import read_and_plan_stop
 
-    return fleet.change("driver stop", read_and_plan_stop, applier=apply_run_state, verb="Stop the driver on")
+    return fleet.change("driver stop", read_and_plan_stop, verb="Stop the driver on")
 
 
 @app.command("start")
@@ -131,10 +129,9 @@ def start(fleet: Fleet) -> int:
     Example:
       panther-ops driver start -r panther-01 --yes
     """
-    from panther_ops.core.driver.apply import apply_run_state
     from panther_ops.core.driver.read import read_and_plan_start
 
-    return fleet.change("driver start", read_and_plan_start, applier=apply_run_state, verb="Start the driver on")
+    return fleet.change("driver start", read_and_plan_start, verb="Start the driver on")
 
 
 # ------------------------------------------------------------------ versions
@@ -219,14 +216,12 @@ def update(
       panther-ops driver update humble-2.1.2-20241125 -r panther-01 --pull --yes
       panther-ops driver update jazzy-2.3.2-20260622 -r panther-03 --canary 1 --yes
     """
-    from panther_ops.core.driver.apply import apply_update
     from panther_ops.core.driver.images import parse_target
     from panther_ops.core.driver.read import read_and_plan_update
 
     target = parse_target(tag, force=force) if tag is not None else None
     command = f"driver update {tag}" if tag else "driver update (desired image)"
-    return fleet.change(command, lambda c: read_and_plan_update(c, target, force=force, pull=pull),
-                        applier=apply_update)
+    return fleet.change(command, lambda c: read_and_plan_update(c, target, force=force, pull=pull))
 
 
 # ------------------------------------------------------------------ config restore-defaults
@@ -252,11 +247,10 @@ def restore_defaults(
     Example:
       panther-ops config restore-defaults -r panther-01 --dry-run
     """
-    from panther_ops.core.driver.apply import apply_restore
     from panther_ops.core.driver.read import read_and_plan_restore_defaults
 
     return fleet.change("config restore-defaults" + (" --hard" if hard else ""),
-                        lambda c: read_and_plan_restore_defaults(c, hard=hard), applier=apply_restore)
+                        lambda c: read_and_plan_restore_defaults(c, hard=hard))
 
 
 def register(root: typer.Typer) -> None:

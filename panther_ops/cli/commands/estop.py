@@ -11,7 +11,6 @@ app = typer.Typer(help="The E-stop: see it, trigger it (all targeted robots at o
                   no_args_is_help=True)
 
 
-
 @app.command("status")
 @shared(*TARGETS, "json_out")
 def status(fleet: Fleet) -> int:
@@ -59,32 +58,15 @@ def reset(fleet: Fleet) -> int:
     Example:
       panther-ops estop reset -r panther-01 --yes
     """
-    from panther_ops.cli.mutate import require
-    from panther_ops.cli.render import print_results
-    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.remote.estop.calls import reset_check_task, reset_task
+    from panther_ops.cli.mutate import Asking
+    from panther_ops.core.remote.estop.calls import read_and_plan_reset
 
-    inv, chosen = fleet.targets()
-    opts = RunOptions(forks=max(1, len(chosen)))
-    with Connections(inv) as conns:
-        checked = run_fleet("estop reset", inv, chosen, reset_check_task, opts, connections=conns)
-        ready_names = {r.robot for r in checked.results if r.data.get("ready")}
-        ready = [r for r in chosen if r.name in ready_names]
-        if fleet.dry_run or not ready:
-            if not ready:
-                checked.notes.append("no robot to reset")
-            else:
-                checked.notes.append(f"dry run: would reset {', '.join(r.name for r in ready)}")
-            return fleet.show(checked)
-        if not fleet.json_out:
-            print_results(checked, title="estop reset: checks")
-        names = ", ".join(r.name for r in ready)
-        question = (f"Reset the E-stop of {len(ready)} robot(s): {names}? They move again as soon as velocity "
-                    "commands arrive.")
-        require(question, fleet.yes, f"{question} -- resetting the E-stop needs confirmation: pass --yes "
-                "when not interactive (or --dry-run to only check)", "nothing was reset")
-        done = run_fleet("estop reset", inv, ready, reset_task, opts, connections=conns)
-    by_name = {r.robot: r for r in done.results}
-    checked.results = [by_name.get(r.robot, r) for r in checked.results]
-    checked.duration_s += done.duration_s
-    return fleet.show(checked)
+    warning = "They move again as soon as velocity commands arrive."
+    asking = Asking(
+        question=lambda names, _plans: f"Reset the E-stop of {len(names)} robot(s): {', '.join(names)}? {warning}",
+        refusal=lambda question: f"{question} -- resetting the E-stop needs confirmation: pass --yes when not "
+                                 "interactive (or --dry-run to only check)",
+        nothing="nothing was reset",
+        dry_note=lambda names: f"dry run: would reset {', '.join(names)}" if names else "no robot to reset",
+        idle="no robot to reset")
+    return fleet.change("estop reset", read_and_plan_reset, asking=asking, restart=False)

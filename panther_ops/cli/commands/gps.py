@@ -125,7 +125,6 @@ def enable(
       panther-ops gps enable -r panther-01 --yes
       panther-ops gps enable -r panther-01 --router --yes
     """
-    from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
     from panther_ops.core.gps.read import read_and_plan_enable
     from panther_ops.core.gps.router.plan import check_address
@@ -133,12 +132,11 @@ def enable(
     check_address(address)  # refused even without --router: a bad value is never silently ignored
     opts = GpsOptions(port=port, ip=ip, namespace=namespace, container=container)
     if router:
-        from panther_ops.core.gps.combined import enable_applier, plan_enable_with_router
+        from panther_ops.core.gps.combined import plan_enable_with_router
 
         creds = _credentials()
-        return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds),
-                            applier=enable_applier(address, creds, opts))
-    return fleet.change("gps enable", lambda c: read_and_plan_enable(c, opts), applier=apply_gps)
+        return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds))
+    return fleet.change("gps enable", lambda c: read_and_plan_enable(c, opts))
 
 
 @app.command("disable")
@@ -153,10 +151,9 @@ def disable(fleet: Fleet) -> int:
     Example:
       panther-ops gps disable -r panther-01 --yes
     """
-    from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.read import read_and_plan_disable
 
-    return fleet.change("gps disable", read_and_plan_disable, applier=apply_gps)
+    return fleet.change("gps disable", read_and_plan_disable)
 
 
 @app.command("status")
@@ -221,12 +218,15 @@ def watch(
     """
     import time
 
+    from panther_ops.cli.progress import FleetProgress, progress_wanted
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.gps import watch_display
+    from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
     from panther_ops.core.gps.router.plan import check_address
     from panther_ops.core.gps.status import StatusOptions, status_task
-    from panther_ops.errors import UsageError
+    from panther_ops.errors import ExitCode, UsageError
+    from panther_ops.results import RobotResult
 
     check_address(address)  # every input checked before the first refresh
     StatusOptions(port=port, window_s=window)
@@ -237,6 +237,9 @@ def watch(
     inv, chosen = fleet.targets(read_only=True)
     rounds: list[dict[str, Any]] = []
     code = 0
+    names = [r.name for r in chosen]
+    progress = FleetProgress(names, enabled=False)
+    last: list[RobotResult] = []
     try:
         with watch_display(fleet.json_out) as show, Connections(inv) as conns:
             started = time.monotonic()
@@ -244,13 +247,18 @@ def watch(
                 if rounds:  # a refresh every --window seconds at most (demo robots answer at once)
                     time.sleep(max(0.0, window - (time.monotonic() - started)))
                 started, stamp = time.monotonic(), time.time()  # a round is stamped when it starts
-                result = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), None,
+                progress = FleetProgress(names, enabled=progress_wanted(fleet.json_out))  # this round's phases
+                result = run_fleet("gps watch", inv, chosen, status_task(opts), RunOptions(forks=inv.forks), progress,
                                    conns)
-                code = int(result.exit_code)
+                code, last = int(result.exit_code), list(result.results)
                 rounds.append({"time": round(stamp, 3), **result.to_json()})
                 show(result, f"panther-ops gps watch ({time.strftime('%H:%M:%S')}, refresh {len(rounds)})")
-    except KeyboardInterrupt:
-        pass
+    except (FleetInterrupted, KeyboardInterrupt) as exc:  # Ctrl-C: in a round, or between two
+        where = exc.where if isinstance(exc, FleetInterrupted) else Interruption(finished=last)
+        progress.recap(where)  # each robot as the last refresh left it, on a terminal
+        if not fleet.json_out:
+            raise FleetInterrupted("gps watch", where) from None
+        code = int(ExitCode.INTERRUPTED)
     if fleet.json_out:
         emit_json({"schema": 1, "command": "gps watch", "exit_code": code, "rounds": rounds})
     return code

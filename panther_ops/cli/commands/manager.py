@@ -126,7 +126,6 @@ def deploy(
       panther-ops manager deploy -g warehouse --canary 1 --yes
       panther-ops manager deploy -r lab-r02 --sim --scenario low_battery --yes
     """
-    from panther_ops.core.manager_ops.apply import apply_manager
     from panther_ops.core.manager_ops.bundle import build_bundle
     from panther_ops.core.manager_ops.read import read_and_plan_deploy
     from panther_ops.core.manager_ops.settings import scenario_path
@@ -137,8 +136,7 @@ def deploy(
         load_scenario(scenario_path(scenario))
     bundle = build_bundle()
     label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))
-    return fleet.change(label, lambda c: read_and_plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
-                        applier=apply_manager)
+    return fleet.change(label, lambda c: read_and_plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle))
 
 
 @app.command("remove")
@@ -153,10 +151,9 @@ def remove(fleet: Fleet) -> int:
     Example:
       panther-ops manager remove -r panther-01 --yes
     """
-    from panther_ops.core.manager_ops.apply import apply_manager
     from panther_ops.core.manager_ops.read import read_and_plan_remove
 
-    return fleet.change("manager remove", read_and_plan_remove, applier=apply_manager)
+    return fleet.change("manager remove", read_and_plan_remove)
 
 
 @app.command("status")

@@ -309,7 +309,6 @@ def restore(
     """
     from panther_ops.cli.envelope import under
     from panther_ops.cli.views.status import print_doctor
-    from panther_ops.core.apply.apply import desired_applier
     from panther_ops.core.apply.read import read_and_plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
     from panther_ops.core.reimage.read import load_backup, read_and_plan_restore
@@ -344,7 +343,7 @@ def restore(
     if target.desired:
         with under("apply"):
             code = fleet.change("apply", read_and_plan_desired, on=(inv, [target]),
-                                applier=desired_applier(sudo_password(False)), applier_for_actions=True)
+                                sudo_password=sudo_password(False))
     summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"),
                           json_out=fleet.json_out)
     with under("doctor"):

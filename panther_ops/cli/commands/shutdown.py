@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -22,6 +22,7 @@ from panther_ops.cli.commands.shutdown_inputs import (
     SecretEnv,
     SecretFile,
     ask_to_confirm,
+    refusal,
     require_confirmation,
     secret_from,
     usage_error,
@@ -32,7 +33,7 @@ from panther_ops.cli.views.shutdown import finish_hosts, print_findings, print_p
 
 if TYPE_CHECKING:
     from panther_ops.core.fleet.inventory import Inventory, Robot
-    from panther_ops.results import RobotResult
+    from panther_ops.core.fleet.plan import RobotPlan
 
 
 app = typer.Typer(
@@ -232,51 +233,20 @@ def robot_(fleet: Fleet, power_budget: PowerBudget = 15.0) -> int:
     Example:
       panther-ops shutdown robot -r panther-01 --yes
     """
-    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.shutdown.plan import RobotShutdownPlan
-    from panther_ops.core.shutdown.run import plan_robot_shutdown, shutdown_robot
-    from panther_ops.errors import ExitCode, UsageError
-    from panther_ops.results import Outcome, RobotResult
-
-    inv, chosen = fleet.targets()
-    plans: dict[str, RobotShutdownPlan] = {}
-    usage: dict[str, UsageError] = {}
-    opts = RunOptions(forks=fleet.forks or inv.forks)
-
-    def plan_task(c: Any) -> RobotResult:
-        try:
-            p = plan_robot_shutdown(c, power_budget)
-        except UsageError as exc:
-            usage[c.robot.name] = exc
-            raise
-        plans[c.robot.name] = p
-        names = ", ".join(h.describe() for h in p.hosts)
-        first = f"{len(p.hosts)} host(s) first ({names}), then " if p.hosts else "no hosts in its file; "
-        # nothing shut down yet: what the robot would get, as every plan says it
-        return RobotResult(c.robot.name, Outcome.CHANGED, f"would shut down {first}the Built-in Computer",
-                           data={"hosts_file": p.hosts_file.source, "dry_run": True},
-                           warnings=[str(f) for f in p.parsed.warnings])
-
-    from panther_ops.cli.render import error, print_results
+    from panther_ops.cli.mutate import Asking
     from panther_ops.cli.views.shutdown import print_robots_down
+    from panther_ops.core.shutdown.plan import ShutdownRobot
+    from panther_ops.core.shutdown.run import plan_robot_shutdown
 
-    with Connections(inv) as conns:
-        planned = run_fleet("shutdown robot (plan)", inv, chosen, plan_task, opts, None, conns)
-        if usage:
-            for name, exc in usage.items():
-                error(f"{name}: {exc}")
-            return int(ExitCode.USAGE)
-        if not fleet.json_out:  # with --json, stdout holds one JSON document and nothing else
-            print_results(planned, title="shutdown robot: " + ("dry run" if fleet.dry_run else "plan"))
-        if fleet.dry_run or not plans:
-            return fleet.show(planned, lambda _: None)
-        what = "; ".join(f"{n} after {', '.join(h.describe() for h in p.hosts) or 'no hosts'}"
-                         for n, p in plans.items())
-        require_confirmation(f"Shut down {what}?", fleet.yes, "shutting robots down")
-        todo = [r for r in chosen if r.name in plans]
-        done = run_fleet("shutdown robot", inv, todo, lambda c: shutdown_robot(c, plans[c.robot.name]), opts,
-                         None, conns)
-    return fleet.show(done, print_robots_down)
+    def asked(names: list[str], plans: dict[str, RobotPlan]) -> str:
+        hosts = {n: ", ".join(h.describe() for s in plans[n].steps if isinstance(s, ShutdownRobot)
+                              for h in s.plan.hosts) or "no hosts" for n in names}
+        return f"Shut down {'; '.join(f'{n} after {hosts[n]}' for n in names)}?"
+
+    asking = Asking(question=asked, refusal=lambda question: refusal(question, "shutting robots down"),
+                    nothing="nothing was shut down")
+    return fleet.change("shutdown robot", lambda c: plan_robot_shutdown(c, power_budget), asking=asking,
+                        restart=False, view=print_robots_down)
 
 
 def register(root: typer.Typer) -> None:

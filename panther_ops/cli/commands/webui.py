@@ -128,46 +128,16 @@ def set_(
     Example:
       panther-ops webui set ros.transport=rmw_cyclonedds_cpp webui.layout=panther -r panther-01 --yes
     """
-    from panther_ops.cli.mutate import require
-    from panther_ops.cli.render import print_results
-    from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.remote.webui.apply import set_apply_task
-    from panther_ops.core.remote.webui.read import set_plan_task
+    from panther_ops.cli.mutate import Asking
+    from panther_ops.core.remote.webui.read import read_and_plan_set
 
     wanted, dds = _wanted(settings or [], dds_file)  # before anything is contacted
     password = sudo_password(ask_sudo_password)
-    inv, chosen = fleet.targets()
-    with Connections(inv) as conns:
-        plan_wanted = dict(wanted)
-        if dds is not None:  # the profile is uploaded before the set: its presence is not a refusal
-            plan_wanted.pop("ros.transport", None)
-        planned = run_fleet("webui set", inv, chosen, set_plan_task(plan_wanted, password),
-                            RunOptions(forks=inv.forks), connections=conns)
-        if dds is not None:
-            for r in planned.results:
-                r.data["ready"] = r.outcome.value in ("ok", "changed")
-        refused = [r for r in planned.results if r.data.get("refused")]
-        if refused:  # bad input for a robot (e.g. no such DDS profile there): nothing is sent anywhere
-            from panther_ops.errors import UsageError
-
-            raise UsageError("; ".join(f"{r.robot}: {r.data['refused']}" for r in refused),
-                             hint="nothing was sent to any robot")
-        ready = [r for r in chosen if any(x.robot == r.name and x.data.get("ready") for x in planned.results)]
-        if fleet.dry_run or not ready:
-            if fleet.dry_run:
-                planned.notes.append("dry run: nothing was sent")
-            elif all(r.outcome.value == "ok" for r in planned.results):  # not beside a failure or a skip
-                planned.notes.append("nothing to change")
-            return fleet.show(planned)
-        if not fleet.json_out:
-            print_results(planned, title="webui set: plan")
-        require(f"Apply to {', '.join(r.name for r in ready)}?", fleet.yes,
-                "webui set needs confirmation: pass --yes when not interactive (or --dry-run)")
-        done = run_fleet("webui set", inv, ready, set_apply_task(wanted, password, dds), RunOptions(forks=inv.forks),
-                         connections=conns)
-    by_name = {r.robot: r for r in done.results}
-    planned.results = [by_name.get(r.robot, r) for r in planned.results]
-    return fleet.show(planned)
+    asking = Asking(refusal=lambda _q: "webui set needs confirmation: pass --yes when not interactive (or --dry-run)",
+                    nothing="nothing was sent to any robot", dry_note=lambda _names: "dry run: nothing was sent",
+                    idle="nothing to change")
+    return fleet.change("webui set", lambda c: read_and_plan_set(c, wanted, password, dds), asking=asking,
+                        restart=False, sudo_password=password)
 
 
 def _wanted(settings: list[str], dds_file: Path | None) -> tuple[dict[str, str], tuple[str, bytes] | None]:

@@ -122,9 +122,10 @@ def _add_webui(plan: RobotPlan, webui: WebuiPlan | None) -> None:
         if webui is not None and webui.host:
             plan.data["webui"] = webui.to_json()
         return
-    from panther_ops.core.remote.webui.plan import ACTION
+    from panther_ops.core.remote.webui.plan import ACTION, SetWebui
 
-    plan.data.update(action=ACTION, webui={**webui.to_json(), "wanted": webui.wanted},
-                     files_summary=plan.summary if plan.edits else "")
+    files_summary = plan.summary if plan.edits else ""
+    plan.data.update(action=ACTION, webui={**webui.to_json(), "wanted": webui.wanted}, files_summary=files_summary)
+    plan.steps.append(SetWebui(dict(webui.wanted), files_summary))
     plan.summary = f"change {plan.summary}; {webui.summary}" if plan.edits else webui.summary
     plan.noop = None

@@ -29,12 +29,18 @@ class DemoRobot:
     webui_running: bool | None = True
     """The recorded WebUI of its User Computer: running, stopped (False), none recorded (None)."""
 
+    @property
+    def release(self) -> str:
+        """The driver release of its compose template (``2.3.2``)."""
+        return self.compose_template.removesuffix(".yaml").rsplit("-", 1)[-1]
+
 
 DEMO_ROBOTS = (
     DemoRobot("panther-01", "panther-2.1.1.yaml", "PTH0101", ("warehouse",)),
     DemoRobot("panther-02", "panther-2.0.4.yaml", "PTH0102", ("warehouse",),
               cmd_vel_publishers=("teleop_twist_keyboard",), webui_running=None),
     DemoRobot("panther-03", "husarion-ugv-2.2.2.yaml", "PTH0203", ("field",), e_stop=False, webui_running=False),
+    DemoRobot("panther-04", "husarion-ugv-2.3.2.yaml", "PTH0304", ("field",), webui_running=False),
 )
 
 INVENTORY = """\
@@ -104,6 +110,17 @@ husarion_ugv_localization/config directories (less nmea_navsat.yaml), user_anima
 ${ROBOT_MODEL_NAME}_animations.yaml, lights.xml, LightsBT.btproj, shutdown_hosts.yaml and
 components.yaml. The demo's 2.2.2 robot gets these files from templates/config-tree/husarion-ugv-2.2/."""
 
+CONFIG_TREE_2_3_2 = tuple(
+    "husarion_ugv_teleop/config/joy2twist_panther.yaml" if rel.endswith("/joy2twist_panther.yaml") else rel
+    for rel in CONFIG_TREE_2_2_2)
+"""What the husarion_ugv 2.3.2 image copies into ~/config for a Panther: husarion_ugv_ros@2.3.2:docker/utils/
+update_config_directory.sh differs from 2.2.2's in one line, joy2twist_${ROBOT_MODEL_NAME}.yaml is copied from
+husarion_ugv_teleop. The demo's 2.3.2 robot gets each file from its release's templates (`family_dirs`: the 2.3
+directory, then what 2.3 kept of 2.2's)."""
+
+CONFIG_TREES = {"2.2.2": CONFIG_TREE_2_2_2, "2.3.2": CONFIG_TREE_2_3_2}
+"""The demo robots' ~/config trees, by release."""
+
 COMMON_ENV_22 = """\
 # env configuration including namespace, domain id, DDS, etc.
 ROS_DOMAIN_ID=0
@@ -144,9 +161,11 @@ def _lay_out(root: Path, robot: DemoRobot) -> None:
     if robot.compose_template.startswith("husarion-ugv"):
         (run / "robot_config.env").write_text(ENV_22.format(serial=robot.serial))
         tree = template_path("config-tree", "husarion-ugv-2.2")
-        for rel in CONFIG_TREE_2_2_2:
+        version = robot.release
+        for rel in CONFIG_TREES[version]:
             (home / "config" / rel).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(tree / rel, home / "config" / rel)
+            source = tree / rel if version == "2.2.2" else _release_template(version, rel)
+            shutil.copyfile(source, home / "config" / rel)
         if (tree / "common" / ".env").is_file():
             (home / "config" / "common").mkdir(parents=True, exist_ok=True)
             shutil.copyfile(tree / "common" / ".env", home / "config" / "common" / ".env")
@@ -162,17 +181,34 @@ def _lay_out(root: Path, robot: DemoRobot) -> None:
     recording.write_text(json.dumps(_ros_answers(robot), indent=2) + "\n")
 
 
+def _release_template(version: str, rel: str) -> Path:
+    """The template of ``rel`` (a path under ~/config) for release ``version``: its template directories in order."""
+    from panther_ops.core.robot.files import family_dirs
+    from panther_ops.core.stack import stack_from_version
+
+    for directory in family_dirs(stack_from_version(version)):
+        path = template_path("config", directory, *rel.split("/"))
+        if path.is_file():
+            return path
+    raise UsageError(f"panther-ops has no template of {rel} for husarion_ugv {version}")
+
+
 def _ros_answers(robot: DemoRobot) -> dict[str, object]:
     """What the robot's driver and its User Computer answered, in their own words (`estop
     status` and `webui status` read it)."""
-    pubs = "".join(f"Node name: {node}\nNode namespace: /\nTopic type: geometry_msgs/msg/Twist\n"
+    # 2.3.2: cmd_vel is the twist mux's input of priority 1, TwistStamped (husarion_ugv_ros@2.3.2:ROS_API.md,
+    # husarion_ugv_controller/config/WH01_controller.yaml twist_mux_controller.cmd_vel_inputs.unknown)
+    jazzy = robot.release.startswith("2.3.")
+    kind = "geometry_msgs/msg/TwistStamped" if jazzy else "geometry_msgs/msg/Twist"
+    node = "twist_mux_controller" if jazzy else "drive_controller"
+    pubs = "".join(f"Node name: {node}\nNode namespace: /\nTopic type: {kind}\n"
                    "Endpoint type: PUBLISHER\n\n" for node in robot.cmd_vel_publishers)
     return {
         "namespace": "/panther",
         "status": f"data: {'true' if robot.e_stop else 'false'}\n---\n",
-        "publishers": (f"Type: geometry_msgs/msg/Twist\n\nPublisher count: {len(robot.cmd_vel_publishers)}\n\n{pubs}"
-                       "Subscription count: 1\n\nNode name: drive_controller\nNode namespace: /panther\n"
-                       "Topic type: geometry_msgs/msg/Twist\nEndpoint type: SUBSCRIPTION\n"),
+        "publishers": (f"Type: {kind}\n\nPublisher count: {len(robot.cmd_vel_publishers)}\n\n{pubs}"
+                       f"Subscription count: 1\n\nNode name: {node}\nNode namespace: /panther\n"
+                       f"Topic type: {kind}\nEndpoint type: SUBSCRIPTION\n"),
         **({} if robot.webui_running is None else {"webui": _webui_answers(robot.webui_running)}),
     }
 

@@ -6,9 +6,10 @@ stop/start, update and config restore-defaults), ``read`` (what they read) and `
 (their executors). Every robot step goes through the
 robot's transport: the docker SDK rides its one SSH connection (`Transport.docker`), and
 ``docker compose`` runs as the robot user in a login shell, as Husarion's tools do. Changes
-to compose.yaml go through the apply pipeline (`pipeline.apply_plan`); `apply_update` and
-`apply_restore` add the steps the pipeline has no slot for (pull before recreating, removing
-the container of a renamed service, the 2.2 config tree reset) and roll back the same way.
+to compose.yaml go through the apply pipeline (`pipeline.apply_plan`); what it has no slot for
+is a typed step of the plan (`plan.py`: pull before recreating and removing the container of a
+renamed service, `UpdateDriver`; the 2.2 config tree reset, `ResetConfigTree`; a restart, a
+stop or start), carried out by `apply.py`'s executors, which roll back the same way.
 
 The one operator-side effect is `hub.fetch_hub_tags`: an HTTPS GET to Docker Hub from this
 machine (robots usually have no route to the internet, ``transport.http_json``), with a short timeout.

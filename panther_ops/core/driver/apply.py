@@ -22,10 +22,10 @@ from typing import Any
 
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver.containers import last_line
+from panther_ops.core.driver.plan import RecreateDriver, ResetConfigTree, SetRunState, UpdateDriver
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
     ApplyOptions,
-    apply_plan,
     mark_backup,
     new_backup_id,
     recreate_and_verify,
@@ -35,13 +35,16 @@ from panther_ops.core.fleet.pipeline import (
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
+from panther_ops.core.fleet.steps import Write, executes
 from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
 
 
-def apply_restart(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+@executes(RecreateDriver)
+def apply_restart(ctx: RobotContext, plan: RobotPlan, step: RecreateDriver, opts: ApplyOptions,
+                  _write: Write) -> RobotResult:
     """``docker compose up -d --force-recreate <driver>`` as the robot user, then watch it for the settle time."""
     name = ctx.robot.name
     client, why = engine(ctx)
@@ -60,7 +63,7 @@ def apply_restart(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
         return result
     after = service_containers(client, service, wd, own_only=True)
     result.data["container"] = after[0].id[:12] if after else None
-    result.message = f"recreated {service} ({plan.data.get('image')}); running after {opts.settle_s:g} s"
+    result.message = f"recreated {service} ({step.image}); running after {opts.settle_s:g} s"
     return result
 
 
@@ -69,10 +72,12 @@ STOP_TIMEOUT_S = 30
 driver's shutdown of the motor controllers may take longer)."""
 
 
-def apply_run_state(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-    """Stop or start the driver's container (``plan.data['action']``) and check its state."""
+@executes(SetRunState)
+def apply_run_state(ctx: RobotContext, plan: RobotPlan, step: SetRunState, opts: ApplyOptions,
+                    _write: Write) -> RobotResult:
+    """Stop or start the driver's container (``step.verb``) and check its state."""
     name = ctx.robot.name
-    action, service = str(plan.data["action"]), str(plan.data["service"])
+    action, service = step.verb, step.service
     client, why = engine(ctx)
     if client is None:
         return RobotResult(name, Outcome.SKIPPED, f"{why}: nothing to {action}", data=dict(plan.data))
@@ -118,12 +123,13 @@ def apply_run_state(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> R
         time.sleep(0.2)
 
 
-def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+@executes(UpdateDriver)
+def apply_update(ctx: RobotContext, plan: RobotPlan, step: UpdateDriver, opts: ApplyOptions,
+                 write: Write) -> RobotResult:
     """Apply a `driver update` plan: the pipeline, plus pull / orphan removal when the plan needs them."""
-    renamed_from = plan.data.get("service_from")
-    pull = bool(plan.data.get("pull"))
-    if not (renamed_from or pull) or not plan.edits or opts.dry_run or not opts.restart:
-        result = apply_plan(ctx, plan, opts)
+    renamed_from, pull = step.renamed_from, step.pull
+    if not plan.edits or opts.dry_run or not opts.restart:
+        result = write(opts)
         if renamed_from and result.outcome is Outcome.CHANGED and not opts.restart and not opts.dry_run:
             result.warnings.append(
                 f"the {renamed_from} container keeps running until the driver is recreated: then remove it "
@@ -131,8 +137,8 @@ def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Robo
         return result
     client, _why = engine(ctx)
     if client is None:
-        return apply_plan(ctx, plan, opts)
-    result = apply_plan(ctx, plan, replace(opts, restart=False))
+        return write(opts)
+    result = write(replace(opts, restart=False))
     if result.outcome is not Outcome.CHANGED:
         return result
     backup_id = str(result.data["backup"])
@@ -143,9 +149,9 @@ def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Robo
                                            *plan.recreate, login=True, cwd=cdir), timeout=1800)
         if not res.ok:
             failed = f"docker compose pull failed: {last_line(res.stderr)}"
-            return _roll_back_update(ctx, plan, opts, result, failed, backup_id, client, recreated=False)
+            return _roll_back_update(ctx, plan, opts, result, failed, backup_id, client, None)
     if renamed_from:
-        for c in service_containers(client, str(renamed_from), project_dir(ctx, plan.compose_file, plan.home),
+        for c in service_containers(client, renamed_from, project_dir(ctx, plan.compose_file, plan.home),
                                     own_only=True):
             c.remove(force=True)
     problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
@@ -153,17 +159,18 @@ def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Robo
         result.outcome = Outcome.CHANGED
         mark_backup(ctx, backup_id, "applied")
         return result
-    return _roll_back_update(ctx, plan, opts, result, problem, backup_id, client, recreated=True)
+    return _roll_back_update(ctx, plan, opts, result, problem, backup_id, client, step)
 
 
 def _roll_back_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: RobotResult, problem: str,
-                      backup_id: str, client: Any, *, recreated: bool) -> RobotResult:
-    """The pipeline's rollback; when containers were touched the old driver comes back up (a
-    renamed service: the new service's containers removed first, the old one recreated)."""
-    if not recreated:
+                      backup_id: str, client: Any, recreated: UpdateDriver | None) -> RobotResult:
+    """The pipeline's rollback; when containers were touched (``recreated``: the step that
+    touched them) the old driver comes back up (a renamed service: the new service's
+    containers removed first, the old one recreated)."""
+    if recreated is None:
         return roll_back(ctx, plan, opts, result, problem, backup_id, recreate=(),
                          note="; the driver was not touched")
-    renamed_from = plan.data.get("service_from")
+    renamed_from = recreated.renamed_from
     if not renamed_from:
         return roll_back(ctx, plan, opts, result, problem, backup_id)
     wd = project_dir(ctx, plan.compose_file, plan.home)
@@ -173,7 +180,7 @@ def _roll_back_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, re
             for c in service_containers(client, svc, wd, own_only=True):
                 c.remove(force=True)
 
-    return roll_back(ctx, plan, opts, result, problem, backup_id, recreate=(str(renamed_from),),
+    return roll_back(ctx, plan, opts, result, problem, backup_id, recreate=(renamed_from,),
                      before_recreate=remove_new_containers)
 
 
@@ -199,10 +206,11 @@ CLEAN_TREE = (
 """``--hard``: everything in the config directory but ``common/`` goes (it is in the archive)."""
 
 
-def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-    """2.0/2.1: the pipeline. 2.2: archive ~/config, update_config_directory, recreate, verify, else restore."""
-    if plan.data.get("action") != "update_config_directory":
-        return apply_plan(ctx, plan, opts)
+@executes(ResetConfigTree)
+def apply_restore(ctx: RobotContext, plan: RobotPlan, step: ResetConfigTree, opts: ApplyOptions,
+                  _write: Write) -> RobotResult:
+    """2.2: archive ~/config, update_config_directory, recreate, verify, else restore (2.0/2.1:
+    a plain pipeline plan, no step)."""
     name = ctx.robot.name
     result = RobotResult(name, Outcome.CHANGED, plan.summary, warnings=list(plan.warnings), data=dict(plan.data))
     if opts.dry_run:
@@ -214,7 +222,7 @@ def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
         result.outcome = Outcome.SKIPPED
         result.message = f"{why}: update_config_directory runs in the driver image"
         return result
-    tree = str(plan.data["config_dir"])
+    tree = step.config_dir
     backup_id = new_backup_id()
     bdir = f"{BACKUP_ROOT}/{backup_id}"
     archive = f"{bdir}/config.tar.gz".replace("~", plan.home or ctx.transport.home(), 1)
@@ -229,15 +237,15 @@ def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
         raise TransportError(name, f"backup of {tree} failed, nothing changed: {res.stderr.strip()[-300:]}")
     result.data.update(backup=backup_id, archive=archive)
     problem: str | None = None
-    if plan.data.get("hard"):
+    if step.hard:
         res = ctx.transport.run(Command.sh(CLEAN_TREE, tree))
         if not res.ok:
             problem = f"clearing {tree} failed: {res.stderr.strip()[-300:]}"
     if problem is None:
-        mounts = [a for m in plan.data.get("env_mounts", []) for a in ("-v", str(m))]
+        mounts = [a for m in step.env_mounts for a in ("-v", m)]
         res = ctx.transport.run(Command.of("docker", "run", "--rm", "--network", "none",
                                            "-v", f"{tree}:{CONTAINER_CONFIG_DIR}", *mounts,
-                                           str(plan.data["image"]), "update_config_directory", login=True),
+                                           step.image, "update_config_directory", login=True),
                                 timeout=600)
         if not res.ok:
             problem = f"update_config_directory failed: {last_line(res.stderr) or last_line(res.stdout)}"
@@ -245,7 +253,7 @@ def apply_restore(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
     if recreated:
         problem = recreate_and_verify(ctx, plan, opts.settle_s, result)
     if problem is None:
-        result.message = (f"defaults restored in {tree} from {plan.data['image']}"
+        result.message = (f"defaults restored in {tree} from {step.image}"
                           + ("" if opts.restart else " (driver not recreated: --no-restart)")
                           + f"; previous {tree} in {archive}")
         mark_backup(ctx, backup_id, "applied" + ("" if opts.restart else " (not recreated)"))

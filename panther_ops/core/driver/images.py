@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from panther_ops.core.robot.compose import image_repo
-from panther_ops.core.stack import PANTHER_REPO, UGV_REPO
+from panther_ops.core.stack import LINES, PANTHER_REPO, SUPPORTED_TEXT, UGV_REPO
 from panther_ops.errors import OpsError, UsageError
 
 DRIVER_REPOS = (PANTHER_REPO, UGV_REPO)
@@ -61,9 +61,8 @@ class TargetImage:
 
 def _crossed(tag: str, distro: str, version: tuple[int, int, int]) -> UsageError:
     return UsageError(
-        f"{tag}: {distro} {'.'.join(map(str, version))} is not a driver panther-ops supports: husarion_ugv runs ROS 2 "
-        "Humble up to 2.2.x and ROS 2 Jazzy from 2.3.x (there is no Humble 2.3 nor Jazzy 2.2; 2.4 and later are "
-        "not supported yet)",
+        f"{tag}: {distro} {'.'.join(map(str, version))} is not a driver panther-ops supports: {SUPPORTED_TEXT} "
+        "(there is no Humble 2.3 nor Jazzy 2.2)",
         hint=f"the newest Humble driver is {NEWEST_HUMBLE}; the newest Jazzy one {NEWEST_JAZZY}",
     )
 
@@ -103,8 +102,8 @@ def parse_target(text: str, *, force: bool = False) -> TargetImage:
                          hint="tags look like humble-<X.Y.Z>-<YYYYMMDD>, e.g. humble-2.1.2-20241125 "
                               "(panther-ops driver versions --remote lists them)")
     version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
-    if (m["distro"] == "jazzy" and not (2, 3, 0) <= version < (2, 4, 0)) or (m["distro"] == "humble" and \
-            version >= (2, 3, 0)):
+    line = next((ln for ln in LINES if ln.holds(version)), None)
+    if m["distro"] in ("humble", "jazzy") and (line is None or line.distro != m["distro"]):
         raise _crossed(tag, m["distro"], version)
     if m["distro"] not in ("humble", "jazzy"):
         raise UsageError(f"{tag}: ROS 2 {m['distro'].capitalize()} is not a Panther driver distribution here",

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import posixpath
 import re
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, ClassVar
 
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
-from panther_ops.core.fleet.plan import RobotPlan, Verify
+from panther_ops.core.fleet.plan import RobotPlan, Step, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.robot.arg_edits import migrate_args
 from panther_ops.core.robot.compose import ComposeError, ComposeFile
@@ -37,6 +38,43 @@ def compose_argv(cfg: RobotConfig) -> list[str] | None:
         return None
 
 
+@dataclass(frozen=True)
+class RecreateDriver(Step):
+    """`driver restart`: ``docker compose up -d --force-recreate`` of the plan's service, watched."""
+
+    image: str
+
+
+@dataclass(frozen=True)
+class SetRunState(Step):
+    """`driver stop|start`: ``docker compose stop|start`` of the driver's service, read back."""
+
+    verb: str
+    """``stop`` or ``start``."""
+    service: str
+
+
+@dataclass(frozen=True)
+class ResetConfigTree(Step):
+    """`config restore-defaults` on 2.2: the config tree archived, reset by the image's
+    ``update_config_directory``, the driver recreated and verified, else the tree restored."""
+
+    image: str
+    config_dir: str
+    env_mounts: tuple[str, ...]
+    hard: bool
+
+
+@dataclass(frozen=True)
+class UpdateDriver(Step):
+    """`driver update`'s extra work around the write: the new image pulled first, a renamed
+    service's old container removed before the recreate (and brought back on a rollback)."""
+
+    action: ClassVar[bool] = False
+    pull: bool
+    renamed_from: str | None
+
+
 DEFAULT_SERVICE = {Family.PANTHER_ROS: "panther_ros", Family.HUSARION_UGV: "husarion_ugv_ros"}
 
 
@@ -47,6 +85,7 @@ def plan_restart(raw: ComposeRead, reads: Reads) -> RobotPlan:
     plan = RobotPlan(reads.robot, f"recreate {cfg.service} ({cfg.compose.driver_image})", [], (cfg.service,),
                      cfg.compose_path, [Verify(cfg.service, words)])
     plan.data.update(action="recreate", service=cfg.service, image=cfg.compose.driver_image)
+    plan.steps.append(RecreateDriver(str(cfg.compose.driver_image)))
     return plan
 
 
@@ -61,6 +100,7 @@ def plan_run_state(raw: ComposeRead, reads: Reads, action: str) -> RobotPlan:
     plan = RobotPlan(reads.robot, f"{action} {cfg.service} ({cfg.compose.driver_image})", [], (), cfg.compose_path,
                      [Verify(cfg.service)] if action == "start" else [])
     plan.data.update(action=action, service=cfg.service, image=cfg.compose.driver_image)
+    plan.steps.append(SetRunState(action, cfg.service))
     return plan
 
 
@@ -101,6 +141,7 @@ def plan_restore_defaults(raw: ComposeRead, reads: Reads, *, hard: bool = False)
                          None, warnings)
         plan.data.update(action="update_config_directory", image=image, config_dir=tree, env_mounts=mounts,
                          hard=hard, stack=cfg.stack.label())
+        plan.steps.append(ResetConfigTree(str(image), tree, tuple(mounts), hard))
         return plan
     service = cfg.service
     removed = [v for v in cfg.compose.list_volumes(service)
@@ -267,6 +308,8 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
                      stack_from=old_stack.label(), stack_to=new_stack.label())
     if renamed_from:
         plan.data["service_from"] = renamed_from
+    if renamed_from or pull:
+        plan.steps.append(UpdateDriver(pull, renamed_from))
     return plan
 
 
@@ -296,6 +339,8 @@ def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, war
         plan = plan_way_back(cfg, reads, new_ref, new_stack, warnings)
     plan.data.update(image_from=old_stack.image, image_to=new_ref, image_local=present, pull=pull,
                      stack_from=old_stack.label(), stack_to=new_stack.label())
+    if pull:
+        plan.steps.append(UpdateDriver(pull, None))
     return plan
 
 

@@ -30,13 +30,11 @@ from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
 Planner = Callable[[RobotContext], RobotPlan]
-Applier = Callable[[RobotContext, RobotPlan, ApplyOptions], RobotResult]
-"""Carries out one robot's plan: `pipeline.apply_plan` unless a command needs its own step."""
 
 
 def does_something(plan: RobotPlan) -> bool:
-    """A plan with file edits, or with an action (e.g. a reset the image's script carries out)."""
-    return bool(plan.edits or plan.data.get("action"))
+    """A plan with file edits, or with an action step (e.g. a reset the image's script carries out)."""
+    return bool(plan.edits or plan.action)
 
 
 @dataclass
@@ -89,7 +87,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
             except UsageError as exc:
                 fp.usage_errors[ctx.robot.name] = exc
                 raise
-            if session is not None and plan.edits and not plan.data.get("action"):
+            if session is not None and plan.edits and not plan.steps:  # steps: in phase 2
                 assert stage is not None
                 fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage, session)  # gone away: no plan either
                 session = None
@@ -112,8 +110,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
 
 
 def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
-                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None,
-                applier: Applier = apply_plan) -> FleetResult:
+                options: RunOptions, apply: ApplyOptions, progress: Progress | None = None) -> FleetResult:
     """Apply every plan that does something; the others keep their plan-phase result."""
     by_name = {r.robot: r for r in fp.results.results}
     todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])]
@@ -121,7 +118,7 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
     def task(ctx: RobotContext) -> RobotResult:
         plan = fp.plans[ctx.robot.name]
         staged = fp.staged.pop(ctx.robot.name, None)
-        return applier(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
+        return apply_plan(ctx, plan, apply) if staged is None else apply_staged(ctx, plan, apply, staged)
 
     try:
         applied = run_fleet(fp.command, inventory, todo, task, options, progress, connections) if todo else \
@@ -164,7 +161,7 @@ def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:
                       subject=fp.results.subject)
     for r in fp.results.results:
         if r.outcome is Outcome.CHANGED:
-            action = r.robot in fp.plans and fp.plans[r.robot].data.get("action")
+            action = r.robot in fp.plans and fp.plans[r.robot].action
             out.add(replace(r, message=f"would {r.message}" if action else f"would change: {r.message}",
                             data={**r.data, "dry_run": True}))
         else:

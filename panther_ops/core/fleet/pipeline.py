@@ -28,6 +28,7 @@ from panther_ops.core.fleet.services import project_dir, service_containers
 from panther_ops.core.parse.shell_words import has_word
 from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Outcome, RobotResult
+from panther_ops.secret import Secret
 from panther_ops.transport import scripts_apply, scripts_backup
 from panther_ops.transport.base import Command, CommandResult
 from panther_ops.transport.session import FileWrite, Session, stage_input
@@ -43,6 +44,8 @@ class ApplyOptions:
     command: str = ""
     on_staged: Callable[[str], None] | None = None
     """Called with the robot name after every file is staged and before any rename (tests)."""
+    sudo_password: Secret | None = None
+    """For steps that run ``sudo`` on a computer beside the robot (the WebUI's User Computer)."""
 
 
 def _sha(data: bytes | None) -> str | None:
@@ -66,7 +69,18 @@ class Staged:
 
 
 def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-    """Carry out one robot's plan; every outcome is a RobotResult."""
+    """Carry out one robot's plan, its steps by their executors around the write of its file
+    edits (`steps.py`); every outcome is a RobotResult."""
+    if plan.steps:
+        from panther_ops.core.fleet.steps import carry_out
+
+        return carry_out(ctx, plan, opts, lambda o: write_plan(ctx, plan, o))
+    return write_plan(ctx, plan, opts)
+
+
+def write_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
+    """The plan's file edits written (its steps left to their executors): backup, stage,
+    go-ahead, recreate, verify, roll back."""
     if not plan.edits or opts.dry_run:
         return _unwritten(ctx.robot.name, plan, opts)
     return apply_staged(ctx, plan, opts, stage_plan(ctx, plan, opts))

@@ -7,7 +7,7 @@ from __future__ import annotations
 import functools
 import re
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 from panther_ops.core.yaml.diff import unified_diff
 from panther_ops.results import Diff
@@ -76,6 +76,20 @@ class Verify:
     cmd_lacks: tuple[str, ...] = ()
 
 
+@dataclass(frozen=True)
+class Step:
+    """One order of a plan beyond its file edits (restart a container, PUT to the router, reset
+    the E-stop, ...). A feature defines its step types (frozen dataclasses holding everything
+    the order needs) in its ``plan.py`` and registers their executors in its ``apply.py``
+    (`fleet.steps`); the pipeline carries them out. ``RobotPlan.data`` only shows a plan (the
+    table, ``--json``): no executor reads it."""
+
+    action: ClassVar[bool] = True
+    """The step is the change itself (a plan holding one does something even without file
+    edits, its summary starts with its verb: ``would reset the E-stop``); False: a step that
+    only accompanies the file edits (a dropped service's container removed after the write)."""
+
+
 @dataclass
 class RobotPlan:
     """What a command will do to one robot."""
@@ -95,6 +109,14 @@ class RobotPlan:
     skipped: str | None = None
     """Why this robot is skipped (a demo robot where the change needs a real one): nothing to do,
     reported ``skipped`` (exit 0), as read-only siblings report it."""
+    steps: list[Step] = field(default_factory=list)
+    """What the plan orders beyond its file edits, carried out in order by their executors
+    (each wraps the ones after it and, innermost, the pipeline's write of ``edits``)."""
+
+    @property
+    def action(self) -> bool:
+        """The plan holds a step that is the change itself (see :attr:`Step.action`)."""
+        return any(s.action for s in self.steps)
 
     @property
     def diffs(self) -> list[Diff]:

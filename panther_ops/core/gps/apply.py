@@ -1,23 +1,26 @@
-"""The executor of `gps enable|disable` plans (planners: `plan.py`, pure; reads: `read.py`):
-the pipeline, then a dropped ``nmea-gps`` service's container removed."""
+"""The executor of `gps disable`'s step (planners: `plan.py`, pure; reads: `read.py`): after
+the pipeline's write, a dropped ``nmea-gps`` service's container removed."""
 
 from __future__ import annotations
 
-from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
+from panther_ops.core.fleet.steps import Write, executes
+from panther_ops.core.gps.plan import RemoveService
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.docker_client import EngineError, engine_errors
 
 
-def apply_gps(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-    """The pipeline's write (recreate, verify, roll back); then, when the plan removed the
-    ``nmea-gps`` service, its container is stopped and removed (compose would leave it as
-    an orphan)."""
-    result = apply_plan(ctx, plan, opts)
-    service = plan.data.get("remove_service")
-    if not service or result.outcome is not Outcome.CHANGED or not opts.restart or opts.dry_run:
+@executes(RemoveService)
+def remove_service(ctx: RobotContext, plan: RobotPlan, step: RemoveService, opts: ApplyOptions,
+                   write: Write) -> RobotResult:
+    """The pipeline's write (recreate, verify, roll back); then the removed service's
+    container is stopped and removed (compose would leave it as an orphan)."""
+    result = write(opts)
+    service = step.service
+    if result.outcome is not Outcome.CHANGED or not opts.restart or opts.dry_run:
         return result
     client = ctx.transport.docker()
     if client is None:

@@ -34,10 +34,10 @@ through :class:`Reads`); the reads are `read.py`'s, the executor `apply.py`'s.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 from panther_ops.core.fleet.inventory_desired import IP_RULE, nmea_ip, nmea_namespace
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Step, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.fix_topic import service_topic
 from panther_ops.core.gps.udp_address import check_port
@@ -50,6 +50,15 @@ from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError
 
 SERVICE = "nmea-gps"
+
+
+@dataclass(frozen=True)
+class RemoveService(Step):
+    """`gps disable` dropped ``service`` from compose.yaml: after the write its container is
+    stopped and removed (compose would leave it running as an orphan)."""
+
+    action: ClassVar[bool] = False
+    service: str
 DDS_KEYS = ("env_file", "environment")
 """The driver's settings the nmea-gps service shares when the driver merges no anchor."""
 IMAGE = "husarion/nmea-gps:humble-2.0.1-20240617"
@@ -290,5 +299,8 @@ def plan_disable(raw: ComposeRead, reads: Reads) -> RobotPlan:
             _w, check = edit_args(cfg, {}, unsets, False)
             recreate, verify = (cfg.service,), [check]
             done.append(f"unset {', '.join(unsets)} on {cfg.service}")
-    return _plan(reads.robot, cfg, "; ".join(done), "the NMEA GPS driver is not enabled", recreate, verify, extra, [],
-                 data)
+    plan = _plan(reads.robot, cfg, "; ".join(done), "the NMEA GPS driver is not enabled", recreate, verify, extra,
+                 [], data)
+    if "remove_service" in data:
+        plan.steps.append(RemoveService(SERVICE))
+    return plan

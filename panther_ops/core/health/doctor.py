@@ -2,8 +2,9 @@
 
 Checks: clock offset against this machine and the spread across the fleet (the manual asks
 for time sync before installing anything; warn above 1 s), key authentication, docker and
-compose v2 present, free disk, the stack supported, and whether the default password
-``husarion`` is still accepted over SSH.
+compose v2 present, free disk, the stack supported (a driver image of a release panther-ops
+does not know fails), whether its release has the two safety fixes of husarion_ugv 2.3.2
+(`safety_fixes`), and whether the default password ``husarion`` is still accepted over SSH.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from typing import Any
 
 from panther_ops.core.fleet.facts import signed_seconds
 from panther_ops.core.fleet.runner import RobotContext, Task
+from panther_ops.core.health.safety_fixes import missing_text
 from panther_ops.core.health.status import detect_stack, gather_facts
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -58,6 +60,13 @@ def make_doctor_task(*, password_check: bool = True, gps: Task | None = None) ->
         stack, _service, problem = detect_stack(ctx, facts)
         if stack:
             findings.append(Finding("stack", "ok", stack.label()))
+            lacking = missing_text(stack)
+            findings.append(Finding("safety fixes", "warn", *lacking) if lacking else
+                            Finding("safety fixes", "ok", f"{stack.label()} has the soft E-stop and "
+                                    "battery-dead fixes"))
+        elif problem and _service is not None:  # a driver image of a release panther-ops does not know
+            findings.append(Finding("stack", "fail", problem, "put a supported driver image in compose.yaml "
+                                    "(panther-ops driver versions lists them), or set `stack:` in the inventory"))
         else:
             findings.append(Finding("stack", "warn", problem or "unknown",
                                     "check ~/compose.yaml or set `stack:` in the inventory"))

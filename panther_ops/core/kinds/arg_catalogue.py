@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
-from panther_ops.core.stack import Family, Stack
+from panther_ops.core.stack import Family, Stack, has_changes_of, lacking
 
 Version = tuple[int, int, int]
 
@@ -88,7 +88,7 @@ class ArgSpec:
 
     def available(self, stack: Stack) -> bool:
         v = stack.version
-        return v >= self.since and (self.until is None or v <= self.until)
+        return has_changes_of(stack, self.since) and (self.until is None or v <= self.until)
 
     def name_for(self, stack: Stack) -> str:
         name = self.key
@@ -121,13 +121,14 @@ class ArgSpec:
 
     def default_in_tree(self, stack: Stack) -> bool:
         """The stack reads this argument's default file under ``common_dir_path`` (the ~/config tree)."""
-        return self.tree_since is not None and stack.version >= self.tree_since and self.available(stack)
+        return self.tree_since is not None and has_changes_of(stack, self.tree_since) and self.available(stack)
 
     def availability(self) -> str:
         since = ".".join(map(str, self.since))
+        but = "".join(f" but {v}" for v in lacking(self.since))
         if self.until is None:
-            return f"{since}+"
-        return f"{since}-{'.'.join(map(str, self.until))}"
+            return f"{since}+{but}"
+        return f"{since}-{'.'.join(map(str, self.until))}{but}"
 
 
 def _v(text: str) -> Version:
@@ -152,7 +153,7 @@ def _common(pkg: str, rel: str, tree_since: Version | None = (2, 2, 0)) -> Calla
     def default(stack: Stack) -> str:
         if not _ugv(stack):
             return f"$(find panther_{pkg})/{rel}"
-        if tree_since is not None and stack.version >= tree_since:
+        if tree_since is not None and has_changes_of(stack, tree_since):
             return _tree(pkg, rel)
         return f"$(find husarion_ugv_{pkg})/{rel}"
 
@@ -238,9 +239,10 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         default=_battery_default,
         sim_only_until=_v("2.1.2"),
     ),
-    # panther_ros@2.0.4, @2.1.1:panther_lights/launch/lights.launch.py; husarion_ugv_ros@2.2.0 (and 2.2.1):
-    # husarion_ugv_lights/launch/lights.launch.py reads it from the image (husarion_ugv_lights_pkg),
-    # husarion_ugv_ros@2.2.2: from common_dir_path (husarion_ugv_lights_common_dir)
+    # panther_ros@2.0.4, @2.1.1:panther_lights/launch/lights.launch.py; husarion_ugv_ros@2.2.0 (and 2.2.1, and
+    # 2.3.0, branched after 2.2.1): husarion_ugv_lights/launch/lights.launch.py reads it from the image
+    # (husarion_ugv_lights_pkg); husarion_ugv_ros@2.2.2, @2.3.1, @2.3.2: from common_dir_path
+    # (husarion_ugv_lights_common_dir)
     ArgSpec(
         "led_config_file",
         ArgType.PATH,
@@ -278,7 +280,10 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         default="ignition-gazebo",
         sim_only_until=_v("2.0.1"),
     ),
-    ArgSpec("publish_robot_state", _BOOL, "publish the robot description and TF", default="True"),
+    # panther_ros@2.0.4, @2.1.1:panther_bringup/launch/bringup.launch.py; husarion_ugv_ros@2.2.0, @2.2.2:
+    # husarion_ugv_controller/launch/controller.launch.py; gone from it on 2.3.0, 2.3.1, 2.3.2 (Jazzy)
+    ArgSpec("publish_robot_state", _BOOL, "publish the robot description and TF", until=_v("2.2.2"),
+            default="True"),
     # panther_ros@2.0.4, @2.1.1:panther_bringup/launch/bringup.launch.py; husarion_ugv_ros@2.2.0, @2.2.2:
     # husarion_ugv_localization/launch/localization.launch.py (included by bringup): default "True"
     ArgSpec("use_ekf", _BOOL, "fuse wheel odometry and IMU with the EKF", default="True"),
@@ -357,8 +362,17 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("DEBUG", "INFO", "WARNING", "ERROR", "FATAL"),
         default="INFO",
     ),
-    # since 2.2.2: husarion_ugv_bringup CHANGELOG 2.2.2 "Add joy2twist dependency (#581)" (see robot/gamepad.py)
-    ArgSpec("launch_gamepad", _BOOL, "start the gamepad (joy2twist) nodes", since=_v("2.2.2"), default="false"),
+    # since 2.2.2: husarion_ugv_bringup CHANGELOG 2.2.2 "Add joy2twist dependency (#581)" (see robot/gamepad.py);
+    # husarion_ugv_ros@2.3.1: bringup.launch.py as 2.2.2; 2.3.0 (branched after 2.2.1) declares it nowhere, the
+    # gamepad is docker/demo/compose.hardware.yaml's gamepad_controller service; husarion_ugv_ros@2.3.2:
+    # husarion_ugv_teleop/launch/teleop.launch.py declares it (default "false"), and bringup.launch.py includes
+    # teleop with launch_arguments {"launch_gamepad": "True"}: the gamepad always runs (launch_args.py refuses false)
+    ArgSpec("launch_gamepad", _BOOL, "start the gamepad (joy2twist) nodes", since=_V2_2_2, default="false"),
+    # husarion_ugv_ros@2.3.2:husarion_ugv_controller/launch/controller.launch.py and
+    # husarion_ugv_description/launch/load_urdf.launch.py: default "False"; it picks the IMU orientation
+    # covariance that fills the controller file's <static_covariance_orientation> placeholder
+    ArgSpec("use_madgwick_filter", _BOOL, "determine the orientation from the IMU (Madgwick filter)",
+            since=_v("2.3.2"), default="False"),
     ArgSpec(
         "robot_model",
         ArgType.CHOICE,

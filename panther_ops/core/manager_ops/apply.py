@@ -6,10 +6,12 @@ from __future__ import annotations
 import contextlib
 from typing import Any
 
-from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
+from panther_ops.core.fleet.pipeline import ApplyOptions
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
+from panther_ops.core.fleet.steps import Write, executes
+from panther_ops.core.manager_ops.plan import ManagerChange
 from panther_ops.core.manager_ops.settings import ROBOT_DIR, SERVICE
 from panther_ops.errors import OpsError
 from panther_ops.results import Outcome, RobotResult
@@ -37,8 +39,10 @@ def tidy(ctx: RobotContext, root: str) -> None:
         return
 
 
-def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-    """`apply_plan`, with the manager container handled where compose alone would not:
+@executes(ManagerChange)
+def apply_manager(ctx: RobotContext, plan: RobotPlan, step: ManagerChange, opts: ApplyOptions,
+                  write: Write) -> RobotResult:
+    """The pipeline's write, with the manager container handled where compose alone would not:
 
     * remove: the container is stopped before compose.yaml changes (never two managers at
       once) and deleted once the change is verified (``compose up`` leaves orphans running);
@@ -46,9 +50,9 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
       started again (the pipeline's rollback itself deletes a new service's orphan container
       and recreates the driver from the restored compose.yaml).
     """
-    action = plan.data.get("action")
-    if not plan.edits or opts.dry_run or action not in ("deploy", "remove"):
-        return apply_plan(ctx, plan, opts)
+    action = step.verb
+    if not plan.edits or opts.dry_run:
+        return write(opts)
     client = ctx.transport.docker()
     stopped: list[Any] = []
     wd = project_dir(ctx, plan.compose_file, plan.home)
@@ -58,7 +62,7 @@ def apply_manager(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> Rob
                 c.stop(timeout=10)
                 stopped.append(c)
     try:
-        result = apply_plan(ctx, plan, opts)
+        result = write(opts)
     except BaseException:
         for c in stopped:
             c.start()

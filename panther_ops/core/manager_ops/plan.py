@@ -29,9 +29,10 @@ executor `apply.py`'s.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Step, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle
 from panther_ops.core.manager_ops.layout import Layout, _state_bytes, as_manager_plan, brief, parse_state, state_path
@@ -59,6 +60,13 @@ from panther_ops.core.robot.edits import compose_plan, edit_args
 from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.errors import UsageError
 
+
+@dataclass(frozen=True)
+class ManagerChange(Step):
+    """`manager deploy|remove` (``verb``): the pipeline's write plus the manager's container,
+    which compose alone does not handle (stopped before a removal, deleted after it)."""
+
+    verb: str
 RUNNING = "manager-running"
 """Fact: warnings about the deployed manager's container (none when it runs)."""
 
@@ -142,6 +150,7 @@ def plan_deploy(raw: ComposeRead, reads: Reads, desired: Mapping[str, Any], *, s
     plan.warnings = [x for x in plan.warnings if not x.startswith(f"services.{SERVICE}.")]
     if not plan.edits:
         plan.warnings += reads.fact(RUNNING)
+    plan.steps.append(ManagerChange("deploy"))
     plan.data.update({"action": "deploy", "version": bundle.version, "mode": settings.mode, "service": SERVICE,
                       "image": cfg.compose.driver_image, "shutdown_hosts": spec.hosts_source,
                       "stack": cfg.stack.version_str, "ssh_shutdowns": ssh_via,
@@ -259,6 +268,7 @@ def plan_remove(raw: ComposeRead, reads: Reads) -> RobotPlan:
                                         [verify] if driver_changed else [], "the manager is not deployed", extra=edits),
                            {e.path: brief(e, "") for e in edits if e.path != cfg.compose_path})
     plan.recreate = (cfg.service,) if driver_changed else ()
+    plan.steps.append(ManagerChange("remove"))
     plan.data.update({"action": "remove", "version": version, "service": SERVICE, "root": root,
                       "had_service": present})
     return plan

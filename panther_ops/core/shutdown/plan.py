@@ -27,12 +27,14 @@ reads (and the image's default, through `config pull`) are `read.py`'s.
 
 from __future__ import annotations
 
+import re
+import shlex
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
+from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Step, Verify
 from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, FileKindError, check_file
@@ -43,6 +45,7 @@ from panther_ops.core.robot.launch_args import spec
 from panther_ops.core.robot.push import Bundle, push_onto
 from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Stack
+from panther_ops.core.yaml.document import DocumentError, YamlDocument
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 
@@ -69,6 +72,7 @@ class RobotHostsFile:
 
 def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
     """The mounted hosts file, else the 2.2 tree's (None: the robot uses its image's default)."""
+    robot = reads.robot
     cf = config_file(cfg.stack, FileKind.SHUTDOWN_HOSTS)
     arg = spec("shutdown_hosts_config_path").name_for(cfg.stack)
     current = cfg.compose.args.get(arg)
@@ -78,7 +82,9 @@ def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
             data = reads.file(host)
             if data is None:
                 raise UsageError(f"{arg}:={current} is mounted from {host}, which does not exist on the robot",
-                                 hint="push a hosts file: panther-ops shutdown hosts add -r ROBOT ...")
+                                 hint=f"push a hosts file in its place: panther-ops config push hosts.yaml --as "
+                                 f"shutdown-hosts -r {shlex.quote(robot)} (check it first: panther-ops "
+                                 "shutdown hosts validate hosts.yaml)")
             return RobotHostsFile(data.decode(errors="replace"), host, f"{host} (mounted, {arg}:={current})",
                                   cfg.stack, cfg)
     if cfg.tree_mounted:
@@ -92,8 +98,10 @@ def hosts_in_use(cfg: RobotConfig, reads: Reads) -> RobotHostsFile | None:
 Editor = Callable[[str, Mode], Edit]
 
 
-def hosts_edit(rf: RobotHostsFile, editor: Editor, power_budget: float = POWER_BUDGET_S) -> tuple[Edit, list[str]]:
-    """The edit of the robot's hosts file and its warnings (refused when the file would have errors)."""
+def hosts_edit(rf: RobotHostsFile, editor: Editor, power_budget: float = POWER_BUDGET_S, *,
+               robot: str = "ROBOT") -> tuple[Edit, list[str]]:
+    """The edit of the robot's hosts file and its warnings (refused when the file would have errors;
+    the hint is the command that removes the first entry in error from ``robot``)."""
     where = rf.path or rf.source
     try:
         edit = editor(rf.text, rf.mode)
@@ -105,9 +113,24 @@ def hosts_edit(rf: RobotHostsFile, editor: Editor, power_budget: float = POWER_B
     after = parse_hosts(edit.text, where, mode=rf.mode, power_budget=power_budget, allow_refs=False)
     if after.errors:  # the whole file as it would be written: an invalid entry already there is refused too
         raise FileKindError(where, "shutdown hosts file", [str(f) for f in after.errors],
-                            hint="fix or remove the entries named (panther-ops shutdown hosts remove -r ROBOT "
-                            "--ip IP); nothing was changed")
+                            hint=f"fix or remove the entries named ({_remove_command(robot, after)}); "
+                            "nothing was changed")
     return edit, [str(f) for f in after.warnings]
+
+
+def _remove_command(robot: str, hosts: HostsFile) -> str:
+    """``panther-ops shutdown hosts remove`` of the first entry in error, its values filled in
+    (as written in the file; ``IP`` where the entry has no ip)."""
+    index = next((int(m.group(1)) for f in hosts.errors if (m := re.match(r"hosts\[(\d+)\]", f.where))), None)
+    ip: object = None
+    if index is not None:
+        try:
+            doc = YamlDocument.load(hosts.text, hosts.source).to_plain()
+            ip = doc["hosts"][index].get("ip")
+        except (DocumentError, AttributeError, IndexError, KeyError, TypeError):
+            ip = None
+    shown = shlex.quote(str(ip)) if isinstance(ip, str | int) and str(ip) else "IP"
+    return f"panther-ops shutdown hosts remove -r {shlex.quote(robot)} --ip {shown}"
 
 
 def plan_in_place(robot: str, rf: RobotHostsFile, edit: Edit, warnings: list[str]) -> RobotPlan | None:
@@ -191,6 +214,22 @@ def shutdown_plan(robot: str, rf: RobotHostsFile, power_budget: float = POWER_BU
     return RobotShutdownPlan(robot, rf, parsed, parsed.hosts())
 
 
+@dataclass(frozen=True)
+class ShutdownRobot(Step):
+    """`shutdown robot`: the hosts of ``plan`` (side by side, from the robot), then the Built-in
+    Computer (`run.shutdown_robot`)."""
+
+    plan: RobotShutdownPlan
+
+
+def robot_shutdown(sp: RobotShutdownPlan) -> RobotPlan:
+    """`shutdown robot`'s change: its hosts named, then the robot itself."""
+    names = ", ".join(h.describe() for h in sp.hosts)
+    first = f"{len(sp.hosts)} host(s) first ({names}), then " if sp.hosts else "no hosts in its file; "
+    return RobotPlan(sp.robot, f"shut down {first}the Built-in Computer", warnings=[str(f) for f in sp.parsed.warnings],
+                     data={"hosts_file": sp.hosts_file.source}, steps=[ShutdownRobot(sp)])
+
+
 DEFAULT_FACT = "shutdown_hosts_default"
 """Fact: the hosts file the robot's image ships (bytes), for a robot that uses it."""
 
@@ -208,7 +247,8 @@ def desired_hosts(reads: Reads, cfg: RobotConfig, entries: list[Mapping[str, Any
     if rf is None:
         default = reads.fact(DEFAULT_FACT)
         rf = RobotHostsFile(bytes(default).decode(errors="replace"), None, "the image's default", cfg.stack, cfg)
-    edit, warnings = hosts_edit(rf, lambda text, _mode: converge_hosts(text, list(entries), rf.path or rf.source))
+    edit, warnings = hosts_edit(rf, lambda text, _mode: converge_hosts(text, list(entries), rf.path or rf.source),
+                                robot=reads.robot)
     if not edit.changed:
         return DesiredHosts(warnings=warnings)
     if rf.path is not None:

@@ -40,7 +40,7 @@ def read_robot_hosts(ctx: RobotContext) -> RobotHostsFile:
 def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = POWER_BUDGET_S) -> RobotPlan:
     """A pipeline plan for an edit of the robot's hosts file (refused when it adds errors)."""
     rf = read_robot_hosts(ctx)
-    edit, warnings = hosts_edit(rf, editor, power_budget)
+    edit, warnings = hosts_edit(rf, editor, power_budget, robot=ctx.robot.name)
     plan = plan_in_place(ctx.robot.name, rf, edit, warnings)
     if plan is not None:
         return plan

@@ -17,10 +17,11 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterable
 
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.shutdown.links import backends_via
-from panther_ops.core.shutdown.plan import RobotShutdownPlan, shutdown_plan
+from panther_ops.core.shutdown.plan import RobotShutdownPlan, robot_shutdown, shutdown_plan
 from panther_ops.core.shutdown.read import read_robot_hosts
 from panther_ops.errors import OpsError
 from panther_ops.manager.clock import Clock, MonotonicClock
@@ -92,9 +93,9 @@ def summary(fleet: FleetResult) -> str:
 # ---------------------------------------------------------------------------------------------
 # shutdown robot
 # ---------------------------------------------------------------------------------------------
-def plan_robot_shutdown(ctx: RobotContext, power_budget: float = POWER_BUDGET_S) -> RobotShutdownPlan:
-    """Read and validate the robot's hosts file (UsageError when it has errors)."""
-    return shutdown_plan(ctx.robot.name, read_robot_hosts(ctx), power_budget)
+def plan_robot_shutdown(ctx: RobotContext, power_budget: float = POWER_BUDGET_S) -> RobotPlan:
+    """Read and validate the robot's hosts file (UsageError when it has errors); the plan."""
+    return robot_shutdown(shutdown_plan(ctx.robot.name, read_robot_hosts(ctx), power_budget))
 
 
 def shutdown_robot(ctx: RobotContext, plan: RobotShutdownPlan, *,

@@ -32,9 +32,10 @@
 # (husarion/husarion_ugv_ros@2.0.4:panther_lights/src/controller_node.cpp), 2.1.x
 # `lights/set_animation` with panther_msgs (@2.1.1:panther_lights/src/lights_controller_node.cpp),
 # 2.2.x `lights/set_animation` with husarion_ugv_msgs (@2.2.2:husarion_ugv_lights/src/
-# lights_controller_node.cpp). The answer is the controller's: success=True for an animation it
-# has -- the release's default IDs (2.0/2.1 led_config.yaml: 0-7, 9; 2.2 panther_animations.yaml:
-# 0-15) and the `id:`s of the user animations file the driver's launch arguments name
+# lights_controller_node.cpp), 2.3.x the same as 2.2 (@2.3.2:husarion_ugv_lights/src/lights_controller_node.cpp).
+# The answer is the controller's: success=True for an animation it
+# has -- the release's default IDs (2.0/2.1 led_config.yaml: 0-7, 9; 2.2, 2.3.0, 2.3.1 panther_animations.yaml:
+# 0-15; 2.3.2: 0-17, with 16 GOAL_FAILED and 17 FLOOD_LIGHT) and the `id:`s of the user animations file the driver's launch arguments name
 # (`user_led_animations_file:=` 2.0/2.1; `user_led_animations_path:=`, else
 # <common_dir_path>/husarion_ugv_lights/config/user_animations.yaml, 2.2) -- else success=False,
 # "No animation with ID: N".
@@ -43,8 +44,11 @@
 # `ros2 pkg prefix <pkg>` prints the install prefix and nothing else (ros2/ros2cli@9fce6a08381b:
 # ros2pkg/ros2pkg/verb/prefix.py prints get_prefix_path): /ros2_ws/install/<pkg> for a package
 # colcon installed in the image's workspace (isolated install: joy2twist, husarion/joy2twist@2f8ad45:
-# Dockerfile), else /opt/ros/humble: the gamepad's `joy2twist_params_file:=$(ros2 pkg prefix
-# joy2twist)/share/...` names a file of the image.
+# Dockerfile), else /opt/ros/$ROS_DISTRO (humble; jazzy on husarion_ugv 2.3): the gamepad's
+# `joy2twist_params_file:=$(ros2 pkg prefix joy2twist)/share/...` names a file of the image.
+# On 2.3.2 <ns>/cmd_vel is the twist mux's input of priority 1 and carries geometry_msgs/msg/TwistStamped,
+# subscribed by twist_mux_controller (husarion_ugv_ros@2.3.2:ROS_API.md, husarion_ugv_controller/config/
+# WH01_controller.yaml); `ros2 topic info -v` says so.
 #
 # The GPS fix (sensor_msgs/msg/NavSatFix), published by the lab's NMEA driver stand-in
 # (nmea-listen: in the nmea-gps service's container, or started by this driver's launch):
@@ -136,8 +140,14 @@ lights_service() {  # "<name> <msgs package>" of the image's release, or nothing
     case $v in
         2.0.*) echo "lights/controller/set/animation panther_msgs" ;;
         2.1.*) echo "lights/set_animation panther_msgs" ;;
-        2.2.*) echo "lights/set_animation husarion_ugv_msgs" ;;
+        2.2.* | 2.3.*) echo "lights/set_animation husarion_ugv_msgs" ;;
     esac
+}
+
+release() {  # the image's release (/version.txt)
+    v=
+    [ -r /version.txt ] && read -r v < /version.txt
+    echo "$v"
 }
 
 set_animation() {  # $1 msgs package, $2 the request (YAML)
@@ -148,6 +158,7 @@ set_animation() {  # $1 msgs package, $2 the request (YAML)
     user=$(launch_arg user_led_animations_file)
     if [ "$1" = husarion_ugv_msgs ]; then
         known="0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15"
+        [ "$(release)" = 2.3.2 ] && known="$known 16 17"
         user=$(launch_arg user_led_animations_path)
         common=$(launch_arg common_dir_path)
         [ -z "$user" ] && [ -n "$common" ] && user=$common/husarion_ugv_lights/config/user_animations.yaml
@@ -201,19 +212,21 @@ case "${1:-}" in
                 pubs=$(live_publishers)
                 n=0
                 for p in $pubs; do n=$((n + 1)); done
-                echo "Type: geometry_msgs/msg/Twist"
+                type=geometry_msgs/msg/Twist sub=drive_controller
+                [ "$(release)" = 2.3.2 ] && type=geometry_msgs/msg/TwistStamped sub=twist_mux_controller
+                echo "Type: $type"
                 echo
                 echo "Publisher count: $n"
                 echo
                 for p in $pubs; do
-                    printf 'Node name: %s\nNode namespace: /\nTopic type: geometry_msgs/msg/Twist\nEndpoint type: PUBLISHER\n' "$p"
+                    printf 'Node name: %s\nNode namespace: /\nTopic type: %s\nEndpoint type: PUBLISHER\n' "$p" "$type"
                     printf 'GID: 01.0f.stand.in\nQoS profile:\n  Reliability: RELIABLE\n  History (Depth): UNKNOWN\n'
                     printf '  Durability: VOLATILE\n  Lifespan: Infinite\n  Deadline: Infinite\n  Liveliness: AUTOMATIC\n'
                     printf '  Liveliness lease duration: Infinite\n\n'
                 done
                 echo "Subscription count: 1"
                 echo
-                printf 'Node name: drive_controller\nNode namespace: %s\nTopic type: geometry_msgs/msg/Twist\n' "${P:-/}"
+                printf 'Node name: %s\nNode namespace: %s\nTopic type: %s\n' "$sub" "${P:-/}" "$type"
                 printf 'Endpoint type: SUBSCRIPTION\nGID: 01.0f.stand.in\n\n'
                 exit 0
                 ;;
@@ -272,7 +285,7 @@ if [ "${1:-}" = run ] && [ "${2:-}" = teleop_twist_keyboard ]; then
 fi
 if [ "${1:-}" = pkg ]; then  # only the prefix on stdout: `$(ros2 pkg prefix joy2twist)/share/...` is a path
     if [ "${2:-}" = prefix ] && [ -n "${3:-}" ]; then
-        if [ -d "/ros2_ws/install/$3" ]; then echo "/ros2_ws/install/$3"; else echo "/opt/ros/humble"; fi
+        if [ -d "/ros2_ws/install/$3" ]; then echo "/ros2_ws/install/$3"; else echo "/opt/ros/${ROS_DISTRO:-humble}"; fi
     fi
     exit 0
 fi

@@ -8,12 +8,16 @@ are `read.py`'s, the writes `apply.py`'s.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.plan import RobotPlan, Step
 from panther_ops.core.gps.udp_address import check_port
 from panther_ops.errors import UsageError
+
+if TYPE_CHECKING:
+    from panther_ops.core.gps.credentials import Credentials
 
 DEFAULT_ROUTER = "10.15.20.1"
 GLOBAL = "/api/gps/global"
@@ -121,9 +125,22 @@ def describe_puts(state: dict[str, Any], puts: dict[str, Any]) -> str:
     return "; ".join(bits)
 
 
+@dataclass(frozen=True)
+class RouterPuts(Step):
+    """The router's PUTs (path -> body) through the robot's connection, then its state read back
+    must be as asked (``request``). ``after_driver``: `gps enable --router`, the PUTs follow
+    the driver's write (only when it went well); else `gps router set`, the PUTs are the change."""
+
+    address: str
+    puts: Mapping[str, Any]
+    request: RouterRequest
+    creds: Credentials | None
+    after_driver: bool = False
+
+
 def router_plan(robot: str, address: str, state: dict[str, Any], req: RouterRequest, fingerprint: str | None,
-                pinned_now: bool) -> RobotPlan:
-    """`gps router set`: the PUTs that take ``state`` to ``req``."""
+                pinned_now: bool, creds: Credentials | None = None) -> RobotPlan:
+    """`gps router set`: the PUTs that take ``state`` to ``req`` (``creds``: for the executor)."""
     puts = changes(state, req)
     plan = RobotPlan(robot, f"change router {address}: {describe_puts(state, puts)}" if puts else "",
                      noop=None if puts else f"router {address} already as asked")
@@ -131,13 +148,14 @@ def router_plan(robot: str, address: str, state: dict[str, Any], req: RouterRequ
     if puts:
         plan.data["action"] = "router"
         plan.data["puts"] = puts
+        plan.steps.append(RouterPuts(address, puts, req, creds))
     if pinned_now:
         plan.warnings.append(f"router certificate pinned on first use: {fingerprint}")
     return plan
 
 
 def with_router(plan: RobotPlan, address: str, state: dict[str, Any], req: RouterRequest, fingerprint: str | None,
-                pinned_now: bool) -> RobotPlan:
+                pinned_now: bool, creds: Credentials | None = None) -> RobotPlan:
     """`gps enable --router`: the driver's plan, then the router's PUTs toward ``req``."""
     puts = changes(state, req)
     plan.data.update({"router": address, "router_before": summary_of(state)})
@@ -147,6 +165,7 @@ def with_router(plan: RobotPlan, address: str, state: dict[str, Any], req: Route
         text = f"router {address}: {describe_puts(state, puts)}"
         plan.data["router_puts"] = puts
         plan.data["action"] = "router"
+        plan.steps.append(RouterPuts(address, puts, req, creds, after_driver=True))
         plan.summary = f"{plan.summary}; {text}" if plan.edits else text
         plan.noop = None
     elif plan.noop:

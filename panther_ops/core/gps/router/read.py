@@ -74,4 +74,4 @@ def read_and_plan_router(ctx: RobotContext, address: str, creds: Credentials, re
         api = open_router(ctx, address, creds)
     except NoRouter as exc:
         return RobotPlan(ctx.robot.name, "", skipped=exc.message)
-    return router_plan(ctx.robot.name, address, read_state(api), req, api.fingerprint, api.pinned_now)
+    return router_plan(ctx.robot.name, address, read_state(api), req, api.fingerprint, api.pinned_now, creds)

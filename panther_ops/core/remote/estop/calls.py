@@ -25,23 +25,27 @@ not called there.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops.core.containers import driver_exec
 from panther_ops.core.containers.driver_exec import NAMESPACE_SH
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop import answers
+from panther_ops.core.remote.estop.plan import (
+    E_STOP_TOPIC,
+    RESET_SERVICE,
+    ROS_TIMEOUT_S,
+    TRIGGER_SERVICE,
+    answer_tail,
+    plan_reset,
+    state_of,
+    state_text,
+)
 from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command
 
-E_STOP_TOPIC = "hardware/e_stop"
-TRIGGER_SERVICE = "hardware/e_stop_trigger"
-RESET_SERVICE = "hardware/e_stop_reset"
-CMD_VEL = "cmd_vel"
-ROS_TIMEOUT_S = 10
-"""Longest wait of one ROS 2 command on the robot (discovery included)."""
 DEMO_RECORDING = "/var/lib/panther-ops-demo/ros.json"
 """Where a demo robot keeps the recorded answers of its driver (inside its directory)."""
 
@@ -102,57 +106,14 @@ def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
     return answers.Answers(str(raw.get("namespace", "/")), sections)
 
 
-@dataclass
-class State:
-    """What the driver said about its E-stop and cmd_vel."""
-
-    namespace: str
-    triggered: bool | None
-    publishers: list[str] | None
-    problems: list[str] = field(default_factory=list)
-
-    def topic(self, name: str) -> str:
-        return f"{self.namespace.rstrip('/')}/{name}"
-
-    def to_json(self) -> dict[str, Any]:
-        return {"namespace": self.namespace, "e_stop": self.triggered, "cmd_vel_publishers": self.publishers}
-
-
-def read_state(got: answers.Answers) -> State:
-    state = State(got.namespace, None, None)
-    status, pubs = got.get("status"), got.get("publishers")
-    if status is not None:
-        state.triggered = answers.e_stop_state(status.text)
-        if state.triggered is None:
-            state.problems.append(f"no message on {state.topic(E_STOP_TOPIC)} within {ROS_TIMEOUT_S} s"
-                                  + _tail(status.text))
-    if pubs is not None:
-        state.publishers = answers.publishers(pubs.text)
-        if state.publishers is None:
-            state.problems.append(f"no answer about {state.topic(CMD_VEL)}" + _tail(pubs.text))
-    return state
-
-
-def _tail(text: str) -> str:
-    lines = [ln for ln in text.strip().splitlines() if ln.strip() and "waiting for service" not in ln]
-    return f": {lines[-1][-200:]}" if lines else ""
-
-
-def describe(state: State) -> str:
-    what = {True: "E-stop triggered", False: "E-stop released", None: "E-stop state unknown"}[state.triggered]
-    if state.publishers:
-        what += f"; publishing on {state.topic(CMD_VEL)}: {', '.join(state.publishers)}"
-    return what
-
-
 def status_task(ctx: RobotContext) -> RobotResult:
     """`estop status`: the E-stop and who publishes on cmd_vel."""
-    state = read_state(ask(ctx, ("status", "publishers")))
+    state = state_of(ask(ctx, ("status", "publishers")))
     data = {**state.to_json(), "recorded": is_demo(ctx)}
     if state.problems:
         return RobotResult(ctx.robot.name, Outcome.FAILED, "; ".join(state.problems), data=data)
     note = " (recorded answer: demo robot)" if is_demo(ctx) else ""
-    return RobotResult(ctx.robot.name, Outcome.OK, describe(state) + note, data=data)
+    return RobotResult(ctx.robot.name, Outcome.OK, state_text(state) + note, data=data)
 
 
 def trigger_task(ctx: RobotContext) -> RobotResult:
@@ -163,24 +124,9 @@ def trigger_task(ctx: RobotContext) -> RobotResult:
     return _service_result(ctx, got, "trigger", TRIGGER_SERVICE, "E-stop triggered")
 
 
-def reset_check_task(ctx: RobotContext) -> RobotResult:
-    """`estop reset`, first phase: is a reset needed, and is it possible (nobody on cmd_vel)?"""
-    state = read_state(ask(ctx, ("status", "publishers")))
-    data: dict[str, Any] = {**state.to_json(), "ready": False}
-    if state.problems:
-        return RobotResult(ctx.robot.name, Outcome.FAILED, "; ".join(state.problems), data=data)
-    if state.triggered is False:
-        return RobotResult(ctx.robot.name, Outcome.OK, "E-stop not triggered: nothing to reset"
-                           + (f" ({describe(state)})" if state.publishers else ""), data=data)
-    if state.publishers:
-        return RobotResult(
-            ctx.robot.name, Outcome.FAILED,
-            f"refused: {', '.join(state.publishers)} publishes on {state.topic(CMD_VEL)} "
-            "(no reset while messages arrive)",
-            data={**data, "hint": f"stop {state.publishers[0]}, then reset again"})
-    data["ready"] = True
-    return RobotResult(ctx.robot.name, Outcome.OK, "E-stop triggered, nobody publishes on "
-                       f"{state.topic(CMD_VEL)}: ready to reset", data=data)
+def read_and_plan_reset(ctx: RobotContext) -> RobotPlan:
+    """`estop reset`'s read (the E-stop and cmd_vel's publishers, one command), then its plan."""
+    return plan_reset(ctx.robot.name, state_of(ask(ctx, ("status", "publishers"))))
 
 
 def reset_task(ctx: RobotContext) -> RobotResult:
@@ -190,7 +136,7 @@ def reset_task(ctx: RobotContext) -> RobotResult:
     got = ask(ctx, ("reset", "status"))
     result = _service_result(ctx, got, "reset", RESET_SERVICE, "E-stop reset")
     if result.outcome is Outcome.CHANGED:
-        state = read_state(got)
+        state = state_of(got)
         result.data.update(state.to_json())
         if state.triggered is not False:
             result.outcome = Outcome.FAILED
@@ -207,7 +153,7 @@ def _service_result(ctx: RobotContext, got: answers.Answers, action: str, servic
     if response is None:
         text = section.text if section is not None else ""
         return RobotResult(ctx.robot.name, Outcome.FAILED,
-                           f"no answer from {name} within {ROS_TIMEOUT_S} s{_tail(text)}", data=data)
+                           f"no answer from {name} within {ROS_TIMEOUT_S} s{answer_tail(text)}", data=data)
     success, message = response
     data.update(success=success, response=message)
     if not success:

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop.answers import Section
-from panther_ops.core.remote.estop.calls import CMD_VEL, ask, is_demo, read_state
+from panther_ops.core.remote.estop.calls import ask, is_demo
+from panther_ops.core.remote.estop.plan import CMD_VEL, state_of
 from panther_ops.core.remote.teleop.program import CHECK, PROGRAM
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.transport.base import Command
@@ -72,7 +73,7 @@ def prepare(ctx: RobotContext, rate: float) -> TeleopPlan:
     if is_demo(ctx):
         raise RemoteStateError(DEMO_SKIP)
     got = ask(ctx, ("status", "publishers", "keyboard"))
-    state = read_state(got)
+    state = state_of(got)
     if state.problems:
         raise RemoteStateError("; ".join(state.problems), hint="panther-ops driver status")
     if state.triggered:

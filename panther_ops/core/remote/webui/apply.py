@@ -15,10 +15,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.core.fleet.pipeline import ApplyOptions
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.steps import Write, executes
 from panther_ops.core.kinds.webui_settings import SNAP, profile_path
 from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import RobotNamespace, with_robot_namespace
+from panther_ops.core.remote.webui.plan import SetKeys, SetWebui
 from panther_ops.core.remote.webui.read import (
     Task,
     demo_skip,
@@ -29,7 +33,7 @@ from panther_ops.core.remote.webui.read import (
     robot_namespace,
 )
 from panther_ops.core.remote.webui.state import WebuiState, plan_changes
-from panther_ops.errors import RemoteStateError
+from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.secret import Secret
 from panther_ops.transport.base import Command
@@ -83,27 +87,26 @@ def apply_settings(session: UserComputerSession, wanted: dict[str, str], robot: 
     return Applied(before, read_state(session), wanted, plan, restarted)
 
 
-def set_apply_task(wanted: dict[str, str], password: Secret | None, dds: tuple[str, bytes] | None = None) -> Task:
-    """Phase 2 of `webui set`: `apply_settings` on the robot's User Computer."""
-    def task(ctx: RobotContext) -> RobotResult:
-        if ctx.robot.transport == "local":
-            return demo_skip(ctx, "set")
-        robot = robot_namespace(ctx)
-        session = open_webui_session(ctx, password)
-        try:
-            done = apply_settings(session, wanted, robot, dds)
-        finally:
-            session.close()
-        data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
-        if done.wrong:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
-                               data=data_out)
-        if not done.changes and dds is None:
-            return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
-        text = ", ".join(f"{k}={v}" for k, _, v in done.changes) or "DDS profile uploaded"
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {text}" + ("; restarted" if done.restarted else ""),
+@executes(SetKeys)
+def set_keys(ctx: RobotContext, plan: RobotPlan, step: SetKeys, opts: ApplyOptions, write: Write) -> RobotResult:
+    """`webui set`: `apply_settings` on the robot's User Computer (a demo robot: skipped)."""
+    if ctx.robot.transport == "local":
+        return demo_skip(ctx, "set")
+    robot = robot_namespace(ctx)
+    session = open_webui_session(ctx, opts.sudo_password)
+    try:
+        done = apply_settings(session, dict(step.wanted), robot, step.dds)
+    finally:
+        session.close()
+    data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
+    if done.wrong:
+        return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
                            data=data_out)
-    return task
+    if not done.changes and step.dds is None:
+        return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data_out)
+    text = ", ".join(f"{k}={v}" for k, _, v in done.changes) or "DDS profile uploaded"
+    return RobotResult(ctx.robot.name, Outcome.CHANGED, f"set {text}" + ("; restarted" if done.restarted else ""),
+                       data=data_out)
 
 
 def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
@@ -169,3 +172,27 @@ def apply_desired_webui(ctx: RobotContext, wanted: dict[str, str], password: Sec
         return Outcome.OK, "WebUI already as desired", data
     text = ", ".join(f"{k}={v}" for k, _, v in done.changes)
     return Outcome.CHANGED, f"set WebUI {text}" + ("; restarted it" if done.restarted else ""), data
+
+
+@executes(SetWebui)
+def set_webui(ctx: RobotContext, plan: RobotPlan, step: SetWebui, opts: ApplyOptions, write: Write) -> RobotResult:
+    """`apply`'s plans: the files through the pipeline, then the WebUI's settings (files that
+    failed or rolled back leave the WebUI untouched; ``sudo`` with ``opts.sudo_password``)."""
+    result = write(opts)
+    if opts.dry_run or (plan.edits and result.outcome is not Outcome.CHANGED):
+        return result
+    files = f"{step.files_summary}; " if plan.edits else ""
+    try:
+        outcome, message, after = apply_desired_webui(ctx, dict(step.wanted), opts.sudo_password)
+    except OpsError as exc:
+        outcome, message, after = Outcome.FAILED, f"WebUI: {exc.message}", {}
+        if exc.hint:
+            result.warnings.append(exc.hint)
+    result.data["webui_after"] = after
+    if outcome is Outcome.SKIPPED and plan.edits:
+        result.warnings.append(message)
+        result.message = step.files_summary or result.message
+    else:
+        result.outcome = outcome if outcome is not Outcome.OK or not plan.edits else Outcome.CHANGED
+        result.message = files + message
+    return result

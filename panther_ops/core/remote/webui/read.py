@@ -17,18 +17,17 @@ import json
 from collections.abc import Callable
 from typing import Any
 
+from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP, SettingError, validate
+from panther_ops.core.kinds.webui_settings import COMMON_DIR, SNAP
 from panther_ops.core.remote.user_computer.access import open_session
-from panther_ops.core.remote.webui.defaults import KEY as NS_KEY
 from panther_ops.core.remote.webui.defaults import (
     RobotNamespace,
     robot_namespace_of,
     unknown_namespace,
-    with_robot_namespace,
 )
-from panther_ops.core.remote.webui.plan import WebuiRead
-from panther_ops.core.remote.webui.state import WebuiState, parse_state, plan_changes, plan_text
+from panther_ops.core.remote.webui.plan import WebuiRead, plan_set
+from panther_ops.core.remote.webui.state import WebuiState, parse_state
 from panther_ops.errors import OpsError, RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.secret import Secret
@@ -165,31 +164,15 @@ def _demo_status(ctx: RobotContext) -> RobotResult:
                        f"{'running' if state.running else 'stopped'}; {answered} (recorded: demo robot)", data=data)
 
 
-def set_plan_task(wanted: dict[str, str], password: Secret | None) -> Task:
-    """Phase 1 of `webui set`: read, check custom profiles, plan current -> new (with
-    ``ros.namespace`` defaulting to the robot's, see `defaults`)."""
-    def task(ctx: RobotContext) -> RobotResult:
-        if (skipped := no_user_computer(ctx)) is not None:
-            return skipped
-        state, _ = read_webui(ctx, password)
-        if not state.installed:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} is not installed",
-                               data={"hint": f"panther-ops webui install -r {ctx.robot.name} --ask-sudo-password"})
-        full, note = with_robot_namespace(wanted, state.value(NS_KEY), robot_namespace(ctx))
-        try:
-            validate(full, state.profiles)
-        except SettingError as exc:
-            return RobotResult(ctx.robot.name, Outcome.FAILED, f"refused before sending: {exc}",
-                               data={"refused": str(exc)})
-        plan = plan_changes(state, full)
-        data: dict[str, Any] = {"plan": [{"key": k, "current": c, "new": n} for k, c, n in plan],
-                                "running": state.running, "ready": bool(plan), "namespace": note}
-        if not plan:
-            return RobotResult(ctx.robot.name, Outcome.OK, "nothing to change", data=data)
-        # nothing sent yet: a change the robot would get (as every plan says: "would change")
-        return RobotResult(ctx.robot.name, Outcome.CHANGED, f"would change: {plan_text(plan, note)}",
-                           data={**data, "dry_run": True})
-    return task
+def read_and_plan_set(ctx: RobotContext, wanted: dict[str, str], password: Secret | None,
+                      dds: tuple[str, bytes] | None) -> RobotPlan:
+    """`webui set`'s read (the snap's state, the robot's namespace), then its plan (`plan.py`);
+    a demo robot without a recorded User Computer is skipped."""
+    if (skipped := no_user_computer(ctx)) is not None:
+        return RobotPlan(ctx.robot.name, "", skipped=skipped.message)
+    state, _ = read_webui(ctx, password)
+    ns = robot_namespace(ctx) if state.installed else RobotNamespace(None, "not read: no WebUI installed")
+    return plan_set(ctx.robot.name, state, wanted, ns, dds)
 
 
 def url_task(password: Secret | None) -> Task:

@@ -118,6 +118,12 @@ def args_for(stack: Stack) -> list[ArgSpec]:
     return [s for s in CATALOGUE if s.available(stack)]
 
 
+GAMEPAD_ALWAYS_ON = (2, 3, 2)
+"""From husarion_ugv 2.3.2 bringup always runs the gamepad: husarion_ugv_ros@2.3.2:husarion_ugv_bringup/launch/
+bringup.launch.py includes husarion_ugv_teleop/launch/teleop.launch.py with ``{"launch_gamepad": "True"}``, which
+overrides the command line's value (an include's launch_arguments win over the global one)."""
+
+
 def bool_word(stack: Stack, value: bool) -> str:
     """``True``/``False`` on panther_ros 2.0-2.1 (some args only accept these), ``true``/``false`` on 2.2."""
     word = "true" if value else "false"
@@ -190,6 +196,13 @@ def validate_arg(
             raise UnavailableArgError(_since_text(s, stack), hint=_replacement_hint(s, stack))
         warnings.append(_since_text(s, stack) + " (forced)")
     normalised = _normalise(s, stack, value, force=force, warnings=warnings)
+    if s.key == "launch_gamepad" and normalised == bool_word(stack, False) and stack.version >= GAMEPAD_ALWAYS_ON:
+        message = (f"launch_gamepad:={normalised} has no effect on {stack.label()}: bringup includes "
+                   "husarion_ugv_teleop's teleop.launch.py with launch_gamepad True, so the gamepad always runs")
+        if not force:
+            raise InvalidArgValueError(message, hint="leave launch_gamepad out, or true (what 2.3.2 runs anyway); "
+                                       "--force writes it all the same")
+        warnings.append(message + " (forced)")
     if s.sim_only_until is not None and stack.version <= s.sim_only_until and not simulation and normalised:
         warnings.append(
             f"{name} only matters in simulation on {stack.label()} (Gazebo battery plugin); the robot ignores it"
