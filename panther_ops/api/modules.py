@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.fleet.changes import Applier, Planner
+from panther_ops.core.fleet.changes import Planner
 from panther_ops.errors import UsageError
 
 
@@ -30,7 +30,8 @@ class Change:
 
     label: str
     planner: Planner
-    applier: Applier | None = None
+    restart: bool | None = None
+    """The command decides whether anything is recreated (estop reset: never), else the option."""
 
 
 COMMON = {"restart": Option(bool, default=True), "settle": Option(float, default=5.0)}
@@ -46,7 +47,7 @@ MODULES: dict[str, dict[str, Option]] = {
     "shutdown_hosts": {"src": Option(str, required=True), "force": Option(bool, default=False), **COMMON},
     "driver": {"state": Option(str, choices=("updated", "restarted"), required=True), "tag": Option(str),
                "pull": Option(bool, default=False), "force": Option(bool, default=False), **COMMON},
-    "estop": {"state": Option(str, choices=("triggered",), default="triggered")},
+    "estop": {"state": Option(str, choices=("triggered", "reset"), default="triggered")},
 }
 """Each module's options (docs/ansible.md)."""
 
@@ -136,14 +137,13 @@ def _apply(a: dict[str, Any]) -> Change:
 
 
 def _gps(a: dict[str, Any]) -> Change:
-    from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
     from panther_ops.core.gps.read import read_and_plan_disable, read_and_plan_enable
 
     if a["state"] == "disabled":
-        return Change("gps disable", read_and_plan_disable, apply_gps)
+        return Change("gps disable", read_and_plan_disable)
     opts = GpsOptions(port=a["port"], ip=a["ip"])
-    return Change("gps enable", lambda c: read_and_plan_enable(c, opts), apply_gps)
+    return Change("gps enable", lambda c: read_and_plan_enable(c, opts))
 
 
 def _shutdown_hosts(a: dict[str, Any]) -> Change:
@@ -153,22 +153,27 @@ def _shutdown_hosts(a: dict[str, Any]) -> Change:
 
 
 def _driver(a: dict[str, Any]) -> Change:
-    from panther_ops.core.driver import apply as driver_apply
     from panther_ops.core.driver import read as driver_read
 
     if a["state"] == "restarted":
-        return Change("driver restart", driver_read.read_and_plan_restart, driver_apply.apply_restart)
+        return Change("driver restart", driver_read.read_and_plan_restart)
     if not a["tag"]:
         raise ArgumentError("driver: state=updated needs tag (the driver image's tag)")
     from panther_ops.core.driver.images import parse_target
 
     target = parse_target(a["tag"], force=a["force"])
     return Change(f"driver update {a['tag']}",
-                  lambda c: driver_read.read_and_plan_update(c, target, force=a["force"], pull=a["pull"]),
-                  driver_apply.apply_update)
+                  lambda c: driver_read.read_and_plan_update(c, target, force=a["force"], pull=a["pull"]))
+
+
+def _estop_reset(a: dict[str, Any]) -> Change:
+    from panther_ops.core.remote.estop.calls import read_and_plan_reset
+
+    return Change("estop reset", read_and_plan_reset, restart=False)
 
 
 CHANGES: dict[str, Callable[[dict[str, Any]], Change]] = {
     "config": _config, "apply": _apply, "gps": _gps, "shutdown_hosts": _shutdown_hosts, "driver": _driver,
+    "estop": _estop_reset,
 }
-"""The modules that are changes through the pipeline (estop is an action: run.py)."""
+"""Each module's change through the pipeline (estop: its reset; a trigger is an action: run.py)."""

@@ -25,10 +25,11 @@ def run_module(module: str, args: Mapping[str, Any], inv: Inventory, robot: Robo
         problems = inv.key_problems([robot])  # a key file that cannot be used: before anything is contacted
         if problems:
             raise problems[0]
-        if module == "estop":
+        if module == "estop" and a["state"] == "triggered":
             return _estop(inv, robot, check)
         change = CHANGES[module](a)
-        result = _change(change, inv, robot, check=check, restart=a.get("restart", True),
+        restart = change.restart if change.restart is not None else a.get("restart", True)
+        result = _change(change, inv, robot, check=check, restart=restart,
                          settle=a.get("settle", 5.0))
     except UsageError as exc:  # the refusal panther-ops prints, nothing contacted or written
         return {"changed": False, "failed": True, "msg": str(exc), "outcome": "refused", "rc": int(exc.exit_code)}
@@ -51,8 +52,6 @@ def _change(change: Any, inv: Inventory, robot: Robot, *, check: bool, restart: 
             raise UsageError(f"{robot.name}: {fp.usage_errors[robot.name]}\nnothing was changed")
         if check or not fp.to_change:
             out: FleetResult = dry_run_result(fp) if check else fp.results
-        elif change.applier is not None:
-            out = apply_fleet(fp, inv, [robot], conns, opts, apply, applier=change.applier)
         else:
             out = apply_fleet(fp, inv, [robot], conns, opts, apply)
     return out.results[0]

@@ -97,6 +97,7 @@ INPUTS = Path(__file__).resolve().parents[1] / "golden/inputs"
     ("shutdown_hosts", {"src": str(INPUTS / "shutdown_hosts-manual.yaml")},
      ["config", "push", str(INPUTS / "shutdown_hosts-manual.yaml"), "--as", "shutdown-hosts"]),
     ("apply", {}, ["apply"]),
+    ("estop", {"state": "reset"}, ["estop", "reset"]),
 ])
 def test_check_mode_is_the_dry_run(demo: Path, capsys: pytest.CaptureFixture[str], module: str,
                                    args: dict[str, object], argv: list[str]) -> None:
