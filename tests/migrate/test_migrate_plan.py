@@ -173,3 +173,17 @@ def test_an_update_between_2_3_releases_warns_that_files_are_not_translated(
                               "--dry-run", "--json")
     assert code == 0, doc
     assert any("not translated between 2.3 releases" in w for w in doc["robots"][0]["warnings"])
+
+
+def test_a_translation_the_2_3_validator_refuses_is_a_refusal_naming_file_key_and_fix(
+        demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The translated controller goes through the 2.3.2 controller check (the one `config push` uses): a limit
+    beyond 2.3.2's bound for WH01 is carried over by the translator, and refused by the check."""
+    ctrl = home(demo) / "config/husarion_ugv_controller/config/WH01_controller.yaml"
+    ctrl.write_text(ctrl.read_text().replace("max_velocity: 2.0 # m/s", "max_velocity: 9.0 # m/s"))
+    before = tree_files(demo)
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes")
+    assert code == 2, err
+    assert "WH01_controller.yaml" in err and "refused by the controller check" in err
+    assert "linear.x.max_velocity" in err and "nothing was changed" in err
+    assert tree_files(demo) == before

@@ -19,7 +19,9 @@ from __future__ import annotations
 import functools
 import posixpath
 from collections.abc import Callable
+from dataclasses import dataclass, field
 
+from panther_ops.core.driver.migrate.checked import Checker
 from panther_ops.core.driver.migrate.components import translate_components
 from panther_ops.core.driver.migrate.controller import translate_controller
 from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_joy2twist
@@ -29,6 +31,7 @@ from panther_ops.core.driver.migrate.localization import translate_localization
 from panther_ops.core.driver.migrate.translated import MigrationRefused, Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind, Target
 from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
 from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Stack
@@ -58,6 +61,11 @@ _ARG_KINDS: dict[str, Translator] = {"controller_config_path": translate_control
                                      "components_config_path": translate_components,
                                      "localization_config_path": translate_localization}
 """Launch arguments naming a file of a kind that changed: a customised file they point to is translated too."""
+_KINDS: dict[Translator, FileKind] = {translate_controller: FileKind.CONTROLLER,
+                                      translate_components: FileKind.COMPONENTS,
+                                      translate_lights_tree: FileKind.BT_LIGHTS}
+"""The file kind whose validator checks each translator's output (`checked.Checker`); the EKF files have none."""
+LIGHTS_PROJECT = "husarion_ugv_manager/behavior_trees/LightsBT.btproj"
 
 
 def _check_target(cfg: RobotConfig, new: Stack) -> None:
@@ -93,48 +101,78 @@ def translated(translator: Translator, text: str, path: str, target: tuple[int, 
                  "husarion_ugv_ros writes them), then migrate") from exc
 
 
-def _edit(edits: list[FileEdit], notes: list[str], path: str, before: bytes | None, out: Translated) -> None:
-    after = out.text.encode()
-    notes.extend(out.notes)
-    if after != before:
-        edits.append(FileEdit(path, before, after))
+@dataclass
+class _Planned:
+    """One robot's edits and notes so far; each translation is checked (`checked.Checker`) before it is planned."""
+
+    reads: Reads
+    checker: Checker
+    edits: list[FileEdit] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+    def edit(self, path: str, before: bytes | None, out: Translated, kind: FileKind | None) -> None:
+        after = out.text.encode()
+        self.notes.extend(out.notes)
+        self.notes.extend(self._checked(kind, path, after))
+        if after != before:
+            self.edits.append(FileEdit(path, before, after))
+
+    def _checked(self, kind: FileKind | None, path: str, after: bytes) -> list[str]:
+        """``after`` through its kind's validator: its warnings (a lights tree inside the project next to it,
+        or 2.2.2's stock project when the tree has none)."""
+        if kind is None:
+            return []
+        project = None
+        if kind is FileKind.BT_LIGHTS:
+            btproj = posixpath.join(posixpath.dirname(path), posixpath.basename(LIGHTS_PROJECT))
+            data = self.reads.file(btproj)
+            project = (posixpath.basename(btproj), data if data is not None else stock_text(LIGHTS_PROJECT).encode())
+        return self.checker.check(kind, path, after, project=project)
+
+    def translate(self, path: str, translator: Translator, target: tuple[int, int, int]) -> bool:
+        before = self.reads.file(path)
+        if before is None:
+            return False
+        self.edit(path, before, translated(translator, before.decode(), path, target), _KINDS.get(translator))
+        return True
+
+    def joy2twist(self, tree: str, model: str, target: tuple[int, int, int]) -> None:
+        """The gamepad file translated; on 2.3.2 moved into husarion_ugv_teleop (the old one removed).
+        A tree without one gets 2.2.2's stock file translated (2.3.2's teleop reads it from the tree)."""
+        old = joy2twist_path(tree, model, (2, 2, 2))
+        new = joy2twist_path(tree, model, target)
+        text = self.reads.file(old)
+        if text is None and new == old:
+            return
+        if text is None:
+            from panther_ops.core.robot.files import config_file
+            from panther_ops.core.stack import stack_from_version
+
+            source = config_file(stack_from_version("2.2.2"), FileKind.JOY2TWIST, robot_model=model).template_text()
+            self.notes.append(f"{new}: created from 2.2.2's stock gamepad file (the tree had none; 2.3.2's teleop "
+                              "reads it)")
+        else:
+            source = text.decode()
+        out = translated(translate_joy2twist, source, new, target)
+        if new != old:
+            self.edit(new, self.reads.file(new), out, FileKind.JOY2TWIST)
+            if text is not None:
+                self.edits.append(FileEdit(old, text, None))
+                self.notes.append(f"{old} moved to {new} (2.3.2 reads the gamepad file from husarion_ugv_teleop)")
+            return
+        self.edit(old, text, out, FileKind.JOY2TWIST)
 
 
-def _translate(reads: Reads, path: str, translator: Translator, target: tuple[int, int, int],
-               edits: list[FileEdit], notes: list[str]) -> bool:
-    before = reads.file(path)
-    if before is None:
-        return False
-    _edit(edits, notes, path, before, translated(translator, before.decode(), path, target))
-    return True
+def stock_text(rel: str) -> str:
+    """2.2.2's stock file ``rel`` of the config tree (panther-ops' template of it)."""
+    from panther_ops.core.fleet.templates import read_template, template_path
+    from panther_ops.core.robot.files import family_dirs
+    from panther_ops.core.stack import stack_from_version
 
-
-def _joy2twist(reads: Reads, tree: str, model: str, target: tuple[int, int, int], edits: list[FileEdit],
-               notes: list[str]) -> None:
-    """The gamepad file translated; on 2.3.2 moved into husarion_ugv_teleop (the old one removed).
-    A tree without one gets 2.2.2's stock file translated (2.3.2's teleop reads it from the tree)."""
-    old = joy2twist_path(tree, model, (2, 2, 2))
-    new = joy2twist_path(tree, model, target)
-    text = reads.file(old)
-    if text is None and new == old:
-        return
-    if text is None:
-        from panther_ops.core.kinds import FileKind
-        from panther_ops.core.robot.files import config_file
-        from panther_ops.core.stack import stack_from_version
-
-        source = config_file(stack_from_version("2.2.2"), FileKind.JOY2TWIST, robot_model=model).template_text()
-        notes.append(f"{new}: created from 2.2.2's stock gamepad file (the tree had none; 2.3.2's teleop reads it)")
-    else:
-        source = text.decode()
-    out = translated(translate_joy2twist, source, new, target)
-    if new != old:
-        _edit(edits, notes, new, reads.file(new), out)
-        if text is not None:
-            edits.append(FileEdit(old, text, None))
-            notes.append(f"{old} moved to {new} (2.3.2 reads the gamepad file from husarion_ugv_teleop)")
-        return
-    _edit(edits, notes, old, text, out)
+    for directory in family_dirs(stack_from_version("2.2.2")):
+        if template_path("config", directory, *rel.split("/")).is_file():
+            return read_template("config", directory, *rel.split("/"))
+    raise UsageError(f"panther-ops has no 2.2.2 template of {rel}")
 
 
 def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
@@ -147,18 +185,23 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     current = cfg.compose.driver_image
     old_args = dict(cfg.compose.args)
     launch = migrate_launch(old_args, target, cfg.compose_path)
-    notes = list(launch.notes)
+    from panther_ops.core.robot.namespace import driver_namespace
+    from panther_ops.core.robot.robot_model import wheel_type_of
+
+    out = _Planned(reads, Checker(Target(new, wheel_type_of(reads, cfg), driver_namespace(reads, cfg)[0])))
+    notes = out.notes
+    notes.extend(launch.notes)
     for name in launch.dropped:
         cfg.compose.unset_arg(name, service)
     cfg.compose.set_image(new_ref, service)
-    edits: list[FileEdit] = []
+    edits = out.edits
     kept: list[str] = []
     tree = cfg.host_path_of(CONTAINER_CONFIG_DIR)
     if cfg.tree_read and tree:
         model = robot_model_of(reads, cfg)
         for rel, translator in TRANSLATORS.items():
-            _translate(reads, posixpath.join(tree, rel), translator, target, edits, notes)
-        _joy2twist(reads, tree, model, target, edits, notes)
+            out.translate(posixpath.join(tree, rel), translator, target)
+        out.joy2twist(tree, model, target)
         for rel in UNCHANGED:
             path = posixpath.join(tree, rel.format(model=model))
             if reads.file(path) is not None:
@@ -170,9 +213,10 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     for arg, translator in _ARG_KINDS.items():
         value = cfg.compose.args.get(arg)
         host = cfg.host_path_of(value) if value else None
-        if host and host not in done and not _translate(reads, host, translator, target, edits, notes):
+        if host and host not in done and not out.translate(host, translator, target):
             notes.append(f"{arg}:={value} names {host}, which is not on the robot: not translated")
     after = cfg.compose.text().encode()
+    notes.extend(out.checker.check(FileKind.COMPOSE, cfg.compose_path, after))
     edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
     old_label, new_label = version_label(cfg.stack.version), version_label(target)
     written = [e.path for e in edits[1:] if e.after is not None]
