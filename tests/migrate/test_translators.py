@@ -20,6 +20,8 @@ from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
 from panther_ops.core.driver.migrate.translated import MigrationRefused
+from panther_ops.core.kinds import FileKind, Target, check_file
+from panther_ops.core.stack import Stack
 from panther_ops.errors import ExitCode
 
 MIRROR = Path(os.environ.get("PANTHER_OPS_UPSTREAM_MIRROR", "/work/.mirror/husarion+husarion_ugv_ros/repo"))
@@ -69,6 +71,42 @@ def test_stock_2_2_2_becomes_stock_2_3(tag: str, old: str, new: str, translate: 
     assert same(load(out.text), load(show(tag, new)))
     if not new.endswith("components.yaml"):  # components: 2.3's example comments differ, the value is equal
         assert out.text == show(tag, new)  # the layout and comments too
+
+
+WHEELS = ("WH01", "WH02", "WH04", "WH05")
+S232 = Stack("husarion/husarion-ugv:jazzy-2.3.2-20260622", "jazzy", T232, "20260622")
+TEMPLATE_22 = Path(__file__).resolve().parents[2] / "templates/config/husarion-ugv-2.2/husarion_ugv_controller/config"
+
+
+def customised(text: str, wheel: str) -> tuple[str, dict[str, float]]:
+    """``text`` with a slower linear.x and gentler braking (in block or flow style alike), and the values
+    2.3.2's file then holds."""
+    x = load(text)["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"]  # type: ignore[index]
+    v, a = x["max_velocity"], x["max_acceleration"]
+    text = text.replace(f"max_velocity: {v}", f"max_velocity: {v / 2}", 1)
+    text = text.replace(f"max_acceleration: {a}", f"max_acceleration: {a / 2}", 1)
+    return text, {"max_velocity": v / 2, "min_velocity": -v / 2, "max_acceleration": a / 2,
+                  "max_deceleration": -a / 2, "max_acceleration_reverse": -a / 2, "max_deceleration_reverse": a / 2}
+
+
+@needs_mirror
+@pytest.mark.parametrize("custom", [False, True], ids=["stock", "customised"])
+@pytest.mark.parametrize("source", ["upstream", "template"])
+@pytest.mark.parametrize("wheel", WHEELS)
+def test_every_2_2_2_controller_becomes_2_3_2s_and_passes_its_check(wheel: str, source: str, custom: bool) -> None:
+    """Upstream's 2.2.2 file (block style) and panther-ops' 2.2 template of it (compact ``{ type: ... }``
+    flow style in the controller manager), stock and customised: semantically 2.3.2's file (with the
+    customised values), and accepted by the 2.3.2 controller check every write path uses."""
+    name = f"{wheel}_controller.yaml"
+    text = (show("2.2.2", f"husarion_ugv_controller/config/{name}") if source == "upstream"
+            else (TEMPLATE_22 / name).read_text())
+    expected = load(show("2.3.2", f"husarion_ugv_controller/config/{name}"))
+    if custom:
+        text, values = customised(text, wheel)
+        expected["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"].update(values)  # type: ignore[index]
+    out = translate_controller(text, "/home/husarion/config/husarion_ugv_controller/config/" + name, T232)
+    assert same(load(out.text), expected)
+    assert check_file(FileKind.CONTROLLER, name, out.text.encode(), target=Target(S232, wheel, "")) == []
 
 
 @needs_mirror
