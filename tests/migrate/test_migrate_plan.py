@@ -187,3 +187,25 @@ def test_a_translation_the_2_3_validator_refuses_is_a_refusal_naming_file_key_an
     assert "WH01_controller.yaml" in err and "refused by the controller check" in err
     assert "linear.x.max_velocity" in err and "nothing was changed" in err
     assert tree_files(demo) == before
+
+
+def test_a_stock_lights_tree_becomes_2_3_2s_and_a_customised_one_is_named_for_review(
+        demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from panther_ops.core.driver.migrate.lights_tree import same_tree
+    from panther_ops.core.driver.migrate.stock import stock_text
+
+    rel = "husarion_ugv_manager/behavior_trees/lights.xml"
+    lights = home(demo) / "config" / rel
+    assert same_tree(lights.read_text(), stock_text(rel))  # the demo robot's tree is 2.2.2's
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--dry-run", "--json")
+    assert code == 0, doc
+    (r,) = doc["robots"]
+    robot_path = "/home/husarion/config/" + rel
+    assert r["data"]["migration"]["review"] == [] and robot_path in r["data"]["migration"]["translated"]
+    lights.write_text(lights.read_text().replace('delay_msec="2500"', 'delay_msec="2000"', 1))
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes", "--json")
+    assert code == 0, doc
+    (r,) = doc["robots"]
+    assert r["data"]["migration"]["review"] == [robot_path]
+    assert any("needs review" in w and "drive_state" in w for w in r["warnings"])
+    assert 'delay_msec="2000"' in lights.read_text() and "drive_state" in lights.read_text()

@@ -28,6 +28,7 @@ from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_
 from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
+from panther_ops.core.driver.migrate.stock import stock_text
 from panther_ops.core.driver.migrate.translated import MigrationRefused, Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
@@ -109,11 +110,14 @@ class _Planned:
     checker: Checker
     edits: list[FileEdit] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    review: list[str] = field(default_factory=list)
 
     def edit(self, path: str, before: bytes | None, out: Translated, kind: FileKind | None) -> None:
         after = out.text.encode()
         self.notes.extend(out.notes)
         self.notes.extend(self._checked(kind, path, after))
+        if out.review:
+            self.review.append(path)
         if after != before:
             self.edits.append(FileEdit(path, before, after))
 
@@ -161,18 +165,6 @@ class _Planned:
                 self.notes.append(f"{old} moved to {new} (2.3.2 reads the gamepad file from husarion_ugv_teleop)")
             return
         self.edit(old, text, out, FileKind.JOY2TWIST)
-
-
-def stock_text(rel: str) -> str:
-    """2.2.2's stock file ``rel`` of the config tree (panther-ops' template of it)."""
-    from panther_ops.core.fleet.templates import read_template, template_path
-    from panther_ops.core.robot.files import family_dirs
-    from panther_ops.core.stack import stack_from_version
-
-    for directory in family_dirs(stack_from_version("2.2.2")):
-        if template_path("config", directory, *rel.split("/")).is_file():
-            return read_template("config", directory, *rel.split("/"))
-    raise UsageError(f"panther-ops has no 2.2.2 template of {rel}")
 
 
 def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
@@ -229,6 +221,7 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     plan.data.update(stack=cfg.stack.label(), migration={
         "from": old_label, "to": new_label, "translated": written,
         "removed": [e.path for e in edits if e.after is None], "kept": kept,
+        "review": out.review,
         "launch_args_removed": list(launch.dropped)})
     return plan
 
