@@ -100,6 +100,7 @@ def test_migration_translates_keeps_and_goes_back(demo: Path, capsys: pytest.Cap
     assert code == 0, doc
     assert doc["robots"][0]["data"]["backup_restored"] == r["data"]["backup"]
     assert tree_files(demo) == before
+    assert not (home(demo) / "config/husarion_ugv_teleop").exists()  # the migration made it: gone with it
 
 
 def test_refusal_exits_2_naming_file_and_key_and_writes_nothing(demo: Path,

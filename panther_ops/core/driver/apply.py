@@ -22,6 +22,7 @@ from typing import Any
 
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver.containers import last_line
+from panther_ops.core.driver.migrate.dirs import DIRS_KEY, RMDIR_EMPTY
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
     ApplyOptions,
@@ -119,7 +120,21 @@ def apply_run_state(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> R
 
 
 def apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
-    """Apply a `driver update` plan: the pipeline, plus pull / orphan removal when the plan needs them."""
+    """Apply a `driver update` plan: the pipeline, plus pull / orphan removal when the plan needs them;
+    then the directories a migration created, once its way back is applied or it is rolled back,
+    removed if empty (`migrate.dirs`)."""
+    result = _apply_update(ctx, plan, opts)
+    dirs = [str(d) for d in plan.data.get(DIRS_KEY) or ()]
+    done = Outcome.CHANGED if "backup_restored" in plan.data else Outcome.ROLLED_BACK
+    if dirs and not opts.dry_run and result.outcome is done:
+        try:
+            ctx.transport.run(Command.sh(RMDIR_EMPTY, *dirs))
+        except OpsError as exc:
+            result.warnings.append(f"empty directories not removed ({', '.join(dirs)}): {exc}")
+    return result
+
+
+def _apply_update(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
     renamed_from = plan.data.get("service_from")
     pull = bool(plan.data.get("pull"))
     if not (renamed_from or pull) or not plan.edits or opts.dry_run or not opts.restart:

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 from panther_ops.core.driver.migrate.checked import Checker
 from panther_ops.core.driver.migrate.components import translate_components
+from panther_ops.core.driver.migrate.dirs import DIRS_KEY, dirs_of
 from panther_ops.core.driver.migrate.controller import translate_controller
 from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_joy2twist
 from panther_ops.core.driver.migrate.launch import migrate_launch
@@ -223,6 +224,8 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
         "removed": [e.path for e in edits if e.after is None], "kept": kept,
         "review": out.review,
         "launch_args_removed": list(launch.dropped)})
+    created = [e.path for e in edits if e.before is None and e.after is not None]
+    plan.data[DIRS_KEY] = dirs_of(created, [e.path for e in edits if e.before is not None], tree)
     return plan
 
 
@@ -270,6 +273,8 @@ def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warn
     plan = RobotPlan(reads.robot, summary, edits, (cfg.service,), cfg.compose_path, [Verify(cfg.service)], None,
                      [*warnings, *notes], home=cfg.home)
     plan.data.update(stack=cfg.stack.label(), backup_restored=entry["id"])
+    plan.data[DIRS_KEY] = dirs_of([e.path for e in edits if e.after is None], [e.path for e in edits if e.after],
+                                  cfg.host_path_of(CONTAINER_CONFIG_DIR))
     return plan
 
 
