@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 
 from panther_ops.core.driver.migrate.checked import Checker
 from panther_ops.core.driver.migrate.components import translate_components
-from panther_ops.core.driver.migrate.dirs import DIRS_KEY, dirs_of
 from panther_ops.core.driver.migrate.controller import translate_controller
+from panther_ops.core.driver.migrate.dirs import DIRS_KEY, dirs_of
 from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_joy2twist
 from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
