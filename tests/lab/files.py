@@ -233,6 +233,8 @@ def login_profile(st: StackImage, skel_profile: str) -> str:
 
 def _controller_yaml(drive: str, wheel: str) -> str:
     sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
+    # the limits of husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/{WH01,WH04}_controller.yaml
+    v, a, w, b = {"WH04": (1.1, 1.5, 2.2, 3.2)}.get(wheel, (2.0, 2.7, 4.0, 5.74))
     # the IMU broadcaster as husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH01_controller.yaml has it
     return f"""# {wheel}_controller.yaml (panther-ops lab stand-in of the husarion_ugv_controller file)
 /**:
@@ -267,14 +269,14 @@ def _controller_yaml(drive: str, wheel: str) -> str:
         x:
           has_velocity_limits: true
           has_acceleration_limits: true
-          max_velocity: 2.0
-          max_acceleration: 2.7
+          max_velocity: {v}
+          max_acceleration: {a}
       angular:
         z:
           has_velocity_limits: true
           has_acceleration_limits: true
-          max_velocity: 4.0
-          max_acceleration: 5.74
+          max_velocity: {w}
+          max_acceleration: {b}
 """
 
 

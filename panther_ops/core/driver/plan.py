@@ -215,6 +215,9 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
     if (running.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0)):
         cfg.stack = running  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
         return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
+    if _crosses_the_mux(running.version, new_stack.version):
+        cfg.stack = running  # 2.3.1 <-> 2.3.2: the same translators, or the way back from their backup
+        return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
     if running.version >= (2, 3, 0) and (running.version >= (2, 3, 2)) != (new_stack.version >= (2, 3, 2)):
         warnings.append(f"{running.version_str} -> {new_stack.version_str}: 2.3.2 brought the twist mux, the IMU "
                         "covariance placeholder and the gamepad file in husarion_ugv_teleop; the files in ~/config are "
@@ -278,6 +281,14 @@ def _image_stack(compose: ComposeFile) -> Any:
         return None
 
 
+def _crosses_the_mux(running: tuple[int, int, int], new: tuple[int, int, int]) -> bool:
+    """2.3.1 -> 2.3.2 (translated as from 2.2: its controller, EKF, joy2twist and components files are
+    2.2's translated to 2.3.1, and `migrate` carries them on to 2.3.2 byte for byte as upstream), or
+    2.3.2 -> 2.3.1 (the way back, from that migration's backup). 2.3.0 runs the gamepad as its own
+    compose service: not translated (a warning, as before)."""
+    return (running == (2, 3, 1) and (2, 3, 2) <= new < (2, 4, 0)) or (running >= (2, 3, 2) and new == (2, 3, 1))
+
+
 def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, warnings: list[str],
                pull: bool) -> RobotPlan:
     from panther_ops.core.driver.migrate.plan import plan_migration, plan_way_back
@@ -290,7 +301,7 @@ def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, war
     if present is False:
         warnings.append(f"{new_ref} is not on the robot: it needs a pull (internet on the robot); "
                         + ("--pull runs" if not pull else "--pull given: runs") + " docker compose pull first")
-    if new_stack.version >= (2, 3, 0):
+    if new_stack.version > old_stack.version:
         plan = plan_migration(cfg, reads, new_ref, new_stack, warnings)
     else:
         plan = plan_way_back(cfg, reads, new_ref, new_stack, warnings)

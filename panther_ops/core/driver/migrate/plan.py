@@ -2,22 +2,24 @@
 
 Pure functions of compose.yaml as read and the files and facts asked for (:class:`Reads`):
 
-- **2.2 -> 2.3** (:func:`plan_migration`): one plan with every file it changes, in exact diffs:
-  the image in compose.yaml (launch arguments 2.3 no longer has removed, each named), and each
+- **2.2 -> 2.3, and 2.3.1 -> 2.3.2** (:func:`plan_migration`): one plan with every file it
+  changes, in exact diffs: the image in compose.yaml (launch arguments 2.3 no longer has removed, each named), and each
   file of the config tree the driver reads (``~/config`` at ``/config``, `RobotConfig.tree_read`)
   translated by its translator (`TRANSLATORS`); the joy2twist file moves to husarion_ugv_teleop
   on 2.3.2. Files whose schema did not change are named and left byte-identical. A value with
   no 2.3 form refuses the whole robot (`MigrationRefused`, exit 2) before anything is written.
   The pipeline then backs every file up, writes, recreates, verifies and rolls back on failure
   (`driver.apply.apply_update`).
-- **2.3 -> 2.2** (:func:`plan_way_back`): the backup of the migration (the newest applied one)
-  restored as `config rollback` restores a backup, with the image the user asked for.
+- **2.3 -> 2.2, and 2.3.2 -> 2.3.1** (:func:`plan_way_back`): the backup of the newest applied
+  migration taken on that line (2.2.x; 2.3.1) restored as `config rollback` restores a backup,
+  with the image the user asked for.
 """
 
 from __future__ import annotations
 
 import functools
 import posixpath
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -30,7 +32,7 @@ from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
 from panther_ops.core.driver.migrate.stock import stock_text
-from panther_ops.core.driver.migrate.translated import MigrationRefused, Translated, version_label
+from panther_ops.core.driver.migrate.translated import MUX_SINCE, MigrationRefused, Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, Target
@@ -169,7 +171,9 @@ class _Planned:
 
 
 def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
-    """2.2 -> 2.3: compose.yaml's image and arguments, and every tree file translated (see the module)."""
+    """2.2 -> 2.3 and 2.3.1 -> 2.3.2 (2.3.1's files are 2.2's translated, which the same translators carry
+    on: 2.3.1's stock files become 2.3.2's byte for byte): compose.yaml's image and arguments, and every
+    tree file translated (see the module)."""
     _check_target(cfg, new)
     from panther_ops.core.robot.robot_model import robot_model_of
 
@@ -230,19 +234,21 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
 
 
 def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
-    """2.3 -> 2.2: the newest applied migration's backup restored, the image set to ``new_ref``.
+    """2.3 -> 2.2 (or 2.3.2 -> 2.3.1): the newest applied migration's backup taken on that line restored,
+    the image set to ``new_ref``.
 
     Raises:
         UsageError: no migration backup on the robot (the 2.3 files are not translated back).
     """
     from panther_ops.core.fleet.plan_rollback import HISTORY, plan_rollback
 
-    entries = [e for e in reads.fact(HISTORY) if str(e.get("summary", "")).startswith(MIGRATION + " ")
+    entries = [e for e in reads.fact(HISTORY) if _line(migrated_from(str(e.get("summary", "")))) == _line(new.version)
                and str(e.get("status", "")).startswith("applied")]
     if not entries:
+        line = "2.2" if new.version < (2, 3, 0) else new.version_str
         raise UsageError(
-            f"{reads.robot} runs {cfg.stack.label()} and has no backup of a migration from 2.2: panther-ops does not "
-            "translate 2.3 files back to 2.2",
+            f"{reads.robot} runs {cfg.stack.label()} and has no backup of a migration from {line}: panther-ops does "
+            f"not translate {cfg.stack.version_str} files back to {line}",
             hint="`panther-ops config rollback --to ID` restores a backup you choose; or update with --force and "
                  "then `panther-ops config restore-defaults` for 2.2's stock files")
     entry = entries[-1]
@@ -276,6 +282,22 @@ def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warn
     plan.data[DIRS_KEY] = dirs_of([e.path for e in edits if e.after is None], [e.path for e in edits if e.after],
                                   cfg.host_path_of(CONTAINER_CONFIG_DIR))
     return plan
+
+
+_FROM = re.compile(rf"^{MIGRATION} husarion_ugv (\d+)\.(\d+)\.(\d+) -> ")
+
+
+def migrated_from(summary: str) -> tuple[int, int, int] | None:
+    """The release a migration's backup was taken on (its summary: ``migrate husarion_ugv 2.2.2 -> 2.3.2: ...``)."""
+    m = _FROM.match(summary)
+    return (int(m[1]), int(m[2]), int(m[3])) if m else None
+
+
+def _line(version: tuple[int, int, int] | None) -> int | None:
+    """Releases whose files a way back restores alike: 2.2.x (Humble), 2.3 before the mux, 2.3.2 on."""
+    if version is None:
+        return None
+    return 0 if version < (2, 3, 0) else 1 if version < MUX_SINCE else 2
 
 
 def _changed_since(reads: Reads, f: dict[str, object]) -> bool:
