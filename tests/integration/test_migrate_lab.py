@@ -96,7 +96,7 @@ def test_migration_second_run_and_way_back(lab: Any, robot: str, capsys: pytest.
     x = ctrl["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"]
     assert (x["max_velocity"], x["min_velocity"]) == (1.3, -1.3) and "has_velocity_limits" not in x
     joy = load(after[f"{CFG}/husarion_ugv_teleop/config/joy2twist_panther.yaml"])
-    params = joy["/**"]["joy2twist_node"]["ros__parameters"]
+    params = joy["/**"]["ros__parameters"]
     assert params["cmd_vel_topic"] == "manual/cmd_vel" and params["cmd_vel_stamped"] is True
     assert params["linear_velocity_factor"]["fast"] == 0.8
     assert f"{CFG}/husarion_ugv_bringup/config/joy2twist_panther.yaml" not in after

@@ -285,8 +285,9 @@ def ugv_config_tree(namespace: str = "panther") -> dict[str, str]:
     tree = {
         "common/.env": (f"ROS_DOMAIN_ID=0\nRMW_IMPLEMENTATION=rmw_cyclonedds_cpp\nROBOT_NAMESPACE={namespace}\n"),
         "husarion_ugv_bringup/config/joy2twist_panther.yaml": (
-            "# panther-ops lab stand-in\n/**:\n  joy2twist_node:\n    ros__parameters:\n"
-            "      linear_velocity_factor:\n        fast: 1.0\n        regular: 0.5\n        slow: 0.2\n"
+            "# panther-ops lab stand-in (husarion_ugv_ros@2.2.2:husarion_ugv_bringup/config/joy2twist_panther.yaml's form)\n"
+            "/**:\n  ros__parameters:\n"
+            "    linear_velocity_factor:\n      fast: 1.0\n      regular: 0.5\n      slow: 0.2\n"
         ),
         "husarion_ugv_description/config/components.yaml": "components: []\n",
         "husarion_ugv_lights/config/user_animations.yaml": "user_animations: []\n",
