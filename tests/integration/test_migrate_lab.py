@@ -60,6 +60,11 @@ def robot(lab: Any) -> Iterator[str]:
             lab.docker(name, "rmi", JAZZY)
 
 
+def no_teleop_dir(lab: Any, name: str) -> bool:
+    """The migration's husarion_ugv_teleop/ (2.3.2's gamepad file) is not left behind, not even empty."""
+    return lab.sh(name, f"test -e {CFG}/husarion_ugv_teleop && echo left || echo gone").stdout.strip() == "gone"
+
+
 def migrate(lab: Any, capsys: pytest.CaptureFixture[str], name: str, tag: str) -> tuple[int, dict[str, Any]]:
     code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "driver", "update", tag, "-r", name, "--yes",
                               "--canary", "1", "--settle", "2", "--json")
@@ -73,7 +78,7 @@ def test_failing_new_driver_rolls_back_byte_for_byte(lab: Any, robot: str,
     assert code == 3, doc
     (res,) = doc["robots"]
     assert res["outcome"] == "rolled-back" and "restored backup" in res["message"]
-    assert files(lab, robot) == before
+    assert files(lab, robot) == before and no_teleop_dir(lab, robot)
     ctr = containers(lab, robot)["husarion_ugv_ros"]
     assert ctr["image"] == HUMBLE and ctr["state"] == "running"
 
@@ -91,7 +96,7 @@ def test_migration_second_run_and_way_back(lab: Any, robot: str, capsys: pytest.
     x = ctrl["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"]
     assert (x["max_velocity"], x["min_velocity"]) == (1.3, -1.3) and "has_velocity_limits" not in x
     joy = load(after[f"{CFG}/husarion_ugv_teleop/config/joy2twist_panther.yaml"])
-    params = joy["/**"]["joy2twist_node"]["ros__parameters"]
+    params = joy["/**"]["ros__parameters"]
     assert params["cmd_vel_topic"] == "manual/cmd_vel" and params["cmd_vel_stamped"] is True
     assert params["linear_velocity_factor"]["fast"] == 0.8
     assert f"{CFG}/husarion_ugv_bringup/config/joy2twist_panther.yaml" not in after
@@ -111,6 +116,6 @@ def test_migration_second_run_and_way_back(lab: Any, robot: str, capsys: pytest.
     code, doc = migrate(lab, capsys, robot, "humble-2.2.2-20250702")
     assert code == 0, doc
     assert doc["robots"][0]["data"]["backup_restored"] == res["data"]["backup"]
-    assert files(lab, robot) == before
+    assert files(lab, robot) == before and no_teleop_dir(lab, robot)
     ctr = containers(lab, robot)["husarion_ugv_ros"]
     assert ctr["image"] == HUMBLE and ctr["state"] == "running"

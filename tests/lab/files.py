@@ -242,6 +242,8 @@ def login_profile(st: StackImage, skel_profile: str) -> str:
 
 def _controller_yaml(drive: str, wheel: str) -> str:
     sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
+    # the limits of husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/{WH01,WH04}_controller.yaml
+    v, a, w, b = {"WH04": (1.1, 1.5, 2.2, 3.2)}.get(wheel, (2.0, 2.7, 4.0, 5.74))
     # the IMU broadcaster as husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH01_controller.yaml has it
     return f"""# {wheel}_controller.yaml (panther-ops lab stand-in of the husarion_ugv_controller file)
 /**:
@@ -276,14 +278,14 @@ def _controller_yaml(drive: str, wheel: str) -> str:
         x:
           has_velocity_limits: true
           has_acceleration_limits: true
-          max_velocity: 2.0
-          max_acceleration: 2.7
+          max_velocity: {v}
+          max_acceleration: {a}
       angular:
         z:
           has_velocity_limits: true
           has_acceleration_limits: true
-          max_velocity: 4.0
-          max_acceleration: 5.74
+          max_velocity: {w}
+          max_acceleration: {b}
 """
 
 
@@ -351,12 +353,13 @@ def ugv_config_tree(namespace: str = "panther", st: StackImage | None = None) ->
     jazzy = st is not None and st.distro == "jazzy"
     joy2twist = ("husarion_ugv_teleop/config/joy2twist_panther.yaml" if jazzy
                  else "husarion_ugv_bringup/config/joy2twist_panther.yaml")
-    stamped = "      cmd_vel_topic: manual/cmd_vel\n      cmd_vel_stamped: true\n" if jazzy else ""
+    stamped = "    cmd_vel_topic: manual/cmd_vel\n    cmd_vel_stamped: true\n" if jazzy else ""
     tree = {
         "common/.env": (f"ROS_DOMAIN_ID=0\nRMW_IMPLEMENTATION=rmw_cyclonedds_cpp\nROBOT_NAMESPACE={namespace}\n"),
         joy2twist: (
-            "# panther-ops lab stand-in\n/**:\n  joy2twist_node:\n    ros__parameters:\n" + stamped +
-            "      linear_velocity_factor:\n        fast: 1.0\n        regular: 0.5\n        slow: 0.2\n"
+            "# panther-ops lab stand-in (husarion_ugv_ros@2.2.2:husarion_ugv_bringup/config/joy2twist_panther.yaml's "
+            "form; 2.3.2: husarion_ugv_teleop's)\n/**:\n  ros__parameters:\n" + stamped +
+            "    linear_velocity_factor:\n      fast: 1.0\n      regular: 0.5\n      slow: 0.2\n"
         ),
         "husarion_ugv_description/config/components.yaml": "components: []\n",
         "husarion_ugv_lights/config/user_animations.yaml": "user_animations: []\n",

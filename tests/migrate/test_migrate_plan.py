@@ -100,6 +100,7 @@ def test_migration_translates_keeps_and_goes_back(demo: Path, capsys: pytest.Cap
     assert code == 0, doc
     assert doc["robots"][0]["data"]["backup_restored"] == r["data"]["backup"]
     assert tree_files(demo) == before
+    assert not (home(demo) / "config/husarion_ugv_teleop").exists()  # the migration made it: gone with it
 
 
 def test_refusal_exits_2_naming_file_and_key_and_writes_nothing(demo: Path,
@@ -131,7 +132,8 @@ def test_migration_to_2_3_0_is_refused_naming_the_supported_ones(demo: Path,
 
 def test_a_stack_pin_does_not_make_a_2_3_robot_migrate_again(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The inventory pins stack: 2.2.2; the robot already runs 2.3.2: moving it to 2.3.1 is no
-    migration of its (2.3) files, and the pin is named."""
+    migration from 2.2 (the image tells the files' schema): the way back to 2.3.1, which has no
+    backup here (the robot came from 2.2.2), is refused; the pin is named."""
     code, _, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes")
     assert code == 0
     inv = demo / "inventory.yaml"
@@ -139,12 +141,9 @@ def test_a_stack_pin_does_not_make_a_2_3_robot_migrate_again(demo: Path, capsys:
     assert "  panther-03:\n" in text
     inv.write_text(text.replace("  panther-03:\n", "  panther-03:\n    stack: 2.2.2\n", 1))
     before = tree_files(demo)
-    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "-r", ROBOT,
-                              "--dry-run", "--json")
-    assert code == 0, doc
-    (r,) = doc["robots"]
-    assert "migration" not in r["data"] and len(r["diffs"]) == 1  # compose.yaml's image only
-    assert any("pins stack: 2.2.2" in w for w in r["warnings"])
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "-r", ROBOT,
+                              "--dry-run")
+    assert code == 2 and "no backup of a migration from 2.3.1" in err and "pins stack: 2.2.2" not in err
     assert tree_files(demo) == before
 
 
@@ -165,11 +164,72 @@ def test_files_named_by_launch_arguments_are_translated_too(demo: Path, capsys: 
         "use_control": True, "stamped_control": True, "control_timeout": 0.2}}}}
 
 
-def test_an_update_between_2_3_releases_warns_that_files_are_not_translated(
+def test_2_3_1_to_2_3_2_is_translated_and_goes_back(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """2.2.2 -> 2.3.1 -> 2.3.2 -> 2.3.1 -> 2.2.2: 2.3.1 -> 2.3.2 runs the same translators (joy2twist moved to
+    husarion_ugv_teleop on manual/cmd_vel, the twist mux section, the IMU placeholder, components' name); each way
+    back restores its migration's backup byte for byte, the teleop directory gone with it."""
+    customise(demo)
+    original = tree_files(demo)
+
+    def update(tag: str) -> dict[str, object]:
+        code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", tag, "-r", ROBOT, "--yes", "--json")
+        assert code == 0, doc
+        (r,) = doc["robots"]
+        return r  # type: ignore[no-any-return]
+
+    first = update("jazzy-2.3.1-20250701")
+    on_231 = tree_files(demo)
+    bringup = "config/husarion_ugv_bringup/config/joy2twist_panther.yaml"
+    assert b"cmd_vel_stamped: true" in on_231[bringup] and b"manual/cmd_vel" not in on_231[bringup]
+    second = update(JAZZY)
+    assert second["data"]["migration"]["from"] == "2.3.1"  # type: ignore[index]
+    on_232 = tree_files(demo)
+    assert bringup not in on_232
+    joy = load(home(demo) / "config/husarion_ugv_teleop/config/joy2twist_panther.yaml")
+    params = joy["/**"]["ros__parameters"]  # type: ignore[index]
+    assert params["cmd_vel_topic"] == "manual/cmd_vel" and params["linear_velocity_factor"]["fast"] == 1.5
+    ctrl = load(home(demo) / "config/husarion_ugv_controller/config/WH01_controller.yaml")
+    assert "twist_mux_controller" in ctrl["/**"]  # type: ignore[operator,index]
+    assert ctrl["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"]["max_velocity"] == 1.2  # type: ignore[index]
+    assert update(JAZZY)["outcome"] == "ok"  # a second run changes nothing
+    back = update("jazzy-2.3.1-20250701")
+    assert back["data"]["backup_restored"] == second["data"]["backup"]
+    assert tree_files(demo) == on_231 and not (home(demo) / "config/husarion_ugv_teleop").exists()
+    assert update(HUMBLE)["data"]["backup_restored"] == first["data"]["backup"]
+    assert tree_files(demo) == original
+
+
+def test_a_translation_the_2_3_validator_refuses_is_a_refusal_naming_file_key_and_fix(
         demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    code, _, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes")
-    assert code == 0
-    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "-r", ROBOT,
-                              "--dry-run", "--json")
+    """The translated controller goes through the 2.3.2 controller check (the one `config push` uses): a limit
+    beyond 2.3.2's bound for WH01 is carried over by the translator, and refused by the check."""
+    ctrl = home(demo) / "config/husarion_ugv_controller/config/WH01_controller.yaml"
+    ctrl.write_text(ctrl.read_text().replace("max_velocity: 2.0 # m/s", "max_velocity: 9.0 # m/s"))
+    before = tree_files(demo)
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes")
+    assert code == 2, err
+    assert "WH01_controller.yaml" in err and "refused by the controller check" in err
+    assert "linear.x.max_velocity" in err and "nothing was changed" in err
+    assert tree_files(demo) == before
+
+
+def test_a_stock_lights_tree_becomes_2_3_2s_and_a_customised_one_is_named_for_review(
+        demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from panther_ops.core.driver.migrate.lights_tree import same_tree
+    from panther_ops.core.driver.migrate.stock import stock_text
+
+    rel = "husarion_ugv_manager/behavior_trees/lights.xml"
+    lights = home(demo) / "config" / rel
+    assert same_tree(lights.read_text(), stock_text(rel))  # the demo robot's tree is 2.2.2's
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--dry-run", "--json")
     assert code == 0, doc
-    assert any("not translated between 2.3 releases" in w for w in doc["robots"][0]["warnings"])
+    (r,) = doc["robots"]
+    robot_path = "/home/husarion/config/" + rel
+    assert r["data"]["migration"]["review"] == [] and robot_path in r["data"]["migration"]["translated"]
+    lights.write_text(lights.read_text().replace('delay_msec="2500"', 'delay_msec="2000"', 1))
+    code, doc, _, _ = run_cli(capsys, "-i", str(demo), "driver", "update", JAZZY, "-r", ROBOT, "--yes", "--json")
+    assert code == 0, doc
+    (r,) = doc["robots"]
+    assert r["data"]["migration"]["review"] == [robot_path]
+    assert any("needs review" in w and "drive_state" in w for w in r["warnings"])
+    assert 'delay_msec="2000"' in lights.read_text() and "drive_state" in lights.read_text()

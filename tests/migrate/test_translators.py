@@ -17,9 +17,12 @@ from panther_ops.core.driver.migrate.components import translate_components
 from panther_ops.core.driver.migrate.controller import translate_controller
 from panther_ops.core.driver.migrate.joy2twist import translate_joy2twist
 from panther_ops.core.driver.migrate.launch import migrate_launch
-from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
+from panther_ops.core.driver.migrate.lights_tree import same_tree, translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
+from panther_ops.core.driver.migrate.stock import stock_text
 from panther_ops.core.driver.migrate.translated import MigrationRefused
+from panther_ops.core.kinds import FileKind, Target, check_file
+from panther_ops.core.stack import Stack
 from panther_ops.errors import ExitCode
 
 MIRROR = Path(os.environ.get("PANTHER_OPS_UPSTREAM_MIRROR", "/work/.mirror/husarion+husarion_ugv_ros/repo"))
@@ -71,6 +74,42 @@ def test_stock_2_2_2_becomes_stock_2_3(tag: str, old: str, new: str, translate: 
         assert out.text == show(tag, new)  # the layout and comments too
 
 
+WHEELS = ("WH01", "WH02", "WH04", "WH05")
+S232 = Stack("husarion/husarion-ugv:jazzy-2.3.2-20260622", "jazzy", T232, "20260622")
+TEMPLATE_22 = Path(__file__).resolve().parents[2] / "templates/config/husarion-ugv-2.2/husarion_ugv_controller/config"
+
+
+def customised(text: str, wheel: str) -> tuple[str, dict[str, float]]:
+    """``text`` with a slower linear.x and gentler braking (in block or flow style alike), and the values
+    2.3.2's file then holds."""
+    x = load(text)["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"]  # type: ignore[index]
+    v, a = x["max_velocity"], x["max_acceleration"]
+    text = text.replace(f"max_velocity: {v}", f"max_velocity: {v / 2}", 1)
+    text = text.replace(f"max_acceleration: {a}", f"max_acceleration: {a / 2}", 1)
+    return text, {"max_velocity": v / 2, "min_velocity": -v / 2, "max_acceleration": a / 2,
+                  "max_deceleration": -a / 2, "max_acceleration_reverse": -a / 2, "max_deceleration_reverse": a / 2}
+
+
+@needs_mirror
+@pytest.mark.parametrize("custom", [False, True], ids=["stock", "customised"])
+@pytest.mark.parametrize("source", ["upstream", "template"])
+@pytest.mark.parametrize("wheel", WHEELS)
+def test_every_2_2_2_controller_becomes_2_3_2s_and_passes_its_check(wheel: str, source: str, custom: bool) -> None:
+    """Upstream's 2.2.2 file (block style) and panther-ops' 2.2 template of it (compact ``{ type: ... }``
+    flow style in the controller manager), stock and customised: semantically 2.3.2's file (with the
+    customised values), and accepted by the 2.3.2 controller check every write path uses."""
+    name = f"{wheel}_controller.yaml"
+    text = (show("2.2.2", f"husarion_ugv_controller/config/{name}") if source == "upstream"
+            else (TEMPLATE_22 / name).read_text())
+    expected = load(show("2.3.2", f"husarion_ugv_controller/config/{name}"))
+    if custom:
+        text, values = customised(text, wheel)
+        expected["/**"]["drive_controller"]["ros__parameters"]["linear"]["x"].update(values)  # type: ignore[index]
+    out = translate_controller(text, "/home/husarion/config/husarion_ugv_controller/config/" + name, T232)
+    assert same(load(out.text), expected)
+    assert check_file(FileKind.CONTROLLER, name, out.text.encode(), target=Target(S232, wheel, "")) == []
+
+
 @needs_mirror
 @pytest.mark.parametrize("model", ["panther", "lynx"])
 @pytest.mark.parametrize(("tag", "package"), [("2.3.2", "husarion_ugv_teleop"), ("2.3.1", "husarion_ugv_bringup")])
@@ -80,14 +119,40 @@ def test_stock_joy2twist_becomes_2_3(model: str, tag: str, package: str) -> None
     assert out.text == show(tag, f"{package}/config/joy2twist_{model}.yaml")
 
 
+LIGHTS = "husarion_ugv_manager/behavior_trees/lights.xml"
+
+
 @needs_mirror
-def test_lights_and_safety_trees_lose_their_line_continuations_as_upstream() -> None:
+def test_the_safety_tree_loses_its_line_continuations_as_upstream() -> None:
     safety = "husarion_ugv_manager/behavior_trees/safety.xml"
     assert translate_lights_tree(show("2.2.2", safety), safety, T232).text == show("2.3.2", safety)
-    lights = "husarion_ugv_manager/behavior_trees/lights.xml"
-    out = translate_lights_tree(show("2.2.2", lights), lights, T232)
-    assert "\\&#10;" in show("2.2.2", lights) and "\\&#10;" not in out.text
-    assert any("twist_mux_controller/source" in n for n in out.notes)  # the tree is kept: named
+
+
+@needs_mirror
+@pytest.mark.parametrize("source", ["upstream", "template"])
+def test_a_stock_lights_tree_becomes_2_3_2s(source: str) -> None:
+    """Upstream's 2.2.2 lights.xml, or panther-ops' template of it: 2.3.2's tree, keyed on the twist mux's
+    source; nothing to review. 2.3.1 ships 2.2.2's tree: kept byte-identical."""
+    text = show("2.2.2", LIGHTS) if source == "upstream" else stock_text(LIGHTS)
+    out = translate_lights_tree(text, "/home/husarion/config/" + LIGHTS, T232)
+    assert same_tree(out.text, show("2.3.2", LIGHTS)) and not same_tree(out.text, show("2.2.2", LIGHTS))
+    assert 'topic_name="twist_mux_controller/source"' in out.text and "drive_state" not in out.text
+    assert not out.review and "2.3.2's" in out.notes[0]
+    assert same_tree(show("2.3.1", LIGHTS), show("2.2.2", LIGHTS))
+    assert translate_lights_tree(text, LIGHTS, T231).text == text
+
+
+@needs_mirror
+def test_a_customised_lights_tree_is_kept_and_named_for_review_where_it_reads_drive_state() -> None:
+    stock = show("2.2.2", LIGHTS)
+    custom = stock.replace('delay_msec="2500"', 'delay_msec="2000"', 1)
+    assert custom != stock
+    out = translate_lights_tree(custom, "/home/husarion/config/" + LIGHTS, T232)
+    assert "\\&#10;" not in out.text and 'delay_msec="2000"' in out.text and "drive_state" in out.text
+    assert out.review and any("drive_state" in n and "twist_mux_controller/source" in n for n in out.notes)
+    assert not translate_lights_tree(custom, LIGHTS, T231).review  # 2.3.1's lights manager still sets drive_state
+    keyed = translate_lights_tree(custom.replace("drive_state", "e_stop_state"), LIGHTS, T232)
+    assert not keyed.review and "2.3.2's stock tree" in keyed.notes[-1]
 
 
 # ------------------------------------------------------------------ customised files keep their values

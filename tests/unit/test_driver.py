@@ -102,7 +102,7 @@ def test_parse_target_accepts_humble_tags_and_images(text: str, repo: str | None
 
 
 @pytest.mark.parametrize(("text", "needle"), [
-    ("jazzy-2.4.0-20270101", "ROS 2 Jazzy from 2.3.x"),
+    ("jazzy-2.4.0-20270101", "jazzy: husarion_ugv 2.3.0, 2.3.1, 2.3.2"),
     ("husarion/husarion-ugv:jazzy-2.2.2-20250702", "jazzy 2.2.2 is not a driver panther-ops supports"),
     ("humble-2.3.0-20260101", "humble 2.3.0 is not a driver panther-ops supports"),
     ("rolling-2.2.2-20250702", "Rolling is not a Panther driver"),
@@ -484,7 +484,7 @@ def test_update_with_no_tag_uses_the_desired_image(demo: Path) -> None:
 def test_cli_bad_tags_exit_2_and_touch_nothing(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     before = all_files(demo)
     code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.4.0-20270101", "--all", "--yes")
-    assert code == 2 and "ROS 2 Jazzy" in err
+    assert code == 2 and "jazzy: husarion_ugv 2.3.0" in err
     code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.2.2-20250702", "--all", "--yes")
     assert code == 2 and "reinstall" in err and "nothing was changed on any robot" in err
     assert all_files(demo) == before

@@ -22,6 +22,7 @@ from typing import Any
 
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver.containers import last_line
+from panther_ops.core.driver.migrate.dirs import RMDIR_EMPTY
 from panther_ops.core.driver.plan import RecreateDriver, ResetConfigTree, SetRunState, UpdateDriver
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
@@ -126,9 +127,23 @@ def apply_run_state(ctx: RobotContext, plan: RobotPlan, step: SetRunState, opts:
 @executes(UpdateDriver)
 def apply_update(ctx: RobotContext, plan: RobotPlan, step: UpdateDriver, opts: ApplyOptions,
                  write: Write) -> RobotResult:
-    """Apply a `driver update` plan: the pipeline, plus pull / orphan removal when the plan needs them."""
+    """Apply a `driver update` plan: the pipeline, plus pull / orphan removal when the plan needs them;
+    then the directories a migration created, once its way back is applied or it is rolled back,
+    removed if empty (`migrate.dirs`)."""
+    result = _apply_update(ctx, plan, step, opts, write)
+    done = Outcome.CHANGED if step.way_back else Outcome.ROLLED_BACK
+    if step.remove_if_empty and not opts.dry_run and result.outcome is done:
+        try:
+            ctx.transport.run(Command.sh(RMDIR_EMPTY, *step.remove_if_empty))
+        except OpsError as exc:
+            result.warnings.append(f"empty directories not removed ({', '.join(step.remove_if_empty)}): {exc}")
+    return result
+
+
+def _apply_update(ctx: RobotContext, plan: RobotPlan, step: UpdateDriver, opts: ApplyOptions,
+                  write: Write) -> RobotResult:
     renamed_from, pull = step.renamed_from, step.pull
-    if not plan.edits or opts.dry_run or not opts.restart:
+    if not (renamed_from or pull) or not plan.edits or opts.dry_run or not opts.restart:
         result = write(opts)
         if renamed_from and result.outcome is Outcome.CHANGED and not opts.restart and not opts.dry_run:
             result.warnings.append(

@@ -102,14 +102,14 @@ def parse_target(text: str, *, force: bool = False) -> TargetImage:
                          hint="tags look like humble-<X.Y.Z>-<YYYYMMDD>, e.g. humble-2.1.2-20241125 "
                               "(panther-ops driver versions --remote lists them)")
     version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
-    line = next((ln for ln in LINES if ln.holds(version)), None)
-    if m["distro"] in ("humble", "jazzy") and (line is None or line.distro != m["distro"]):
-        raise _crossed(tag, m["distro"], version)
     if m["distro"] not in ("humble", "jazzy"):
         raise UsageError(f"{tag}: ROS 2 {m['distro'].capitalize()} is not a Panther driver distribution here",
                          hint="panther-ops manages humble-<X.Y.Z>-<YYYYMMDD> (2.0-2.2) and jazzy-2.3.<Z>-<YYYYMMDD>")
     if version < (2, 0, 0):
         raise UsageError(f"{tag}: ROS 1 drivers (1.x) are not supported")
+    line = next((ln for ln in LINES if ln.holds(version)), None)
+    if m["distro"] in ("humble", "jazzy") and (line is None or line.distro != m["distro"]):
+        raise _crossed(tag, m["distro"], version)
     warnings: list[str] = []
     expected = repo_for(version)
     if repo is not None and repo != expected:

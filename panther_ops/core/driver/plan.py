@@ -73,6 +73,10 @@ class UpdateDriver(Step):
     action: ClassVar[bool] = False
     pull: bool
     renamed_from: str | None
+    remove_if_empty: tuple[str, ...] = ()
+    """Directories a migration created (`migrate.dirs`), removed once empty after its way back
+    (``way_back``) is applied, or after the migration is rolled back."""
+    way_back: bool = False
 
 
 DEFAULT_SERVICE = {Family.PANTHER_ROS: "panther_ros", Family.HUSARION_UGV: "husarion_ugv_ros"}
@@ -253,8 +257,11 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
         plan.data.update(image_from=current, image_to=new_ref)
         return plan
     running = _image_stack(cfg.compose) or old_stack  # the image, not an inventory pin, tells the files' schema
-    if (running.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0)):
-        cfg.stack = running  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
+    # Humble <-> Jazzy, and 2.3.1 <-> 2.3.2: a migration through the translators, or its way back
+    # from their backup (migrate/plan.py)
+    if (running.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0)) or \
+            _crosses_the_mux(running.version, new_stack.version):
+        cfg.stack = running
         return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
     if running.version >= (2, 3, 0) and (running.version >= (2, 3, 2)) != (new_stack.version >= (2, 3, 2)):
         warnings.append(f"{running.version_str} -> {new_stack.version_str}: 2.3.2 brought the twist mux, the IMU "
@@ -321,8 +328,17 @@ def _image_stack(compose: ComposeFile) -> Any:
         return None
 
 
+def _crosses_the_mux(running: tuple[int, int, int], new: tuple[int, int, int]) -> bool:
+    """2.3.1 -> 2.3.2 (translated as from 2.2: its controller, EKF, joy2twist and components files are
+    2.2's translated to 2.3.1, and `migrate` carries them on to 2.3.2 byte for byte as upstream), or
+    2.3.2 -> 2.3.1 (the way back, from that migration's backup). 2.3.0 runs the gamepad as its own
+    compose service: not translated (a warning, as before)."""
+    return (running == (2, 3, 1) and (2, 3, 2) <= new < (2, 4, 0)) or (running >= (2, 3, 2) and new == (2, 3, 1))
+
+
 def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, warnings: list[str],
                pull: bool) -> RobotPlan:
+    from panther_ops.core.driver.migrate.dirs import DIRS_KEY
     from panther_ops.core.driver.migrate.plan import plan_migration, plan_way_back
 
     old_stack = cfg.stack
@@ -333,14 +349,15 @@ def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, war
     if present is False:
         warnings.append(f"{new_ref} is not on the robot: it needs a pull (internet on the robot); "
                         + ("--pull runs" if not pull else "--pull given: runs") + " docker compose pull first")
-    if new_stack.version >= (2, 3, 0):
+    if new_stack.version > old_stack.version:
         plan = plan_migration(cfg, reads, new_ref, new_stack, warnings)
     else:
         plan = plan_way_back(cfg, reads, new_ref, new_stack, warnings)
     plan.data.update(image_from=old_stack.image, image_to=new_ref, image_local=present, pull=pull,
                      stack_from=old_stack.label(), stack_to=new_stack.label())
-    if pull:
-        plan.steps.append(UpdateDriver(pull, None))
+    dirs = tuple(str(d) for d in plan.data.get(DIRS_KEY) or ())
+    if pull or dirs:
+        plan.steps.append(UpdateDriver(pull, None, dirs, way_back="backup_restored" in plan.data))
     return plan
 
 

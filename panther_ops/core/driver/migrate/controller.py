@@ -217,12 +217,23 @@ def translate_controller(text: str, path: str, target: tuple[int, int, int]) -> 
     return Translated(doc.text, tuple(notes))
 
 
+_MUX_TYPE = "twist_mux_controller/TwistMuxController"
+
+
 def _declare_mux(doc: YamlDocument, manager: Path) -> None:
-    """``twist_mux_controller: type: ...`` after the last controller the manager declares."""
+    """``twist_mux_controller: type: ...`` after the last controller the manager declares, in the style
+    that controller is written in (a block, or a flow mapping ``{ type: ... }`` as panther-ops' 2.2 templates)."""
     last = doc.keys(manager)[-1]
     entry = doc.get((*manager, last))
     if not isinstance(entry, dict) or not entry:
-        doc.set((*manager, "twist_mux_controller"), {"type": "twist_mux_controller/TwistMuxController"})
+        doc.set((*manager, "twist_mux_controller"), {"type": _MUX_TYPE})
+        return
+    info = doc.info((*manager, last))
+    if info.style == "flow":  # `drive_controller: { type: ... }`: one more entry written the same way
+        start, end = line_bounds(doc, info.start)
+        line = doc.text[start:end]
+        col = len(line) - len(line.lstrip(" "))
+        doc.replace_span(end, end, f"\n{' ' * col}twist_mux_controller: {{ type: {_MUX_TYPE} }}", path=manager)
         return
     inner = (*manager, last, list(entry)[-1])
     start, end = line_bounds(doc, doc.info(inner).end)
@@ -231,7 +242,7 @@ def _declare_mux(doc: YamlDocument, manager: Path) -> None:
     key_start, key_end = line_bounds(doc, value_line - 1)
     key_line = doc.text[key_start:key_end]
     key_col = len(key_line) - len(key_line.lstrip(" "))
-    new = f"\n{' ' * key_col}twist_mux_controller:\n{' ' * inner_col}type: twist_mux_controller/TwistMuxController"
+    new = f"\n{' ' * key_col}twist_mux_controller:\n{' ' * inner_col}type: {_MUX_TYPE}"
     doc.replace_span(end, end, new, path=manager)
 
 

@@ -2,33 +2,40 @@
 
 Pure functions of compose.yaml as read and the files and facts asked for (:class:`Reads`):
 
-- **2.2 -> 2.3** (:func:`plan_migration`): one plan with every file it changes, in exact diffs:
-  the image in compose.yaml (launch arguments 2.3 no longer has removed, each named), and each
+- **2.2 -> 2.3, and 2.3.1 -> 2.3.2** (:func:`plan_migration`): one plan with every file it
+  changes, in exact diffs: the image in compose.yaml (launch arguments 2.3 no longer has removed, each named), and each
   file of the config tree the driver reads (``~/config`` at ``/config``, `RobotConfig.tree_read`)
   translated by its translator (`TRANSLATORS`); the joy2twist file moves to husarion_ugv_teleop
   on 2.3.2. Files whose schema did not change are named and left byte-identical. A value with
   no 2.3 form refuses the whole robot (`MigrationRefused`, exit 2) before anything is written.
   The pipeline then backs every file up, writes, recreates, verifies and rolls back on failure
   (`driver.apply.apply_update`).
-- **2.3 -> 2.2** (:func:`plan_way_back`): the backup of the migration (the newest applied one)
-  restored as `config rollback` restores a backup, with the image the user asked for.
+- **2.3 -> 2.2, and 2.3.2 -> 2.3.1** (:func:`plan_way_back`): the backup of the newest applied
+  migration taken on that line (2.2.x; 2.3.1) restored as `config rollback` restores a backup,
+  with the image the user asked for.
 """
 
 from __future__ import annotations
 
 import functools
 import posixpath
+import re
 from collections.abc import Callable
+from dataclasses import dataclass, field
 
+from panther_ops.core.driver.migrate.checked import Checker
 from panther_ops.core.driver.migrate.components import translate_components
 from panther_ops.core.driver.migrate.controller import translate_controller
+from panther_ops.core.driver.migrate.dirs import DIRS_KEY, dirs_of
 from panther_ops.core.driver.migrate.joy2twist import joy2twist_path, translate_joy2twist
 from panther_ops.core.driver.migrate.launch import migrate_launch
 from panther_ops.core.driver.migrate.lights_tree import translate_lights_tree
 from panther_ops.core.driver.migrate.localization import translate_localization
-from panther_ops.core.driver.migrate.translated import MigrationRefused, Translated, version_label
+from panther_ops.core.driver.migrate.stock import stock_text
+from panther_ops.core.driver.migrate.translated import MUX_SINCE, MigrationRefused, Translated, version_label
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.kinds import FileKind, Target
 from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
 from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Stack
@@ -58,6 +65,11 @@ _ARG_KINDS: dict[str, Translator] = {"controller_config_path": translate_control
                                      "components_config_path": translate_components,
                                      "localization_config_path": translate_localization}
 """Launch arguments naming a file of a kind that changed: a customised file they point to is translated too."""
+_KINDS: dict[Translator, FileKind] = {translate_controller: FileKind.CONTROLLER,
+                                      translate_components: FileKind.COMPONENTS,
+                                      translate_lights_tree: FileKind.BT_LIGHTS}
+"""The file kind whose validator checks each translator's output (`checked.Checker`); the EKF files have none."""
+LIGHTS_PROJECT = "husarion_ugv_manager/behavior_trees/LightsBT.btproj"
 
 
 def _check_target(cfg: RobotConfig, new: Stack) -> None:
@@ -93,52 +105,75 @@ def translated(translator: Translator, text: str, path: str, target: tuple[int, 
                  "husarion_ugv_ros writes them), then migrate") from exc
 
 
-def _edit(edits: list[FileEdit], notes: list[str], path: str, before: bytes | None, out: Translated) -> None:
-    after = out.text.encode()
-    notes.extend(out.notes)
-    if after != before:
-        edits.append(FileEdit(path, before, after))
+@dataclass
+class _Planned:
+    """One robot's edits and notes so far; each translation is checked (`checked.Checker`) before it is planned."""
 
+    reads: Reads
+    checker: Checker
+    edits: list[FileEdit] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    review: list[str] = field(default_factory=list)
 
-def _translate(reads: Reads, path: str, translator: Translator, target: tuple[int, int, int],
-               edits: list[FileEdit], notes: list[str]) -> bool:
-    before = reads.file(path)
-    if before is None:
-        return False
-    _edit(edits, notes, path, before, translated(translator, before.decode(), path, target))
-    return True
+    def edit(self, path: str, before: bytes | None, out: Translated, kind: FileKind | None) -> None:
+        after = out.text.encode()
+        self.notes.extend(out.notes)
+        self.notes.extend(self._checked(kind, path, after))
+        if out.review:
+            self.review.append(path)
+        if after != before:
+            self.edits.append(FileEdit(path, before, after))
 
+    def _checked(self, kind: FileKind | None, path: str, after: bytes) -> list[str]:
+        """``after`` through its kind's validator: its warnings (a lights tree inside the project next to it,
+        or 2.2.2's stock project when the tree has none)."""
+        if kind is None:
+            return []
+        project = None
+        if kind is FileKind.BT_LIGHTS:
+            btproj = posixpath.join(posixpath.dirname(path), posixpath.basename(LIGHTS_PROJECT))
+            data = self.reads.file(btproj)
+            project = (posixpath.basename(btproj), data if data is not None else stock_text(LIGHTS_PROJECT).encode())
+        return self.checker.check(kind, path, after, project=project)
 
-def _joy2twist(reads: Reads, tree: str, model: str, target: tuple[int, int, int], edits: list[FileEdit],
-               notes: list[str]) -> None:
-    """The gamepad file translated; on 2.3.2 moved into husarion_ugv_teleop (the old one removed).
-    A tree without one gets 2.2.2's stock file translated (2.3.2's teleop reads it from the tree)."""
-    old = joy2twist_path(tree, model, (2, 2, 2))
-    new = joy2twist_path(tree, model, target)
-    text = reads.file(old)
-    if text is None and new == old:
-        return
-    if text is None:
-        from panther_ops.core.kinds import FileKind
-        from panther_ops.core.robot.files import config_file
-        from panther_ops.core.stack import stack_from_version
+    def translate(self, path: str, translator: Translator, target: tuple[int, int, int]) -> bool:
+        before = self.reads.file(path)
+        if before is None:
+            return False
+        self.edit(path, before, translated(translator, before.decode(), path, target), _KINDS.get(translator))
+        return True
 
-        source = config_file(stack_from_version("2.2.2"), FileKind.JOY2TWIST, robot_model=model).template_text()
-        notes.append(f"{new}: created from 2.2.2's stock gamepad file (the tree had none; 2.3.2's teleop reads it)")
-    else:
-        source = text.decode()
-    out = translated(translate_joy2twist, source, new, target)
-    if new != old:
-        _edit(edits, notes, new, reads.file(new), out)
-        if text is not None:
-            edits.append(FileEdit(old, text, None))
-            notes.append(f"{old} moved to {new} (2.3.2 reads the gamepad file from husarion_ugv_teleop)")
-        return
-    _edit(edits, notes, old, text, out)
+    def joy2twist(self, tree: str, model: str, target: tuple[int, int, int]) -> None:
+        """The gamepad file translated; on 2.3.2 moved into husarion_ugv_teleop (the old one removed).
+        A tree without one gets 2.2.2's stock file translated (2.3.2's teleop reads it from the tree)."""
+        old = joy2twist_path(tree, model, (2, 2, 2))
+        new = joy2twist_path(tree, model, target)
+        text = self.reads.file(old)
+        if text is None and new == old:
+            return
+        if text is None:
+            from panther_ops.core.robot.files import config_file
+            from panther_ops.core.stack import stack_from_version
+
+            source = config_file(stack_from_version("2.2.2"), FileKind.JOY2TWIST, robot_model=model).template_text()
+            self.notes.append(f"{new}: created from 2.2.2's stock gamepad file (the tree had none; 2.3.2's teleop "
+                              "reads it)")
+        else:
+            source = text.decode()
+        out = translated(translate_joy2twist, source, new, target)
+        if new != old:
+            self.edit(new, self.reads.file(new), out, FileKind.JOY2TWIST)
+            if text is not None:
+                self.edits.append(FileEdit(old, text, None))
+                self.notes.append(f"{old} moved to {new} (2.3.2 reads the gamepad file from husarion_ugv_teleop)")
+            return
+        self.edit(old, text, out, FileKind.JOY2TWIST)
 
 
 def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
-    """2.2 -> 2.3: compose.yaml's image and arguments, and every tree file translated (see the module)."""
+    """2.2 -> 2.3 and 2.3.1 -> 2.3.2 (2.3.1's files are 2.2's translated, which the same translators carry
+    on: 2.3.1's stock files become 2.3.2's byte for byte): compose.yaml's image and arguments, and every
+    tree file translated (see the module)."""
     _check_target(cfg, new)
     from panther_ops.core.robot.robot_model import robot_model_of
 
@@ -147,18 +182,23 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     current = cfg.compose.driver_image
     old_args = dict(cfg.compose.args)
     launch = migrate_launch(old_args, target, cfg.compose_path)
-    notes = list(launch.notes)
+    from panther_ops.core.robot.namespace import driver_namespace
+    from panther_ops.core.robot.robot_model import wheel_type_of
+
+    out = _Planned(reads, Checker(Target(new, wheel_type_of(reads, cfg), driver_namespace(reads, cfg)[0])))
+    notes = out.notes
+    notes.extend(launch.notes)
     for name in launch.dropped:
         cfg.compose.unset_arg(name, service)
     cfg.compose.set_image(new_ref, service)
-    edits: list[FileEdit] = []
+    edits = out.edits
     kept: list[str] = []
     tree = cfg.host_path_of(CONTAINER_CONFIG_DIR)
     if cfg.tree_read and tree:
         model = robot_model_of(reads, cfg)
         for rel, translator in TRANSLATORS.items():
-            _translate(reads, posixpath.join(tree, rel), translator, target, edits, notes)
-        _joy2twist(reads, tree, model, target, edits, notes)
+            out.translate(posixpath.join(tree, rel), translator, target)
+        out.joy2twist(tree, model, target)
         for rel in UNCHANGED:
             path = posixpath.join(tree, rel.format(model=model))
             if reads.file(path) is not None:
@@ -170,9 +210,10 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     for arg, translator in _ARG_KINDS.items():
         value = cfg.compose.args.get(arg)
         host = cfg.host_path_of(value) if value else None
-        if host and host not in done and not _translate(reads, host, translator, target, edits, notes):
+        if host and host not in done and not out.translate(host, translator, target):
             notes.append(f"{arg}:={value} names {host}, which is not on the robot: not translated")
     after = cfg.compose.text().encode()
+    notes.extend(out.checker.check(FileKind.COMPOSE, cfg.compose_path, after))
     edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
     old_label, new_label = version_label(cfg.stack.version), version_label(target)
     written = [e.path for e in edits[1:] if e.after is not None]
@@ -185,24 +226,29 @@ def plan_migration(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, war
     plan.data.update(stack=cfg.stack.label(), migration={
         "from": old_label, "to": new_label, "translated": written,
         "removed": [e.path for e in edits if e.after is None], "kept": kept,
+        "review": out.review,
         "launch_args_removed": list(launch.dropped)})
+    created = [e.path for e in edits if e.before is None and e.after is not None]
+    plan.data[DIRS_KEY] = dirs_of(created, [e.path for e in edits if e.before is not None], tree)
     return plan
 
 
 def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warnings: list[str]) -> RobotPlan:
-    """2.3 -> 2.2: the newest applied migration's backup restored, the image set to ``new_ref``.
+    """2.3 -> 2.2 (or 2.3.2 -> 2.3.1): the newest applied migration's backup taken on that line restored,
+    the image set to ``new_ref``.
 
     Raises:
         UsageError: no migration backup on the robot (the 2.3 files are not translated back).
     """
     from panther_ops.core.fleet.plan_rollback import HISTORY, plan_rollback
 
-    entries = [e for e in reads.fact(HISTORY) if str(e.get("summary", "")).startswith(MIGRATION + " ")
+    entries = [e for e in reads.fact(HISTORY) if _line(migrated_from(str(e.get("summary", "")))) == _line(new.version)
                and str(e.get("status", "")).startswith("applied")]
     if not entries:
+        line = "2.2" if new.version < (2, 3, 0) else new.version_str
         raise UsageError(
-            f"{reads.robot} runs {cfg.stack.label()} and has no backup of a migration from 2.2: panther-ops does not "
-            "translate 2.3 files back to 2.2",
+            f"{reads.robot} runs {cfg.stack.label()} and has no backup of a migration from {line}: panther-ops does "
+            f"not translate {cfg.stack.version_str} files back to {line}",
             hint="`panther-ops config rollback --to ID` restores a backup you choose; or update with --force and "
                  "then `panther-ops config restore-defaults` for 2.2's stock files")
     entry = entries[-1]
@@ -233,7 +279,25 @@ def plan_way_back(cfg: RobotConfig, reads: Reads, new_ref: str, new: Stack, warn
     plan = RobotPlan(reads.robot, summary, edits, (cfg.service,), cfg.compose_path, [Verify(cfg.service)], None,
                      [*warnings, *notes], home=cfg.home)
     plan.data.update(stack=cfg.stack.label(), backup_restored=entry["id"])
+    plan.data[DIRS_KEY] = dirs_of([e.path for e in edits if e.after is None], [e.path for e in edits if e.after],
+                                  cfg.host_path_of(CONTAINER_CONFIG_DIR))
     return plan
+
+
+_FROM = re.compile(rf"^{MIGRATION} husarion_ugv (\d+)\.(\d+)\.(\d+) -> ")
+
+
+def migrated_from(summary: str) -> tuple[int, int, int] | None:
+    """The release a migration's backup was taken on (its summary: ``migrate husarion_ugv 2.2.2 -> 2.3.2: ...``)."""
+    m = _FROM.match(summary)
+    return (int(m[1]), int(m[2]), int(m[3])) if m else None
+
+
+def _line(version: tuple[int, int, int] | None) -> int | None:
+    """Releases whose files a way back restores alike: 2.2.x (Humble), 2.3 before the mux, 2.3.2 on."""
+    if version is None:
+        return None
+    return 0 if version < (2, 3, 0) else 1 if version < MUX_SINCE else 2
 
 
 def _changed_since(reads: Reads, f: dict[str, object]) -> bool:

@@ -28,6 +28,8 @@ class Translated:
 
     text: str
     notes: tuple[str, ...] = ()
+    review: bool = False
+    """The plan names the file as needing the operator's review (kept, but it relies on what 2.3 removed)."""
 
 
 def version_label(version: tuple[int, int, int]) -> str:
