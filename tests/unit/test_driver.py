@@ -533,7 +533,7 @@ def test_cli_versions_remote_lists_newer(demo: Path, capsys: pytest.CaptureFixtu
     newer = {r["robot"]: r["data"]["newer"] for r in doc["robots"]}
     assert newer == {"panther-01": ["husarion/panther:humble-2.1.2-20241125"],
                      "panther-02": ["husarion/panther:humble-2.1.2-20241125", "husarion/panther:humble-2.1.1-20240828"],
-                     "panther-03": []}
+                     "panther-03": [], "panther-04": []}
 
 
 def test_cli_restart_needs_yes_and_skips_demo_robots(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
