@@ -14,6 +14,17 @@ def write(tmp: Path, text: str, name: str = "fleet.yaml") -> Path:
     return p
 
 
+def refused(tmp: Path, text: str) -> str:
+    """The inventory ``text`` (as ``tmp``/fleet.yaml) is refused as a usage error naming the
+    file: the message."""
+    path = write(tmp, text)
+    with pytest.raises(InputError) as exc:
+        load_inventory(str(path))
+    assert str(path) in str(exc.value)
+    assert exc.value.exit_code is ExitCode.USAGE
+    return str(exc.value)
+
+
 GOOD = """\
 version: 1
 settings:
@@ -95,13 +106,9 @@ def test_one_robot_inventory_needs_no_selection(tmp_path: Path) -> None:
     ],
 )
 def test_bad_inventory_names_file_line_key(tmp_path: Path, text: str, where: str, what: str) -> None:
-    path = write(tmp_path, text)
-    with pytest.raises(InputError) as exc:
-        load_inventory(str(path))
-    assert str(path) in str(exc.value)
-    assert where in str(exc.value)
-    assert what in str(exc.value)
-    assert exc.value.exit_code is ExitCode.USAGE
+    message = refused(tmp_path, text)
+    assert where in message
+    assert what in message
 
 
 def test_secret_references_are_allowed(tmp_path: Path) -> None:

@@ -149,6 +149,22 @@ def _tree(tmp: Path, blob_mib: int) -> tuple[Path, bytes]:
     return root, blob
 
 
+def _maps_the_file(used: list[tuple[int, int]], data: bytes, blob: bytes) -> int:
+    """Check that ``used`` maps the data of the file ``blob`` (one extent) in the file system
+    ``data``; return how many bytes ``used`` maps."""
+    at = data.find(blob[:4096])
+    assert at >= 0 and _covered(used, at, at + len(blob))
+    return _mapped(used, len(data))
+
+
+def _only_mapped(image: bytes, extents: list[tuple[int, int]], fill: bytes = b"\xa5") -> bytes:
+    """The image's mapped 4 KiB blocks over garbage (a card written by the map)."""
+    copy = bytearray(fill * len(image))
+    for a, b in blocks_of(extents, len(image)):
+        copy[a * 4096:(b + 1) * 4096] = image[a * 4096:(b + 1) * 4096]
+    return bytes(copy)
+
+
 def test_ext4_map_holds_every_used_block_and_little_else(tools: None, tmp_path: Path) -> None:
     root, blob = _tree(tmp_path, 12)
     fs = tmp_path / "root.ext4"
@@ -156,28 +172,15 @@ def test_ext4_map_holds_every_used_block_and_little_else(tools: None, tmp_path: 
     used = ext4_used(_reader(fs), fs.stat().st_size)
     assert used is not None
     data = fs.read_bytes()
-    at = data.find(blob[:4096])
-    assert at >= 0 and _covered(used, at, at + len(blob))  # the file's data (one extent) is mapped
-    total = _mapped(used, len(data))
+    total = _maps_the_file(used, data, blob)
     assert 12 * MIB < total < 40 * MIB  # the file, the journal and metadata: not the free space
     # a copy of only the mapped blocks over garbage is a clean file system with the same file
-    copy = bytearray(b"\xa5" * len(data))
-    for a, b in blocks_of(used, len(data)):
-        copy[a * 4096:(b + 1) * 4096] = data[a * 4096:(b + 1) * 4096]
     out = tmp_path / "copy.ext4"
-    out.write_bytes(copy)
+    out.write_bytes(_only_mapped(data, used))
     subprocess.run(["e2fsck", "-fn", str(out)], check=True, capture_output=True)
     dumped = tmp_path / "dumped"
     _sh("debugfs", "-R", f"dump /blob.bin {dumped}", str(out))
     assert dumped.read_bytes() == blob
-
-
-def _only_mapped(image: bytes, extents: list[tuple[int, int]]) -> bytes:
-    """The image's mapped 4 KiB blocks over garbage (a card written by the map)."""
-    copy = bytearray(b"\xa5" * len(image))
-    for a, b in blocks_of(extents, len(image)):
-        copy[a * 4096:(b + 1) * 4096] = image[a * 4096:(b + 1) * 4096]
-    return bytes(copy)
 
 
 def _itables(text: str) -> list[tuple[int, int]]:
@@ -278,15 +281,10 @@ def test_fat_map_holds_the_fat_and_every_used_cluster(fat: str, tools: None, tmp
     used = fat_used(_reader(fs), fs.stat().st_size)
     assert used is not None
     data = fs.read_bytes()
-    at = data.find(blob[:4096])
-    assert at >= 0 and _covered(used, at, at + len(blob))
-    total = _mapped(used, len(data))
+    total = _maps_the_file(used, data, blob)
     assert 5 * MIB < total < 7 * MIB
-    copy = bytearray(b"\x5a" * len(data))
-    for a, b in blocks_of(used, len(data)):
-        copy[a * 4096:(b + 1) * 4096] = data[a * 4096:(b + 1) * 4096]
     out = tmp_path / "copy.vfat"
-    out.write_bytes(copy)
+    out.write_bytes(_only_mapped(data, used, fill=b"\x5a"))
     subprocess.run(["fsck.fat", "-n", str(out)], check=True, capture_output=True)
     _sh("mcopy", "-i", str(out), "::kernel.img", str(tmp_path / "back.img"))
     assert (tmp_path / "back.img").read_bytes() == blob

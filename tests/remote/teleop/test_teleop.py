@@ -5,11 +5,8 @@ exactly one robot, a demo robot skipped."""
 from __future__ import annotations
 
 import os
-import pty
-import select
 import shlex
 import sys
-import time
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
@@ -22,6 +19,7 @@ from panther_ops.core.remote.teleop.keyboard import missing_for_keyboard, prepar
 from panther_ops.core.remote.teleop.program import BANNER, PROGRAM
 from panther_ops.errors import RemoteStateError
 from panther_ops.transport.base import CommandResult
+from tests.ux.termrun import keys_on_pty
 
 RCLPY_STANDIN = Path(__file__).resolve().parents[2] / "lab" / "data" / "rclpy-standin"
 
@@ -43,34 +41,12 @@ def _run_program(tmp_path: Path, keys: list[tuple[bytes, float]]) -> tuple[int, 
     state = tmp_path / "ros2-standin"
     env = {**os.environ, "PYTHONPATH": str(RCLPY_STANDIN), "ROS2_STANDIN_STATE": str(state),
            "ROBOT_NAMESPACE": "panther", "PYTHONDONTWRITEBYTECODE": "1"}
-    pid, fd = pty.fork()
-    if pid == 0:  # pragma: no cover - the child
-        os.execve(sys.executable, [sys.executable, "-c", PROGRAM, "/panther/cmd_vel", "10"], env)
-    out = b""
-
-    def pump(seconds: float) -> None:
-        nonlocal out
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            if select.select([fd], [], [], 0.05)[0]:
-                try:
-                    out += os.read(fd, 4096)
-                except OSError:
-                    return
-
-    deadline = time.monotonic() + 20
-    while BANNER.encode() not in out and time.monotonic() < deadline:
-        pump(0.1)
-    for key, pause in keys:
-        os.write(fd, key)
-        pump(pause)
-    pump(0.5)
-    _, status = os.waitpid(pid, 0)
-    os.close(fd)
+    code, out = keys_on_pty([sys.executable, "-c", PROGRAM, "/panther/cmd_vel", "10"], keys, ready=BANNER,
+                            timeout=20, env=env)
     log = state / "cmd_vel.log"
     rows = [line.split() for line in log.read_text().splitlines()] if log.exists() else []
     left = sorted(p.name for p in (state / "cmd_vel").iterdir()) if (state / "cmd_vel").is_dir() else []
-    return os.waitstatus_to_exitcode(status), out.decode(errors="replace"), rows, left
+    return code, out, rows, left
 
 
 def test_keyboard_program_publishes_the_keys_at_the_rate_and_stops_the_robot_at_the_end(tmp_path: Path) -> None:

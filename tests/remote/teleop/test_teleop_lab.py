@@ -12,9 +12,6 @@ image (`python_drivers`, module-scoped, put back when the module ends)."""
 from __future__ import annotations
 
 import itertools
-import os
-import pty
-import select
 import sys
 import time
 from collections.abc import Iterator
@@ -23,7 +20,9 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
+from panther_ops.core.remote.teleop.program import BANNER
 from tests.lab.pyimage import restore_driver_image, use_python_image
+from tests.ux.termrun import keys_on_pty
 
 pytestmark = pytest.mark.lab
 
@@ -55,33 +54,7 @@ def in_driver(lab: Any, name: str, script: str) -> str:
 def drive(lab: Any, name: str, keys: list[tuple[bytes, float]]) -> tuple[int, str]:
     """Run `panther-ops teleop -r NAME` on a pseudo-terminal, type ``keys`` (each then a pause)."""
     argv = [sys.executable, "-m", "panther_ops.cli.app", "-i", str(lab.inventory_path), "teleop", "-r", name]
-    pid, fd = pty.fork()
-    if pid == 0:  # pragma: no cover - the child
-        os.execv(argv[0], argv)
-    out = b""
-
-    def pump(seconds: float) -> None:
-        nonlocal out
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            ready, _, _ = select.select([fd], [], [], 0.05)
-            if ready:
-                try:
-                    out += os.read(fd, 4096)
-                except OSError:
-                    return
-
-    deadline = time.monotonic() + 30
-    while b"Reading from the keyboard" not in out and time.monotonic() < deadline:
-        pump(0.1)
-    assert b"Reading from the keyboard and publishing on" in out, out.decode(errors="replace")
-    for key, pause in keys:
-        os.write(fd, key)
-        pump(pause)
-    pump(0.5)
-    _, status = os.waitpid(pid, 0)
-    os.close(fd)
-    return os.waitstatus_to_exitcode(status), out.decode(errors="replace")
+    return keys_on_pty(argv, keys, ready=BANNER, timeout=30)
 
 
 def test_refused_while_the_e_stop_is_triggered(tlab: Any, capsys: pytest.CaptureFixture[str]) -> None:

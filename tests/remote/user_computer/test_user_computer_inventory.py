@@ -9,7 +9,7 @@ import pytest
 
 from panther_ops.core.fleet.inventory import UserComputer
 from panther_ops.core.fleet.inventory_file import load_inventory
-from panther_ops.errors import ExitCode, InputError
+from tests.fleet.test_inventory import refused
 
 GOOD = """\
 version: 1
@@ -55,11 +55,6 @@ def test_user_computer_defaults_and_values(tmp_path: Path) -> None:
     ],
 )
 def test_bad_user_computer_is_refused(tmp_path: Path, value: str, key: str, what: str) -> None:
-    path = tmp_path / "fleet.yaml"
-    path.write_text(f"robots:\n  r1:\n    host: a\n    user_computer: {value}\n")
-    with pytest.raises(InputError) as exc:
-        load_inventory(str(path))
-    assert str(path) in str(exc.value)
-    assert f"[robots.r1.{key}" in str(exc.value)
-    assert what in str(exc.value)
-    assert exc.value.exit_code is ExitCode.USAGE
+    message = refused(tmp_path, f"robots:\n  r1:\n    host: a\n    user_computer: {value}\n")
+    assert f"[robots.r1.{key}" in message
+    assert what in message
