@@ -239,7 +239,8 @@ class Tool:
     ansible_cp_dir: Path | None = None
 
 
-def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wanted: list[str]) -> list[Tool]:
+def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wanted: list[str],
+               also: tuple[tuple[str, str], ...] = ()) -> list[Tool]:
     inv = str(lab.inventory_path)
     key = str(lab.identity_file)
     known = str(lab.known_hosts_path)
@@ -298,7 +299,14 @@ def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wan
         Tool("ansible", "ansible (pipelining)", [str(bindir / "ansible-playbook"), "-i", str(work / "hosts.ini"),
                                                  str(work / "play.yml")], ansible_env, cp_dir),
     ]
-    return [t for t in tools if t.key in wanted]
+    for label, exe in also:  # other builds of panther-ops, timed in the same lab, in turn with this one
+        alt = [exe, *po[1:]]
+        if "panther-ops" in wanted:
+            tools.append(Tool(f"panther-ops@{label}", f"panther-ops, {label}", alt))
+        if "panther-ops-no-restart" in wanted:
+            tools.append(Tool(f"panther-ops-no-restart@{label}", f"panther-ops --no-restart, {label}",
+                              [*alt, "--no-restart"]))
+    return [t for t in tools if t.key in wanted or "@" in t.key]
 
 
 def close_control_masters(cp_dir: Path) -> None:
@@ -504,7 +512,7 @@ def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wante
         lab.up()
         log(f"N={n} RTT {rtt:g} ms: lab {lab.prefix} up in {time.perf_counter() - t:.2f} s")
         fleet = Fleet(lab)
-        tools = make_tools(lab, n, work, bindir, args.panther_ops, wanted)
+        tools = make_tools(lab, n, work, bindir, args.panther_ops, wanted, args.also)
         for tool in tools:  # untimed: warm-up + correctness + idempotence
             fleet.reset()
             run_tool(tool, fleet, work, "warmup")
@@ -648,12 +656,19 @@ def main() -> int:
     ap.add_argument("--panther-ops", default=None,
                     help="panther-ops executable (default: this checkout installed into its own venv, "
                          f"{DEFAULT_PO_VENV}, as a wheel)")
+    ap.add_argument("--also", action="append", default=[], metavar="LABEL=EXE",
+                    help="another panther-ops executable (e.g. a build of main) timed in the same lab, in turn "
+                         "with this one: paired runs for a before/after comparison (repeatable)")
     ap.add_argument("--prefix", default=None, help="lab prefix (default: the first free one)")
     ap.add_argument("--keep-work", action="store_true", help="keep the generated files and tool logs")
     ap.add_argument("--max-other-cpu", type=float, default=0.5,
                     help="repeat a timed run during which other processes used more CPU seconds (default 0.5)")
     ap.add_argument("--retries", type=int, default=3, help="how often to repeat such a run (default 3)")
     args = ap.parse_args()
+    args.also = tuple(tuple(a.split("=", 1)) for a in args.also)
+    if any(len(a) != 2 or not a[0] or not a[1] for a in args.also):
+        log("config_bench: --also takes LABEL=EXE")
+        return 2
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     rtts = [float(s) for s in args.rtts.split(",") if s.strip()]
     wanted = [t.strip() for t in args.tools.split(",") if t.strip()]
@@ -676,6 +691,8 @@ def main() -> int:
         args.panther_ops = ensure_panther_ops_venv(DEFAULT_PO_VENV)
     else:
         compile_bytecode(args.panther_ops)
+    for _, exe in args.also:
+        compile_bytecode(exe)
     doc: dict[str, Any] = {
         "benchmark": "config set wheel_type WH02 on N robots at RTT 0/50/150 ms",
         "date": time.strftime("%Y-%m-%d"),

@@ -71,7 +71,7 @@ def router_set(
     """
     from panther_ops.core.gps.router.apply import apply_router
     from panther_ops.core.gps.router.plan import RouterRequest, check_address, parse_sentences
-    from panther_ops.core.gps.router.read import read_and_plan_router as plan_router
+    from panther_ops.core.gps.router.read import read_and_plan_router
     from panther_ops.errors import UsageError
 
     req = RouterRequest(enabled=enable, hostname=hostname, port=port, sentences=parse_sentences(sentences))
@@ -79,5 +79,5 @@ def router_set(
         raise UsageError("nothing to set", hint="--enable/--disable, --hostname, --port or --sentences")
     check_address(address)
     creds = credentials()
-    return fleet.change("gps router set", lambda c: plan_router(c, address, creds, req),
+    return fleet.change("gps router set", lambda c: read_and_plan_router(c, address, creds, req),
                         applier=apply_router(address, creds, req), verb="Change the router of")

@@ -90,8 +90,7 @@ def mutate(
     progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out))
     with Connections(inv) as conns:
         with progress.live():
-            fp = plan_fleet(command, inv, chosen, planner, conns, opts, progress, stage=apply if early else None,
-                            go_early=early)
+            fp = plan_fleet(command, inv, chosen, planner, conns, opts, progress, stage=apply if early else None)
         if fp.usage_errors:
             unstage_fleet(fp, inv, chosen, conns, opts)
             order = [r.name for r in chosen]

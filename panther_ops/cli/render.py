@@ -9,6 +9,7 @@ from collections.abc import Callable, Iterable
 from typing import Any
 
 from panther_ops.cli.tables import Column, FitTable
+from panther_ops.core.reimage.device import human_size
 from panther_ops.errors import ExitCode
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -49,14 +50,8 @@ def counted(n: int, noun: str) -> str:
 
 
 def human_bytes(n: int | None) -> str:
-    if n is None:
-        return "-"
-    value = float(n)
-    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
-        if value < 1024 or unit == "TiB":
-            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
-        value /= 1024
-    return f"{n} B"
+    """A byte count as core says it (``12 B``, ``1.5 GiB``); ``-`` when unknown."""
+    return "-" if n is None else human_size(n)
 
 
 def print_results(fleet: FleetResult, *, title: str | None = None, show_diffs: bool = True) -> None:

@@ -27,8 +27,8 @@ from collections.abc import Mapping
 from typing import Any
 
 from panther_ops.conformance.launch import CONTEXTS
-from panther_ops.core.config.launch_args import args_for, bool_word
 from panther_ops.core.kinds.arg_catalogue import ArgSpec, ArgType
+from panther_ops.core.robot.launch_args import args_for, bool_word
 from panther_ops.core.stack import Stack
 
 _TREE = re.compile(r"^<common_dir_path>/(?P<tree>\S+) \(common_dir_path set; else (?P<image>\$\(find \w+\)/\S+)\)$")

@@ -12,7 +12,7 @@ Four checks per release, each a list of `Result` (one per item, so a fix flips o
 - ``templates``: every template equals its upstream file semantically, or each difference is
   listed in `reasons.REASONS`; every file of a kind has a template; every template is traced
   (an upstream file at some tag, or `reasons.OWN`). Which template stands for which file:
-  `template_pairs` (core/config/files.py per release, with each release's stock BT projects
+  `template_pairs` (core/robot/files.py per release, with each release's stock BT projects
   under templates/config/<generation>/<pkg>/behavior_trees, the demo's config tree, the compose
   file of husarion/panther-docker or, 2.2+, husarion_ugv_ros's own
   docker/demo/compose.hardware.yaml).
@@ -40,8 +40,8 @@ from panther_ops.conformance.digest import Leaves, diff, leaves
 from panther_ops.conformance.preview import checked_stack, preview_for
 from panther_ops.conformance.reasons import own, reason_for
 from panther_ops.conformance.validate import run_validator
-from panther_ops.core.config.files import config_files, family_dirs
 from panther_ops.core.fleet.templates import templates_dir
+from panther_ops.core.robot.files import config_files, family_dirs
 from panther_ops.core.stack import Generation, Stack, stack_from_version
 from panther_ops.errors import OpsError
 

@@ -61,7 +61,7 @@ WHAT = """\
   2.2 robot's `~/config`), *variant* (tree, `wheel_type=WH02`, `robot_model=lynx`,
   `localization_mode=enu`, `fuse_gps=True`).
 - **Templates**: every template under `templates/` equals the upstream file it stands for
-  (`panther_ops/core/config/files.py` per release; each release's stock BT projects under
+  (`panther_ops/core/robot/files.py` per release; each release's stock BT projects under
   `templates/config/<generation>/<pkg>/behavior_trees`; the demo's 2.2 config tree)
   semantically: the same keys, the same values and types (`2` and `2.0` differ), or each difference has a reason in
   `panther_ops/conformance/reasons.py`. Every file of a kind has a template. A template with

@@ -6,8 +6,8 @@ from pathlib import Path
 from typing import Any
 
 from panther_ops.conformance.preview import checked_stack
-from panther_ops.core.config.launch_args import spec
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
+from panther_ops.core.robot.launch_args import spec
 from panther_ops.errors import OpsError
 
 

@@ -104,6 +104,16 @@ class Stack:
         return f"{self.family.value} {self.version_str}"
 
 
+def supported_pair(distro: str, version: tuple[int, int, int]) -> bool:
+    """The distro/version pairs panther-ops reads: Humble up to 2.2.x, Jazzy 2.3.x.
+
+    MIGRATE (issue #25): the one predicate `driver update` needs to read a 2.3 robot (its way
+    back to 2.2) and to plan 2.2 -> 2.3; the jazzystack work owns the final rule."""
+    if distro == "humble":
+        return version < (2, 3, 0)
+    return distro == "jazzy" and (2, 3, 0) <= version < (2, 4, 0)
+
+
 def parse_image(image: str) -> Stack:
     """Parse a driver image reference such as ``husarion/panther:humble-2.1.1-20240828``.
 
@@ -129,10 +139,11 @@ def parse_image(image: str) -> Stack:
         )
     version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
     distro = m["distro"]
-    if distro != "humble" or version >= (2, 3, 0):
+    if not supported_pair(distro, version):
         raise RemoteStateError(
             f"stack {distro} {'.'.join(map(str, version))} ({ref}) is not supported yet",
-            hint="panther-ops supports ROS 2 Humble: panther_ros 2.0-2.1 and husarion_ugv 2.2",
+            hint="panther-ops supports ROS 2 Humble: panther_ros 2.0-2.1 and husarion_ugv 2.2; ROS 2 Jazzy: "
+                 "husarion_ugv 2.3",
         )
     if version < (2, 0, 0):
         raise RemoteStateError(f"{ref}: ROS 1 stacks (1.x) are not supported")

@@ -95,7 +95,7 @@ class Shell:
         self.robot = robot
         self._bodies: dict[str, Callable[[Proc, tuple[str, ...]], Body]] = {
             scripts.READ: self._read, scripts.READ_WITH_HOME: self._read_with_home, scripts.EXISTS: self._exists,
-            scripts.DISCARD: self._discard, scripts_apply.APPLY: self._apply, scripts_apply.READ_KEPT: self._read_kept,
+            scripts_apply.APPLY: self._apply,
             scripts_backup.LIST: self._list, scripts_backup.MARK: self._mark,
             scripts_backup.READ_BACKUP: self._read_backup,
         }
@@ -134,10 +134,6 @@ class Shell:
     def _exists(self, p: Proc, args: tuple[str, ...]) -> Body:
         return (yield from _done(0 if self.robot.exists(args[0]) else 1))
 
-    def _discard(self, p: Proc, args: tuple[str, ...]) -> Body:
-        self.robot.remove(args[0])
-        return (yield from _done(0))
-
     # -- backups ------------------------------------------------------------------------
     def _list(self, p: Proc, args: tuple[str, ...]) -> Body:
         root = self.robot.path(args[0])
@@ -167,36 +163,21 @@ class Shell:
         return (yield from _done(0))
 
     # -- the write session (scripts_apply) ----------------------------------------------
-    def _read_kept(self, p: Proc, args: tuple[str, ...]) -> Body:
-        path, mark = args[0], args[1]
-        p.write(f"{self.robot.home}\n")
-        f = self._file(path)
-        if f is None:
-            p.error(f"no such file: {self.robot.path(path)}\n")
-            return (yield from _done(scripts.MISSING_EXIT))
-        buf = io.BytesIO()
-        with tarfile.open(fileobj=buf, mode="w", format=tarfile.GNU_FORMAT) as tar:
-            info = tarfile.TarInfo(posixpath.basename(self.robot.path(path)))
-            info.size, info.mode, info.mtime = len(f.data), f.mode, int(f.mtime)
-            tar.addfile(info, io.BytesIO(f.data))
-        p.write(buf.getvalue() + f"{mark}\n".encode())
-        req = yield from p.readline()
-        if req != b"apply":
-            return 0
+    def _apply(self, p: Proc, _args: tuple[str, ...]) -> Body:
+        """scripts_apply.APPLY, step by step (see its text for the rules)."""
         count = yield from p.readline()
         if count is None:
             return 0
+        if not count.isdigit():
+            p.error("the write request is not a count\n")
+            return 1
         argv: list[str] = []
         for _ in range(int(count)):
             a = yield from p.readline()
             if a is None:
                 return 0
             argv.append(a.decode())
-        return (yield from self._apply(p, tuple(argv)))
-
-    def _apply(self, p: Proc, args: tuple[str, ...]) -> Body:
-        """scripts_apply.APPLY, step by step (see its text for the rules)."""
-        write = _Write(self.robot, args)
+        write = _Write(self.robot, tuple(argv))
         upload = yield from p.read(write.size)
         if not write.unpack(upload):
             write.unmake()

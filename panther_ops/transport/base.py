@@ -1,4 +1,4 @@
-"""The one transport interface: run a command, read a file, write a file atomically, close.
+"""The one transport interface: connect, run a command, read a file, start a write session, close.
 
 Commands are argv lists, quoted with :func:`shlex.join` when they reach a shell; secrets
 are :class:`Secret` values that show as ``****`` in every printed form.
@@ -15,6 +15,8 @@ from panther_ops.secret import Secret
 
 if TYPE_CHECKING:
     from docker import DockerClient
+
+    from panther_ops.transport.session import Session
 
 
 Arg = str | Secret
@@ -103,7 +105,11 @@ class Endpoint:
 
 
 class Transport(Protocol):
-    """Everything panther-ops does to a robot goes through one of these."""
+    """Everything panther-ops does to a robot goes through one of these.
+
+    Nine members: ``name``, ``connect``, ``run``, ``read_file``, ``exists``, ``home``, ``docker``,
+    ``session`` (every write, see :class:`~panther_ops.transport.session.Session`), ``close``.
+    """
 
     name: str
 
@@ -120,52 +126,16 @@ class Transport(Protocol):
         is sent and the input closed; a command that ends without asking is not answered."""
         ...
 
-    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None,
-                 stdin: bytes | None = None) -> CommandResult:
-        """Run a command (sending it ``stdin``) up to the moment its output ends with ``until``,
-        and keep it running, waiting for input, under ``key`` (for :meth:`advance` or
-        :meth:`resume` in a later phase; closed with the transport). The result holds the
-        output before ``until``. A command that ends without printing ``until`` is not kept:
-        its result is returned as :meth:`run` would."""
-        ...
-
-    def advance(self, key: str, stdin: bytes, until: bytes) -> CommandResult | None:
-        """Send ``stdin`` to the command kept under ``key`` and read up to its next ``until``:
-        it stays kept, and the result holds what it printed meanwhile; a command that ends
-        instead is no longer kept and its result is returned as :meth:`run` would. None
-        when none is kept."""
-        ...
-
-    def kept(self, key: str) -> bool:
-        """Whether a command is kept under ``key``."""
-        ...
-
-    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
-               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
-        """Continue the command kept under ``key`` as :meth:`run` would with these arguments
-        (the result holds only what it printed from now on); None when none is kept."""
-        ...
-
-    def drop_kept(self, key: str) -> None:
-        """Close the input of the command kept under ``key`` (if any): it ends on its own."""
-        ...
-
     def read_file(self, path: str) -> bytes:
         """Read a file; raises FileNotFoundError when it does not exist."""
         ...
 
     def exists(self, path: str) -> bool: ...
 
-    def stage_file(self, path: str, data: bytes, *, mode: int | None = None) -> str:
-        """Upload ``data`` to a temp file beside ``path`` (fsynced); returns its name."""
-        ...
-
-    def commit_staged(self, staged: str, path: str) -> None:
-        """Rename a staged file over ``path`` (atomic on POSIX file systems)."""
-        ...
-
-    def write_file_atomic(self, path: str, data: bytes, *, mode: int | None = None) -> None:
-        """stage_file + commit_staged."""
+    def session(self, *, timeout: float | None = None) -> Session:
+        """Start a write session on the robot (:mod:`panther_ops.transport.session`): every write
+        and every rollback goes through one, staged, then gone ahead with (the compare with what
+        the plan read and the renames, under the robot's write lock) or stopped."""
         ...
 
     def home(self) -> str:

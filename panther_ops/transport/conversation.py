@@ -1,10 +1,8 @@
 """Talking to a running command over its pipes: the same steps for an SSH channel and a
 local process.
 
-A command may ask back: it prints a mark and waits for a line on its input (the write step
-waits for the go-ahead after staging). A command may also be kept waiting between two phases
-of a panther-ops command: the plan's read of compose.yaml stays open as a session that later
-carries the write, so a change costs the robot one session instead of two.
+A command may ask back: it prints a mark and waits for a line on its input (the write
+session waits for the go-ahead after staging: :mod:`panther_ops.transport.session`).
 """
 
 from __future__ import annotations
@@ -12,9 +10,12 @@ from __future__ import annotations
 import contextlib
 import time
 from collections.abc import Callable
-from typing import Protocol, TypeVar
+from typing import TYPE_CHECKING, Protocol, TypeVar
 
 from panther_ops.transport.base import Command, CommandResult
+
+if TYPE_CHECKING:
+    from panther_ops.transport.session import Session
 
 T = TypeVar("T")
 
@@ -22,7 +23,9 @@ T = TypeVar("T")
 class Pipe(Protocol):
     """A started command's ends: stdin, stdout (stderr collected on the side), exit status."""
 
-    def send(self, data: bytes) -> None: ...
+    def send(self, data: bytes) -> None:
+        """Send ``data``; to a command that already ended it is dropped (nobody reads it)."""
+        ...
 
     def close_input(self) -> None: ...
 
@@ -43,7 +46,8 @@ class Pipe(Protocol):
         ...
 
     def pause_timeout(self) -> None:
-        """The command is kept waiting for a later phase: its time limit does not run meanwhile."""
+        """The command waits for the caller (a session between its steps): its time limit does not
+        run meanwhile."""
         ...
 
     def resume_timeout(self) -> None: ...
@@ -87,106 +91,59 @@ class Conversation:
         if data:
             self.pipe.send(data)
 
-    def ask(self, data: bytes | None, until: bytes) -> bool:
-        """Send ``data``, then read until the output ends with ``until`` (see :meth:`read_until`)."""
-        self.send(data)
-        return self.read_until(until)
-
-    def take_output(self) -> bytes:
-        """The output so far, which then starts afresh (for the next phase of a kept command)."""
-        data = bytes(self.out)
-        self.out.clear()
-        return data
-
 
 class Conversing:
-    """``run``, ``run_kept``, ``resume`` and ``drop_kept`` of a transport, over its pipes.
+    """``run`` and ``session`` of a transport, over its pipes.
 
     A transport supplies :meth:`_open` (start a command), and may wrap each step with
-    :meth:`_guard` (turn its failures into panther-ops errors) and check a finished pipe with
-    :meth:`_check`.
+    :meth:`guard` (turn its failures into panther-ops errors) and check a finished pipe with
+    :meth:`_check`; ``_sessions_in_background`` opens a session's command in the background
+    (where that costs round trips); :meth:`close_sessions` drops those still open.
     """
 
-    _kept: dict[str, tuple[Conversation, Command, float | None]]
+    _sessions: set[Session]
+    _sessions_in_background = False
 
     def _open(self, command: Command, timeout: float | None) -> Pipe:
         raise NotImplementedError
 
-    def _guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
+    def guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
         return step()
 
     def _check(self, command: Command, pipe: Pipe) -> None:
         return None
 
-    def _result(self, command: Command, pipe: Pipe, status: int, out: bytes, err: bytes,
-                start: float) -> CommandResult:
+    def result(self, command: Command, pipe: Pipe, status: int, out: bytes, err: bytes,
+               start: float) -> CommandResult:
         self._check(command, pipe)
         return CommandResult(str(command), status, out.decode(errors="replace"), err.decode(errors="replace"),
                              time.monotonic() - start, out)
 
-    def _start(self, command: Command, timeout: float | None) -> Conversation:
-        return self._guard(command, timeout, lambda: Conversation(self._open(command, timeout)))
+    def start(self, command: Command, timeout: float | None) -> Conversation:
+        return self.guard(command, timeout, lambda: Conversation(self._open(command, timeout)))
 
     def run(
         self, command: Command, *, timeout: float | None = None, stdin: bytes | None = None,
         until: bytes | None = None, answer: Callable[[bytes], bytes] | None = None,
     ) -> CommandResult:
         start = time.monotonic()
-        conv = self._start(command, timeout)
-        status, out, err = self._guard(command, timeout, lambda: conv.finish(stdin, until, answer))
-        return self._result(command, conv.pipe, status, out, err, start)
+        conv = self.start(command, timeout)
+        status, out, err = self.guard(command, timeout, lambda: conv.finish(stdin, until, answer))
+        return self.result(command, conv.pipe, status, out, err, start)
 
-    def run_kept(self, command: Command, until: bytes, key: str, *, timeout: float | None = None,
-                 stdin: bytes | None = None) -> CommandResult:
-        start = time.monotonic()
-        conv = self._start(command, timeout)
-        self.drop_kept(key)
-        return self._keep(key, conv, command, timeout, stdin, until, start)
+    def session(self, *, timeout: float | None = None) -> Session:
+        from panther_ops.transport.session import Session
 
-    def advance(self, key: str, stdin: bytes, until: bytes) -> CommandResult | None:
-        kept = self._kept.pop(key, None)
-        if kept is None:
-            return None
-        conv, command, timeout = kept
-        conv.pipe.resume_timeout()
-        return self._keep(key, conv, command, timeout, stdin, until, time.monotonic())
+        s = Session(self, timeout, background=self._sessions_in_background)
+        self._sessions.add(s)
+        return s
 
-    def _keep(self, key: str, conv: Conversation, command: Command, timeout: float | None, stdin: bytes | None,
-              until: bytes, start: float) -> CommandResult:
-        """Send ``stdin``, read to ``until`` and keep the command under ``key``; or finish it."""
-        try:
-            asked = self._guard(command, timeout, lambda: conv.ask(stdin, until))
-        except BaseException:
-            conv.pipe.close()
-            raise
-        if not asked:
-            status, out, err = self._guard(command, timeout, conv.finish)
-            return self._result(command, conv.pipe, status, out, err, start)
-        conv.pipe.pause_timeout()  # waiting for the operator is not the command taking long
-        self._kept[key] = (conv, command, timeout)
-        return self._result(command, conv.pipe, 0, conv.take_output()[: -len(until)], b"", start)
+    def forget(self, session: Session) -> None:
+        """A session that ended (its command finished or was dropped)."""
+        self._sessions.discard(session)
 
-    def kept(self, key: str) -> bool:
-        return key in self._kept
-
-    def resume(self, key: str, stdin: bytes, *, until: bytes | None = None,
-               answer: Callable[[bytes], bytes] | None = None) -> CommandResult | None:
-        kept = self._kept.pop(key, None)
-        if kept is None:
-            return None
-        conv, command, timeout = kept
-        conv.pipe.resume_timeout()
-        start = time.monotonic()
-        status, out, err = self._guard(command, timeout, lambda: conv.finish(stdin, until, answer))
-        return self._result(command, conv.pipe, status, out, err, start)
-
-    def drop_kept(self, key: str) -> None:
-        kept = self._kept.pop(key, None)
-        if kept is not None:
-            kept[0].pipe.resume_timeout()
-            with contextlib.suppress(Exception):  # a kept command whose connection is gone is over anyway
-                kept[0].pipe.close()  # its input closes: the command ends on its own
-
-    def drop_all_kept(self) -> None:
-        for key in list(self._kept):
-            self.drop_kept(key)
+    def close_sessions(self) -> None:
+        """Drop every session still open: their staged writes are abandoned, nothing renamed."""
+        for s in list(self._sessions):
+            with contextlib.suppress(Exception):  # a session whose connection is gone is over anyway
+                s.close()

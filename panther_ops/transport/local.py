@@ -14,7 +14,6 @@ import os
 import queue
 import signal
 import subprocess
-import tempfile
 import threading
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -36,7 +35,7 @@ class LocalTransport(Conversing):
         self.user = user
         self._home = home
         """Another home than ``/home/<user>`` (a local file's directory: its backups go there)."""
-        self._kept = {}
+        self._sessions = set()
 
     def connect(self) -> None:
         if self._home is not None:
@@ -51,7 +50,7 @@ class LocalTransport(Conversing):
             )
 
     def close(self) -> None:
-        self.drop_all_kept()
+        self.close_sessions()
 
     def home(self) -> str:
         return self._home if self._home is not None else f"/home/{self.user}"
@@ -84,28 +83,6 @@ class LocalTransport(Conversing):
     def exists(self, path: str) -> bool:
         return self.local_path(path).exists()
 
-    def stage_file(self, path: str, data: bytes, *, mode: int | None = None) -> str:
-        target = self.local_path(path)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.panther-ops.", dir=target.parent)
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        if mode is not None:
-            os.chmod(tmp, mode)
-        elif target.exists():
-            os.chmod(tmp, target.stat().st_mode & 0o7777)
-        else:
-            os.chmod(tmp, 0o644)
-        return tmp
-
-    def commit_staged(self, staged: str, path: str) -> None:
-        os.replace(staged, self.local_path(path))
-
-    def write_file_atomic(self, path: str, data: bytes, *, mode: int | None = None) -> None:
-        self.commit_staged(self.stage_file(path, data, mode=mode), path)
-
     def docker(self, api_version: str | None = None) -> DockerClient | None:
         return None
 
@@ -115,7 +92,7 @@ class _ProcessPipe:
 
     Input is written by a thread (a command that echoes a large input while it reads it
     cannot block us); the whole group is killed when a phase outlives its timeout (the timer
-    runs only while someone waits for the command, not while it is kept).
+    runs only while someone waits for the command, not while a session waits for its caller).
     """
 
     def __init__(self, argv: list[str], env: dict[str, str], cwd: Path, timeout: float) -> None:

@@ -21,23 +21,3 @@ READ_WITH_HOME = RESOLVE + (
 """$HOME on the first line, then the file (exit 44 when it does not exist): one round trip."""
 
 EXISTS = RESOLVE + '[ -e "$r$p" ]'
-
-STAGE = (
-    RESOLVE
-    + 'd=$(dirname -- "$r$p"); mkdir -p -- "$d" || exit 1; '
-    + 't="$d/.$(basename -- "$p").panther-ops.$2"; '
-    + 'umask 077; cat > "$t" || { rm -f -- "$t"; exit 1; }; '
-    + 'if [ -n "$3" ]; then chmod "$3" "$t"; elif [ -e "$r$p" ]; then '
-    + 'chmod --reference="$r$p" "$t" 2>/dev/null || true; else chmod 644 "$t"; fi; '
-    + 'sync -- "$t" 2>/dev/null || sync; printf %s "$t"'
-)
-"""Upload stdin to a temp file beside the target (same file system), fsync it, print its name.
-$2 is a unique suffix, $3 an optional octal mode."""
-
-COMMIT = (
-    'r="${PANTHER_OPS_ROOT:-}"; t="$1"; p="$2"; case "$p" in "~/"*) p="$HOME/${p#"~/"}";; esac; '
-    + 'mv -f -- "$t" "$r$p" || exit 1; sync -- "$(dirname -- "$r$p")" 2>/dev/null; exit 0'
-)
-"""Rename a staged temp file over its target (atomic on POSIX file systems)."""
-
-DISCARD = 'rm -f -- "$1"'

@@ -1,8 +1,11 @@
-"""The shell side of a change: one session that stages, then commits on the go-ahead.
+"""The shell side of a change: one session that stages, then commits on the go-ahead (the
+robot's half of :class:`panther_ops.transport.session.Session`).
 
-APPLY unpacks one tar archive holding the backup (manifest and the old contents) and every
-new content, each staged in a temp file beside its target (same file system, so the rename
-is atomic), fsyncs them, optionally asks the robot's own ``docker compose`` about a staged
+APPLY reads its arguments from its input (one per line, so it can be started before the
+write is known: a session opened beside the plan's read costs no round trip), unpacks one
+tar archive holding the backup (manifest and the old contents) and every new content, each
+staged in a temp file beside its target (same file system, so the rename is atomic), fsyncs
+them, optionally asks the robot's own ``docker compose`` about a staged
 compose file, and prints ``STAGED_MARK``. It then waits for one line on stdin:
 
 - ``go``: takes the robot's write lock (``flock`` on ``~/.panther-ops/write.lock``), checks
@@ -22,8 +25,8 @@ The check comes after the go-ahead, right before the renames, so a write staged 
 (while the rest of the fleet is still being planned) is still checked against the robot's
 file as it is at the moment it is replaced.
 
-Nothing user-given is ever part of the script text: paths and values come as positional
-parameters (absolute paths: the caller resolved ``~``), contents as the archive on stdin,
+Nothing user-given is ever part of the script text: paths and values come as the lines of
+the request (absolute paths: the caller resolved ``~``), contents as the archive after it,
 read with ``head -c SIZE`` (which reads no further than its count, so the go-ahead stays in
 the pipe for ``read``; tar itself would drain the pipe). Every process counts, since this
 runs on every robot of a fleet at once: a one-file change runs head, tar and sync before
@@ -37,8 +40,6 @@ import io
 import tarfile
 import time
 from dataclasses import dataclass
-
-from panther_ops.transport.scripts import RESOLVE
 
 CHANGED_EXIT = 3
 """A file changed on the robot since the plan read it: nothing written."""
@@ -112,14 +113,19 @@ _APPLY_FN = "apply_() { " + (
     'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$w/status"; fi; exit 0'
 ) + "; }; "
 
-APPLY = _APPLY_FN + 'apply_ "$@"'
-"""$1 backup dir (absolute), $2 status to record once renamed (empty: later), $3 size of the
-archive on stdin, $4 index of the file to validate with docker compose (``-``: none), then per
-file: absolute path, sha256 it must have when renamed over (``-``: must not exist), its staged
-temp file (``-``: remove the file), ``1`` to give the staged file and the backup the target's
-mode with chmod (``0``: the archive has it). Stdin: the archive (:func:`archive`), then, after
-``STAGED_MARK``, ``GO`` or ``STOP``. Exit 3: a file changed since it was read; 4: no go-ahead;
-5: docker compose refused."""
+APPLY = (
+    'IFS= read -r n || exit 0; case "$n" in ""|*[!0-9]*) echo "the write request is not a count" >&2; exit 1;; esac; '
+    'set --; while [ "$n" -gt 0 ]; do IFS= read -r a || exit 0; set -- "$@" "$a"; n=$((n-1)); done; '
+) + _APPLY_FN + 'apply_ "$@"'
+"""Stdin: the request (:func:`request`: the number of arguments, then one per line), the archive
+(:func:`archive`), then, after ``STAGED_MARK``, ``GO`` or ``STOP``; the end of the input before
+the request ends it with nothing made. Arguments: $1 backup dir (absolute), $2 status to record
+once renamed (empty: later), $3 size of the archive, $4 index of the file to validate with docker
+compose (``-``: none), then per file: absolute path, sha256 it must have when renamed over
+(``-``: must not exist), its staged temp file (``-``: remove the file), ``1`` to give the staged
+file and the backup the target's mode with chmod (``0``: the archive has it). Exit 3: a file
+changed since it was read; 4: no go-ahead; 5: docker compose refused. The arguments come on the
+input, not the command line, so the session can be started before the write is known."""
 
 GO = b"go\n"
 """The go-ahead: check, rename, record."""
@@ -156,49 +162,8 @@ def archive(members: list[Member]) -> bytes:
     return buf.getvalue()
 
 
-WRITE_KEY = "write"
-"""The key a kept read of compose.yaml is held under (see ``Transport.run_kept``)."""
-
-READ_KEPT = (
-    RESOLVE + 'f="$r$p"; '
-    'printf "%s\\n" "$HOME"; if [ ! -f "$f" ]; then echo "no such file: $p" >&2; exit 44; fi; '
-    'tar --warning=no-file-changed -c -b 1 -h -f - -C "${f%/*}/" -- "${f##*/}"; [ $? -le 1 ] || exit 1; '
-    'printf "%s\\n" "$2"; '
-    'IFS= read -r req || exit 0; [ "$req" = apply ] || exit 0; IFS= read -r n || exit 0; set --; '
-    'while [ "$n" -gt 0 ]; do IFS= read -r a || exit 0; set -- "$@" "$a"; n=$((n-1)); done; '
-) + _APPLY_FN + 'apply_ "$@"'
-"""Read compose.yaml ($1; $HOME on the first line, then the file as a one-member tar archive,
-which carries its mode and mtime; GNU tar's exit 1, "file changed as we read it", is a read
-that another writer's rename overtook: the opened file is the old one, whole (writes rename,
-never edit in place), and the go-ahead's compare then refuses the write), print the mark $2,
-then wait: a request ``apply``, the number of arguments and one per line, then the bytes APPLY
-reads, carries out the write in this same session; the end of input ends it."""
-
-
-@dataclass(frozen=True)
-class ReadFile:
-    """A file as ``READ_KEPT`` sent it."""
-
-    data: bytes
-    mode: int
-    mtime: float
-
-
-def read_archive(data: bytes) -> ReadFile:
-    """The one file of a ``READ_KEPT`` archive (ValueError when it is not one)."""
-    try:
-        with tarfile.open(fileobj=io.BytesIO(data), mode="r:") as tar:
-            member = tar.next()
-            handle = tar.extractfile(member) if member is not None and member.isfile() else None
-            if member is None or handle is None:
-                raise ValueError("the archive holds no file")
-            return ReadFile(handle.read(), member.mode & 0o7777, float(member.mtime))
-    except tarfile.TarError as exc:
-        raise ValueError(f"unreadable archive: {exc}") from None
-
-
-def apply_request(args: list[str]) -> bytes:
-    """The input that turns a kept ``READ_KEPT`` into ``APPLY args`` (arguments hold no newline)."""
+def request(args: list[str]) -> bytes:
+    """The first input of ``APPLY``: its arguments (none may hold a newline)."""
     if any("\n" in a for a in args):
         raise ValueError("an argument of the write holds a newline")
-    return ("apply\n" + f"{len(args)}\n" + "".join(a + "\n" for a in args)).encode()
+    return (f"{len(args)}\n" + "".join(a + "\n" for a in args)).encode()

@@ -8,7 +8,6 @@ of it, so the robot's sshd sees exactly one connection.
 from __future__ import annotations
 
 import os
-import secrets
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -117,7 +116,11 @@ class _ChannelPipe:
         self.err = bytearray()
 
     def send(self, data: bytes) -> None:
-        self.chan.sendall(data)
+        try:
+            self.chan.sendall(data)
+        except OSError:
+            if not self.chan.exit_status_ready():  # not a command that ended: the connection failed
+                raise
 
     def close_input(self) -> None:
         self.chan.shutdown_write()
@@ -164,7 +167,13 @@ def exec_channel(
 
 
 class SshTransport(Conversing):
-    """A robot reached over SSH. Connects on :meth:`connect`; every step reuses it."""
+    """A robot reached over SSH. Connects on :meth:`connect`; every step reuses it.
+
+    A write session's channel opens in the background (``Conversing._sessions_in_background``):
+    opened beside the plan's read, it costs the write no round trip of its own.
+    """
+
+    _sessions_in_background = True
 
     def __init__(self, endpoint: Endpoint) -> None:
         self.name = endpoint.name
@@ -174,7 +183,7 @@ class SshTransport(Conversing):
         self._home: str | None = None
         self._docker: DockerClient | None = None
         self._docker_checked = False
-        self._kept = {}
+        self._sessions = set()
 
     # -- connection ---------------------------------------------------------------
     def connect(self) -> None:
@@ -193,7 +202,7 @@ class SshTransport(Conversing):
         return fingerprint(transport.get_remote_server_key()) if transport is not None else None
 
     def close(self) -> None:
-        self.drop_all_kept()
+        self.close_sessions()
         if self._docker is not None:
             self._docker.close()
             self._docker = None
@@ -202,7 +211,7 @@ class SshTransport(Conversing):
         self._clients.clear()
         self._client = None
 
-    # -- commands (run, run_kept, resume, drop_kept: Conversing) ------------------
+    # -- commands (run, session: Conversing) ----------------------------------------
     def _open(self, command: Command, timeout: float | None) -> _ChannelPipe:
         transport = self.client.get_transport()
         if transport is None or not transport.is_active():
@@ -212,7 +221,7 @@ class SshTransport(Conversing):
     def _limit(self, timeout: float | None) -> float:
         return timeout if timeout is not None else self.endpoint.command_timeout
 
-    def _guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
+    def guard(self, command: Command, timeout: float | None, step: Callable[[], T]) -> T:
         """Run one step of a command; SSH failures become panther-ops errors."""
         import paramiko
 
@@ -234,27 +243,6 @@ class SshTransport(Conversing):
 
     def exists(self, path: str) -> bool:
         return self.run(Command.sh(scripts.EXISTS, path)).ok
-
-    def stage_file(self, path: str, data: bytes, *, mode: int | None = None) -> str:
-        """Upload ``data`` to a temp file beside ``path``; returns the temp file's name."""
-        suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
-        res = self.run(
-            Command.sh(scripts.STAGE, path, suffix, f"{mode:o}" if mode is not None else ""),
-            stdin=data,
-        )
-        if not res.ok:
-            raise TransportError(self.name, f"cannot stage {path}: {res.stderr.strip()}")
-        return res.stdout.strip()
-
-    def commit_staged(self, staged: str, path: str) -> None:
-        """Rename a staged temp file over ``path`` (atomic)."""
-        res = self.run(Command.sh(scripts.COMMIT, staged, path))
-        if not res.ok:
-            self.run(Command.sh(scripts.DISCARD, staged))
-            raise TransportError(self.name, f"cannot rename into {path}: {res.stderr.strip()}")
-
-    def write_file_atomic(self, path: str, data: bytes, *, mode: int | None = None) -> None:
-        self.commit_staged(self.stage_file(path, data, mode=mode), path)
 
     def home(self) -> str:
         if self._home is None:

@@ -227,8 +227,8 @@ def test_apply_converges_drift(lab: Any, pristine: None, tmp_path: Path, capsys:
 
 def test_compose_refused_by_docker_compose_is_not_written(lab: Any, pristine: None) -> None:
     """Validate before writing: the robot's own `docker compose config` checks the staged file."""
-    from panther_ops.core.config.robot import read_config
     from panther_ops.core.fleet.plan import FileEdit, RobotPlan
+    from panther_ops.core.robot.read import read_config
 
     name = robot_of(lab, "2.1.1")
     inv = load_inventory(str(lab.inventory_path))

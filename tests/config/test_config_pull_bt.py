@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config.bt_pull import pulled_includes
 from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.robot.bt_pull import pulled_includes
 from tests.clirun import run
 
 TREE_BT = "robots/panther-03/home/husarion/config/husarion_ugv_manager/behavior_trees"

@@ -22,8 +22,8 @@ import pytest
 from ruamel.yaml import YAML
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
+from panther_ops.core.robot.files import config_file
 from panther_ops.core.stack import stack_from_version
 
 RELEASES = ("2.0.4", "2.1.1", "2.2.0", "2.2.2")

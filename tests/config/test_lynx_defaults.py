@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.config.launch_args import spec
+from panther_ops.core.robot.launch_args import spec
 from panther_ops.core.stack import stack_from_version
 from tests.clirun import run
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.pull_files import LocalWrite, plan_writes, write_files
+from panther_ops.core.config.pull_files import LocalWrite, local_writes, write_files
 from panther_ops.core.kinds import FileKind
 from panther_ops.errors import UsageError
 
@@ -52,6 +52,6 @@ def test_a_robot_directory_leading_out_of_dest_is_refused(tmp_path: Path) -> Non
     elsewhere.mkdir()
     (dest / "panther-01").symlink_to(elsewhere)
     with pytest.raises(UsageError, match="leads outside it"):
-        plan_writes({"panther-01": b"x"}, FileKind.CONTROLLER, None, dest)
-    assert plan_writes({"panther-02": b"x"}, FileKind.CONTROLLER, None, dest) == [
+        local_writes({"panther-01": b"x"}, FileKind.CONTROLLER, None, dest)
+    assert local_writes({"panther-02": b"x"}, FileKind.CONTROLLER, None, dest) == [
         LocalWrite(dest / "panther-02" / "controller.yaml", b"x", "panther-02")]

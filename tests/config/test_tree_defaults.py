@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config.launch_args import spec
 from panther_ops.core.kinds.arg_catalogue import CATALOGUE
+from panther_ops.core.robot.launch_args import spec
 from panther_ops.core.stack import stack_from_version
 from tests.clirun import run
 

@@ -5,7 +5,7 @@ controller.launch.py), and `config set controller.<key>` edits the tree's file o
 wheel type. A change of ``wheel_type`` then makes the driver read the new type's tree file:
 the user's limits (those that differ from the release's stock file) are carried into it in the
 same plan and diff, within the new type's limits, each other one named in a warning, as a
-custom controller file is migrated on 2.0/2.1 (`core.config.wheel_change`). The demo's
+custom controller file is migrated on 2.0/2.1 (`core.robot.wheel_change`). The demo's
 panther-03 runs husarion_ugv 2.2.2 with a tree."""
 
 from __future__ import annotations

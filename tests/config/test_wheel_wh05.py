@@ -1,7 +1,7 @@
 """Issue 24 finding 8: ``wheel_type WH05`` on a Lynx. husarion_ugv 2.2 declares WH05 among the
 wheel types (husarion_ugv_ros@2.2.0, @2.2.2:husarion_ugv_controller/launch/controller.launch.py)
 and takes the model from ``robot_model:=``, else ROBOT_MODEL_NAME (/run/husarion/robot_config.env,
-see panther_ops/core/config/robot_model.py). The demo's panther-03 runs husarion_ugv 2.2.2."""
+see panther_ops/core/robot/robot_model.py). The demo's panther-03 runs husarion_ugv 2.2.2."""
 
 from __future__ import annotations
 

@@ -13,7 +13,6 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.containers.logs import prefix_lines
 from panther_ops.core.containers.times import human_duration, parse_timestamp
 from panther_ops.core.driver.containers import argv_matches, describe_container, last_line, parse_duration
@@ -32,6 +31,7 @@ from panther_ops.core.driver.read import read_and_plan_restore_defaults, read_an
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.errors import RemoteStateError, UsageError
 from tests.clirun import run_cli
 from tests.ports import free_port
@@ -102,9 +102,9 @@ def test_parse_target_accepts_humble_tags_and_images(text: str, repo: str | None
 
 
 @pytest.mark.parametrize(("text", "needle"), [
-    ("jazzy-2.3.1-20250701", "ROS 2 Jazzy"),
-    ("husarion/husarion-ugv:jazzy-2.3.0-20250425", "ROS 2 Jazzy"),
-    ("humble-2.3.0-20260101", "ROS 2 Jazzy"),
+    ("jazzy-2.4.0-20270101", "ROS 2 Jazzy from 2.3.x"),
+    ("husarion/husarion-ugv:jazzy-2.2.2-20250702", "jazzy 2.2.2 is not a driver panther-ops supports"),
+    ("humble-2.3.0-20260101", "humble 2.3.0 is not a driver panther-ops supports"),
     ("rolling-2.2.2-20250702", "Rolling is not a Panther driver"),
     ("latest", "does not say the driver version"),
     ("humble", "does not say the driver version"),
@@ -125,10 +125,11 @@ def test_parse_target_refuses_with_a_reason(text: str, needle: str) -> None:
     assert exc.value.exit_code == 2
 
 
-def test_parse_target_jazzy_hint_names_the_newest_humble_driver() -> None:
+def test_parse_target_crossed_pair_hint_names_the_newest_drivers() -> None:
     with pytest.raises(UsageError) as exc:
-        parse_target("jazzy-2.3.1-20250701", force=True)
-    assert "humble-2.2.2-20250702" in (exc.value.hint or "")
+        parse_target("humble-2.3.1-20250701", force=True)
+    assert "humble-2.2.2-20250702" in (exc.value.hint or "") and "jazzy-2.3.2-20260622" in (exc.value.hint or "")
+    assert parse_target("jazzy-2.3.2-20260622").version == (2, 3, 2)  # a migration target (tests/driver/migrate/)
 
 
 def test_repository_mismatch_is_a_warning_with_force() -> None:
@@ -482,7 +483,7 @@ def test_update_with_no_tag_uses_the_desired_image(demo: Path) -> None:
 
 def test_cli_bad_tags_exit_2_and_touch_nothing(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     before = all_files(demo)
-    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.3.1-20250701", "--all", "--yes")
+    code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "jazzy-2.4.0-20270101", "--all", "--yes")
     assert code == 2 and "ROS 2 Jazzy" in err
     code, _, _, err = run_cli(capsys, "-i", str(demo), "driver", "update", "humble-2.2.2-20250702", "--all", "--yes")
     assert code == 2 and "reinstall" in err and "nothing was changed on any robot" in err

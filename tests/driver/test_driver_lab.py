@@ -203,7 +203,7 @@ def test_update_to_a_tag_not_on_the_robot_rolls_back(lab: Any, pristine: None,
 def test_bad_tags_exit_2_and_change_nothing(lab: Any, pristine: None, capsys: pytest.CaptureFixture[str]) -> None:
     inv = str(lab.inventory_path)
     before = {r.name: lab.read_bytes(r.name, COMPOSE) for r in lab.robots}
-    for tag, needle in (("jazzy-2.3.1-20250701", "ROS 2 Jazzy"), ("latest", "does not say the driver version"),
+    for tag, needle in (("jazzy-2.4.0-20270101", "ROS 2 Jazzy from 2.3.x"), ("latest", "does not say the driver version"),
                         ("husarion/panther:humble-2.2.2-20250702", "published as husarion/husarion-ugv"),
                         ("humble-2.2.2-20250702", "that is a reinstall")):
         code, _, _, err = run_cli(capsys, "-i", inv, "driver", "update", tag, "--all", "--yes")

@@ -1,7 +1,7 @@
 """The write step as one shell session (scripts_apply.APPLY): check, back up, stage, then rename on
 the go-ahead.
 
-The script runs for real through the demo transport (LocalTransport.run with until/answer) on a
+The script runs for real through the demo transport (LocalTransport's write session) on a
 temp robot root; the command line and input are the ones pipeline.apply_plan builds, so these
 tests hold whatever the argument layout. The robot's answer can be replaced (``stop``, or the
 input just closing as when the connection dies) to exercise the paths the pipeline never takes
@@ -29,6 +29,7 @@ from panther_ops.errors import TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command, CommandResult
+from panther_ops.transport.conversation import Pipe
 from panther_ops.transport.local import LocalTransport
 
 HOME = "/home/husarion"
@@ -39,10 +40,11 @@ def sha(data: bytes) -> str:
 
 
 class Robot(LocalTransport):
-    """The demo transport, keeping what each write session asked and ended with.
+    """The demo transport, keeping what each command printed before it asked for the go-ahead
+    and how each ended.
 
-    ``reply`` (when set) answers the session's question instead of the pipeline: the answer
-    a robot gets when the operator stops or the connection drops.
+    ``reply`` (when set) is sent instead of the pipeline's go-ahead: the answer a robot gets
+    when the operator stops or the connection drops.
     """
 
     def __init__(self, name: str, root: Path) -> None:
@@ -53,35 +55,14 @@ class Robot(LocalTransport):
         """What each write session printed before it asked for the go-ahead."""
         self.results: list[CommandResult] = []
 
-    def _staged(self, key: str, res: CommandResult) -> CommandResult:
-        if key == scripts_apply.WRITE_KEY and self.kept(key):
-            self.asked.append(res.raw_stdout)
-        else:
-            self.results.append(res)  # the session ended before asking
-        return res
+    def _open(self, command: Command, timeout: float | None) -> Any:
+        self.calls.append("start")
+        return _Answering(self, super()._open(command, timeout))
 
-    def run(self, command: Command, **kw: Any) -> CommandResult:  # type: ignore[override]
-        self.calls.append("run")
-        res = super().run(command, **kw)
+    def result(self, command: Command, pipe: Pipe, status: int, out: bytes, err: bytes,
+               start: float) -> CommandResult:
+        res = super().result(command, pipe, status, out, err, start)
         self.results.append(res)
-        return res
-
-    def run_kept(self, command: Command, until: bytes, key: str, **kw: Any) -> CommandResult:  # type: ignore[override]
-        self.calls.append("run_kept")
-        return self._staged(key, super().run_kept(command, until, key, **kw))
-
-    def advance(self, key: str, stdin: bytes, until: bytes) -> CommandResult | None:
-        self.calls.append("advance")
-        res = super().advance(key, stdin, until)
-        return None if res is None else self._staged(key, res)
-
-    def resume(self, key: str, stdin: bytes, **kw: Any) -> Any:  # type: ignore[override]
-        self.calls.append("resume")
-        if key == scripts_apply.WRITE_KEY and stdin == scripts_apply.GO and self.reply is not None:
-            stdin = self.reply(stdin)
-        res = super().resume(key, stdin, **kw)
-        if res is not None:
-            self.results.append(res)
         return res
 
     @property
@@ -91,6 +72,30 @@ class Robot(LocalTransport):
     @property
     def backups(self) -> Path:
         return self.home_dir / ".panther-ops" / "backups"
+
+
+class _Answering:
+    """A command's pipe that answers the go-ahead with the robot's ``reply`` and notes the question."""
+
+    def __init__(self, robot: Robot, pipe: Any) -> None:
+        self.robot = robot
+        self.pipe = pipe
+        self.out = bytearray()
+
+    def send(self, data: bytes) -> None:
+        if data == scripts_apply.GO and self.robot.reply is not None:
+            data = self.robot.reply(data)
+        self.pipe.send(data)
+
+    def recv(self) -> bytes:
+        data: bytes = self.pipe.recv()
+        self.out += data
+        if not data and scripts_apply.STAGED_MARK in self.out:
+            self.robot.asked.append(bytes(self.out).split(scripts_apply.STAGED_MARK, 1)[0])
+        return data
+
+    def __getattr__(self, name: str) -> Any:  # close_input, stderr, wait, close, the timeouts
+        return getattr(self.pipe, name)
 
 
 @pytest.fixture
@@ -410,7 +415,7 @@ def test_a_path_with_a_newline_is_refused_before_anything_runs(ctx: RobotContext
     staged: list[str] = []
     with pytest.raises(TransportError, match="newline"):
         apply(ctx, plan, staged.append)
-    assert robot.calls == [], "no command started or resumed"
+    assert robot.calls == [], "no command started"
     assert staged == []
     assert (home / "fine.yaml").read_bytes() == b"x\n"
     assert not (home / ".panther-ops").exists()

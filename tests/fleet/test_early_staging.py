@@ -55,9 +55,9 @@ def test_staged_while_planning_renamed_on_the_go_ahead(demo_connections: tuple[I
 
     assert sorted(fp.staged) == sorted(fp.to_change) == sorted(before)
     for r in robots:  # staged beside its target, backup written, target untouched
+        assert fp.staged[r.name].session.wait_staged() is None, "staging only sent: the robot answers later"
         assert [p.name.split(".panther-ops.")[0] for p in staged_files(inv, r.name)] == [".compose.yaml"]
         assert (home(inv, r.name) / "compose.yaml").read_bytes() == before[r.name]
-        assert conns.get(r).kept("write")
     result = apply_fleet(fp, inv, robots, conns, RunOptions(), OPTS)
     assert [x.outcome for x in result.results] == [Outcome.CHANGED] * len(robots), [x.message for x in result.results]
     for r in robots:
@@ -81,7 +81,8 @@ def test_a_refused_plan_elsewhere_takes_every_staging_back(demo_connections: tup
 
     fp = plan_fleet("t", inv, robots, planner, conns, RunOptions(), stage=OPTS)
     assert list(fp.usage_errors) == [robots[-1].name]
-    assert len(fp.staged) == len(robots) - 1 and all(staged_files(inv, n) for n in fp.staged)
+    assert len(fp.staged) == len(robots) - 1
+    assert all(st.session.wait_staged() is None and staged_files(inv, n) for n, st in fp.staged.items())
 
     unstage_fleet(fp, inv, robots, conns, RunOptions())
 
@@ -132,80 +133,51 @@ def test_the_cli_stages_early_only_when_it_asks_nothing(demo_connections: tuple[
     assert all(staged_files(inv, n) == [] for n in inv.robots)
 
 
-# -- going ahead as soon as every plan is known (go_early) ---------------------------------
+# -- planning never commits; each session opened beside its read ----------------------------
 
 
-def test_every_robot_goes_ahead_once_every_plan_is_known(demo_connections: tuple[Inventory, Connections]) -> None:
+def test_planning_renames_nothing_even_when_every_robot_runs_at_once(
+        demo_connections: tuple[Inventory, Connections]) -> None:
     inv, conns = demo_connections
     robots = list(inv.robots.values())
-    planned: list[str] = []
-    renamed_before_last_plan: list[str] = []
-
-    def planner(ctx: RobotContext) -> RobotPlan:
-        p = plan(ctx)
-        planned.append(ctx.robot.name)
-        if len(planned) == len(robots):  # the last plan: nobody may have gone ahead yet
-            renamed_before_last_plan.extend(
-                n for n in inv.robots if b"wheel_type:=WH04" in (home(inv, n) / "compose.yaml").read_bytes())
-        return p
-
-    fp = plan_fleet("t", inv, robots, planner, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
-    assert renamed_before_last_plan == []
-    assert sorted(fp.applied) == sorted(r.name for r in robots) and fp.staged == {}
-    assert all(b"wheel_type:=WH04" in (home(inv, r.name) / "compose.yaml").read_bytes() for r in robots), (
-        "written during phase 1")
+    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(forks=len(robots)), stage=OPTS)
+    for r in robots:
+        assert fp.staged[r.name].session.wait_staged() is None, "staged, waiting for the go-ahead"
+    assert not any(b"wheel_type:=WH04" in (home(inv, r.name) / "compose.yaml").read_bytes() for r in robots)
     result = apply_fleet(fp, inv, robots, conns, RunOptions(forks=len(robots)), OPTS)
     assert [x.outcome for x in result.results] == [Outcome.CHANGED] * len(robots)
-    assert fp.applied == {}
-    for r in robots:
-        [backup] = (home(inv, r.name) / ".panther-ops" / "backups").iterdir()
-        assert (backup / "status").read_text() == "applied (not recreated)\n"
 
 
-def test_a_refused_plan_stops_every_early_go_ahead(demo_connections: tuple[Inventory, Connections]) -> None:
-    inv, conns = demo_connections
-    robots = list(inv.robots.values())
-    before = snapshot(inv)
-
-    def planner(ctx: RobotContext) -> RobotPlan:
-        if ctx.robot.name == robots[1].name:
-            raise UsageError("not on this robot's stack")
-        return plan(ctx)
-
-    fp = plan_fleet("t", inv, robots, planner, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
-    assert fp.applied == {} and fp.staged == {}, "nothing staged: every robot waited for every plan"
-    assert snapshot(inv) == before
-    unstage_fleet(fp, inv, robots, conns, RunOptions())
-    assert snapshot(inv) == before
-
-
-def test_the_go_ahead_rides_with_the_staging(demo_connections: tuple[Inventory, Connections],
-                                             monkeypatch: pytest.MonkeyPatch) -> None:
-    """Going ahead early, each robot's go-ahead is sent behind its staging, in the same input:
-    what remains of the write is its end (no second message, one round trip fewer)."""
-    from panther_ops.transport import scripts_apply
+def test_each_robot_opens_its_session_before_its_read(demo_connections: tuple[Inventory, Connections],
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """The write session is opened when planning starts (a transport may open it in the
+    background, beside the read); a robot with nothing to write closes it unused."""
+    from panther_ops.transport import scripts
 
     inv, conns = demo_connections
     robots = list(inv.robots.values())
-    sent: list[tuple[str, bytes]] = []
+    order: dict[str, list[str]] = {r.name: [] for r in robots}
     for r in robots:
         t = conns.get(r)
-        advance, resume = t.advance, t.resume
+        session, run = t.session, t.run
 
-        def spy_advance(key: str, stdin: bytes, until: bytes, _a=advance, _n=r.name) -> object:  # type: ignore[no-untyped-def]
-            sent.append((_n, stdin[-len(scripts_apply.GO):]))
-            return _a(key, stdin, until)
+        def spy_session(_s=session, _n=r.name, **kw: object) -> object:  # type: ignore[no-untyped-def]
+            order[_n].append("session")
+            return _s(**kw)
 
-        def spy_resume(key: str, stdin: bytes, _r=resume, _n=r.name, **kw: object) -> object:  # type: ignore[no-untyped-def]
-            sent.append((_n, stdin))
-            return _r(key, stdin, **kw)
+        def spy_run(command: object, _r=run, _n=r.name, **kw: object) -> object:  # type: ignore[no-untyped-def]
+            if getattr(command, "script", None) == scripts.READ_WITH_HOME:
+                order[_n].append("read")
+            return _r(command, **kw)
 
-        monkeypatch.setattr(t, "advance", spy_advance)
-        monkeypatch.setattr(t, "resume", spy_resume)
-    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
-    assert sorted(fp.applied) == sorted(r.name for r in robots)
-    assert [x.outcome for x in fp.applied.values()] == [Outcome.CHANGED] * len(robots)
-    assert sorted(sent) == sorted([(r.name, scripts_apply.GO) for r in robots] + [(r.name, b"") for r in robots])
+        monkeypatch.setattr(t, "session", spy_session)
+        monkeypatch.setattr(t, "run", spy_run)
+    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(), stage=OPTS)
+    assert order == {r.name: ["session", "read"] for r in robots}
+    unstage_fleet(fp, inv, robots, conns, RunOptions())
+    again = plan_fleet("t", inv, robots, lambda ctx: RobotPlan(ctx.robot.name, "nothing", [], noop="so"), conns,
+                       RunOptions(), stage=OPTS)
+    assert again.staged == {} and all(not staged_files(inv, r.name) for r in robots)
 
 
 def test_an_unreachable_robot_does_not_hold_the_others(demo_connections: tuple[Inventory, Connections],
@@ -222,17 +194,7 @@ def test_an_unreachable_robot_does_not_hold_the_others(demo_connections: tuple[I
         return get(robot)  # type: ignore[arg-type]
 
     monkeypatch.setattr(conns, "get", flaky)
-    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(forks=len(robots)), stage=OPTS, go_early=True)
-    assert sorted(fp.applied) == sorted(r.name for r in robots[1:])
+    fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(forks=len(robots)), stage=OPTS)
+    assert sorted(fp.staged) == sorted(r.name for r in robots[1:])
     assert fp.results.results[0].outcome is Outcome.UNREACHABLE
-
-
-@pytest.mark.parametrize("opts", [RunOptions(forks=1), RunOptions(canary=1), RunOptions(max_fail_pct=50.0)])
-def test_no_early_go_ahead_unless_every_robot_runs_at_once(demo_connections: tuple[Inventory, Connections],
-                                                           opts: RunOptions) -> None:
-    inv, conns = demo_connections
-    robots = list(inv.robots.values())
-    fp = plan_fleet("t", inv, robots, plan, conns, opts, stage=OPTS, go_early=True)
-    assert fp.applied == {} and sorted(fp.staged) == sorted(r.name for r in robots)
-    assert not any(b"wheel_type:=WH04" in (home(inv, r.name) / "compose.yaml").read_bytes() for r in robots)
     unstage_fleet(fp, inv, robots, conns, RunOptions())

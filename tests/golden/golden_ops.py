@@ -24,9 +24,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config import arg_edits
-from panther_ops.core.config.compose import ComposeFile
-from panther_ops.core.config.controller import ControllerConfig
+from panther_ops.core.robot import arg_edits
+from panther_ops.core.robot.compose import ComposeFile
+from panther_ops.core.robot.controller import ControllerConfig
 from panther_ops.core.stack import stack_from_version
 from panther_ops.core.yaml.document import Flow, Folded, Literal, Quoted, YamlDocument
 

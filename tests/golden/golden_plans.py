@@ -29,8 +29,7 @@ from typing import Any
 
 from panther_ops.core.apply.plan import plan_desired
 from panther_ops.core.config import plan as config_planners
-from panther_ops.core.config.plan import Bundle, plan_push
-from panther_ops.core.config.robot_config import ComposeRead
+from panther_ops.core.config.plan import plan_push
 from panther_ops.core.driver import plan as driver_planners
 from panther_ops.core.driver.images import parse_target
 from panther_ops.core.fleet.plan import RobotPlan
@@ -42,6 +41,8 @@ from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.manager_ops.bundle import ManagerBundle
 from panther_ops.core.manager_ops.plan import plan_deploy, plan_remove
+from panther_ops.core.robot.push import Bundle
+from panther_ops.core.robot.robot_config import ComposeRead
 from panther_ops.core.shutdown import plan as plan_hosts
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -82,8 +83,8 @@ def _webui(value: dict[str, Any]) -> Any:
 
 
 def _hosts_add(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
-    from panther_ops.core.config.robot_config import parse_config
     from panther_ops.core.kinds.hostsfile import add_host, new_entry
+    from panther_ops.core.robot.robot_config import parse_config
 
     rf = plan_hosts.hosts_in_use(parse_config(raw, reads.stack), reads)
     assert rf is not None, "the case's robot uses its image's default hosts file: that plan is config push's"
@@ -95,7 +96,7 @@ def _hosts_add(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
 
 def _shutdown_robot(raw: ComposeRead, reads: Reads, a: dict[str, Any]) -> RobotPlan:
     """`shutdown robot`'s plan (hosts to shut down) shown as a RobotPlan: summary = the hosts."""
-    from panther_ops.core.config.robot_config import parse_config
+    from panther_ops.core.robot.robot_config import parse_config
 
     rf = plan_hosts.hosts_in_use(parse_config(raw, reads.stack), reads)
     assert rf is not None

@@ -113,9 +113,9 @@ def test_topic_names_per_driver_mode(demo: Path, capsys: pytest.CaptureFixture[s
     """panther-01 2.1.1 and panther-03 2.2.2: launch_nmea_gps (relative gps/fix, resolved in the
     driver's namespace); panther-02 2.0.4: the nmea-gps service, launch form /NS/gps/fix, or the
     socket driver run with __ns (another port): /NS/fix."""
-    from panther_ops.core.config.robot_config import ComposeRead, parse_config
     from panther_ops.core.gps.fix_topic import fix_topic, service_topic
     from panther_ops.core.gps.plan import GpsOptions, service_mapping
+    from panther_ops.core.robot.robot_config import ComposeRead, parse_config
 
     assert main(["-i", str(demo), "gps", "enable", "--all", "--yes"]) == 0
 

@@ -166,7 +166,7 @@ def test_service_shares_the_drivers_dds_domain_and_rmw(capsys: pytest.CaptureFix
     """The manual's nmea-gps service alone runs on domain 0 with the image's default RMW: on a
     robot whose driver has another ROS_DOMAIN_ID its /<ns>/gps/fix is never seen. The service
     merges the driver's common-config, so both resolve to the same DDS settings."""
-    from panther_ops.core.config.compose import ComposeFile
+    from panther_ops.core.robot.compose import ComposeFile
 
     path = demo / ROBOT_ROOT.format("panther-02") / "compose.yaml"
     path.write_text(path.read_text().replace("ROS_DOMAIN_ID=${ROS_DOMAIN_ID:-0}", "ROS_DOMAIN_ID=42"))
@@ -180,7 +180,7 @@ def test_service_shares_the_drivers_dds_domain_and_rmw(capsys: pytest.CaptureFix
 
 def test_service_copies_the_drivers_environment_when_it_merges_no_anchor(
         capsys: pytest.CaptureFixture[str], demo: Path) -> None:
-    from panther_ops.core.config.compose import ComposeFile
+    from panther_ops.core.robot.compose import ComposeFile
 
     path = demo / ROBOT_ROOT.format("panther-02") / "compose.yaml"
     flat = path.read_text().replace("    <<: *common-config\n", "    network_mode: host\n    environment:\n"

@@ -15,9 +15,9 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.kinds.controller_imu import imu_findings
+from panther_ops.core.robot.files import config_file
 from panther_ops.core.stack import stack_from_version
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -12,9 +12,9 @@ from typing import Any
 import pytest
 import yaml
 
-from panther_ops.core.config.files import config_file, template_source
 from panther_ops.core.fleet.templates import read_template
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
+from panther_ops.core.robot.files import config_file, template_source
 from panther_ops.core.stack import stack_from_version
 
 # ---------------------------------------------------------------- wheel files

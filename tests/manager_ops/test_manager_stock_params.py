@@ -97,6 +97,13 @@ def test_22_reads_the_nodes_names_not_the_shipped_files_unread_key() -> None:
     assert got.values["battery.charging_anim_step"] == 0.05 and got.values["cpu.temp.fan_on"] == 75.0
 
 
+def test_a_parameter_file_the_image_lacks_gives_that_files_stock_values_only() -> None:
+    stock = stock_manager((2, 2, 2))
+    got = robot_params(stock, {stock.paths()[0]: None, stock.paths()[1]: SAFETY_21}, "img")
+    assert got.values["battery.charging_anim_step"] == 0.05  # 2.2's shipped lights file, not the node's 0.1
+    assert got.values["cpu.temp.fan_on"] == 80.0 and got.values["driver.temp.fan_off"] == 45.0  # the robot's own
+
+
 def test_the_plan_says_every_difference_and_the_desired_overrides(tmp_path: Path) -> None:
     plan, cfg = _deployed_config(tmp_path, "husarion-ugv-2.2.2.yaml",
                                  {"manager": {"params": {"cpu.temp.fan_on": 80}}})

@@ -59,7 +59,63 @@ def test_no_planner_of_core_is_defined_twice() -> None:
         "\n".join(f"{name}: {', '.join(paths)}" for name, paths in found.items())
 
 
-def test_every_feature_that_plans_has_its_plan_module() -> None:
-    """The planners the golden tier checks live in each feature's plan.py."""
-    for feature in ("config", "driver", "gps", "apply", "manager_ops", "shutdown", "remote/webui"):
-        assert (CORE / feature / "plan.py").is_file(), feature
+ENGINE = {"fleet", "robot", "kinds", "containers", "yaml", "parse"}
+"""The engine's packages (docs/develop.md): their own planning pieces are shared, not a feature's."""
+ELSEWHERE = {"remote/webui/state.py"}
+"""Declared: `webui set`'s own plan -> confirm -> act loop (issue #28: it becomes an ordinary
+change, its planners then in remote/webui/plan.py)."""
+
+
+def plan_functions(source: str) -> dict[str, bool]:
+    """The top-level ``plan*`` functions of ``source``, each with whether it reads a robot
+    itself (a parameter annotated as a ``RobotContext``: a reader, not a pure planner)."""
+    found = {}
+    for node in ast.parse(source).body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name.startswith("plan"):
+            params = [*node.args.posonlyargs, *node.args.args, *node.args.kwonlyargs]
+            found[node.name] = any(a.annotation is not None and "RobotContext" in ast.unparse(a.annotation)
+                                   for a in params)
+    return found
+
+
+def misplaced(modules: dict[str, str]) -> tuple[list[str], list[str]]:
+    """(packages with a ``plan*`` function but no plan.py, pure planners of a feature outside
+    its plan.py) of ``modules`` (path relative to core -> source)."""
+    packages: dict[str, list[str]] = defaultdict(list)
+    for path in modules:
+        packages[str(Path(path).parent)].append(Path(path).name)
+    no_plan_module, outside = [], []
+    for path, source in sorted(modules.items()):
+        package = str(Path(path).parent)
+        found = plan_functions(source)
+        if found and "plan.py" not in packages[package] and package not in no_plan_module:
+            no_plan_module.append(package)
+        feature = package.split("/", 1)[0] not in ENGINE and package != "."
+        if feature and Path(path).name != "plan.py" and path not in ELSEWHERE:
+            outside += [f"{path}: {name}" for name, reads in found.items() if not reads]
+    return no_plan_module, outside
+
+
+def test_the_plan_module_walk_finds_what_it_should() -> None:
+    modules = {
+        "sim/charging.py": "def plan_charge(action: str) -> int:\n    return 1\n",
+        "sim/__init__.py": "",
+        "gps/plan.py": "def plan_enable(raw, reads):\n    pass\n",
+        "gps/read.py": "def plan_task(ctx: RobotContext) -> None:\n    pass\n",
+        "gps/extra.py": "def plan_more(reads: Reads) -> None:\n    pass\ndef _plan_own():\n    pass\n",
+        "fleet/changes.py": "def plan_fleet(command: str) -> None:\n    pass\n",
+        "fleet/plan.py": "",
+    }
+    assert misplaced(modules) == (["sim"], ["gps/extra.py: plan_more", "sim/charging.py: plan_charge"])
+
+
+def test_every_core_package_that_plans_has_its_plan_module() -> None:
+    """A package with a planner has its plan.py (the module the golden tier imports), and a
+    feature's pure planners live there; a ``plan*`` function that reads a robot (a
+    ``RobotContext`` parameter) is a reader and may live in read.py or its own module."""
+    modules = {str(p.relative_to(CORE)): p.read_text(encoding="utf-8") for p in sorted(CORE.rglob("*.py"))}
+    no_plan_module, outside = misplaced(modules)
+    assert no_plan_module == [], "give each a plan.py with its pure planners"
+    assert outside == [], "move each pure planner into its feature's plan.py"
+    for package in ("config", "driver", "gps", "apply", "manager_ops", "shutdown", "remote/webui", "reimage", "sim"):
+        assert (CORE / package / "plan.py").is_file(), package

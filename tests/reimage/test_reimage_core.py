@@ -116,8 +116,8 @@ def test_mounts_are_grouped_by_source() -> None:
 def test_reapply_keeps_the_new_images_and_puts_back_args_mounts_and_services() -> None:
     from pathlib import Path
 
-    from panther_ops.core.config.compose import ComposeFile
     from panther_ops.core.reimage.reapply import reapply, same_line
+    from panther_ops.core.robot.compose import ComposeFile
 
     factory = (Path(__file__).resolve().parents[2] / "templates/compose/panther-2.1.1.yaml").read_text()
     saved = ComposeFile.parse(factory)

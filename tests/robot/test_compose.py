@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config.compose import ComposeError, ComposeFile, Volume, image_repo, is_driver_image
-from panther_ops.core.config.launchcmd import CommandForm
+from panther_ops.core.robot.compose import ComposeError, ComposeFile, Volume, image_repo, is_driver_image
+from panther_ops.core.robot.launchcmd import CommandForm
 from panther_ops.core.yaml.diff import changed_lines
 from panther_ops.core.yaml.document import DocumentError
 from panther_ops.errors import InputError, RemoteStateError, UsageError
@@ -62,7 +62,7 @@ def test_not_a_mapping_and_bad_yaml() -> None:
 
 
 def test_unsupported_stack_from_image() -> None:
-    c = compose("services:\n  panther_ros:\n    image: husarion/husarion-ugv:jazzy-2.3.0-20250425\n")
+    c = compose("services:\n  panther_ros:\n    image: husarion/husarion-ugv:jazzy-2.4.0-20270101\n")
     with pytest.raises(RemoteStateError):
         c.stack()
 
@@ -149,9 +149,9 @@ def test_repeated_argument_last_one_wins_and_unset_removes_all() -> None:
 def test_set_image_validates_driver_images() -> None:
     c = compose(C21)
     with pytest.raises(UsageError, match="not supported"):
-        c.set_image("husarion/husarion-ugv:jazzy-2.3.0-20250425")
+        c.set_image("husarion/husarion-ugv:jazzy-2.4.0-20270101")
     assert c.set_image_tag("humble-2.1.2-20241125") and c.driver_image == "husarion/panther:humble-2.1.2-20241125"
-    assert c.set_image("husarion/husarion-ugv:jazzy-2.3.0-20250425", force=True)
+    assert c.set_image("husarion/husarion-ugv:jazzy-2.4.0-20270101", force=True)
     assert c.set_image("husarion/joy2twist:humble-1.0.1", "gamepad_controller")
     assert c.image("gamepad_controller") == "husarion/joy2twist:humble-1.0.1"
 

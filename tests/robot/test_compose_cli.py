@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.robot.compose import ComposeFile
 from tests.golden.golden_ops import CASES, ROOT, apply_case
 
 

@@ -7,9 +7,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from panther_ops.core.config.files import config_file, config_files
 from panther_ops.core.fleet.templates import TemplateNotFound, read_template, template_file
 from panther_ops.core.kinds import FileKind
+from panther_ops.core.robot.files import config_file, config_files
 from panther_ops.core.stack import stack_from_version
 from panther_ops.core.yaml.document import YamlDocument
 from panther_ops.errors import UsageError

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from panther_ops.core.config import controller as ctl
-from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds import controller_limits as lim
+from panther_ops.core.robot import controller as ctl
+from panther_ops.core.robot.files import config_file
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.config import arg_edits, arg_rules
-from panther_ops.core.config import launch_args as la
-from panther_ops.core.config.compose import ComposeFile
 from panther_ops.core.kinds import arg_catalogue
+from panther_ops.core.robot import arg_edits
+from panther_ops.core.robot import launch_args as la
+from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 
@@ -150,37 +150,37 @@ def test_defaults_per_version() -> None:
     assert len(la.args_for(S222)) > len(la.args_for(S200))
 
 
-def _messages(findings: list[arg_rules.Finding], level: str) -> list[str]:
+def _messages(findings: list[la.Finding], level: str) -> list[str]:
     return [f.rule for f in findings if f.level == level]
 
 
 def test_cross_rules() -> None:
-    assert _messages(arg_rules.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
+    assert _messages(la.check_args(S211, {"wheel_type": "custom"}), "error") == ["custom-wheels"]
     ok = {"wheel_type": "custom", "wheel_config_path": "/c/w.yaml", "controller_config_path": "/c/c.yaml"}
-    assert _messages(arg_rules.check_args(S211, ok), "error") == []
-    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}, robot_model="panther"), "error") == ["wh05-lynx"]
-    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}), "warning") == ["wh05-lynx"]  # model unknown
-    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05"}, robot_model="lynx"), "error") == []
-    assert _messages(arg_rules.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
-    assert "battery-sim-only" in _messages(arg_rules.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
-    assert "gps-source" in _messages(arg_rules.check_args(S211, {"fuse_gps": "True"}), "warning")
-    assert "gps-source" not in _messages(arg_rules.check_args(S211, {"fuse_gps": "True", "launch_nmea_gps": "True"}), "warning")
-    assert "enu-without-gps" in _messages(arg_rules.check_args(S211, {"localization_mode": "enu"}), "warning")
+    assert _messages(la.check_args(S211, ok), "error") == []
+    assert _messages(la.check_args(S222, {"wheel_type": "WH05"}, robot_model="panther"), "error") == ["wh05-lynx"]
+    assert _messages(la.check_args(S222, {"wheel_type": "WH05"}), "warning") == ["wh05-lynx"]  # model unknown
+    assert _messages(la.check_args(S222, {"wheel_type": "WH05"}, robot_model="lynx"), "error") == []
+    assert _messages(la.check_args(S222, {"wheel_type": "WH05", "robot_model": "lynx"}), "error") == []
+    assert "battery-sim-only" in _messages(la.check_args(S211, {"battery_config_path": "/x.yaml"}), "warning")
+    assert "gps-source" in _messages(la.check_args(S211, {"fuse_gps": "True"}), "warning")
+    assert "gps-source" not in _messages(la.check_args(S211, {"fuse_gps": "True", "launch_nmea_gps": "True"}), "warning")
+    assert "enu-without-gps" in _messages(la.check_args(S211, {"localization_mode": "enu"}), "warning")
 
 
 def test_names_of_other_versions_in_a_command_are_errors() -> None:
-    findings = arg_rules.check_args(S222, {"led_config_file": "/x", "user_animations_file": "/y", "typo_arg": "1"})
+    findings = la.check_args(S222, {"led_config_file": "/x", "user_animations_file": "/y", "typo_arg": "1"})
     assert sorted(_messages(findings, "error")) == ["declared-name", "declared-name"]
     assert _messages(findings, "warning") == ["unknown-arg"]
-    assert _messages(arg_rules.check_args(S204, {"launch_nmea_gps": "True"}), "error") == ["unavailable-arg"]
+    assert _messages(la.check_args(S204, {"launch_nmea_gps": "True"}), "error") == ["unavailable-arg"]
     with pytest.raises(la.ArgConflictError):
-        arg_rules.raise_for_errors(findings)
-    assert len(arg_rules.raise_for_errors(findings, force=True)) == 3
+        la.raise_for_errors(findings)
+    assert len(la.raise_for_errors(findings, force=True)) == 3
 
 
 def test_paths_outside_volumes_are_flagged() -> None:
     compose = ComposeFile.parse((ROOT / "templates/compose/husarion-ugv-2.2.2.yaml").read_text())
-    findings = arg_rules.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml", "common_dir_path": "/config"},
+    findings = la.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml", "common_dir_path": "/config"},
                              volumes=compose.list_volumes())
     assert [f.keys for f in findings if f.rule == "path-mounted"] == [("controller_config_path",)]
 
@@ -245,16 +245,16 @@ def test_paths_of_config_characters_pass(value: str) -> None:
 def test_a_path_no_volume_mounts_is_an_error_naming_the_mounts() -> None:
     compose = ComposeFile.parse((ROOT / "templates/compose/husarion-ugv-2.2.2.yaml").read_text())
     volumes = compose.list_volumes()
-    [found] = [f for f in arg_rules.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml"}, volumes=volumes)
+    [found] = [f for f in la.check_args(S222, {"controller_config_path": "/elsewhere/c.yaml"}, volumes=volumes)
                if f.rule == "path-mounted"]
     assert found.level == "error"
     assert "/config" in found.message and "/root/.ssh/id_rsa" in found.message
     assert "the driver cannot open it" in found.message
     image = "/ros2_ws/install/husarion_ugv_controller/share/husarion_ugv_controller/config/WH01_controller.yaml"
-    [warning] = [f for f in arg_rules.check_args(S222, {"controller_config_path": image}, volumes=volumes)
+    [warning] = [f for f in la.check_args(S222, {"controller_config_path": image}, volumes=volumes)
                  if f.rule == "path-mounted"]
     assert warning.level == "warning" and "must exist in the image" in warning.message
-    assert not [f for f in arg_rules.check_args(S222, {"controller_config_path": "/config//x/./c.yaml"},
+    assert not [f for f in la.check_args(S222, {"controller_config_path": "/config//x/./c.yaml"},
                                                 volumes=volumes) if f.rule == "path-mounted"]
 
 

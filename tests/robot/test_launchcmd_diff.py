@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from panther_ops.core.config.launchcmd import (
+from panther_ops.core.robot.launchcmd import (
     CommandSyntaxError,
     Token,
     arg_word,

@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.core.yaml.diff import changed_lines, unified_diff
 from panther_ops.core.yaml.document import PathPart, YamlDocument
 from panther_ops.core.yaml.render import Folded

@@ -13,8 +13,8 @@ from __future__ import annotations
 import pytest
 import yaml
 
-from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
+from panther_ops.core.robot.files import config_file
 from panther_ops.core.stack import stack_from_version
 
 STOCK = {"simulate_discharging": False, "capacity": 20.0, "initial_charge_percentage": 0.7, "charging_time": 6.0,

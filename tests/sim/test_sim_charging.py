@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.core.sim.charging import plan_charge, recharge_service
+from panther_ops.core.sim.plan import plan_charge, recharge_service
 from panther_ops.errors import UsageError
 from tests.clirun import run
 

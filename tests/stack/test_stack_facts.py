@@ -34,7 +34,8 @@ def test_stack_from_image(image: str, version: str, gen: Generation, service: st
 @pytest.mark.parametrize(
     ("image", "why"),
     [
-        ("husarion/husarion-ugv:jazzy-2.3.1-20250701", "not supported yet"),
+        ("husarion/husarion-ugv:jazzy-2.4.0-20270101", "not supported yet"),
+        ("husarion/husarion-ugv:humble-2.3.1-20250701", "not supported yet"),
         ("husarion/panther:humble-1.0.0-20231205", "ROS 1"),
         ("husarion/panther:latest", "does not follow"),
         ("husarion/panther", "no tag"),

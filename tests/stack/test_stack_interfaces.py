@@ -13,10 +13,10 @@ import pytest
 import yaml
 
 from panther_ops.cli.app import main
-from panther_ops.core.config.push import read_bundle
 from panther_ops.core.config.read import read_and_plan_push
 from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.kinds import FileKind
+from panther_ops.core.robot.push import read_bundle
 from tests.manager_ops.test_manager_deploy import ctxs, make_fleet  # noqa: F401 - fixture
 
 EXAMPLE = template_path("lights", "user_animations.example.yaml")

@@ -1,5 +1,5 @@
 """Appliers tested end to end on a fake robot (panther_ops.testing.FakeTransport), no lab:
-read (kept session) -> pure plan -> stage with backup -> go-ahead -> compare-and-rename.
+read (a plain run) -> pure plan -> write session: stage with backup -> go-ahead -> compare-and-rename.
 
 Each test drives the same functions the CLI calls (``read_and_plan_*`` then the applier) and
 checks the robot's files, its backup and what the robot was asked, byte for byte."""
@@ -17,7 +17,7 @@ from panther_ops.core.gps.apply import apply_gps
 from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.core.gps.read import read_and_plan_disable, read_and_plan_enable
 from panther_ops.results import Outcome
-from panther_ops.transport import scripts_apply
+from panther_ops.transport import scripts, scripts_apply
 from tests.testing.conftest import fake_of
 
 COMPOSE = "/home/husarion/compose.yaml"
@@ -35,7 +35,6 @@ def test_config_set_writes_the_argument_and_keeps_a_backup(fake_ctx: Make) -> No
     assert before is not None and b"wheel_type" not in before
 
     plan = read_and_plan_args(ctx, {"publish_robot_state": False}, [])
-    assert ctx.transport.kept(scripts_apply.WRITE_KEY), "the read stays open to carry the write"
     result = apply_plan(ctx, plan, ApplyOptions(command="config set publish_robot_state=False"))
 
     assert result.outcome is Outcome.CHANGED, result.message
@@ -54,10 +53,9 @@ def test_config_set_writes_the_argument_and_keeps_a_backup(fake_ctx: Make) -> No
     assert manifest["files"][0]["path"] == COMPOSE
     assert files[f"{wdir}/status"] == b"applied\n"
     assert not [p for p in robot.tree() if ".panther-ops." in p], "no staged file left"
-    # one session carried read and write: READ_KEPT, nothing else on the robot but the mark
-    scripts_run = [c.script for c in robot.calls]
-    assert scripts_run[0] == scripts_apply.READ_KEPT
-    assert scripts_apply.APPLY not in scripts_run
+    # one plain read, then one write session (its arguments on its input, none on the command line)
+    assert [c.script for c in robot.calls][:2] == [scripts.READ_WITH_HOME, scripts_apply.APPLY]
+    assert robot.calls[1].argv == ()
     # history reads the backup back through the same fake
     (entry,) = [b for b in list_history(ctx) if b["id"] == bid]
     assert entry["summary"] == plan.summary and entry["status"] == files[f"{wdir}/status"].decode().strip()
@@ -111,7 +109,6 @@ def test_gps_enable_then_disable_on_2_0_restores_the_bytes(fake_ctx: Make) -> No
 
     again = read_and_plan_enable(ctx, GpsOptions())
     assert not again.edits and "already" in (again.noop or "")
-    ctx.transport.drop_kept(scripts_apply.WRITE_KEY)  # nothing to write: the kept read ends
 
     plan = read_and_plan_disable(ctx)
     assert plan.data.get("remove_service") == "nmea-gps"
@@ -122,7 +119,7 @@ def test_gps_enable_then_disable_on_2_0_restores_the_bytes(fake_ctx: Make) -> No
     assert len({p.split("/")[5] for p in backups(ctx)}) == 2, "one backup per write"
 
 
-def test_gps_enable_dry_run_writes_nothing_and_ends_the_read(fake_ctx: Make) -> None:
+def test_gps_enable_dry_run_writes_nothing(fake_ctx: Make) -> None:
     ctx = fake_ctx("panther-03")  # husarion_ugv 2.2.2: the launch argument
     robot = fake_of(ctx)
     before = robot.tree()

@@ -26,7 +26,6 @@ from panther_ops.core.gps.plan import GpsOptions
 from panther_ops.core.gps.read import read_and_plan_enable
 from panther_ops.errors import RemoteStateError
 from panther_ops.testing import FakeRobot, FakeTransport
-from panther_ops.transport import scripts_apply
 from panther_ops.transport.local import LocalTransport
 
 COMPOSE = "/home/husarion/compose.yaml"
@@ -81,21 +80,22 @@ def changed_meanwhile(ctx: RobotContext, put: Callable[[str, bytes], None]) -> d
 def stopped(ctx: RobotContext, put: Callable[[str, bytes], None]) -> dict[str, Any]:
     plan = read_and_plan_args(ctx, {"publish_robot_state": False}, [])
     staged = stage_plan(ctx, plan, ApplyOptions())
-    unstage(ctx)
-    return {"problem": staged.problem, "kept": ctx.transport.kept(scripts_apply.WRITE_KEY)}
+    unstage(staged)
+    res = staged.session.stop()  # ended: the same result again
+    return {"exit": res.exit_status, "ended": staged.session.ended}
 
 
 def abandoned(ctx: RobotContext, put: Callable[[str, bytes], None]) -> dict[str, Any]:
     plan = read_and_plan_args(ctx, {"publish_robot_state": False}, [])
-    stage_plan(ctx, plan, ApplyOptions(command="lost"))
-    ctx.transport.drop_kept(scripts_apply.WRITE_KEY)  # the connection went away before the go-ahead
+    staged = stage_plan(ctx, plan, ApplyOptions(command="lost"))
+    staged.session.wait_staged()
+    staged.session.close()  # the connection went away before the go-ahead
     return {"history": [(h["command"], h["status"]) for h in list_history(ctx)]}
 
 
 def gps_enable_twice(ctx: RobotContext, put: Callable[[str, bytes], None]) -> dict[str, Any]:
     first = apply_gps(ctx, read_and_plan_enable(ctx, GpsOptions()), ApplyOptions())
     second = read_and_plan_enable(ctx, GpsOptions())
-    ctx.transport.drop_kept(scripts_apply.WRITE_KEY)
     return {"first": (first.outcome, first.message), "second": (second.noop, len(second.edits))}
 
 

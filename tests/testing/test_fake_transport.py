@@ -10,7 +10,7 @@ import pytest
 from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan, apply_staged, stage_plan
 from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.errors import OpsError, TransportError
+from panther_ops.errors import OpsError
 from panther_ops.results import Outcome
 from panther_ops.testing import FakeRobot, FakeTransport, Reply, UnscriptedCommand
 from panther_ops.transport.base import Command
@@ -39,18 +39,19 @@ def test_an_unscripted_command_fails_the_test_not_the_robot() -> None:
     assert "snap list" in str(exc.value)
 
 
-def test_files_atomic_write_keeps_mode_and_confines_nothing_else() -> None:
-    robot = FakeRobot({"~/a.yaml": "x: 1\n"})
-    robot.files["/home/husarion/a.yaml"].mode = 0o640
-    t = FakeTransport(robot, "r")
+def test_files_read_and_exist() -> None:
+    t = FakeTransport(FakeRobot({"~/a.yaml": "x: 1\n"}), "r")
     assert t.read_file("~/a.yaml") == b"x: 1\n" and t.exists("/home/husarion") and not t.exists("~/b")
-    t.write_file_atomic("~/a.yaml", b"x: 2\n")
-    assert robot.files["/home/husarion/a.yaml"].mode == 0o640 and robot.get("~/a.yaml") == b"x: 2\n"
-    assert [p for p in robot.files if ".panther-ops." in p] == []
     with pytest.raises(FileNotFoundError):
         t.read_file("~/missing")
-    with pytest.raises(TransportError):
-        t.commit_staged("/home/husarion/.gone.panther-ops.1", "~/a.yaml")
+
+
+def test_a_command_waiting_for_input_nobody_sends_fails_the_test() -> None:
+    robot = FakeRobot()
+    t = FakeTransport(robot, "r")
+    with pytest.raises(UnscriptedCommand) as exc:
+        t.run(Command.sh("read x"), until=b"never", answer=lambda out: b"")
+    assert "it would hang" in str(exc.value)
 
 
 def test_two_connections_one_robot_the_later_write_is_refused(fake_ctx: Callable[..., RobotContext]) -> None:

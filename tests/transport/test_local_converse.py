@@ -176,17 +176,18 @@ def test_an_answer_that_raises_still_ends_the_command(tmp_path: Path) -> None:
     assert out.split("\n")[:2] == ["raised operator interrupted", "eof"]
 
 
-def test_a_kept_command_waits_past_its_timeout(robot: LocalTransport, tmp_path: Path) -> None:
-    flag = tmp_path / "acted"
-    script = 'printf "@@ask@@\\n"; read -r x; printf "%s\\n" "$x" > "$1"; echo done'
-    kept = robot.run_kept(Command.sh(script, str(flag)), MARK, "k", timeout=1)
-    assert kept.exit_status == 0
-    time.sleep(1.5)  # the operator reads the plan
-    try:
-        res = robot.resume("k", b"go\n")
-    except TransportError as exc:
-        time.sleep(0.3)
-        acted = flag.read_text() if flag.exists() else None
-        pytest.fail(f"resume raised {exc.message!r}; the command acted anyway: {acted!r}")
-    assert res is not None and (res.exit_status, res.stdout) == (0, "done\n")
-    assert flag.read_text() == "go\n"
+def test_a_session_waits_past_its_timeout(robot: LocalTransport) -> None:
+    """A write session waits for its caller (the rest of the fleet being planned, the operator)
+    without its time limit running; staging and the go-ahead are limited."""
+    from panther_ops.transport.session import FileWrite, stage_input
+
+    (robot.root / "home" / "husarion" / "a.txt").write_bytes(b"old\n")
+    session = robot.session(timeout=1)
+    time.sleep(1.3)  # opened beside the read, before the plan is known
+    session.stage(stage_input("/home/husarion/.panther-ops/backups/b", {}, "",
+                              [FileWrite("/home/husarion/a.txt", b"old\n", b"new\n")], "t"))
+    assert session.wait_staged() is None
+    time.sleep(1.3)  # the operator reads the plan
+    res = session.go()
+    assert (res.exit_status, res.stderr) == (0, "")
+    assert (robot.root / "home" / "husarion" / "a.txt").read_bytes() == b"new\n"

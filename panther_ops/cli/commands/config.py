@@ -103,14 +103,14 @@ def set_(
     precheck({key: parsed}, force=force)
     if key.startswith("controller."):
         def planner(c: Any) -> Any:
-            from panther_ops.core.config.read import read_and_plan_controller as plan_controller
+            from panther_ops.core.config.read import read_and_plan_controller
 
-            return plan_controller(c, {key: parsed}, force=force)
+            return read_and_plan_controller(c, {key: parsed}, force=force)
     else:
         def planner(c: Any) -> Any:
-            from panther_ops.core.config.read import read_and_plan_args as plan_args
+            from panther_ops.core.config.read import read_and_plan_args
 
-            return plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
+            return read_and_plan_args(c, {key: value}, [], force=force, everywhere=everywhere)
     label = (f"config set {key} {value}" + (" --everywhere" if everywhere else "")
              + (" --force" if force else ""))
     # the planners (and the YAML editor they bring) load while the robots connect
@@ -131,9 +131,9 @@ def unset(fleet: Fleet, key: KeyArg) -> int:
     precheck_key(key, known=False)  # an argument not in the catalogue can be removed, a malformed name not
 
     def planner(c: Any) -> Any:
-        from panther_ops.core.config.read import read_and_plan_args as plan_args
+        from panther_ops.core.config.read import read_and_plan_args
 
-        return plan_args(c, {}, [key])
+        return read_and_plan_args(c, {}, [key])
 
     return fleet.change(f"config unset {key}", planner)
 
@@ -156,9 +156,9 @@ def diff(
       panther-ops config diff --all
       panther-ops -q config diff --all --exit-code
     """
-    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
+    from panther_ops.core.apply.read import read_and_plan_desired
 
-    return fleet.change("config diff", plan_desired, read_only=True, drift_exit=exit_code)
+    return fleet.change("config diff", read_and_plan_desired, read_only=True, drift_exit=exit_code)
 
 
 @app.command("history")
@@ -218,7 +218,7 @@ def rollback(
     """
     import re
 
-    from panther_ops.core.fleet.history import read_and_plan_rollback as plan_rollback
+    from panther_ops.core.fleet.history import read_and_plan_rollback
     from panther_ops.errors import UsageError
 
     if to is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}", to):
@@ -229,7 +229,7 @@ def rollback(
 
         return fleet.change("config rollback", lambda c: plan_local_rollback(c, file, to), on=_local(file, fleet),
                             restart=False, verb="Write")
-    return fleet.change("config rollback", lambda c: plan_rollback(c, to))
+    return fleet.change("config rollback", lambda c: read_and_plan_rollback(c, to))
 
 
 @app.command("push")
@@ -251,13 +251,13 @@ def push(
     Example:
       panther-ops config push my_controller.yaml --as controller -r panther-01 --yes
     """
-    from panther_ops.core.config.push import push_kind, read_bundle
-    from panther_ops.core.config.read import read_and_plan_push as plan_push
+    from panther_ops.core.config.read import read_and_plan_push
+    from panther_ops.core.robot.push import push_kind, read_bundle
 
     kind = push_kind(as_)
     bundle = read_bundle(kind, local, force=force)
     return fleet.change(f"config push {local.name} --as {kind.value}" + (" --force" if force else ""),
-                        lambda c: plan_push(c, kind, bundle, force=force))
+                        lambda c: read_and_plan_push(c, kind, bundle, force=force))
 
 
 @app.command("pull")
@@ -285,10 +285,10 @@ def pull(
     from panther_ops.cli.context import info, run
     from panther_ops.cli.output import write_bytes
     from panther_ops.cli.render import print_warnings
-    from panther_ops.core.config.plan import BT_ARGS
-    from panther_ops.core.config.pull_files import check_dest, check_output, plan_writes, settle, write_files
-    from panther_ops.core.config.push import pull as pull_file
-    from panther_ops.core.config.push import pull_project, push_kind
+    from panther_ops.core.config.pull_files import check_dest, check_output, local_writes, settle, write_files
+    from panther_ops.core.robot.pull import pull as pull_file
+    from panther_ops.core.robot.pull import pull_project
+    from panther_ops.core.robot.push import BT_ARGS, push_kind
     from panther_ops.results import Outcome, RobotResult
 
     k = push_kind(kind, "KIND")
@@ -315,7 +315,7 @@ def pull(
                            data={"source": source, "includes": list(inc.files)}, warnings=warnings)
 
     result = run("config pull", inv, chosen, task, json_out=True)
-    writes, same = settle(plan_writes(got, k, output, dest, includes), force)
+    writes, same = settle(local_writes(got, k, output, dest, includes), force)
     write_files(writes)
     for r in result.results:  # which files this machine now has, each named
         written = [str(w.path) for w in writes if w.robot == r.robot]
@@ -346,11 +346,11 @@ def apply(fleet: Fleet, force: Force = False, ask_sudo_password: AskPassword = F
       panther-ops apply -g warehouse --canary 1 --yes
     """
     from panther_ops.core.apply.apply import desired_applier
-    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
+    from panther_ops.core.apply.read import read_and_plan_desired
 
     inv, chosen = fleet.targets()
     password = sudo_password(ask_sudo_password) if any(r.desired.get("webui") for r in chosen) else None
-    return fleet.change("apply --force" if force else "apply", lambda c: plan_desired(c, force=force),
+    return fleet.change("apply --force" if force else "apply", lambda c: read_and_plan_desired(c, force=force),
                         on=(inv, chosen), applier=desired_applier(password), applier_for_actions=True)
 
 

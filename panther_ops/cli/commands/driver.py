@@ -92,9 +92,9 @@ def restart(fleet: Fleet) -> int:
       panther-ops driver restart -r panther-01 --yes
     """
     from panther_ops.core.driver.apply import apply_restart
-    from panther_ops.core.driver.read import read_and_plan_restart as plan_restart
+    from panther_ops.core.driver.read import read_and_plan_restart
 
-    return fleet.change("driver restart", plan_restart, applier=apply_restart, verb="Recreate")
+    return fleet.change("driver restart", read_and_plan_restart, applier=apply_restart, verb="Recreate")
 
 
 @app.command("stop")
@@ -112,9 +112,9 @@ def stop(fleet: Fleet) -> int:
       panther-ops driver stop -r panther-01 --yes
     """
     from panther_ops.core.driver.apply import apply_run_state
-    from panther_ops.core.driver.read import read_and_plan_stop as plan_stop
+    from panther_ops.core.driver.read import read_and_plan_stop
 
-    return fleet.change("driver stop", plan_stop, applier=apply_run_state, verb="Stop the driver on")
+    return fleet.change("driver stop", read_and_plan_stop, applier=apply_run_state, verb="Stop the driver on")
 
 
 @app.command("start")
@@ -132,9 +132,9 @@ def start(fleet: Fleet) -> int:
       panther-ops driver start -r panther-01 --yes
     """
     from panther_ops.core.driver.apply import apply_run_state
-    from panther_ops.core.driver.read import read_and_plan_start as plan_start
+    from panther_ops.core.driver.read import read_and_plan_start
 
-    return fleet.change("driver start", plan_start, applier=apply_run_state, verb="Start the driver on")
+    return fleet.change("driver start", read_and_plan_start, applier=apply_run_state, verb="Start the driver on")
 
 
 # ------------------------------------------------------------------ versions
@@ -190,8 +190,8 @@ def versions(
 def update(
     fleet: Fleet,
     tag: Annotated[OptStr, typer.Argument(
-        help="Tag (humble-2.1.2-20241125) or image (husarion/panther:humble-...); default: the inventory's desired "
-        "image.")] = None,
+        help="Tag (humble-2.1.2-20241125, jazzy-2.3.2-20260622) or image (husarion/panther:humble-...); default: "
+        "the inventory's desired image.")] = None,
     pull: Annotated[bool, typer.Option("--pull", help="docker compose pull the driver before recreating it "
                                        "(the robot needs internet).")] = False,
     force: Annotated[bool, typer.Option("--force", help="Allow a move between husarion/panther (<=2.1) and "
@@ -201,7 +201,12 @@ def update(
     """Change the driver image in compose.yaml and recreate the driver, through the pipeline:
     plan, diff, confirm, backup, atomic write, recreate, verify, roll back on failure.
 
-    Humble tags only (Jazzy, 2.3+, is refused). A tag takes the repository of its version; a
+    Humble 2.0-2.2 and Jazzy 2.3.1/2.3.2 tags. On a husarion_ugv 2.2 robot a 2.3 tag is a
+    migration: every file of ~/config the driver reads is translated into its 2.3 form in the
+    same plan (controller limits, gamepad moved to husarion_ugv_teleop, components, EKF), files
+    whose schema did not change are left as they are, and a value 2.3 cannot carry is refused
+    (exit 2) naming the file, the key and the fix; a 2.2 tag on a migrated robot restores the
+    migration's backup (docs/jazzy.md, "Migrating a robot"). A tag takes the repository of its version; a
     move between panther_ros (<=2.1, husarion/panther, service panther_ros) and husarion_ugv_ros
     (2.2, husarion/husarion-ugv, service husarion_ugv_ros) is a reinstall and needs --force (then
     the service is renamed, the launch package and arguments migrated). A tag not on the robot is
@@ -212,14 +217,16 @@ def update(
     Examples:
       panther-ops driver update humble-2.1.1-20240828 -g warehouse --dry-run
       panther-ops driver update humble-2.1.2-20241125 -r panther-01 --pull --yes
+      panther-ops driver update jazzy-2.3.2-20260622 -r panther-03 --canary 1 --yes
     """
     from panther_ops.core.driver.apply import apply_update
     from panther_ops.core.driver.images import parse_target
-    from panther_ops.core.driver.read import read_and_plan_update as plan_update
+    from panther_ops.core.driver.read import read_and_plan_update
 
     target = parse_target(tag, force=force) if tag is not None else None
     command = f"driver update {tag}" if tag else "driver update (desired image)"
-    return fleet.change(command, lambda c: plan_update(c, target, force=force, pull=pull), applier=apply_update)
+    return fleet.change(command, lambda c: read_and_plan_update(c, target, force=force, pull=pull),
+                        applier=apply_update)
 
 
 # ------------------------------------------------------------------ config restore-defaults
@@ -246,10 +253,10 @@ def restore_defaults(
       panther-ops config restore-defaults -r panther-01 --dry-run
     """
     from panther_ops.core.driver.apply import apply_restore
-    from panther_ops.core.driver.read import read_and_plan_restore_defaults as plan_restore_defaults
+    from panther_ops.core.driver.read import read_and_plan_restore_defaults
 
     return fleet.change("config restore-defaults" + (" --hard" if hard else ""),
-                        lambda c: plan_restore_defaults(c, hard=hard), applier=apply_restore)
+                        lambda c: read_and_plan_restore_defaults(c, hard=hard), applier=apply_restore)
 
 
 def register(root: typer.Typer) -> None:

@@ -127,7 +127,7 @@ def enable(
     """
     from panther_ops.core.gps.apply import apply_gps
     from panther_ops.core.gps.plan import GpsOptions
-    from panther_ops.core.gps.read import read_and_plan_enable as plan_enable
+    from panther_ops.core.gps.read import read_and_plan_enable
     from panther_ops.core.gps.router.plan import check_address
 
     check_address(address)  # refused even without --router: a bad value is never silently ignored
@@ -138,7 +138,7 @@ def enable(
         creds = _credentials()
         return fleet.change("gps enable", lambda c: plan_enable_with_router(c, opts, address, creds),
                             applier=enable_applier(address, creds, opts))
-    return fleet.change("gps enable", lambda c: plan_enable(c, opts), applier=apply_gps)
+    return fleet.change("gps enable", lambda c: read_and_plan_enable(c, opts), applier=apply_gps)
 
 
 @app.command("disable")
@@ -154,9 +154,9 @@ def disable(fleet: Fleet) -> int:
       panther-ops gps disable -r panther-01 --yes
     """
     from panther_ops.core.gps.apply import apply_gps
-    from panther_ops.core.gps.read import read_and_plan_disable as plan_disable
+    from panther_ops.core.gps.read import read_and_plan_disable
 
-    return fleet.change("gps disable", plan_disable, applier=apply_gps)
+    return fleet.change("gps disable", read_and_plan_disable, applier=apply_gps)
 
 
 @app.command("status")

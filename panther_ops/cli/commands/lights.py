@@ -104,12 +104,12 @@ def deploy(
     Example:
       panther-ops lights deploy my_animations.yaml -g warehouse --yes
     """
-    from panther_ops.core.config.push import read_bundle
-    from panther_ops.core.config.read import read_and_plan_push as plan_push
+    from panther_ops.core.config.read import read_and_plan_push
     from panther_ops.core.kinds import FileKind
+    from panther_ops.core.robot.push import read_bundle
 
     bundle = read_bundle(FileKind.USER_ANIMATIONS, file)  # the user animations validator, as config push
-    return fleet.change(f"lights deploy {file.name}", lambda c: plan_push(c, FileKind.USER_ANIMATIONS, bundle))
+    return fleet.change(f"lights deploy {file.name}", lambda c: read_and_plan_push(c, FileKind.USER_ANIMATIONS, bundle))
 
 
 @app.command("test")

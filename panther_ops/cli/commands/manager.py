@@ -128,7 +128,7 @@ def deploy(
     """
     from panther_ops.core.manager_ops.apply import apply_manager
     from panther_ops.core.manager_ops.bundle import build_bundle
-    from panther_ops.core.manager_ops.read import read_and_plan_deploy as plan_deploy
+    from panther_ops.core.manager_ops.read import read_and_plan_deploy
     from panther_ops.core.manager_ops.settings import scenario_path
 
     if scenario is not None:  # checked once, here, whichever robots it would go to
@@ -137,7 +137,7 @@ def deploy(
         load_scenario(scenario_path(scenario))
     bundle = build_bundle()
     label = "manager deploy" + ("" if sim is None else (" --sim" if sim else " --ros2"))
-    return fleet.change(label, lambda c: plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
+    return fleet.change(label, lambda c: read_and_plan_deploy(c, sim=sim, scenario=scenario, bundle=bundle),
                         applier=apply_manager)
 
 
@@ -154,9 +154,9 @@ def remove(fleet: Fleet) -> int:
       panther-ops manager remove -r panther-01 --yes
     """
     from panther_ops.core.manager_ops.apply import apply_manager
-    from panther_ops.core.manager_ops.read import read_and_plan_remove as plan_remove
+    from panther_ops.core.manager_ops.read import read_and_plan_remove
 
-    return fleet.change("manager remove", plan_remove, applier=apply_manager)
+    return fleet.change("manager remove", read_and_plan_remove, applier=apply_manager)
 
 
 @app.command("status")

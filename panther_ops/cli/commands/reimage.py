@@ -105,7 +105,7 @@ def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None,
     from panther_ops.cli.views.reimage import progress
     from panther_ops.core.reimage.device import describe
     from panther_ops.core.reimage.flash import eligible_device, inspect_image
-    from panther_ops.core.reimage.mapflash import find_bmap, flash_mapped, plan_for
+    from panther_ops.core.reimage.mapflash import find_bmap, flash_mapped, read_map
     from panther_ops.errors import ExitCode, UsageError
 
     started = time.monotonic()
@@ -113,7 +113,7 @@ def _flash_mapped(image: str, device: str, sha256: str | None, bmap: str | None,
     with progress(json_out) as step:
         # the image's name, format, checksum file and map first, whatever the device
         img = inspect_image(image, sha256, require_checksum=bmap_path is None, progress=step, check_now=False)
-        plan = plan_for(img, bmap_path, step)
+        plan = read_map(img, bmap_path, step)
         if img.expected_sha256 is None and not plan.kind:
             raise UsageError(f"{image}: no checksum to check it against ({bmap_path} has no range checksums): "
                              f"give --sha256 HASH or put {os.path.basename(image)}.sha256 beside it")
@@ -168,7 +168,7 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, bmap: BmapOpt
     from panther_ops.cli.render import emit_json
     from panther_ops.cli.views.reimage import progress
     from panther_ops.core.reimage.flash import inspect_image, verify
-    from panther_ops.core.reimage.mapflash import find_bmap, plan_for, verify_mapped
+    from panther_ops.core.reimage.mapflash import find_bmap, read_map, verify_mapped
     from panther_ops.errors import ExitCode, UsageError
 
     if full and bmap:
@@ -180,7 +180,7 @@ def verify(image: ImageArg, device: Device, sha256: Sha256 = None, bmap: BmapOpt
             doc: dict[str, Any] = {"mode": "full", "verify": v.to_json()}
             ok, message = v.ok, v.message
         else:
-            plan = plan_for(img, find_bmap(image, bmap), step)
+            plan = read_map(img, find_bmap(image, bmap), step)
             mv = verify_mapped(img, device, plan, step)
             doc = {"mode": "mapped", "map": plan.to_json(img.size), "verify": mv.to_json()}
             ok, message = mv.ok, mv.message
@@ -310,9 +310,9 @@ def restore(
     from panther_ops.cli.envelope import under
     from panther_ops.cli.views.status import print_doctor
     from panther_ops.core.apply.apply import desired_applier
-    from panther_ops.core.apply.read import read_and_plan_desired as plan_desired
+    from panther_ops.core.apply.read import read_and_plan_desired
     from panther_ops.core.health.doctor import make_doctor_task
-    from panther_ops.core.reimage.restore import load_backup, restore_planner
+    from panther_ops.core.reimage.read import load_backup, read_and_plan_restore
     from panther_ops.errors import UsageError
 
     backup = load_backup(from_)
@@ -337,12 +337,13 @@ def restore(
                 hint=f"check it on the robot (ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub), "
                      f"then `panther-ops trust {target.name}{again}`",
             )
-    code = fleet.change("reimage restore", restore_planner(backup), on=(inv, [target]), verb="Restore onto")
+    code = fleet.change("reimage restore", lambda c: read_and_plan_restore(c, backup), on=(inv, [target]),
+                        verb="Restore onto")
     if code != 0 or fleet.dry_run:
         return code
     if target.desired:
         with under("apply"):
-            code = fleet.change("apply", plan_desired, on=(inv, [target]),
+            code = fleet.change("apply", read_and_plan_desired, on=(inv, [target]),
                                 applier=desired_applier(sudo_password(False)), applier_for_actions=True)
     summary = context.run("doctor", inv, [target], make_doctor_task(password_check=target.transport != "local"),
                           json_out=fleet.json_out)

@@ -199,7 +199,7 @@ def battery_charge(
     """
     from panther_ops.cli.mutate import require
     from panther_ops.cli.render import emit_json, error
-    from panther_ops.core.sim.charging import plan_charge
+    from panther_ops.core.sim.plan import plan_charge
     from panther_ops.transport.base import quote_command
 
     call = plan_charge(action, robot_model, namespace, tool)
@@ -218,7 +218,7 @@ def battery_charge(
         require(f"{call.action.capitalize()} charging?", yes,
                 "this calls the simulation: pass --yes when not interactive (or --dry-run to only look)",
                 "nothing was called")
-    from panther_ops.core.sim.charging import missing_service
+    from panther_ops.core.sim.plan import missing_service
     from panther_ops.transport.local_command import run_local
 
     listed = run_local(call.listing)

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from panther_ops.core.config.plan import _args_summary, compose_plan, controller_edits, edit_args
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
-from panther_ops.core.config.robot_model import model_for_wheels
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.remote.webui.plan import WebuiPlan
+from panther_ops.core.robot.edits import args_summary, compose_plan, controller_edits, edit_args
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
+from panther_ops.core.robot.robot_model import model_for_wheels
 
 
 def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, force: bool = False) -> RobotPlan:
@@ -53,7 +53,7 @@ def plan_desired(raw: ComposeRead, reads: Reads, desired: dict[str, Any], *, for
         verify += gps.verify
         parts += gps.parts
         recreate = gps.recreate
-    arg_summary = _args_summary(cfg, old_args)
+    arg_summary = args_summary(cfg, old_args)
     if arg_summary != "no change":
         parts.insert(0, arg_summary)
     webui = _plan_webui(reads, cfg, desired.get("webui"), warnings)
@@ -80,7 +80,7 @@ def _driver_files(reads: Reads, cfg: RobotConfig, desired: dict[str, Any], force
     if desired.get("launch_args"):
         largs = dict(desired["launch_args"])
         if "wheel_type" in largs:
-            from panther_ops.core.config.wheel_change import migrate, point_at
+            from panther_ops.core.robot.wheel_change import migrate, point_at
 
             migrated = migrate(reads, cfg, str(largs["wheel_type"]))
             if migrated is not None:

@@ -13,10 +13,10 @@ from __future__ import annotations
 from typing import Any
 
 from panther_ops.core.apply import plan as planner
-from panther_ops.core.config.robot import read_compose
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.robot.read import read_compose
 from panther_ops.errors import UsageError
 
 
@@ -30,15 +30,15 @@ def read_and_plan_desired(ctx: RobotContext, *, force: bool = False) -> RobotPla
     desired = ctx.robot.desired
     if desired.get("shutdown_hosts") is not None:
         desired = {**desired, "shutdown_hosts": _resolved_hosts(ctx, desired["shutdown_hosts"])}
-    raw = read_compose(ctx, keep=bool(desired))
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planner.plan_desired(raw, reads, desired, force=force),
                          {FACT: read_desired_webui, DEFAULT_FACT: _image_hosts})
 
 
 def _image_hosts(ctx: RobotContext, _key: str) -> bytes:
     """The shutdown hosts file the robot's image ships (or panther-ops' template of its release)."""
-    from panther_ops.core.config.push import pull
     from panther_ops.core.kinds import FileKind
+    from panther_ops.core.robot.pull import pull
 
     return pull(ctx, FileKind.SHUTDOWN_HOSTS)[0]
 

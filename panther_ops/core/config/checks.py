@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.config.launch_args import validate_arg
+from panther_ops.core.robot.launch_args import validate_arg
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 
@@ -25,7 +25,7 @@ def precheck_key(key: str, *, known: bool = True) -> None:
 
         parse_limit_key(key)
         return
-    from panther_ops.core.config.launch_args import check_arg_text, spec
+    from panther_ops.core.robot.launch_args import check_arg_text, spec
 
     check_arg_text(key, "")
     if known:
@@ -71,7 +71,7 @@ def precheck(values: Mapping[str, Any], *, force: bool = False) -> None:
 
 
 def _has_key(stack: Any, key: str) -> bool:
-    from panther_ops.core.config.launch_args import spec
+    from panther_ops.core.robot.launch_args import spec
 
     try:
         return spec(key).available(stack)

@@ -40,13 +40,13 @@ def check_dest(dest: Path | None, robots: int) -> None:
         raise UsageError(f"{robots} robots chosen: pass --dest DIR (files go to DIR/<robot>/)")
 
 
-def plan_writes(got: dict[str, bytes], kind: FileKind, output: Path | None, dest: Path | None,
+def local_writes(got: dict[str, bytes], kind: FileKind, output: Path | None, dest: Path | None,
                 includes: dict[str, dict[str, bytes]] | None = None) -> list[LocalWrite]:
     """The files to write for what each robot sent (none: stdout), with the files each robot's
     project includes (``includes``: robot -> relative name -> content) beside it; a robot's
     directory under --dest, or an included file, that resolves outside its directory (a link)
     is refused."""
-    from panther_ops.core.config.plan import BT_ARGS
+    from panther_ops.core.robot.push import BT_ARGS
 
     mains: dict[str, Path] = {}
     if dest is not None:

@@ -7,28 +7,28 @@ from collections.abc import Mapping
 from typing import Any
 
 from panther_ops.core.config import plan as planners
-from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.config.files import config_file
-from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan import Bundle
-from panther_ops.core.config.robot import read_compose, read_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds import FileKind
+from panther_ops.core.robot.controller import ControllerConfig
+from panther_ops.core.robot.files import config_file
+from panther_ops.core.robot.launch_args import spec
+from panther_ops.core.robot.push import Bundle
+from panther_ops.core.robot.read import read_compose, read_config
 
 
 def read_and_plan_args(ctx: RobotContext, sets: Mapping[str, Any], unsets: list[str], *, force: bool = False,
               everywhere: bool = False) -> RobotPlan:
     """``config set/unset``: read compose.yaml (kept for the write) and what the plan needs; plan."""
-    raw = read_compose(ctx, keep=True)
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planners.plan_args(raw, reads, sets, unsets, force=force,
                                                                everywhere=everywhere))
 
 
 def read_and_plan_controller(ctx: RobotContext, limits: Mapping[str, Any], *, force: bool = False) -> RobotPlan:
     """``config set controller.<key> VALUE``: read compose.yaml and the controller file; plan."""
-    raw = read_compose(ctx, keep=True)
+    raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planners.plan_controller(raw, reads, limits, force=force))
 
 
@@ -41,7 +41,7 @@ def read_and_plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, for
 
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     """``config get KEY``: the value in the command, or the stack's default."""
-    from panther_ops.core.config.robot_model import robot_model_of, wheel_type_of
+    from panther_ops.core.robot.robot_model import robot_model_of, wheel_type_of
 
     cfg = read_config(ctx)
     args = cfg.compose.args
@@ -66,7 +66,7 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
         if n in args:
             return {"key": key, "name": n, "value": args[n], "source": "compose.yaml", "stack": cfg.stack.label()}
     if key == "namespace":  # the launch files' default: ROBOT_NAMESPACE of the compose environment or env_file
-        from panther_ops.core.config.namespace import driver_namespace
+        from panther_ops.core.robot.namespace import driver_namespace
 
         value, source = read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))
         if source != "default":

@@ -20,7 +20,6 @@ from dataclasses import replace
 from datetime import datetime, timezone
 from typing import Any
 
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver.containers import last_line
 from panther_ops.core.fleet.pipeline import (
@@ -36,6 +35,7 @@ from panther_ops.core.fleet.pipeline import (
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import project_dir, service_containers
+from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
 from panther_ops.errors import OpsError, TransportError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command

@@ -9,8 +9,6 @@ from dataclasses import dataclass, field
 from datetime import datetime
 from typing import Any
 
-from panther_ops.core.config.robot import read_config
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.containers.engine import NoEngineError, engine
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
@@ -19,6 +17,8 @@ from panther_ops.core.driver.plan import compose_argv
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import service_containers
 from panther_ops.core.parse.shell_words import CommandSyntaxError, command_words
+from panther_ops.core.robot.read import read_config
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import RemoteStateError, UsageError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.docker_client import NotInEngine, engine_errors

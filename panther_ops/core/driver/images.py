@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.compose import image_repo
+from panther_ops.core.robot.compose import image_repo
 from panther_ops.core.stack import PANTHER_REPO, UGV_REPO
 from panther_ops.errors import OpsError, UsageError
 
@@ -18,6 +18,8 @@ HUB_TAG = re.compile(r"^humble-\d+\.\d+\.\d+-\d{8}(-stable)?$", re.ASCII)
 """Released Humble driver tags (the configurator's filter, for Humble)."""
 HUB_TIMEOUT_S = 5.0
 NEWEST_HUMBLE = "husarion/husarion-ugv:humble-2.2.2-20250702"
+NEWEST_JAZZY = "husarion/husarion-ugv:jazzy-2.3.2-20260622"
+"""husarion_ugv_ros@2.3.2:docker/demo/compose.hardware.yaml."""
 _TAG_WORD = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]{0,127}$")
 _TAG = re.compile(
     r"^(?P<distro>[a-z]+)-(?P<major>\d+)\.(?P<minor>\d+)\.(?P<patch>\d+)"
@@ -57,18 +59,20 @@ class TargetImage:
         return f"{prefix}{repo_for(self.version)}:{self.tag}"
 
 
-def _jazzy(tag: str) -> UsageError:
+def _crossed(tag: str, distro: str, version: tuple[int, int, int]) -> UsageError:
     return UsageError(
-        f"{tag} is a ROS 2 Jazzy driver (husarion_ugv_ros 2.3+): panther-ops manages Humble robots "
-        "(panther_ros 2.0-2.1, husarion_ugv_ros 2.2)",
-        hint=f"the newest Humble driver is {NEWEST_HUMBLE}; Jazzy needs another OS image on the Built-in Computer",
+        f"{tag}: {distro} {'.'.join(map(str, version))} is not a driver panther-ops supports: husarion_ugv runs ROS 2 "
+        "Humble up to 2.2.x and ROS 2 Jazzy from 2.3.x (there is no Humble 2.3 nor Jazzy 2.2; 2.4 and later are "
+        "not supported yet)",
+        hint=f"the newest Humble driver is {NEWEST_HUMBLE}; the newest Jazzy one {NEWEST_JAZZY}",
     )
 
 
 def parse_target(text: str, *, force: bool = False) -> TargetImage:
     """Check a `driver update` argument: a tag (``humble-2.1.2-20241125``) or a full reference.
 
-    Humble only; Jazzy (2.3+) is refused with its own message; the repository must be the one
+    Humble 2.0-2.2.x and Jazzy 2.3.x (a 2.2 robot's `driver update` to 2.3 is a migration,
+    `migrate/plan.py`); crossed pairs and later lines are refused; the repository must be the one
     of the version's family (2.2+ husarion/husarion-ugv, 2.0-2.1 husarion/panther) unless
     ``force`` (then a warning).
 
@@ -99,11 +103,12 @@ def parse_target(text: str, *, force: bool = False) -> TargetImage:
                          hint="tags look like humble-<X.Y.Z>-<YYYYMMDD>, e.g. humble-2.1.2-20241125 "
                               "(panther-ops driver versions --remote lists them)")
     version = (int(m["major"]), int(m["minor"]), int(m["patch"]))
-    if m["distro"] == "jazzy" or version >= (2, 3, 0):
-        raise _jazzy(tag)
-    if m["distro"] != "humble":
+    if (m["distro"] == "jazzy" and not (2, 3, 0) <= version < (2, 4, 0)) or (m["distro"] == "humble" and \
+            version >= (2, 3, 0)):
+        raise _crossed(tag, m["distro"], version)
+    if m["distro"] not in ("humble", "jazzy"):
         raise UsageError(f"{tag}: ROS 2 {m['distro'].capitalize()} is not a Panther driver distribution here",
-                         hint="panther-ops manages Humble drivers: humble-<X.Y.Z>-<YYYYMMDD>")
+                         hint="panther-ops manages humble-<X.Y.Z>-<YYYYMMDD> (2.0-2.2) and jazzy-2.3.<Z>-<YYYYMMDD>")
     if version < (2, 0, 0):
         raise UsageError(f"{tag}: ROS 1 drivers (1.x) are not supported")
     warnings: list[str] = []

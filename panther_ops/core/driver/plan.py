@@ -11,15 +11,15 @@ import posixpath
 import re
 from typing import Any
 
-from panther_ops.core.config.arg_edits import migrate_args
-from panther_ops.core.config.arg_rules import check_args
-from panther_ops.core.config.compose import ComposeError, ComposeFile
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR
-from panther_ops.core.config.plan import compose_plan
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.driver.images import TargetImage, parse_target, repo_for
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.arg_edits import migrate_args
+from panther_ops.core.robot.compose import ComposeError, ComposeFile
+from panther_ops.core.robot.edits import compose_plan
+from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR
+from panther_ops.core.robot.launch_args import check_args
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.stack import Family, parse_image
 from panther_ops.errors import OpsError, RemoteStateError, UsageError
 
@@ -111,7 +111,7 @@ def plan_restore_defaults(raw: ComposeRead, reads: Reads, *, hard: bool = False)
     warnings = []
     if args.get("wheel_type") == "custom" and {"controller_config_path", "wheel_config_path"} & set(drop):
         drop.append("wheel_type")
-        from panther_ops.core.config.robot_model import default_wheel_type
+        from panther_ops.core.robot.robot_model import default_wheel_type
 
         warnings.append("wheel_type:=custom needs the controller/wheel files being removed: wheel_type is unset too "
                         f"(the stack's default for this robot, {default_wheel_type(reads, cfg)}, applies; set yours "
@@ -211,6 +211,14 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
         plan = compose_plan(reads.robot, cfg, "no change", warnings, [], f"compose.yaml already has {current}")
         plan.data.update(image_from=current, image_to=new_ref)
         return plan
+    running = _image_stack(cfg.compose) or old_stack  # the image, not an inventory pin, tells the files' schema
+    if (running.version >= (2, 3, 0)) != (new_stack.version >= (2, 3, 0)):
+        cfg.stack = running  # Humble <-> Jazzy: a migration, or its way back (migrate/plan.py)
+        return _migration(cfg, reads, new_ref, new_stack, warnings, pull)
+    if running.version >= (2, 3, 0) and (running.version >= (2, 3, 2)) != (new_stack.version >= (2, 3, 2)):
+        warnings.append(f"{running.version_str} -> {new_stack.version_str}: 2.3.2 brought the twist mux, the IMU "
+                        "covariance placeholder and the gamepad file in husarion_ugv_teleop; the files in ~/config are "
+                        "not translated between 2.3 releases (check them, or `config restore-defaults` after)")
     old_service = cfg.service
     renamed_from: str | None = None
     if new_stack.family is not old_stack.family:
@@ -259,6 +267,35 @@ def plan_update(raw: ComposeRead, reads: Reads, target: TargetImage | None, *, d
                      stack_from=old_stack.label(), stack_to=new_stack.label())
     if renamed_from:
         plan.data["service_from"] = renamed_from
+    return plan
+
+
+def _image_stack(compose: ComposeFile) -> Any:
+    """The stack compose.yaml's driver image names (None: not a driver image panther-ops reads)."""
+    try:
+        return compose.stack()
+    except OpsError:
+        return None
+
+
+def _migration(cfg: RobotConfig, reads: Reads, new_ref: str, new_stack: Any, warnings: list[str],
+               pull: bool) -> RobotPlan:
+    from panther_ops.core.driver.migrate.plan import plan_migration, plan_way_back
+
+    old_stack = cfg.stack
+    if reads.stack != "auto":
+        warnings.append(f"the inventory pins stack: {reads.stack} for this robot: change it to "
+                        f"{new_stack.version_str} (or auto) with the update")
+    present = reads.fact(IMAGE, new_ref)
+    if present is False:
+        warnings.append(f"{new_ref} is not on the robot: it needs a pull (internet on the robot); "
+                        + ("--pull runs" if not pull else "--pull given: runs") + " docker compose pull first")
+    if new_stack.version >= (2, 3, 0):
+        plan = plan_migration(cfg, reads, new_ref, new_stack, warnings)
+    else:
+        plan = plan_way_back(cfg, reads, new_ref, new_stack, warnings)
+    plan.data.update(image_from=old_stack.image, image_to=new_ref, image_local=present, pull=pull,
+                     stack_from=old_stack.label(), stack_to=new_stack.label())
     return plan
 
 

@@ -4,14 +4,15 @@ there is an engine to run ``update_config_directory``); then the plan."""
 
 from __future__ import annotations
 
-from panther_ops.core.config.robot import read_compose
 from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver import plan as planners
 from panther_ops.core.driver.images import TargetImage
+from panther_ops.core.fleet.history import ROLLBACK_FACTS
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.robot.read import read_compose
 from panther_ops.transport.docker_client import EngineRefused, NotInEngine, engine_errors
 
 
@@ -30,11 +31,12 @@ def read_and_plan_start(ctx: RobotContext) -> RobotPlan:
 
 def read_and_plan_update(ctx: RobotContext, target: TargetImage | None, *, force: bool = False,
                          pull: bool = False) -> RobotPlan:
-    """`driver update`: read compose.yaml (and whether the robot holds the new image); plan."""
+    """`driver update`: read compose.yaml (and whether the robot holds the new image; for a
+    migration to or from Jazzy the config tree's files, or the backups); plan."""
     raw = read_compose(ctx)
     return read_and_plan(ctx, lambda reads: planners.plan_update(raw, reads, target, force=force, pull=pull,
                                                                  desired_image=ctx.robot.desired.get("image")),
-                         {planners.IMAGE: _image_present})
+                         {planners.IMAGE: _image_present, **ROLLBACK_FACTS})
 
 
 def _image_present(ctx: RobotContext, ref: str) -> bool | None:

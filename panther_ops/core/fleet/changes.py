@@ -5,24 +5,18 @@ Phase 1 plans every targeted robot (reads only). A planning error that is the op
 written anywhere (exit 2). Phase 2, after the CLI showed the diffs and got confirmation,
 applies the plans through the pipeline on the same connections.
 
-When the command needs no confirmation (``--yes``), phase 1 also stages each robot's write
-as soon as its plan is known: the backup and the new files wait beside their targets while
-the rest of the fleet is still being planned, and nothing is renamed until phase 2 gives
-the go-ahead. If phase 2 does not come for a robot (another robot's plan was refused, or a
-canary failed), its staging is taken back: the robot is left as it was.
-
-And when every robot runs at once (as many forks as robots, no canary, no max-fail), the
-go-ahead needs nothing more than every robot's plan (``go_early``): each robot waits for
-the last plan, then sends its staging with the go-ahead behind it in one message; the
-robot stages, syncs and validates everything before it reads the go-ahead, so the write
-is as safe as before and takes one round trip fewer. A refused plan anywhere stops every
-robot before anything is staged.
+When the command needs no confirmation (``--yes``), phase 1 also opens each robot's write
+session beside its read (a transport may open it in the background: no round trip of its
+own) and stages the write as soon as the plan is known: the backup and the new files wait
+beside their targets while the rest of the fleet is still being planned, and nothing is
+renamed until phase 2 gives the go-ahead (one round trip: the staging only sent, the robot
+answers both at once). If phase 2 does not come for a robot (another robot's plan was
+refused, or a canary failed), its staging is taken back: the robot is left as it was.
 """
 
 from __future__ import annotations
 
 import contextlib
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
@@ -31,7 +25,7 @@ from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
 from panther_ops.core.fleet.plan import RobotPlan
-from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, phase_reporter, run_fleet
+from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 
@@ -55,8 +49,6 @@ class FleetPlan:
     usage_errors: dict[str, UsageError] = field(default_factory=dict)
     staged: dict[str, Staged] = field(default_factory=dict)
     """Writes staged during planning, waiting for the go-ahead (see the module's text)."""
-    applied: dict[str, RobotResult] = field(default_factory=dict)
-    """Writes that went ahead during phase 1 (``go_early``): phase 2 reports them as they are."""
 
     @property
     def to_change(self) -> list[str]:
@@ -82,68 +74,40 @@ def check_written(plan: RobotPlan) -> None:
 
 
 def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner: Planner, connections: Connections,
-               options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None,
-               go_early: bool = False) -> FleetPlan:
+               options: RunOptions, progress: Progress | None = None, stage: ApplyOptions | None = None) -> FleetPlan:
     """Plan every robot; with ``stage`` (the options phase 2 will apply with) also stage each
-    robot's file edits through the pipeline as soon as its plan is known; with ``go_early``
-    too, each staged write goes ahead once every robot's plan is known (see the module's
-    text; only where every robot runs at once, else it is ignored)."""
+    robot's file edits through the pipeline as soon as its plan is known (see the module's text)."""
     fp = FleetPlan(command)
-    go_early = go_early and stage is not None and options.forks >= len(robots) and not options.canary \
-        and options.max_fail_pct is None
-    decided: set[str] = set()
-    all_decided = threading.Condition()
-    interrupted = threading.Event()
-
-    def decide(name: str) -> None:
-        with all_decided:
-            decided.add(name)
-            all_decided.notify_all()
 
     def task(ctx: RobotContext) -> RobotResult:
         ctx.phase("plan")
+        session = ctx.transport.session() if stage is not None and not stage.dry_run else None
         try:
-            plan = planner(ctx)
-            check_written(plan)
-        except UsageError as exc:
-            fp.usage_errors[ctx.robot.name] = exc
-            raise
+            try:
+                plan = planner(ctx)
+                check_written(plan)
+            except UsageError as exc:
+                fp.usage_errors[ctx.robot.name] = exc
+                raise
+            if session is not None and plan.edits and not plan.data.get("action"):
+                assert stage is not None
+                fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage, session)  # gone away: no plan either
+                session = None
         finally:
-            decide(ctx.robot.name)
-        writes = stage is not None and plan.edits and not plan.data.get("action") and not stage.dry_run
-        if writes and go_early and stage is not None:
-            with all_decided:
-                all_decided.wait_for(lambda: len(decided) >= len(robots) or interrupted.is_set())
-            # staged with its go-ahead (the robot went away: no plan either); never once interrupted
-            if not fp.usage_errors and not interrupted.is_set():
-                fp.applied[ctx.robot.name] = apply_staged(ctx, plan, stage, stage_plan(ctx, plan, stage, go=True))
-        elif writes and stage is not None:
-            fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage)  # the robot went away: no plan either
+            if session is not None:  # nothing to stage on it
+                session.close()
         fp.plans[ctx.robot.name] = plan
         outcome = Outcome.CHANGED if does_something(plan) else Outcome.SKIPPED if plan.skipped else Outcome.OK
         message = plan.summary if does_something(plan) else (plan.skipped or plan.noop or "nothing to change")
         return RobotResult(ctx.robot.name, outcome, message, diffs=plan.diffs, warnings=list(plan.warnings),
                            data=dict(plan.data))
 
-    class Noted:  # a robot whose task never ran (unreachable) is decided too
-        def __call__(self, res: RobotResult) -> None:
-            decide(res.robot)
-            if progress is not None:
-                progress(res)
-
-        def phase(self, robot: str, name: str) -> None:
-            if (report := phase_reporter(progress, robot)) is not None:
-                report(name)
-
     plan_opts = RunOptions(forks=options.forks)
     try:
-        fp.results = run_fleet(command, inventory, robots, task, plan_opts, Noted(), connections)
-    except FleetInterrupted as exc:  # a change planned is not written; one that went ahead early is
-        with all_decided:
-            interrupted.set()
-            all_decided.notify_all()
+        fp.results = run_fleet(command, inventory, robots, task, plan_opts, progress, connections)
+    except FleetInterrupted as exc:  # a change planned is not written
         planned = [r.robot for r in exc.where.finished if r.outcome is Outcome.CHANGED]
-        raise exc.regrouped([r.name for r in robots], dict(fp.applied), planned) from None
+        raise exc.regrouped([r.name for r in robots], {}, planned) from None
     return fp
 
 
@@ -152,13 +116,7 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
                 applier: Applier = apply_plan) -> FleetResult:
     """Apply every plan that does something; the others keep their plan-phase result."""
     by_name = {r.robot: r for r in fp.results.results}
-    early = [fp.applied.pop(r.name) for r in robots if r.name in fp.applied]  # went ahead in phase 1
-    for r in early:
-        by_name[r.robot] = r
-        if progress is not None:
-            progress(r)
-    went = {r.robot for r in early}
-    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name]) and r.name not in went]
+    todo = [r for r in robots if r.name in fp.plans and does_something(fp.plans[r.name])]
 
     def task(ctx: RobotContext) -> RobotResult:
         plan = fp.plans[ctx.robot.name]
@@ -183,15 +141,16 @@ def apply_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connec
 def unstage_fleet(fp: FleetPlan, inventory: Inventory, robots: list[Robot], connections: Connections,
                   options: RunOptions) -> None:
     """Take back every write still staged: those robots are left exactly as they were."""
-    waiting = [r for r in robots if fp.staged.pop(r.name, None) is not None]
+    waiting = {r.name: staged for r in robots if (staged := fp.staged.pop(r.name, None)) is not None}
 
     def task(ctx: RobotContext) -> RobotResult:
         with contextlib.suppress(OpsError):  # the session is gone: the robot dropped the staged files itself
-            unstage(ctx)
+            unstage(waiting[ctx.robot.name])
         return RobotResult(ctx.robot.name, Outcome.SKIPPED, "staged write taken back")
 
     if waiting:
-        run_fleet(fp.command, inventory, waiting, task, RunOptions(forks=options.forks), None, connections)
+        run_fleet(fp.command, inventory, [r for r in robots if r.name in waiting], task,
+                  RunOptions(forks=options.forks), None, connections)
 
 
 def dry_run_result(fp: FleetPlan, *, read_only: bool = False) -> FleetResult:

@@ -7,7 +7,7 @@ backup id (``config rollback --to``) names a directory under ``~/.panther-ops/ba
 A local file's backup (``config rollback --file FILE``) restores that one file and nothing
 else, whatever its manifest names. Anything else is refused with exit 2 naming the path.
 (The compose file's check, which needs the robot's transport for the demo case, is
-`core/config/robot.py`'s ``compose_file``.)
+`core/robot/read.py`'s ``compose_file``.)
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ SERVICE_NAME = re.compile(r"^[a-zA-Z0-9][a-zA-Z0-9_.-]*$")
 def compose_path_problem(path: str) -> tuple[str, str] | None:
     """Why ``path`` cannot name a robot's compose file (message, hint), or None when it can:
     absolute or ``~/``, no control character, no ``..`` component. The inventory's
-    ``compose_file`` (`config/robot.py`) and a backup's manifest (`plan_rollback.py`) both
+    ``compose_file`` (`robot/read.py`) and a backup's manifest (`plan_rollback.py`) both
     go through it."""
     if not path or any(ord(c) < 32 or c == "\x7f" for c in path):
         return (f"compose_file {path!r} is empty or holds a control character",

@@ -12,7 +12,6 @@ nothing.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import posixpath
 import secrets
@@ -31,6 +30,7 @@ from panther_ops.errors import OpsError, TransportError, UnreachableError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport import scripts_apply, scripts_backup
 from panther_ops.transport.base import Command, CommandResult
+from panther_ops.transport.session import FileWrite, Session, stage_input
 
 BACKUP_ROOT = scripts_backup.BACKUP_ROOT
 
@@ -56,15 +56,13 @@ def new_backup_id(now: datetime | None = None) -> str:
 
 @dataclass(frozen=True)
 class Staged:
-    """A robot's write, staged and waiting on the robot for the go-ahead (or why it is not)."""
+    """A robot's write, staged (or being staged) on the robot, waiting for the go-ahead."""
 
     backup_id: str
     final: bool
     """Nothing follows the write (no recreate): the backup's status is recorded with it."""
-    problem: str | None = None
-    """Why nothing was staged (the robot refused or failed): reported instead of applying."""
-    went: bool = False
-    """The go-ahead was sent with the staging (:func:`stage_plan` ``go``): only its end remains."""
+    session: Session
+    """The write's session on the robot (:mod:`panther_ops.transport.session`)."""
 
 
 def apply_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
@@ -91,18 +89,13 @@ def _unwritten(name: str, plan: RobotPlan, opts: ApplyOptions) -> RobotResult:
     return result
 
 
-def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, go: bool = False) -> Staged:
-    """Back up and stage the plan's files on the robot; it then waits for :func:`apply_staged`.
-
-    The session stays open (kept under ``scripts_apply.WRITE_KEY``) until the go-ahead, a
-    stop (:func:`unstage`), or the end of the connection: until then no file is replaced.
-    ``go``: the caller already has its go-ahead (every robot's plan is known, see
-    ``changes.plan_fleet``): it is sent with the staging, behind it in the same input, and
-    the robot reads it only once everything is staged, synced and validated: one round trip
-    fewer. Never with an ``on_staged`` hook (it must run between the two).
-    Raises the transport's errors (the robot went away: nothing was renamed).
+def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, session: Session | None = None) -> Staged:
+    """Back up and stage the plan's files on the robot through one write session (``session``,
+    one already opened for it, else a new one); it then waits for :func:`apply_staged` (or
+    :func:`unstage`, or the end of the connection): until then no file is replaced. Staging
+    only sends: what the robot says of it is read with the go-ahead. Raises the transport's
+    errors (the robot went away: nothing was renamed).
     """
-    go = go and opts.on_staged is None
     ctx.phase("write")
     now = datetime.now(timezone.utc)
     backup_id = new_backup_id(now)
@@ -122,20 +115,22 @@ def stage_plan(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, go: bool 
     }
     final = not plan.recreate or not opts.restart
     status = ("applied" + (" (not recreated)" if plan.recreate else "")) if final else ""
-    problem = _stage(ctx, plan, f"{BACKUP_ROOT}/{backup_id}", manifest, status, go)
-    return Staged(backup_id, final, problem, went=go)
+    data = _write_input(ctx, plan, f"{BACKUP_ROOT}/{backup_id}", manifest, status)
+    session = session if session is not None else ctx.transport.session()
+    session.stage(data)
+    return Staged(backup_id, final, session)
 
 
-def unstage(ctx: RobotContext) -> None:
+def unstage(staged: Staged) -> None:
     """Tell a staged write not to go ahead: the robot removes all it staged, backup included."""
-    ctx.transport.resume(scripts_apply.WRITE_KEY, scripts_apply.STOP)
+    staged.session.stop()
 
 
 def apply_staged(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, staged: Staged) -> RobotResult:
     """Give a staged write its go-ahead, then recreate, verify and roll back as needed."""
     result = _result(ctx.robot.name, plan)
     ctx.phase("write")
-    problem = staged.problem or _commit(ctx, plan, opts, staged.went)
+    problem = _commit(ctx, plan, opts, staged.session)
     if problem is not None:
         result.outcome = Outcome.FAILED
         result.message = problem
@@ -195,10 +190,9 @@ def _compare_values(before: bytes, after: bytes) -> bool:
     return strip(old) == strip(new)
 
 
-def _stage(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[str, Any], status: str,
-           go: bool) -> str | None:
-    """Unpack the backup and the staged files and (maybe) validate, in one session kept for
-    the go-ahead. Returns why nothing was staged, or None when the robot waits for it."""
+def _write_input(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[str, Any], status: str) -> bytes:
+    """What the write session is sent: the backup and the staged files (validated by the robot's
+    docker compose where the compose file changes more than values)."""
     name = ctx.robot.name
     home = plan.home or ctx.transport.home()
 
@@ -208,49 +202,21 @@ def _stage(ctx: RobotContext, plan: RobotPlan, backup_dir: str, manifest: dict[s
             raise TransportError(name, f"refusing a path that is not absolute or holds a newline or tab: {path!r}")
         return posixpath.normpath(path)
 
-    wdir = absolute(backup_dir)
-    suffix = f"{os.getpid()}.{secrets.token_hex(4)}"
-    members = [scripts_apply.Member(d, None, 0o700) for d in (posixpath.dirname(posixpath.dirname(wdir)),
-                                                               posixpath.dirname(wdir), wdir, f"{wdir}/files")]
-    members.append(scripts_apply.Member(f"{wdir}/manifest.json", json.dumps(manifest, indent=2).encode(), 0o600))
-    args: list[str] = []
-    validate = "-"
-    for i, e in enumerate(plan.edits):
-        path = absolute(e.path)
-        staged = f"{posixpath.dirname(path)}/.{posixpath.basename(path)}.panther-ops.{suffix}"
-        if e.before is not None:
-            members.append(scripts_apply.Member(f"{wdir}/files/{i}", e.before, e.mode or 0o600))
-        keep_mode = e.before is not None and e.mode is None  # mode unknown: chmod --reference on the robot
-        if e.after is not None:
-            mode = e.mode if e.mode is not None else (0o600 if keep_mode else 0o644)
-            members.append(scripts_apply.Member(staged, e.after, mode))
-        args += [path, _sha(e.before) or "-", staged if e.after is not None else "-", "1" if keep_mode else "0"]
-        if e.path == plan.compose_file and e.after is not None and not _values_only(e.before, e.after):
-            validate = str(i)
-    archive = scripts_apply.archive(members)
-    argv = [wdir, status, str(len(archive)), validate, *args]
-    payload = archive + scripts_apply.GO if go else archive
-    t = ctx.transport
-    res = t.advance(scripts_apply.WRITE_KEY, scripts_apply.apply_request(argv) + payload,
-                    until=scripts_apply.STAGED_MARK)  # the plan's kept read carries the write
-    if res is None:
-        res = t.run_kept(Command.sh(scripts_apply.APPLY, *argv), scripts_apply.STAGED_MARK, scripts_apply.WRITE_KEY,
-                         stdin=payload)
-    if t.kept(scripts_apply.WRITE_KEY):
-        return None
-    return _write_problem(name, plan, res) or f"the write ended before staging (exit {res.exit_status})"
+    files = [FileWrite(absolute(e.path), e.before, e.after, e.mode,
+                       validate=e.path == plan.compose_file and not _values_only(e.before, e.after))
+             for e in plan.edits]
+    return stage_input(absolute(backup_dir), manifest, status, files, f"{os.getpid()}.{secrets.token_hex(4)}")
 
 
-def _commit(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, went: bool = False) -> str | None:
-    """The go-ahead for a staged write (``went``: sent with the staging already, the end of
-    the write remains). Returns why nothing was written, or None when it was."""
+def _commit(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, session: Session) -> str | None:
+    """The go-ahead for a staged write. Returns why nothing was written, or None when it was."""
     name = ctx.robot.name
     if opts.on_staged:
+        ended = session.wait_staged()
+        if ended is not None:
+            return _write_problem(name, plan, ended) or f"the write ended before staging (exit {ended.exit_status})"
         opts.on_staged(name)
-    res = ctx.transport.resume(scripts_apply.WRITE_KEY, b"" if went else scripts_apply.GO)
-    if res is None:
-        raise TransportError(name, "no staged write to go ahead with (a bug: see --debug)")
-    return _write_problem(name, plan, res)
+    return _write_problem(name, plan, session.go())
 
 
 def _write_problem(name: str, plan: RobotPlan, res: CommandResult) -> str | None:
@@ -323,14 +289,13 @@ def _restore_files(ctx: RobotContext, plan: RobotPlan, backup_id: str) -> str | 
     manifest = {"id": f"{backup_id}/rollback", "robot": ctx.robot.name, "summary": undo.summary,
                 "files": [{"path": e.path, "backup": f"files/{i}" if e.before is not None else None}
                           for i, e in enumerate(undo.edits)]}
-    problem = _stage(ctx, undo, f"{BACKUP_ROOT}/{backup_id}/rollback", manifest, "", go=True)
-    if problem is None:
-        res = ctx.transport.resume(scripts_apply.WRITE_KEY, b"")
-        if res is None:
-            raise TransportError(ctx.robot.name, "the rollback's write ended before it was done (a bug: see --debug)")
-        if res.exit_status == scripts_apply.CHANGED_EXIT:
-            return (res.stderr.strip().splitlines() or ["a file"])[-1].replace(" since it was read", " since")
-        problem = _write_problem(ctx.robot.name, undo, res)
+    data = _write_input(ctx, undo, f"{BACKUP_ROOT}/{backup_id}/rollback", manifest, "")
+    session = ctx.transport.session()
+    session.stage(data)
+    res = session.go()
+    if res.exit_status == scripts_apply.CHANGED_EXIT:
+        return (res.stderr.strip().splitlines() or ["a file"])[-1].replace(" since it was read", " since")
+    problem = _write_problem(ctx.robot.name, undo, res)
     if problem is not None:
         raise TransportError(ctx.robot.name, problem)
     return None

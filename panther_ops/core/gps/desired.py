@@ -12,12 +12,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from panther_ops.core.config.plan import edit_args
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.inventory_desired import DesiredError, gps_block, usage_error
 from panther_ops.core.fleet.plan import FileEdit, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.plan import DEFAULT_IP, DEFAULT_PORT, SERVICE, GpsOptions, enable_change
+from panther_ops.core.robot.edits import edit_args
+from panther_ops.core.robot.robot_config import RobotConfig
 
 
 @dataclass

@@ -38,9 +38,9 @@ from typing import Any
 
 import yaml
 
-from panther_ops.core.config.launchcmd import shell_tokens
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.parse.ros_names import RosNameError, namespace, topic_name
+from panther_ops.core.robot.launchcmd import shell_tokens
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 

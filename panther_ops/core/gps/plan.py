@@ -36,15 +36,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.launch_args import bool_word, spec
-from panther_ops.core.config.plan import edit_args
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.inventory_desired import IP_RULE, nmea_ip, nmea_namespace
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.gps.fix_topic import service_topic
 from panther_ops.core.gps.udp_address import check_port
 from panther_ops.core.parse.ros_names import RosNameError, namespace
+from panther_ops.core.robot.edits import edit_args
+from panther_ops.core.robot.launch_args import bool_word, spec
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError

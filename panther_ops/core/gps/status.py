@@ -26,12 +26,12 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.robot import read_config
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.templates import read_template
 from panther_ops.core.gps.credentials import Credentials
 from panther_ops.core.gps.nmea import Fix, NmeaDecoder
 from panther_ops.core.gps.plan import SERVICE
+from panther_ops.core.robot.read import read_config
 from panther_ops.errors import OpsError, TransportError, UsageError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.transport.base import Command

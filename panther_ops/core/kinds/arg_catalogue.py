@@ -357,7 +357,7 @@ CATALOGUE: tuple[ArgSpec, ...] = (
         choices=("DEBUG", "INFO", "WARNING", "ERROR", "FATAL"),
         default="INFO",
     ),
-    # since 2.2.2: husarion_ugv_bringup CHANGELOG 2.2.2 "Add joy2twist dependency (#581)" (see config/gamepad.py)
+    # since 2.2.2: husarion_ugv_bringup CHANGELOG 2.2.2 "Add joy2twist dependency (#581)" (see robot/gamepad.py)
     ArgSpec("launch_gamepad", _BOOL, "start the gamepad (joy2twist) nodes", since=_v("2.2.2"), default="false"),
     ArgSpec(
         "robot_model",

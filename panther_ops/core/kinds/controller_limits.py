@@ -15,7 +15,7 @@ WH05_controller.yaml), where a Lynx without ``wheel_type:=`` runs WH05 (its mode
 ``force`` (then it is written with a warning).
 
 The rules shared by the controller file's validator (`controller.py`) and its editor
-(`core.config.controller.ControllerConfig`, ``config set controller.<key>``): the same value
+(`core.robot.controller.ControllerConfig`, ``config set controller.<key>``): the same value
 gets the same message whichever path writes it.
 """
 

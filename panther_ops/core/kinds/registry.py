@@ -20,7 +20,7 @@ from panther_ops.errors import UsageError
 
 class FileKind(str, Enum):
     """What a file is: every configuration file panther-ops knows (where a stack keeps it:
-    `core.config.files`), and the kinds it writes (each with its one validator, below). The
+    `core.robot.files`), and the kinds it writes (each with its one validator, below). The
     values are `config push --as` names (`PUSHABLE`)."""
 
     CONTROLLER = "controller"

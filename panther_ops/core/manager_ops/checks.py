@@ -24,8 +24,8 @@ from __future__ import annotations
 import shlex
 from dataclasses import dataclass, field
 
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
 

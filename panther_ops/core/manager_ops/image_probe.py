@@ -8,11 +8,11 @@ from __future__ import annotations
 import posixpath
 from typing import Any
 
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import running_containers
 from panther_ops.core.manager_ops.checks import PROBE, ImageFacts, parse_probe
 from panther_ops.core.manager_ops.stock import stock_manager
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import RemoteStateError
 
 

@@ -22,12 +22,12 @@ import posixpath
 import re
 from typing import Any
 
-from panther_ops.core.config.namespace import driver_namespace
-from panther_ops.core.config.robot import read_config
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.fleet.services import running_containers
+from panther_ops.core.robot.namespace import driver_namespace
+from panther_ops.core.robot.read import read_config
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import RemoteStateError
 from panther_ops.manager.adapters.interfaces import RosInterfaces, interfaces_for
 from panther_ops.results import Outcome, RobotResult
@@ -47,7 +47,7 @@ def service_call_argv(ros: RosInterfaces, namespace: str, anim_id: int, param: s
 
 def robot_namespace(ctx: RobotContext, cfg: RobotConfig) -> str:
     """The ROS namespace the robot's driver runs under ("" = none): the inventory's, else the
-    one its compose file and config give (`panther_ops.core.config.namespace.driver_namespace`)."""
+    one its compose file and config give (`panther_ops.core.robot.namespace.driver_namespace`)."""
     return ctx.robot.namespace or read_and_plan(ctx, lambda reads: driver_namespace(reads, cfg))[0]
 
 

@@ -31,8 +31,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.config.plan import compose_plan, edit_args
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.manager_ops.bundle import ARCHIVE_NAME, ManagerBundle, build_bundle
@@ -57,6 +55,8 @@ from panther_ops.core.manager_ops.stock import (
     robot_params,
     stock_manager,
 )
+from panther_ops.core.robot.edits import compose_plan, edit_args
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.errors import UsageError
 
 RUNNING = "manager-running"
@@ -67,7 +67,7 @@ RUNNING = "manager-running"
 # deploy
 # ---------------------------------------------------------------------------------------
 def _arg_name(cfg: RobotConfig) -> str:
-    from panther_ops.core.config.launch_args import spec
+    from panther_ops.core.robot.launch_args import spec
 
     return spec(DISABLE_ARG).name_for(cfg.stack)
 

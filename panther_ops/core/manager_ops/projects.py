@@ -19,8 +19,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from panther_ops.core.config.files import family_dirs, stock_bt_project
 from panther_ops.core.fleet.templates import template_path
+from panther_ops.core.robot.files import family_dirs, stock_bt_project
 from panther_ops.core.stack import Stack
 
 OWN_SHUTDOWN_BEFORE = (2, 2, 1)

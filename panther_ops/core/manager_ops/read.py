@@ -3,8 +3,6 @@ and facts the planners (`plan.py`, pure) ask for, over the robot's one connectio
 
 from __future__ import annotations
 
-from panther_ops.core.config.robot import read_compose
-from panther_ops.core.config.robot_config import parse_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
@@ -15,6 +13,8 @@ from panther_ops.core.manager_ops.checks import IMAGE_PROBE
 from panther_ops.core.manager_ops.image_probe import probe_image
 from panther_ops.core.manager_ops.service import EXISTS
 from panther_ops.core.manager_ops.settings import SERVICE
+from panther_ops.core.robot.read import read_compose
+from panther_ops.core.robot.robot_config import parse_config
 from panther_ops.errors import OpsError
 
 

@@ -7,9 +7,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.compose import Volume
-from panther_ops.core.config.files import config_file
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.manager_ops.layout import Layout
@@ -25,6 +22,9 @@ from panther_ops.core.manager_ops.settings import (
     ManagerSettings,
 )
 from panther_ops.core.manager_ops.stock import CarriedParams, StockManager
+from panther_ops.core.robot.compose import Volume
+from panther_ops.core.robot.files import config_file
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family
 from panther_ops.core.yaml.render import Folded
 from panther_ops.errors import UsageError

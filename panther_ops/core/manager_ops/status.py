@@ -12,7 +12,6 @@ import re
 from datetime import datetime
 from typing import Any
 
-from panther_ops.core.config.robot import read_config
 from panther_ops.core.containers.logs import LogOptions, read_logs
 from panther_ops.core.containers.times import engine_now, human_duration, parse_timestamp
 from panther_ops.core.fleet.reading import read_file
@@ -20,6 +19,7 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.manager_ops.apply import manager_containers
 from panther_ops.core.manager_ops.layout import parse_state, state_path
 from panther_ops.core.manager_ops.settings import DISABLE_ARG, SERVICE
+from panther_ops.core.robot.read import read_config
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 

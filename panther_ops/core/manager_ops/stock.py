@@ -32,27 +32,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-#: manager.yaml key (2.1.1+ names, as docs/manager.md lists them) -> ManagerConfig (section, field)
-CARRIED: dict[str, tuple[str, str]] = {
-    "lights.timer_frequency": ("lights", "timer_frequency"),
-    "battery.percent.window_len": ("lights", "battery_percent_window_len"),
-    "battery.percent.threshold.low": ("lights", "low_battery_threshold_percent"),
-    "battery.percent.threshold.critical": ("lights", "critical_battery_threshold_percent"),
-    "battery.animation_period.low": ("lights", "low_battery_anim_period"),
-    "battery.animation_period.critical": ("lights", "critical_battery_anim_period"),
-    "battery.charging_anim_step": ("lights", "update_charging_anim_step"),
-    "safety.timer_frequency": ("safety", "timer_frequency"),
-    "fan_turn_off_timeout": ("safety", "fan_turn_off_timeout"),
-    "battery.temp.window_len": ("safety", "battery_temp_window_len"),
-    "cpu.temp.window_len": ("safety", "cpu_temp_window_len"),
-    "cpu.temp.fan_on": ("safety", "cpu_fan_on_temp"),
-    "cpu.temp.fan_off": ("safety", "cpu_fan_off_temp"),
-    "driver.temp.window_len": ("safety", "driver_temp_window_len"),
-    "driver.temp.fan_on": ("safety", "driver_fan_on_temp"),
-    "driver.temp.fan_off": ("safety", "driver_fan_off_temp"),
-}
-"""The stock parameters the deployed manager takes over (its trees use them alike)."""
-
 _NODE_DEFAULTS: dict[str, float | int] = {
     "lights.timer_frequency": 10.0, "battery.percent.window_len": 6, "battery.percent.threshold.low": 0.4,
     "battery.percent.threshold.critical": 0.1, "battery.animation_period.low": 30.0,
@@ -60,6 +39,10 @@ _NODE_DEFAULTS: dict[str, float | int] = {
     "fan_turn_off_timeout": 60.0, "battery.temp.window_len": 6, "cpu.temp.window_len": 6, "cpu.temp.fan_on": 70.0,
     "cpu.temp.fan_off": 60.0, "driver.temp.window_len": 6, "driver.temp.fan_on": 45.0, "driver.temp.fan_off": 35.0,
 }
+"""The stock parameters the deployed manager takes over (its trees use them alike), by manager.yaml
+key (2.1.1+ names, as docs/manager.md lists them; `manager.config.param_targets` says what each sets),
+at the node defaults."""
+
 _SHIPPED_FANS: dict[str, float | int] = {"cpu.temp.fan_on": 75.0, "cpu.temp.fan_off": 70.0,
                                          "driver.temp.fan_on": 50.0, "driver.temp.fan_off": 45.0}
 
@@ -164,6 +147,8 @@ def robot_params(stock: StockManager, texts: Mapping[str, str | None] | None, im
     """The robot's own stock values: its files as the image has them (``texts``: path as in
     :meth:`StockManager.paths` -> text, None: not there) over the node defaults; None (``texts``):
     not read, so this release's stock values."""
+    from panther_ops.manager.config import param_targets
+
     if texts is None:
         return CarriedParams(dict(stock.values), f"the stock values of {stock.releases} ({stock.source})")
     values = dict(_NODE_DEFAULTS)
@@ -191,8 +176,8 @@ def robot_params(stock: StockManager, texts: Mapping[str, str | None] | None, im
     for path in stock.paths():  # a file the image lacks: that file's stock values
         if path not in read:
             section = "lights" if "light" in path else "safety"
-            for key, (sec, _field) in CARRIED.items():
-                if sec == section:
+            for key, target in param_targets(dict.fromkeys(_NODE_DEFAULTS)).items():
+                if str(target).startswith(f"{section}."):
                     values[key] = stock.values[key]
     return CarriedParams(values, f"the robot's own, read in {image}: {', '.join(read)}", tuple(notes))
 

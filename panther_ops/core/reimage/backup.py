@@ -78,7 +78,7 @@ def _driver_mounts(facts: RobotFacts) -> tuple[list[str], dict[str, Any]]:
     """(host paths the driver service mounts, stack facts) from the robot's compose file."""
     if facts.compose_text is None:
         return [], {}
-    from panther_ops.core.config.compose import ComposeFile
+    from panther_ops.core.robot.compose import ComposeFile
 
     compose = ComposeFile.parse(facts.compose_text)
     try:

@@ -9,6 +9,7 @@ if TYPE_CHECKING:
 
 
 def human_size(n: int) -> str:
+    """A byte count for people: ``12 B``, ``1.5 KiB`` ... ``2.0 TiB`` (powers of 1024)."""
     value = float(n)
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if value < 1024 or unit == "TiB":

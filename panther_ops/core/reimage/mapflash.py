@@ -118,7 +118,8 @@ def computed_map(image: Image, progress: Progress | None = None) -> Plan:
     return plan
 
 
-def plan_for(image: Image, bmap_path: str | None, progress: Progress | None = None) -> Plan:
+def read_map(image: Image, bmap_path: str | None, progress: Progress | None = None) -> Plan:
+    """The map to write: the block map file ``bmap_path``, else one computed from the image's bytes."""
     if bmap_path is None:
         return computed_map(image, progress)
     start = time.monotonic()

@@ -8,7 +8,7 @@ services the new file lacks (nmea-gps, the manager, ...). A pure function of the
 
 from __future__ import annotations
 
-from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.robot.compose import ComposeFile
 
 
 def same_line(old: tuple[int, ...], new: tuple[int, ...]) -> bool:

@@ -175,12 +175,10 @@ class RobotSshShutdown:
         try:
             status, out, err = exec_on(client, host.command, timeout=host.timeout)
         except SessionLost:
-            return CommandOutcome(True, error="connection closed while shutting down")
+            return CommandOutcome.of_ssh(None)
         finally:
             client.close()
-        if status not in (0, -1):
-            return CommandOutcome(False, out, f"command exited with {status}: {err.strip()}")
-        return CommandOutcome(True, out)
+        return CommandOutcome.of_ssh(status, out, err)
 
 
 class RobotHttpShutdown:

@@ -32,15 +32,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.core.config.files import config_file
-from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan import Bundle, compose_plan, push_onto
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit, MaskedFileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.plan_rollback import plan_rollback
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind, FileKindError, check_file
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S, Edit, HostsFile, Mode, converge_hosts, parse_hosts
+from panther_ops.core.robot.edits import compose_plan
+from panther_ops.core.robot.files import config_file
+from panther_ops.core.robot.launch_args import spec
+from panther_ops.core.robot.push import Bundle, push_onto
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Stack
 from panther_ops.errors import InputError, UsageError
 from panther_ops.manager.shutdown_executor.hosts import ShutdownHost

@@ -5,16 +5,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from panther_ops.core.config.files import config_file
-from panther_ops.core.config.plan import Bundle
-from panther_ops.core.config.push import pull
-from panther_ops.core.config.read import read_and_plan_push
-from panther_ops.core.config.robot import read_config
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
+from panther_ops.core.robot.files import config_file
+from panther_ops.core.robot.pull import pull
+from panther_ops.core.robot.push import Bundle, push_plan
+from panther_ops.core.robot.read import read_compose, read_config
+from panther_ops.core.robot.robot_config import parse_config
 from panther_ops.core.shutdown.plan import (
     Editor,
     RobotHostsFile,
@@ -45,5 +45,7 @@ def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = 
     if plan is not None:
         return plan
     cf = config_file(rf.stack, FileKind.SHUTDOWN_HOSTS)
-    pushed = read_and_plan_push(ctx, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
+    raw, bundle = read_compose(ctx), Bundle(Path(cf.filename), edit.text.encode())
+    pushed = read_and_plan(ctx, lambda reads: push_plan(reads, parse_config(raw, reads.stack),
+                                                        FileKind.SHUTDOWN_HOSTS, bundle))
     return as_hosts_push(pushed, edit, warnings)

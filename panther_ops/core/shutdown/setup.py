@@ -209,7 +209,7 @@ def install_sudoers(client: LanSession, user: str, *, login_user: str, password:
 
 def run_setup(ctx: RobotContext, req: SetupRequest) -> RobotResult:
     """The procedure on one robot (see the module docstring); every failure is a step."""
-    from panther_ops.core.config.robot import read_config
+    from panther_ops.core.robot.read import read_config
 
     report = SetupReport(ctx.robot.name)
     try:

@@ -40,6 +40,17 @@ class CommandOutcome:
     output: str = ""
     error: str = ""
 
+    @classmethod
+    def of_ssh(cls, status: int | None, output: str = "", error: str = "") -> CommandOutcome:
+        """A shutdown command run over SSH, by its exit status: 0, or -1 (the channel closed
+        without one), is delivered; None: the session died while the host answered (it went
+        down: the command was delivered too)."""
+        if status is None:
+            return cls(True, error="connection closed while shutting down")
+        if status not in (0, -1):
+            return cls(False, output, f"command exited with {status}: {error.strip()}")
+        return cls(True, output)
+
 
 class Pinger(Protocol):
     """Is a host answering? Blocking, bounded to about a second."""
@@ -120,13 +131,10 @@ class ParamikoShutdown:
                 error = stderr.read().decode(errors="replace")
                 status = stdout.channel.recv_exit_status()
             except (OSError, paramiko.SSHException):
-                # the host went down while answering: the command was delivered
-                return CommandOutcome(True, error="connection closed while shutting down")
+                return CommandOutcome.of_ssh(None)
         finally:
             client.close()
-        if status not in (0, -1):
-            return CommandOutcome(False, output, f"command exited with {status}: {error.strip()}")
-        return CommandOutcome(True, output)
+        return CommandOutcome.of_ssh(status, output, error)
 
 
 def ssh_method() -> str | None:

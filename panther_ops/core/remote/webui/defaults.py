@@ -15,10 +15,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from panther_ops.core.config.namespace import driver_namespace
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds.webui_settings import NAMESPACE
+from panther_ops.core.robot.namespace import driver_namespace
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import OpsError
 
 KEY = "ros.namespace"

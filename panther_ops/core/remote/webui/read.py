@@ -74,8 +74,8 @@ Task = Callable[[RobotContext], RobotResult]
 
 def robot_namespace(ctx: RobotContext) -> RobotNamespace:
     """The driver's namespace as the WebUI's default (`defaults`), read from the robot."""
-    from panther_ops.core.config.robot import read_config
     from panther_ops.core.fleet.reading import read_and_plan
+    from panther_ops.core.robot.read import read_config
 
     try:
         cfg = read_config(ctx)

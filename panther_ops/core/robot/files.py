@@ -198,7 +198,7 @@ def _battery_plugin(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
 
 JOY2TWIST_SINCE = (2, 2, 2)
 """The first version whose bringup launches the gamepad with its own parameters file
-(``launch_gamepad``; `core.config.gamepad`)."""
+(``launch_gamepad``; `core.robot.gamepad`)."""
 
 
 def _joy2twist(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:

@@ -9,8 +9,8 @@ from __future__ import annotations
 import posixpath
 from dataclasses import dataclass
 
-from panther_ops.core.config.compose import ComposeFile
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigFile
+from panther_ops.core.robot.compose import ComposeFile
+from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR, ROBOT_CONFIG_DIR, ConfigFile
 from panther_ops.core.stack import Stack, stack_from_version
 
 
@@ -24,7 +24,7 @@ class RobotConfig:
     compose: ComposeFile
     stack: Stack
     mode: int | None = None
-    """compose.yaml's permission bits, where the read learnt them (a kept read does)."""
+    """compose.yaml's permission bits where known (None: the write gives the new file the old one's mode)."""
 
     @property
     def service(self) -> str:
@@ -70,7 +70,7 @@ class RobotConfig:
         the wheel file, nor 2.2.0's animations, which come from the image)."""
         if not cf.launch_arg or not self.tree_read:
             return False
-        from panther_ops.core.config.launch_args import spec
+        from panther_ops.core.robot.launch_args import spec
 
         s = spec(cf.launch_arg)
         current = self.compose.args.get(s.name_for(self.stack))

@@ -1,4 +1,5 @@
-"""The gamepad's parameters file (``config push --as joy2twist``), per stack version.
+"""The gamepad's parameters file (``config push --as joy2twist``, planned by
+`config/plan.py`'s ``plan_joy2twist``; pulled by `pull.py`), per stack version.
 
 Where the gamepad runs decides where its parameters go (evidence below):
 
@@ -32,12 +33,11 @@ from __future__ import annotations
 import posixpath
 from dataclasses import dataclass
 
-from panther_ops.core.config.compose import image_repo
-from panther_ops.core.config.files import CONTAINER_CONFIG_DIR, JOY2TWIST_SINCE, ROBOT_CONFIG_DIR
-from panther_ops.core.config.namespace import dotenv_value
-from panther_ops.core.config.robot_config import RobotConfig
-from panther_ops.core.fleet.plan import FileEdit, RobotPlan, Verify
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.compose import image_repo
+from panther_ops.core.robot.files import CONTAINER_CONFIG_DIR, JOY2TWIST_SINCE, ROBOT_CONFIG_DIR
+from panther_ops.core.robot.namespace import dotenv_value
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family
 from panther_ops.errors import UsageError
 
@@ -97,7 +97,7 @@ def _mounted_file(cfg: RobotConfig, service: str, container_file: str) -> str | 
     return None
 
 
-def _driver_target(reads: Reads, cfg: RobotConfig, warnings: list[str]) -> tuple[str, str]:
+def driver_target(reads: Reads, cfg: RobotConfig, warnings: list[str]) -> tuple[str, str]:
     """husarion_ugv 2.2.2+ without a gamepad service: the driver's service and the tree's file."""
     if cfg.stack.version < LAUNCHED_BY_DRIVER:
         raise UsageError(f"{cfg.compose_path} has no gamepad service, and on {cfg.stack.label()} the driver does "
@@ -119,7 +119,7 @@ def _driver_target(reads: Reads, cfg: RobotConfig, warnings: list[str]) -> tuple
     return cfg.service, tree_path(cfg, robot_model(reads, cfg))
 
 
-def _service_target(cfg: RobotConfig, service: str, name: str) -> tuple[str, tuple[str, ...]]:
+def service_target(cfg: RobotConfig, service: str, name: str) -> tuple[str, tuple[str, ...]]:
     """The gamepad's own service: the file it is given (``joy2twist_params_file:=``) and the
     words its command must hold; the mount and argument are added to ``cfg.compose``."""
     current = cfg.compose.command(service).args.get(ARG)
@@ -133,33 +133,6 @@ def _service_target(cfg: RobotConfig, service: str, name: str) -> tuple[str, tup
         cfg.compose.add_volume(path, container, ro=True, service=service)
     cfg.compose.set_arg(ARG, container, service)
     return path, (f"{ARG}:={container}",)
-
-
-def plan_joy2twist(reads: Reads, cfg: RobotConfig, name: str, data: bytes, warnings: list[str]) -> RobotPlan:
-    """The plan of a checked joy2twist file ``name`` with content ``data`` for this robot."""
-    edits: list[FileEdit] = []
-    service = find_gamepad_service(cfg)
-    contains: tuple[str, ...] = ()
-    if service is not None:
-        path, contains = _service_target(cfg, service, name)
-    elif cfg.stack.family is Family.HUSARION_UGV:
-        service, path = _driver_target(reads, cfg, warnings)
-    else:
-        service = gamepad_service(cfg)  # refused, naming what is there
-        path = ""
-    before = reads.file(path)
-    if before != data:
-        edits.append(FileEdit(path, before, data))
-    after = cfg.compose.text().encode()
-    if after != cfg.before:
-        edits.insert(0, FileEdit(cfg.compose_path, cfg.before, after, cfg.mode))
-    summary = f"joy2twist: {name} -> {path}" + (f" ({contains[0]} in {service})" if contains else "")
-    plan = RobotPlan(reads.robot, summary, edits, (service,), cfg.compose_path, [Verify(service, contains)],
-                     None if edits else f"{path} already has this content", [*warnings, *cfg.compose.notes])
-    plan.data["stack"] = cfg.stack.label()
-    plan.data["robot_path"] = path
-    plan.home = cfg.home
-    return plan
 
 
 IMAGE_PREFIX = "/ros2_ws/install/joy2twist"

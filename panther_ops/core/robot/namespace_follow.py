@@ -18,7 +18,7 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from panther_ops.core.config.compose import ComposeFile
+from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.errors import OpsError
 
 ENV_KEY = "ROBOT_NAMESPACE"

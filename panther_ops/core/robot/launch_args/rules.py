@@ -9,12 +9,12 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from panther_ops.core.config.launch_args import _TRUE, ArgConflictError, _since_text
 from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_KEY, _BY_NAME, IMAGE_PREFIXES, ArgType, _ugv
+from panther_ops.core.robot.launch_args.catalogue import _TRUE, ArgConflictError, _since_text
 from panther_ops.core.stack import Stack
 
 if TYPE_CHECKING:
-    from panther_ops.core.config.compose import Volume
+    from panther_ops.core.robot.compose import Volume
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from panther_ops.core.config.files import config_file
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.controller_limits import (
     LimitKey,
@@ -21,6 +20,7 @@ from panther_ops.core.kinds.controller_limits import (
     parse_limit_key,
     validate_limit,
 )
+from panther_ops.core.robot.files import config_file
 from panther_ops.core.stack import Stack
 
 if TYPE_CHECKING:  # the YAML editor (ruamel) loads when a file is edited, not for validating values

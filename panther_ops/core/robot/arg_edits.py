@@ -6,13 +6,21 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from panther_ops.core.config.arg_rules import canonical_args, check_args, raise_for_errors
-from panther_ops.core.config.launch_args import LaunchArgError, UnknownArgError, ValidatedArg, spec, validate_arg
 from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_NAME, ArgSpec
+from panther_ops.core.robot.launch_args import (
+    LaunchArgError,
+    UnknownArgError,
+    ValidatedArg,
+    canonical_args,
+    check_args,
+    raise_for_errors,
+    spec,
+    validate_arg,
+)
 from panther_ops.core.stack import Stack
 
 if TYPE_CHECKING:
-    from panther_ops.core.config.compose import ComposeFile
+    from panther_ops.core.robot.compose import ComposeFile
 
 
 @dataclass(frozen=True)

@@ -15,14 +15,14 @@ from __future__ import annotations
 import posixpath
 from collections.abc import Mapping
 
-from panther_ops.core.config.compose import ComposeFile
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.kinds.arg_catalogue import ArgType
+from panther_ops.core.robot.compose import ComposeFile
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import UsageError
 
 
 def _file_arg(name: str) -> bool:
-    from panther_ops.core.config.launch_args import spec
+    from panther_ops.core.robot.launch_args import spec
 
     try:
         return spec(name).type is ArgType.PATH

@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from panther_ops.core.config.launchcmd import (
+from panther_ops.core.robot.launchcmd import (
     CommandForm,
     LaunchCommand,
     Token,

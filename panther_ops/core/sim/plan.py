@@ -1,5 +1,6 @@
-"""Charging a simulated Panther: the LinearBatteryPlugin's recharge services (manual: Charging
-Process), called the way Husarion's documentation calls them, through Gazebo Transport's CLI.
+"""The planner of `sim charge` (the simulation's one planner): charging a simulated Panther,
+the LinearBatteryPlugin's recharge services (manual: Charging Process), called the way Husarion's
+documentation calls them, through Gazebo Transport's CLI.
 
 Sources: husarion/husarion_ugv_ros@2.1.1:panther_gazebo/CONFIGURATION.md and
 @2.2.2:husarion_ugv_gazebo/CONFIGURATION.md (``ign service --service

@@ -21,14 +21,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from panther_ops.core.config.controller import ControllerConfig
-from panther_ops.core.config.files import config_file
-from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.plan import FileEdit
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.controller_limits import parse_limit_key, validate_limit
+from panther_ops.core.robot.controller import ControllerConfig
+from panther_ops.core.robot.files import config_file
+from panther_ops.core.robot.launch_args import spec
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.errors import UsageError
 
 
@@ -62,7 +62,7 @@ def migrate(reads: Reads, cfg: RobotConfig, new_wheel: str, robot_model: str | N
         UsageError: a custom wheel file is mounted, or the controller file cannot be read
             as a controller file (the message says how to go on).
     """
-    from panther_ops.core.config.robot_model import robot_model_of
+    from panther_ops.core.robot.robot_model import robot_model_of
 
     model = robot_model or robot_model_of(reads, cfg)
     if not needs_migration(cfg, new_wheel, model):

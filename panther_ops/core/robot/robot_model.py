@@ -16,9 +16,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from panther_ops.core.config.namespace import dotenv_value
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.namespace import dotenv_value
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family, Stack
 
 ENV_KEY = "ROBOT_MODEL_NAME"
@@ -49,7 +49,7 @@ def robot_model_of(reads: Reads, cfg: RobotConfig) -> str:
 
 def default_wheel_type(reads: Reads, cfg: RobotConfig) -> str:
     """The stack's default wheel type on this robot (WH05 on a husarion_ugv Lynx, else WH01)."""
-    from panther_ops.core.config.launch_args import spec
+    from panther_ops.core.robot.launch_args import spec
 
     return spec("wheel_type").default_for(cfg.stack, robot_model_of(reads, cfg))
 

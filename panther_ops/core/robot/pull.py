@@ -1,5 +1,6 @@
-"""`config push` / `config pull`: the manual's four-step "Modification of configuration
-files" procedure as one command, and its inverse.
+"""The file of a kind in use on a robot (`config pull`, and the file `shutdown hosts` and
+`apply` start from). Its inverse, `config push` (`push.py`), is the manual's four-step
+"Modification of configuration files" procedure as one command.
 
 push: upload the file under ``/home/husarion/config/<package>/...`` (the 2.2 layout, used on
 every version), mount it into the driver container and point the launch argument at it
@@ -18,12 +19,14 @@ that it is panther-ops' own.
 from __future__ import annotations
 
 import posixpath
-import re
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from panther_ops.core.config.files import (
+from panther_ops.core.fleet.reading import read_and_plan
+from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.fleet.services import running_containers
+from panther_ops.core.kinds import FileKind
+from panther_ops.core.robot.files import (
     ROBOT_CONFIG_DIR,
     ConfigFile,
     config_file,
@@ -31,87 +34,16 @@ from panther_ops.core.config.files import (
     stock_bt_project,
     template_source,
 )
-from panther_ops.core.config.gamepad import InImage
-from panther_ops.core.config.launch_args import spec
-from panther_ops.core.config.plan import BT_ARGS, Bundle, robot_file
-from panther_ops.core.config.robot import read_config
-from panther_ops.core.config.robot_config import RobotConfig
-from panther_ops.core.fleet.reading import read_and_plan
-from panther_ops.core.fleet.runner import RobotContext
-from panther_ops.core.fleet.services import running_containers
-from panther_ops.core.kinds import PUSHABLE, FileKind, check_file
+from panther_ops.core.robot.gamepad import InImage
+from panther_ops.core.robot.launch_args import spec
+from panther_ops.core.robot.push import BT_ARGS, robot_file
+from panther_ops.core.robot.read import read_config
+from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family, Stack
-from panther_ops.errors import InputError, UsageError
+from panther_ops.errors import UsageError
 
 if TYPE_CHECKING:
-    from panther_ops.core.config.bt_pull import Includes
-
-_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.+-]*$")
-
-
-def push_kind(text: str, option: str = "--as") -> FileKind:
-    """The file kind a push or pull names (exit 2 naming what is allowed)."""
-    try:
-        kind = FileKind(text)
-    except ValueError:
-        kind = None
-    if kind not in PUSHABLE:
-        raise UsageError(f"{option} {text!r} is not a config kind",
-                         hint="allowed: " + ", ".join(k.value for k in PUSHABLE))
-    return kind
-
-
-def read_bundle(kind: FileKind, path: Path, *, force: bool = False) -> Bundle:
-    """Read and check the local files before any robot is contacted (bad input: exit 2).
-
-    The content goes through the kind's one validator (`core.filekinds`) with what needs no
-    robot; `plan_push` checks it again against each robot's stack and wheel type.
-    """
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror}", path=str(path)) from None
-    if not _NAME.match(path.name):
-        raise InputError(f"the file name {path.name!r} becomes a path in the driver's command: use letters, "
-                         "digits and _ . + - only", path=str(path))
-    bundle = Bundle(path, data)
-    if kind in BT_ARGS:
-        if path.suffix != ".btproj":
-            raise InputError("a BT project is pushed by its .btproj file", path=str(path))
-        from panther_ops.core.kinds.bt import project_files
-
-        check_file(kind, str(path), data, local=path, force=force)
-        bundle.extra = {rel: src.read_bytes() for rel, src in project_files(path).items()}
-        return bundle
-    check_file(kind, str(path), data, local=path, force=force)
-    if kind is FileKind.USER_ANIMATIONS:
-        _animation_images(bundle)
-    return bundle
-
-
-_IMAGE_MAGIC = (b"\x89PNG\r\n\x1a\n", b"\xff\xd8\xff", b"GIF87a", b"GIF89a")
-_IMAGE = re.compile(r"^(\s*image:\s*)(['\"]?)([^'\"\n#]+?)\2(\s*(#.*)?)$", re.MULTILINE)
-
-
-def _animation_images(bundle: Bundle) -> None:
-    """Collect local images the animations reference; their paths are rewritten on push."""
-    for m in _IMAGE.finditer(bundle.data.decode()):
-        ref = m.group(3).strip()
-        if ref.startswith("$(find"):
-            continue
-        src = Path(ref) if ref.startswith("/") else bundle.main.parent / ref
-        if src.is_file():
-            data = src.read_bytes()
-            if not data.startswith(_IMAGE_MAGIC):  # only images travel to the robot, whatever the path names
-                raise InputError(f"image {ref} is not a PNG, JPEG or GIF file: not pushed", path=str(bundle.main))
-            name = f"animations/{src.name}"
-            if bundle.extra.get(name, data) != data:
-                raise InputError(f"two different images are named {src.name}: they would land on the same robot "
-                                 "path", path=str(bundle.main))
-            bundle.extra[name] = data
-        elif not ref.startswith("/"):
-            raise InputError(f"image {ref} not found next to the file", path=str(bundle.main))
-
+    from panther_ops.core.robot.bt_pull import Includes
 
 def _read(ctx: RobotContext, path: str) -> bytes | None:
     try:
@@ -189,7 +121,7 @@ def _bt_pull(ctx: RobotContext, cfg: RobotConfig, kind: FileKind) -> tuple[bytes
 def pull_project(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str, Includes]:
     """A BT project in use on the robot (as :func:`pull`), and every file it includes, read
     from the same place as the project."""
-    from panther_ops.core.config.bt_pull import pulled_includes
+    from panther_ops.core.robot.bt_pull import pulled_includes
 
     data, source, read = _bt_pull(ctx, read_config(ctx), kind)
     return data, source, pulled_includes(data, read)
@@ -199,7 +131,7 @@ def pull(ctx: RobotContext, kind: FileKind) -> tuple[bytes, str]:
     """The file of ``kind`` in use on the robot, and where it came from."""
     cfg = read_config(ctx)
     if kind is FileKind.JOY2TWIST:
-        from panther_ops.core.config.gamepad import pull_joy2twist, robot_model
+        from panther_ops.core.robot.gamepad import pull_joy2twist, robot_model
 
         found = read_and_plan(ctx, lambda reads: pull_joy2twist(reads, cfg))
         if isinstance(found, tuple):
@@ -278,8 +210,8 @@ def _container_read(ctx: RobotContext, cfg: RobotConfig, service: str, path: str
 def _joy2twist_from_image(ctx: RobotContext, cfg: RobotConfig, found: InImage) -> tuple[bytes, str]:
     """The gamepad's parameters in its image (panther_ros 2.0-2.1: husarion/joy2twist), else
     panther-ops' template of husarion/joy2twist's joy2twist_panther.yaml, saying so."""
-    from panther_ops.core.config.gamepad import TEMPLATE_SOURCE
     from panther_ops.core.fleet.templates import read_template
+    from panther_ops.core.robot.gamepad import TEMPLATE_SOURCE
 
     got = _container_read(ctx, cfg, found.service, found.path)
     if got is not None:

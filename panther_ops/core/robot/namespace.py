@@ -16,8 +16,8 @@ from __future__ import annotations
 import posixpath
 import re
 
-from panther_ops.core.config.robot_config import RobotConfig
 from panther_ops.core.fleet.reads import Reads
+from panther_ops.core.robot.robot_config import RobotConfig
 
 ENV_KEY = "ROBOT_NAMESPACE"
 _DEFAULTED = re.compile(r"^\$\{[A-Za-z_][A-Za-z0-9_]*:?-([^}]*)\}$")

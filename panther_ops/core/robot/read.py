@@ -6,13 +6,12 @@ What was read, parsed, is `robot_config.py`'s (pure; planners import that one).
 from __future__ import annotations
 
 import posixpath
-import secrets
 
-from panther_ops.core.config.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.fleet.confine import compose_path_problem
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.errors import OpsError, RemoteStateError, TransportError, UsageError
-from panther_ops.transport import scripts, scripts_apply
+from panther_ops.transport import scripts
 from panther_ops.transport.base import Command
 
 
@@ -31,19 +30,10 @@ def compose_file(ctx: RobotContext) -> str:
     return path
 
 
-def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
-    """Read the robot's compose.yaml and its user's home (one round trip).
-
-    ``keep``: the read's session stays open on the robot, waiting to carry this command's
-    write (the pipeline resumes it), so a change costs the robot one session, not two.
-    """
+def read_compose(ctx: RobotContext) -> ComposeRead:
+    """Read the robot's compose.yaml and its user's home (one round trip, a plain ``run``)."""
     path = compose_file(ctx)
-    if keep:
-        mark = f"@@panther-ops-{secrets.token_hex(8)}@@"
-        res = ctx.transport.run_kept(Command.sh(scripts_apply.READ_KEPT, ctx.robot.compose_file, mark),
-                                     f"{mark}\n".encode(), scripts_apply.WRITE_KEY)
-    else:
-        res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, path))
+    res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, path))
     home, _, rest = res.raw_stdout.partition(b"\n")
     if path.startswith("~/"):
         path = posixpath.join(home.decode(), path[2:])
@@ -51,15 +41,9 @@ def read_compose(ctx: RobotContext, *, keep: bool = False) -> ComposeRead:
         raise RemoteStateError(f"{path} not found on the robot", hint="set compose_file: in the inventory")
     if not res.ok:
         raise TransportError(ctx.robot.name, f"cannot read {path}: {res.stderr.strip()}")
-    if not keep:
-        return ComposeRead(home.decode(), path, rest)
-    try:
-        got = scripts_apply.read_archive(rest)
-    except ValueError as exc:
-        raise TransportError(ctx.robot.name, f"cannot read {path}: {exc}") from None
-    return ComposeRead(home.decode(), path, got.data, got.mode)
+    return ComposeRead(home.decode(), path, rest)
 
 
-def read_config(ctx: RobotContext, *, keep: bool = False) -> RobotConfig:
-    """Read and parse the robot's compose.yaml (one read; ``keep`` as for :func:`read_compose`)."""
-    return parse_config(read_compose(ctx, keep=keep), ctx.robot.stack)
+def read_config(ctx: RobotContext) -> RobotConfig:
+    """Read and parse the robot's compose.yaml (one read)."""
+    return parse_config(read_compose(ctx), ctx.robot.stack)
