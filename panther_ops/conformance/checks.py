@@ -20,8 +20,9 @@ Four checks per release, each a list of `Result` (one per item, so a fix flips o
   the image's ``update_config_directory`` copies into ``~/config`` on a Panther.
 
 A release panther-ops does not support yet (husarion_ugv 2.3, `preview`) is checked the same
-way against its preview's base release (2.2.2): its validators, catalogue, templates, compose
-template and config tree; one more item, ``release``, says that panther-ops refuses it.
+way against its preview's base release (2.2.2): its catalogue, compose template and config
+tree; its default files and configuration templates with its own file-kind rules
+(`preview.kinds_stack`); one more item, ``release``, says that panther-ops refuses it.
 
 A result is ok (True), a failure (False) or not checked (None, with the reason: e.g. no
 local mirror of the compose file's repository).
@@ -37,7 +38,7 @@ from typing import Any
 
 from panther_ops.conformance import catalogue
 from panther_ops.conformance.digest import Leaves, diff, leaves
-from panther_ops.conformance.preview import checked_stack, preview_for
+from panther_ops.conformance.preview import checked_stack, kinds_stack, preview_for
 from panther_ops.conformance.reasons import own, reason_for
 from panther_ops.conformance.validate import run_validator
 from panther_ops.core.fleet.templates import templates_dir
@@ -92,8 +93,11 @@ def _template_leaves(template: str) -> tuple[str, Leaves] | None:
     return leaves(path.name, path.read_bytes())
 
 
-def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
-    """Which template stands for which upstream file at this release (see the module docstring)."""
+def template_pairs(table: Mapping[str, Any], stack: Stack, base: Stack | None = None) -> list[Pair]:
+    """Which template stands for which upstream file at this release (see the module docstring):
+    the configuration files of ``stack``, the demo tree and compose file of ``base`` (a preview
+    release's base, `preview.checked_stack`; None: ``stack``)."""
+    base = base or stack
     pkgs: Mapping[str, str] = table["packages"]
     present = {f["path"] for f in table["files"]}
     pairs: list[Pair] = []
@@ -114,7 +118,7 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
                 pairs.append(Pair(template, upstream))
                 paired.add(template)
                 covered.add(upstream)
-    if table.get("tree") and stack.version_str in demo_tags():
+    if table.get("tree") and base.version_str in demo_tags():
         root = templates_dir() / TREE_TEMPLATE
         for path in sorted(p for p in root.rglob("*") if p.is_file()):
             rel = path.relative_to(root).as_posix()
@@ -123,7 +127,7 @@ def template_pairs(table: Mapping[str, Any], stack: Stack) -> list[Pair]:
             pairs.append(Pair(f"{TREE_TEMPLATE}/{rel}", upstream if upstream in present else None))
     compose = table.get("compose")
     for path in sorted((templates_dir() / "compose").glob("*.yaml")):
-        if path.stem.rsplit("-", 1)[-1] == stack.version_str:
+        if path.stem.rsplit("-", 1)[-1] == base.version_str:
             if compose:
                 pairs.append(Pair(f"compose/{path.name}", f"{compose['repo']}@{compose['commit'][:12]}:"
                                                           f"{compose['path']}"))
@@ -143,15 +147,17 @@ def check_release(table: Mapping[str, Any]) -> list[Result]:
         stack = checked_stack(tag)
     except (OpsError, ValueError) as exc:
         return [Result(tag, "release", tag, False, f"panther-ops does not support {tag}: {exc}")]
-    pairs = template_pairs(table, stack)
-    results = [*default_results(table, stack, pairs), *launch_results(table, stack),
+    own_stack = kinds_stack(tag)  # a preview release's files: its own kind rules
+    pairs = template_pairs(table, own_stack, stack)
+    results = [*default_results(table, own_stack, pairs), *launch_results(table, stack),
                *template_results(table, pairs), *tree_results(table)]
     preview = preview_for(tag)
     if preview is None:
         return results
     refused = f"panther-ops refuses {preview.distro} {tag} (core/stack.py parse_image)"
     return [Result(tag, "release", tag, False,
-                   f"{refused}: {preview.issue}; the items below are checked as on {preview.base}, the release "
+                   f"{refused}: {preview.issue}; its default files and configuration templates are checked "
+                   f"with its own file-kind rules, the other items as on {preview.base}, the release "
                    f"panther-ops supports nearest to it"), *results]
 
 
@@ -312,10 +318,10 @@ def untraced_templates(tables: Iterable[Mapping[str, Any]]) -> list[Result]:
     traced: set[str] = set()
     for table in tables:
         try:
-            stack = stack_from_version(table["tag"])
+            stack, base = kinds_stack(table["tag"]), checked_stack(table["tag"])
         except (OpsError, ValueError):
             continue
-        traced.update(p.template for p in template_pairs(table, stack) if p.template)
+        traced.update(p.template for p in template_pairs(table, stack, base) if p.template)
     used = _used_by_generation()
     root = templates_dir()
     out: list[Result] = []

@@ -32,38 +32,25 @@ FINDINGS: dict[str, str] = {
 KNOWN: dict[str, tuple[str, str]] = {
     # issue #25: husarion_ugv 2.3 (Jazzy), checked as on 2.2.2 (preview.py); docs/jazzy.md explains each.
     "2.3.[012]:release:2.3.[012]": ("issue #25", "core/stack.py refuses jazzy images and 2.3+"),
-    "2.3.[012]:defaults:husarion_ugv_controller/config/WH0[1245]_controller.yaml":
-        ("issue #25", "the controller validator knows neither the Jazzy limits (max_deceleration, "
-                      "*_reverse) nor NaN jerk"),
-    "2.3.2:defaults:husarion_ugv_lights/config/[lp]*_animations.yaml":
-        ("issue #25", "animations 16 GOAL_FAILED, 17 FLOOD_LIGHT use images 2.2 does not ship"),
-    "2.3.2:defaults:husarion_ugv_manager/behavior_trees/LightsBT.btproj":
-        ("issue #25", "the Lights tree uses CheckStringMsg (2.3.2) and IfThenElse"),
     "2.3.0:launch:animations_config_path": ("issue #25", "2.3.0 reads the animations from the image, as 2.2.0"),
     "2.3.0:launch:launch_gamepad": ("issue #25", "2.3.0 runs the gamepad as its own compose service, as 2.2.0"),
     "2.3.[012]:launch:publish_robot_state": ("issue #25", "gone from controller.launch.py on 2.3"),
     "2.3.2:launch:use_madgwick_filter": ("issue #25", "new argument of controller and load_urdf launch files"),
     "2.3.[012]:templates:compose/husarion-ugv-2.2.2.yaml":
         ("issue #25", "2.3.1/2.3.2: the image tag only; 2.3.0: a separate gamepad_controller service"),
-    "2.3.[012]:templates:config*/husarion-ugv-2.2/husarion_ugv_controller/config/WH0[1245]_controller.yaml":
+    # the demo's 2.2.2 config tree (templates/config-tree/husarion-ugv-2.2, the preview's base) against 2.3's
+    # files; 2.3's own templates are templates/config/husarion-ugv-2.3*.
+    "2.3.[012]:templates:config-tree/husarion-ugv-2.2/husarion_ugv_controller/config/WH0[1245]_controller.yaml":
         ("issue #25", "controller limits schema of Jazzy ros2_controllers (2.3.2: and twist_mux_controller)"),
-    "2.3.[012]:templates:config*/husarion-ugv-2.2/husarion_ugv_localization/config/*_localization*.yaml":
+    "2.3.[012]:templates:config-tree/husarion-ugv-2.2/husarion_ugv_localization/config/*_localization*.yaml":
         ("issue #25", "EKF stamped_control (2.3.2: control_timeout 0.2)"),
     "2.3.[012]:templates:config-tree/husarion-ugv-2.2/husarion_ugv_bringup/config/joy2twist_panther.yaml":
         ("issue #25", "2.3.0: no joy2twist file in the tree; 2.3.1: cmd_vel_stamped; "
                       "2.3.2: moved to husarion_ugv_teleop"),
-    "2.3.1:templates:config/husarion-ugv-2.2/husarion_ugv_bringup/config/joy2twist_*.yaml":
-        ("issue #25", "cmd_vel_stamped: true"),
-    "2.3.2:templates:(none) -> husarion_ugv_teleop/config/joy2twist_*.yaml":
-        ("issue #25", "joy2twist moved to husarion_ugv_teleop: no 2.3 template"),
-    "2.3.2:templates:config*/husarion-ugv-2.2/husarion_ugv_lights/config/[lp]*_animations.yaml":
+    "2.3.2:templates:config-tree/husarion-ugv-2.2/husarion_ugv_lights/config/[lp]*_animations.yaml":
         ("issue #25", "animations 16 GOAL_FAILED and 17 FLOOD_LIGHT"),
-    "2.3.2:templates:config*/husarion-ugv-2.2/husarion_ugv_manager/behavior_trees/[Ll]ights*":
+    "2.3.2:templates:config-tree/husarion-ugv-2.2/husarion_ugv_manager/behavior_trees/[Ll]ights*":
         ("issue #25", "Lights tree keyed on twist_mux_controller/source (CheckStringMsg)"),
-    "2.3.2:templates:config/husarion-ugv-2.2/husarion_ugv_manager/behavior_trees/safety.xml":
-        ("issue #25", "the _skipIf scripts lose their backslash line continuations (thresholds unchanged)"),
-    "2.3.2:templates:config/husarion-ugv-2.2/husarion_ugv_manager/config/lights_manager.yaml":
-        ("issue #25", "the check_string_msg_bt_node plugin"),
     "2.3.[02]:tree:panther": ("issue #25", "2.3.0 copies no joy2twist or animations file; 2.3.2 copies "
                                           "joy2twist from husarion_ugv_teleop"),
 }

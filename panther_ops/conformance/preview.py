@@ -9,15 +9,20 @@ bringup, the 2.2.2 templates against 2.3's files. Every failing item is a to-do 
 that adds the line (`Preview.issue`), listed in `known` under that label; docs/conformance.md
 renders these releases in their own section, and docs/jazzy.md says what each item means.
 
-Nothing here makes panther-ops accept a 2.3 robot: `checked_stack` hands the *base* stack to
-the conformance tool only.
+The file kinds are the exception: their rules are chosen by the release (core/kinds,
+core/robot/files.py know 2.3), so a preview release's default files and templates are checked
+with its own stack (`kinds_stack`), built from the tag as the stack panther-ops will read from
+the release's image.
+
+Nothing here makes panther-ops accept a 2.3 robot: `checked_stack` and `kinds_stack` hand
+their stacks to the conformance tool only.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from panther_ops.core.stack import Stack, parse_version, stack_from_version
+from panther_ops.core.stack import UGV_REPO, Stack, parse_version, stack_from_version
 from panther_ops.errors import OpsError
 
 
@@ -70,3 +75,18 @@ def checked_stack(tag: str) -> Stack:
     """
     preview = preview_for(tag)
     return stack_from_version(preview.base if preview else tag)
+
+
+def kinds_stack(tag: str) -> Stack:
+    """The stack whose file-kind rules check ``tag``'s files and templates: its own, also on a
+    release panther-ops does not support yet (a preview's stack, as its image would give it).
+
+    Raises:
+        OpsError: panther-ops does not support ``tag`` and no preview covers it.
+        ValueError: ``tag`` is not a version X.Y.Z.
+    """
+    preview = preview_for(tag)
+    if preview is None:
+        return stack_from_version(tag)
+    return Stack(image=f"{UGV_REPO}:{preview.distro}-{tag}", distro=preview.distro, version=parse_version(tag),
+                 build_date=None)

@@ -159,10 +159,11 @@ def render(tables: Sequence[Mapping[str, Any]], results: Sequence[Result]) -> st
 def _not_yet(issue: str, title: str, base: str, tables: Sequence[Mapping[str, Any]],
              results: Sequence[Result]) -> list[str]:
     out = [f"## Not yet supported ({issue})", "",
-           f"{title}: panther-ops refuses these releases today. Their tables are checked as panther-ops "
-           f"reads {base}, the release it supports nearest to them: {base}'s validators on their default "
-           f"files, {base}'s launch-argument catalogue against their bringup, {base}'s templates (and "
-           f"compose template and config tree) against their files. Each failing item is a to-do of "
+           f"{title}: panther-ops refuses these releases today. Their default files and configuration "
+           f"templates are checked with each release's own file-kind rules (the validators and "
+           f"templates/config directories that know it); the rest as panther-ops reads {base}, the release "
+           f"it supports nearest to them: {base}'s launch-argument catalogue against their bringup, {base}'s "
+           f"compose template and the demo's {base} config tree against their files. Each failing item is a to-do of "
            f"{issue}, listed in `panther_ops/conformance/known.py` under that label (`xfail(strict=True)` "
            "in the tests: an item that passes once the release is supported turns red until its line is "
            "removed); `docs/jazzy.md` says what changed and how each file maps.", "",

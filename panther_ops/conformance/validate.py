@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from panther_ops.conformance.preview import checked_stack
+from panther_ops.conformance.preview import kinds_stack
 from panther_ops.core.kinds import FileKind, FileKindError, Target, check_file
 from panther_ops.core.robot.launch_args import spec
 from panther_ops.errors import OpsError
@@ -13,12 +13,12 @@ from panther_ops.errors import OpsError
 
 def target_for(tag: str, wheel_type: str | None, robot_model: str) -> Target:
     """The robot an upstream default file of ``tag`` is meant for (on a release panther-ops does
-    not support yet: the same robot on the preview's base release, `preview.checked_stack`).
+    not support yet: its preview's stack, `preview.kinds_stack`).
 
     Raises:
         OpsError: panther-ops does not support the release, and no preview covers it.
     """
-    stack = checked_stack(tag)
+    stack = kinds_stack(tag)
     return Target(stack, wheel_type or spec("wheel_type").default_for(stack, robot_model))
 
 

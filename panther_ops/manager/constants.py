@@ -81,6 +81,15 @@ class AnimationId22(IntEnum):
 
 ANIMATION_ID_CONSTANTS_22: dict[str, int] = {f"{a.name}_ANIM_ID": int(a) for a in AnimationId22}
 """The 2.2 Lights tree's animation constants (husarion_ugv_msgs numbers)."""
+ANIMATION_ID_CONSTANTS_232: dict[str, int] = {**ANIMATION_ID_CONSTANTS_22, "GOAL_FAILED_ANIM_ID": 16,
+                                              "FLOOD_LIGHT_ANIM_ID": 17}
+"""husarion_ugv 2.3.2's: 2.2's and GOAL_FAILED 16, FLOOD_LIGHT 17 (husarion_ugv_ros@2.3.2:
+husarion_ugv_manager/src/lights_manager_node.cpp ``CreateLightsInitialBlackboard``; the numbers are the
+``id`` of those animations in husarion_ugv_ros@2.3.2:husarion_ugv_lights/config/panther_animations.yaml)."""
+MUX_SOURCE_TOPIC = "twist_mux_controller/source"
+"""husarion_ugv 2.3.2: the twist mux's active input (std_msgs/String), checked by the Lights tree."""
+MUX_SOURCES = ("manual", "autonomous", "unknown", "not_published")
+"""What `MUX_SOURCE_TOPIC` says (husarion_ugv_ros@2.3.2:ROS_API.md)."""
 
 DEAD_MAN_BUTTON_INDEX = 4
 """2.2's lights manager: ``drive_state`` = ``joy.buttons[4]`` (the gamepad's dead man switch);

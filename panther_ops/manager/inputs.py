@@ -5,7 +5,9 @@ Lights gets battery_status / battery_health, the moving average of the battery p
 and e_stop_state; on husarion_ugv 2.2 also ``drive_state`` (the joy message's dead man
 button, as 2.2's lights manager). Safety gets battery_status / battery_health, ``bat_temp``, ``cpu_temp``,
 ``driver_temp`` (the hotter of the two drivers), e_stop_state, aux_state and fan_state.
-Battery values are not averaged while the status or health is UNKNOWN (as upstream).
+On husarion_ugv 2.3.2 the string topics the Lights tree checks (``twist_mux_controller/source``)
+go to the trees' `TopicLatch` (CheckStringMsg). Battery values are not averaged while the status
+or health is UNKNOWN (as upstream).
 """
 
 from __future__ import annotations
@@ -25,7 +27,9 @@ from panther_ops.manager.robot_io import (
     IOStateMsg,
     JoyMsg,
     RobotMsg,
+    StringMsg,
     SystemStatusMsg,
+    TopicLatch,
 )
 
 
@@ -39,8 +43,9 @@ class InputFeeder:
     """Keeps the moving averages and writes what the trees read."""
 
     def __init__(self, config: ManagerConfig, lights: TreeBlackboard | None,
-                 safety: TreeBlackboard | None) -> None:
+                 safety: TreeBlackboard | None, topics: TopicLatch | None = None) -> None:
         self.lights = lights
+        self.topics = topics or TopicLatch()
         self.safety = safety
         self.step = config.lights.update_charging_anim_step
         self.percent = MovingAverage(config.lights.battery_percent_window_len, 1.0)
@@ -66,6 +71,8 @@ class InputFeeder:
         elif isinstance(msg, SystemStatusMsg):
             if self.safety is not None:
                 self.safety.set(keys.CPU_TEMP, self.cpu_temp.roll(msg.cpu_temp))
+        elif isinstance(msg, StringMsg):
+            self.topics.put(msg)
         elif isinstance(msg, JoyMsg):
             if self.lights is not None and len(msg.buttons) > DEAD_MAN_BUTTON_INDEX:
                 self.lights.set(keys.DRIVE_STATE, bool(msg.buttons[DEAD_MAN_BUTTON_INDEX]))

@@ -64,7 +64,33 @@ class JoyMsg:
     buttons: tuple[int, ...]
 
 
-RobotMsg = Union[BatteryMsg, EStopMsg, IOStateMsg, SystemStatusMsg, DriverStateMsg, JoyMsg]  # noqa: UP007
+@dataclass(frozen=True)
+class StringMsg:
+    """A std_msgs/String on a topic: husarion_ugv 2.3.2's ``twist_mux_controller/source`` (the twist
+    mux's active input: ``manual``, ``autonomous``, ``unknown`` or ``not_published``), read by the
+    Lights tree's CheckStringMsg (husarion_ugv_ros@2.3.2:husarion_ugv_manager/src/plugins/condition/
+    check_string_msg.cpp)."""
+
+    topic: str
+    """relative to the robot's namespace, without a leading '/'"""
+    data: str
+
+
+RobotMsg = Union[BatteryMsg, EStopMsg, IOStateMsg, SystemStatusMsg, DriverStateMsg, JoyMsg, StringMsg]  # noqa: UP007
+
+
+class TopicLatch:
+    """The last StringMsg of each topic (BT.CPP's RosTopicSubNode with ``latchLastMessage``)."""
+
+    def __init__(self) -> None:
+        self._last: dict[str, str] = {}
+
+    def put(self, msg: StringMsg) -> None:
+        self._last[msg.topic.strip("/")] = msg.data
+
+    def last(self, topic: str) -> str | None:
+        """The last data received on ``topic``, None before the first message."""
+        return self._last.get(topic.strip("/"))
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ from panther_ops.manager.constants import ANIMATION_ID_CONSTANTS, LIGHTS_TREE, S
 from panther_ops.manager.inputs import InputFeeder, ready
 from panther_ops.manager.nodes.base import NodeContext, was_skipped
 from panther_ops.manager.nodes.decorators import Guard
-from panther_ops.manager.robot_io import RobotIO
+from panther_ops.manager.robot_io import RobotIO, TopicLatch
 from panther_ops.manager.shutdown_executor.backends import ShutdownBackends
 
 TreeBuilder = Callable[[NodeContext], py_trees.behaviour.Behaviour]
@@ -172,18 +172,19 @@ class ManagerRuntime:
         self.safety_bb.update({keys.SIGNAL_SHUTDOWN: (False, ""), keys.FAN_TURNED_ON: False})
         self.shutdown_bb.update(shutdown_constants(config.safety))
         self.shutdown_bb.set(keys.SIGNAL_SHUTDOWN, (False, ""))
+        self.topics = TopicLatch()
         self.lights = self.trees.lights(self._ctx(self.lights_bb, config.lights.service_timeout))
         self.safety = self.trees.safety(self._ctx(self.safety_bb, config.safety.service_timeout))
         self.shutdown = self.trees.shutdown(self._ctx(self.shutdown_bb,
                                                       config.safety.service_timeout))
-        self.feeder = InputFeeder(config, self.lights_bb, self.safety_bb)
+        self.feeder = InputFeeder(config, self.lights_bb, self.safety_bb, self.topics)
         self.mode = Mode.RUNNING
         self.shutdown_reason: str | None = None
         self.shutdown_status: str | None = None
         self._set_up = False
 
     def _ctx(self, blackboard: TreeBlackboard, service_timeout: float) -> NodeContext:
-        return NodeContext(self.io, self.clock, blackboard, self.backends, service_timeout)
+        return NodeContext(self.io, self.clock, blackboard, self.backends, service_timeout, topics=self.topics)
 
     def setup(self) -> None:
         """Set every behaviour up (starts TickAfterTimeout timers); done once, at start."""

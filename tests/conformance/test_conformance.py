@@ -26,7 +26,7 @@ from panther_ops.conformance.checks import Result, check_release, load_tables, u
 from panther_ops.conformance.digest import compose_leaves, diff, leaves
 from panther_ops.conformance.distil import distil, own_compose
 from panther_ops.conformance.known import FINDINGS, KNOWN, known
-from panther_ops.conformance.preview import checked_stack, preview_for
+from panther_ops.conformance.preview import checked_stack, kinds_stack, preview_for
 from panther_ops.conformance.pyexpr import Unevaluable, evaluate
 from panther_ops.conformance.report import render
 from panther_ops.conformance.upstream import GitRelease, config_tree
@@ -99,6 +99,7 @@ def test_jazzy_releases_are_checked_as_2_2_2_and_reported_apart() -> None:
         preview = preview_for(tag)
         assert preview is not None and (preview.issue, preview.base) == ("issue #25", "2.2.2")
         assert checked_stack(tag).version_str == "2.2.2"
+        assert kinds_stack(tag).version_str == tag  # the file kinds: the release's own rules
         mine = [r for r in _RESULTS if r.tag == tag]
         release = [r for r in mine if r.check == "release"]
         assert [(r.item, r.ok) for r in release] == [(tag, False)]
@@ -107,6 +108,8 @@ def test_jazzy_releases_are_checked_as_2_2_2_and_reported_apart() -> None:
         assert all(known(r.id) is not None and known(r.id)[0] == "issue #25" for r in mine if r.failed)
     shutdown = next(r for r in _RESULTS if r.id == "2.3.2:defaults:husarion_ugv_manager/config/shutdown_hosts.yaml")
     assert shutdown.ok is True  # unchanged from 2.2.2, accepted by today's validator
+    controllers = [r for r in _RESULTS if r.check == "defaults" and r.tag in NOT_YET and "_controller.yaml" in r.item]
+    assert len(controllers) == 12 and all(r.ok for r in controllers)  # the Jazzy limits schema, per release
     (madgwick,) = [r for r in _RESULTS if r.id == "2.3.2:launch:use_madgwick_filter"]
     assert madgwick.ok is False and "not in the catalogue" in madgwick.summary
     report = render(_TABLES, _RESULTS)

@@ -2,7 +2,9 @@
 upstream's: docs/conformance.md) runs on the manager as that release's stock manager runs it:
 the blackboard of the stack's lights manager (husarion_ugv 2.2: husarion_ugv_msgs animation
 numbers, current_battery_anim_id / current_error_anim_id, drive_state from the joy topic's
-dead man button), and the stock Safety tree's own fan timing."""
+dead man button; 2.3.2: GOAL_FAILED/FLOOD_LIGHT numbers, the state animation from the twist mux's
+twist_mux_controller/source through CheckStringMsg and IfThenElse), and the stock Safety tree's
+own fan timing."""
 
 from __future__ import annotations
 
@@ -10,7 +12,14 @@ from pathlib import Path
 
 import pytest
 
-from panther_ops.manager.adapters.interfaces import HUSARION_UGV_2_2, PANTHER_2_0, PANTHER_2_1, RosInterfaces
+from panther_ops.manager.adapters.interfaces import (
+    HUSARION_UGV_2_2,
+    HUSARION_UGV_2_3_2,
+    PANTHER_2_0,
+    PANTHER_2_1,
+    RosInterfaces,
+    interfaces_for,
+)
 from panther_ops.manager.bt.validate import validate_bt_project
 from panther_ops.manager.clock import ManualClock
 from panther_ops.manager.config import ManagerConfig
@@ -22,6 +31,7 @@ from panther_ops.manager.robot_io import (
     IOStateMsg,
     JoyMsg,
     RobotMsg,
+    StringMsg,
     SystemStatusMsg,
 )
 from panther_ops.manager.runtime import ManagerRuntime, TreeSource
@@ -33,9 +43,11 @@ STOCK = {  # generation directory, package, lights project, safety project, inte
     "2.1.1": ("panther-2.1", "panther_manager", "PantherLightsBT.btproj", "PantherSafetyBT.btproj", PANTHER_2_1),
     "2.2.0": ("husarion-ugv-2.2", "husarion_ugv_manager", "LightsBT.btproj", "SafetyBT.btproj", HUSARION_UGV_2_2),
     "2.2.2": ("husarion-ugv-2.2", "husarion_ugv_manager", "LightsBT.btproj", "SafetyBT.btproj", HUSARION_UGV_2_2),
+    "2.3.2": ("husarion-ugv-2.2", "husarion_ugv_manager", "LightsBT.btproj", "SafetyBT.btproj", HUSARION_UGV_2_3_2),
 }
-OVERLAY = {"2.2.0": "husarion-ugv-2.2.0"}
-"""2.2.0's own lights.xml, SafetyBT.btproj and shutdown.xml; the rest as 2.2.1+."""
+OVERLAY = {"2.2.0": ("husarion-ugv-2.2.0",), "2.3.2": ("husarion-ugv-2.3", "husarion-ugv-2.3.2")}
+"""2.2.0's own lights.xml, SafetyBT.btproj and shutdown.xml; 2.3.2's LightsBT.btproj, lights.xml and
+safety.xml; the rest as 2.2.1+ (core/robot/files.py family_dirs, base first)."""
 
 
 def project_dir(tag: str, tmp: Path) -> Path:
@@ -43,10 +55,10 @@ def project_dir(tag: str, tmp: Path) -> Path:
     base, package, *_ = STOCK[tag]
     out = tmp / tag
     out.mkdir()
-    for directory in (base, OVERLAY.get(tag)):
-        if directory:
-            for f in (CONFIG / directory / package / "behavior_trees").iterdir():
-                (out / f.name).write_bytes(f.read_bytes())
+    for directory in (base, *OVERLAY.get(tag, ())):
+        trees = CONFIG / directory / package / "behavior_trees"
+        for f in trees.iterdir() if trees.is_dir() else ():
+            (out / f.name).write_bytes(f.read_bytes())
     return out
 
 
@@ -151,4 +163,43 @@ def test_stock_safety_holds_fan_on_under_the_fan_off_timeout(tag: str, tmp_path:
     assert not [r for r, _ in io.calls if r.service == "hardware/fan_enable"]
     run_for(rt, clock, 31.0)
     assert [dict(r.args)["data"] for r, _ in io.calls if r.service == "hardware/fan_enable"] == [True]
+    rt.close()
+
+
+MUX = "twist_mux_controller/source"
+
+
+def test_2_3_2_stock_lights_follow_the_twist_mux_source(tmp_path: Path) -> None:
+    """2.3.2's Lights tree: READY (1) before the mux says anything, MANUAL_ACTION (4) while the
+    mux's source is manual, AUTONOMOUS_ACTION (12) while autonomous, READY again when nothing
+    drives; the joy topic's dead man button no longer matters (its lights manager reads no joy)."""
+    io, clock = FakeRobotIO(), ManualClock()
+    rt = runtime("2.3.2", tmp_path, io, clock)
+    assert interfaces_for((2, 3, 2)) is HUSARION_UGV_2_3_2
+    assert rt.lights_bb.get("GOAL_FAILED_ANIM_ID") == 16 and rt.lights_bb.get("FLOOD_LIGHT_ANIM_ID") == 17
+    io.messages = robot(battery(PowerSupplyStatus.DISCHARGING))
+    run_for(rt, clock, 1.0)
+    assert sorted(set(animations(io))) == [1, 3, 10]
+    for source, expected in (("manual", [4]), ("autonomous", [12]), ("not_published", [1])):
+        io.calls.clear()
+        io.messages = [StringMsg(MUX, source), JoyMsg((0, 0, 0, 0, 1, 0))]
+        run_for(rt, clock, 1.0)
+        assert animations(io) == expected, source
+    io.calls.clear()
+    io.messages = [EStopMsg(True), StringMsg(MUX, "manual")]
+    run_for(rt, clock, 1.0)
+    assert animations(io) == [0]  # E_STOP: the IfThenElse is skipped under the E-stop
+    rt.close()
+
+
+def test_2_2_stock_lights_ignore_the_mux_source(tmp_path: Path) -> None:
+    """2.2.2's tree keys on drive_state: a mux source message changes nothing."""
+    io, clock = FakeRobotIO(), ManualClock()
+    rt = runtime("2.2.2", tmp_path, io, clock)
+    io.messages = robot(battery(PowerSupplyStatus.DISCHARGING))
+    run_for(rt, clock, 1.0)
+    io.calls.clear()
+    io.messages = [StringMsg(MUX, "manual")]
+    run_for(rt, clock, 1.0)
+    assert animations(io) == []
     rt.close()

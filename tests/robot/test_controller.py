@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
-from panther_ops.core.kinds import FileKind
+from panther_ops.core.kinds import FileKind, FileKindError
 from panther_ops.core.kinds import controller_limits as lim
 from panther_ops.core.robot import controller as ctl
 from panther_ops.core.robot.files import config_file
-from panther_ops.core.stack import stack_from_version
+from panther_ops.core.stack import Stack, stack_from_version
 from panther_ops.errors import UsageError
 
 S204, S211, S222 = (stack_from_version(v) for v in ("2.0.4", "2.1.1", "2.2.2"))
@@ -117,3 +119,98 @@ def test_no_default_for_custom_or_wh05_before_22() -> None:
         config_file(S211, FileKind.CONTROLLER, wheel_type="WH05")
     # husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH05_controller.yaml (the Lynx wheels)
     assert "wheel_radius: 0.144" in ctl.default_controller_text(S222, "WH05")
+
+
+S230 = Stack("husarion/husarion-ugv:jazzy-2.3.0-20250425", "jazzy", (2, 3, 0), "20250425")
+S232 = Stack("husarion/husarion-ugv:jazzy-2.3.2-20260622", "jazzy", (2, 3, 2), "20260622")
+"""husarion_ugv 2.3 (ROS 2 Jazzy): the stacks its image tags give (core/stack.py does not accept them yet)."""
+
+
+@pytest.mark.parametrize("stack", [S230, S232], ids=["2.3.0", "2.3.2"])
+def test_jazzy_limits_schema(stack: Stack) -> None:
+    """ros2_controllers' jazzy schema: deceleration and reverse limits, .nan for no limit, signs per parameter."""
+    assert lim.validate_limit(stack, "WH01", "controller.linear.x.max_deceleration", "-2.7").value == -2.7
+    assert lim.validate_limit(stack, "WH01", "controller.angular.z.max_deceleration_reverse", 5.74).value == 5.74
+    assert math.isnan(lim.validate_limit(stack, "WH01", "controller.linear.x.max_jerk", ".nan").value)
+    assert math.isnan(lim.validate_limit(stack, "WH01", "controller.linear.x.max_velocity", float("nan")).value)
+    with pytest.raises(lim.ControllerError, match="must not be positive"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.max_acceleration_reverse", 1.0)
+    with pytest.raises(lim.ControllerError, match="must not be negative"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.max_deceleration_reverse", -1.0)
+    with pytest.raises(lim.LimitExceededError, match="WH04 limit"):
+        lim.validate_limit(stack, "WH04", "controller.linear.x.max_deceleration", -1.6)
+    with pytest.raises(lim.ControllerError, match=r"\.nan for no limit"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.has_velocity_limits", "true")
+    with pytest.raises(lim.ControllerError, match="max_deceleration"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.min_acceleration", -1.0)
+    with pytest.raises(lim.ControllerError, match="finite"):
+        lim.validate_limit(stack, "WH01", "controller.linear.x.max_jerk", "inf")
+
+
+def test_jazzy_limits_are_refused_on_humble() -> None:
+    with pytest.raises(lim.ControllerError, match=r"husarion_ugv 2\.3"):
+        lim.validate_limit(S222, "WH01", "controller.linear.x.max_deceleration", -1.0)
+    with pytest.raises(lim.ControllerError, match="finite"):
+        lim.validate_limit(S222, "WH01", "controller.linear.x.max_jerk", ".nan")
+
+
+@pytest.mark.parametrize("stack", [S230, S232], ids=["2.3.0", "2.3.2"])
+@pytest.mark.parametrize("wheel", ["WH01", "WH02", "WH04", "WH05"])
+def test_jazzy_default_files_are_accepted_and_carry_the_wheel_limits(stack: Stack, wheel: str) -> None:
+    from panther_ops.core.kinds import Target, check_file
+
+    config = ctl.ControllerConfig.default(stack, wheel)
+    assert check_file(FileKind.CONTROLLER, "f", config.text().encode(), target=Target(stack, wheel)) == []
+    limits = lim.WHEEL_LIMITS[wheel]
+    got = config.limits()
+    assert got["controller.linear.x.max_deceleration"] == -limits.linear_acceleration
+    assert got["controller.angular.z.min_velocity"] == -limits.angular_velocity
+    assert math.isnan(got["controller.angular.z.min_jerk"])
+    assert "controller.linear.x.has_velocity_limits" not in got
+    humble = ctl.ControllerConfig.default(S222, wheel).text().encode()
+    with pytest.raises(FileKindError, match="not a limit of husarion_ugv"):
+        check_file(FileKind.CONTROLLER, "f", humble, target=Target(stack, wheel))
+
+
+def test_covariance_placeholder_is_filled_from_2_3_2_only() -> None:
+    from panther_ops.core.kinds import Target, check_file
+
+    text = ctl.ControllerConfig.default(S232, "WH01").text()
+    assert "<static_covariance_orientation>" in text
+    assert check_file(FileKind.CONTROLLER, "f", text.encode(), target=Target(S232, "WH01")) == []
+    with pytest.raises(FileKindError, match="replaces no placeholder"):
+        check_file(FileKind.CONTROLLER, "f", text.encode(), target=Target(S230, "WH01"))
+
+
+def test_jazzy_stock_limits_compare_equal_despite_nan() -> None:
+    """A 2.3 file's NaN jerk (NaN != NaN) read as another NaN object: still the same limits, so a
+    wheel change sees the stock limits as stock (core/robot/wheel_change.py)."""
+    a = ctl.ControllerConfig.default(S232, "WH01").limits()
+    b = {k: float("nan") if isinstance(v, float) and math.isnan(v) else v for k, v in a.items()}
+    assert a != b  # plain equality fails on distinct NaN objects
+    assert lim.same_limits(a, b)
+    b["controller.linear.x.max_velocity"] = 1.0
+    assert not lim.same_limits(a, b)
+
+
+def test_twist_mux_is_needed_from_2_3_2() -> None:
+    """2.3.2 spawns twist_mux_controller with the drive controller as a group: a 2.3.0 file (no mux)
+    starts no controller there; 2.3.2's file on 2.3.1 declares a mux nobody spawns."""
+    from panther_ops.core.kinds import Target, check_file
+
+    file_230 = ctl.ControllerConfig.default(S230, "WH01").text().encode()
+    with pytest.raises(FileKindError, match="activate-as-group"):
+        check_file(FileKind.CONTROLLER, "f", file_230, target=Target(S232, "WH01"))
+    forced = check_file(FileKind.CONTROLLER, "f", file_230, target=Target(S232, "WH01"), force=True)
+    assert any("(forced)" in w for w in forced)
+    file_232 = ctl.ControllerConfig.default(S232, "WH02").text()
+    s231 = Stack("husarion/husarion-ugv:jazzy-2.3.1-20250701", "jazzy", (2, 3, 1), "20250701")
+    no_placeholder = file_232.replace("<static_covariance_orientation>", "[1.8e-3, 0.0, 0.0, 0.0, 1.8e-3, 0.0, 0.0, "
+                                                                          "0.0, 1.8e-3]")
+    (warning,) = check_file(FileKind.CONTROLLER, "f", no_placeholder.encode(), target=Target(s231, "WH02"))
+    assert "spawns no twist mux" in warning
+    manual = "          timeout: 0.2\n          priority: 100\n"
+    assert manual in file_232
+    broken = file_232.replace(manual, "          timeout: 0\n          priority: high\n")
+    with pytest.raises(FileKindError, match=r"manual\.timeout=0 .*\n.*manual\.priority='high'"):
+        check_file(FileKind.CONTROLLER, "f", broken.encode(), target=Target(S232, "WH02"))

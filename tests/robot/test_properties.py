@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -70,7 +71,7 @@ def _other(value: Any) -> Any:
     if isinstance(value, int):
         return value + 1
     if isinstance(value, float):
-        return value + 0.5
+        return 1.0 if math.isnan(value) else value + 0.5  # .NAN (Jazzy's "no limit"): nan + 0.5 is nan
     if isinstance(value, str):
         return value + "x" if value else "x"
     return None

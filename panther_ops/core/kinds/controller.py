@@ -29,13 +29,16 @@ from panther_ops.core.kinds.controller_limits import (
     ControllerError,
     LimitExceededError,
     file_limits,
+    jazzy,
+    limit_value,
     limit_warnings,
     locate,
     validate_limit,
 )
+from panther_ops.core.kinds.controller_mux import mux_findings
 from panther_ops.core.kinds.registry import FileKindError, Target
 from panther_ops.core.kinds.stock_wheels import controller_file_wheels, limits_wheel, mismatch
-from panther_ops.core.stack import stack_from_version
+from panther_ops.core.stack import Stack
 
 WHAT = "controller file"
 KINEMATICS = ("wheel_radius", "wheel_separation", "wheel_separation_x", "wheel_separation_y",
@@ -89,9 +92,11 @@ class _Check:
                                f"parameter; write {value}.0")
             return
         stack = self.target.stack
-        try:  # without a robot (stack None): types only, the limits are checked per robot
-            got = validate_limit(stack or stack_from_version("2.1.1"), self.wheel, dotted, value,
-                                 force=self.force or stack is None)
+        try:
+            if stack is None:  # without a robot: types only, the limits are checked per robot
+                limit_value(dotted, value)
+                return
+            got = validate_limit(stack, self.wheel, dotted, value, force=self.force)
         except LimitExceededError as exc:
             self.errors.append(exc.message)
             self.hint = exc.hint
@@ -99,8 +104,7 @@ class _Check:
         except ControllerError as exc:
             self.errors.append(exc.message)
             return
-        if stack is not None:
-            self.warnings.extend(w for w in got.warnings if "no reference limits" not in w)
+        self.warnings.extend(w for w in got.warnings if "no reference limits" not in w)
 
 
 def check_controller(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
@@ -125,6 +129,13 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
         wrong = mismatch(WHAT, wheels, target.wheel_type)
         if wrong:
             check.warnings.append(wrong)
+        check.warnings.extend(_gone(plain, target.stack))
+        mux = mux_findings(plain, target.stack)
+        if force:
+            check.warnings.extend(e + " (forced)" for e in mux.errors)
+        else:
+            check.errors.extend(mux.errors)
+        check.warnings.extend(mux.warnings)
         imu = imu_findings(plain, target.stack, target.namespace)
         if force:
             check.warnings.extend(e + " (forced)" for e in imu.errors)
@@ -150,6 +161,23 @@ def check_controller(source: str, data: bytes, local: Path | None, target: Targe
     if check.errors:
         raise FileKindError(source, WHAT, check.errors, hint=check.hint)
     return list(dict.fromkeys(check.warnings))
+
+
+STAMPED = "use_stamped_vel"
+
+
+def _gone(plain: dict[str, Any], stack: Stack) -> list[str]:
+    """A warning for ``use_stamped_vel`` on a Jazzy release: its controllers take only stamped
+    velocities and read no such parameter (ros2_controllers' jazzy branch,
+    diff_drive_controller/src/diff_drive_controller_parameter.yaml; gone from
+    husarion_ugv_ros@2.3.0:husarion_ugv_controller/config/WH0X_controller.yaml)."""
+    if not jazzy(stack):
+        return []
+    return [f"{top}.{key}.ros__parameters.{STAMPED}: {stack.label()}'s controllers read no such parameter "
+            f"(ROS 2 Jazzy takes only stamped velocities): it has no effect"
+            for top, body in plain.items() if isinstance(body, dict)
+            for key in CONTROLLER_KEYS if isinstance(body.get(key), dict)
+            and isinstance(body[key].get("ros__parameters"), dict) and STAMPED in body[key]["ros__parameters"]]
 
 
 def _positive_double(value: Any) -> str | None:

@@ -21,6 +21,12 @@ Facts (upstream, at each supported tag):
   husarion_ugv_ros@2.2.2:husarion_ugv_controller/launch/controller.launch.py). The stock files
   say ``sensor_name: <namespace>/imu``, ``frame_id: <namespace>/imu_link``.
 
+- husarion_ugv 2.3.2 writes ``static_covariance_orientation: <static_covariance_orientation>``
+  in the stock files, and controller.launch.py replaces that placeholder with a list picked by
+  ``use_madgwick_filter`` (husarion_ugv_ros@2.3.2:husarion_ugv_controller/launch/
+  controller.launch.py, ReplaceString); no earlier release replaces it, so there the text is a
+  string where the broadcaster wants a list of doubles (`covariance_findings`).
+
 A broadcaster that reads another name than the URDF's finds no such state interfaces and
 does not start: no ``imu/data``, and the EKF runs without the IMU. `imu_findings` says so
 (an error: the file breaks the IMU on this robot), or warns when the file works only as
@@ -37,6 +43,10 @@ from panther_ops.core.stack import Stack
 
 FLAG = "use_namespace_as_sensor_name_prefix"
 PLACEHOLDER = "<namespace>/"
+COVARIANCE = "static_covariance_orientation"
+COVARIANCE_PLACEHOLDER = "<static_covariance_orientation>"
+COVARIANCE_PLACEHOLDER_SINCE = (2, 3, 2)
+"""The first release whose controller.launch.py fills `COVARIANCE_PLACEHOLDER`."""
 FORK_UNTIL = (2, 2, 0)
 """The last version that builds husarion/ros2_controllers (the prefix flag)."""
 
@@ -89,6 +99,7 @@ def imu_findings(plain: dict[str, Any], stack: Stack, namespace: str | None) -> 
                           f"(the broadcaster refuses an empty one)")
         out.hint = stock_form(stack)
         return out
+    covariance_findings(where, params, stack, out)
     ns = (namespace or "").strip("/")
     read, frame = _read(stack, params, ns)
     fork = stack.version <= FORK_UNTIL
@@ -121,3 +132,19 @@ def imu_findings(plain: dict[str, Any], stack: Stack, namespace: str | None) -> 
         out.warnings.append(f"{where}.frame_id={params['frame_id']!r}: {stack.label()} prefixes the frame with "
                             f"the namespace itself and does not replace '<namespace>'")
     return out
+
+
+def covariance_findings(where: str, params: dict[str, Any], stack: Stack, out: ImuFindings) -> None:
+    """An error when the orientation covariance is text the release does not replace by a list."""
+    value = params.get(COVARIANCE)
+    if not isinstance(value, str):
+        return
+    if value == COVARIANCE_PLACEHOLDER and stack.version >= COVARIANCE_PLACEHOLDER_SINCE:
+        return
+    filled = ".".join(map(str, COVARIANCE_PLACEHOLDER_SINCE))
+    out.errors.append(f"{where}.{COVARIANCE}={value!r}: the IMU broadcaster wants a list of 9 numbers; "
+                      + (f"only {COVARIANCE_PLACEHOLDER} is replaced by one at launch on {stack.label()}"
+                         if stack.version >= COVARIANCE_PLACEHOLDER_SINCE else
+                         f"{stack.label()} replaces no placeholder here (husarion_ugv {filled}+ fills "
+                         f"{COVARIANCE_PLACEHOLDER})"))
+    out.hint = "e.g. [1.8e-3, 0.0, 0.0, 0.0, 1.8e-3, 0.0, 0.0, 0.0, 1.8e-3]"

@@ -14,6 +14,24 @@ WH05_controller.yaml), where a Lynx without ``wheel_type:=`` runs WH05 (its mode
 `ArgSpec.model_defaults`). A value above the limit is refused with `LimitExceededError` naming it, unless
 ``force`` (then it is written with a warning).
 
+Two schemas, chosen by the robot's release (`schema_params`):
+
+* ROS 2 Humble (panther_ros 2.0-2.1, husarion_ugv 2.2): per axis ``has_velocity_limits``,
+  ``has_acceleration_limits``, ``has_jerk_limits`` and ``max_*``/``min_*`` of velocity,
+  acceleration and jerk, finite numbers.
+* ROS 2 Jazzy (husarion_ugv 2.3.0+, ros2_controllers' jazzy branch:
+  diff_drive_controller/src/diff_drive_controller_parameter.yaml and
+  mecanum_drive_controller/src/mecanum_drive_controller.yaml): ``max_velocity``,
+  ``min_velocity``, ``max_acceleration``, ``max_deceleration``, ``max_acceleration_reverse``,
+  ``max_deceleration_reverse``, ``max_jerk``, ``min_jerk``; ``.nan`` means "no limit" (the
+  default of every one, and the stock files' jerk: husarion_ugv_ros@2.3.0/2.3.1/2.3.2:
+  husarion_ugv_controller/config/WH0X_controller.yaml). The signs are the parameters'
+  ``gt_eq_or_nan``/``lt_eq_or_nan`` validation: ``min_*``, ``max_deceleration`` and
+  ``max_acceleration_reverse`` are <= 0, the others >= 0. ``has_*_limits`` (deprecated
+  there, ignored by the mecanum controller) and ``min_acceleration`` (deprecated: use
+  ``max_deceleration``) are refused, so a 2.3 file has one way to say a limit. The wheel
+  types' limits bound the absolute value of every velocity, acceleration and deceleration.
+
 The rules shared by the controller file's validator (`controller.py`) and its editor
 (`core.robot.controller.ControllerConfig`, ``config set controller.<key>``): the same value
 gets the same message whichever path writes it.
@@ -33,7 +51,16 @@ if TYPE_CHECKING:  # the YAML editor (ruamel) loads when a file is read, not for
 
 AXES = ("linear.x", "linear.y", "angular.z")
 BOOL_PARAMS = ("has_velocity_limits", "has_acceleration_limits", "has_jerk_limits")
-FLOAT_PARAMS = ("max_velocity", "min_velocity", "max_acceleration", "min_acceleration", "max_jerk", "min_jerk")
+HUMBLE_FLOAT_PARAMS = ("max_velocity", "min_velocity", "max_acceleration", "min_acceleration", "max_jerk", "min_jerk")
+JAZZY_PARAMS = ("max_velocity", "min_velocity", "max_acceleration", "max_deceleration", "max_acceleration_reverse",
+                "max_deceleration_reverse", "max_jerk", "min_jerk")
+"""The limits of an axis in Jazzy's ros2_controllers (husarion_ugv 2.3+); all doubles, ``.nan``: no limit."""
+JAZZY_SINCE = (2, 3, 0)
+"""The first release whose controllers are Jazzy's (husarion_ugv_ros@2.3.0)."""
+FLOAT_PARAMS = tuple(dict.fromkeys((*HUMBLE_FLOAT_PARAMS, *JAZZY_PARAMS)))
+"""Every double limit parameter of either schema (a file's integer value is refused in both)."""
+NON_POSITIVE = ("min_velocity", "min_acceleration", "min_jerk", "max_deceleration", "max_acceleration_reverse")
+"""Limits of the reverse direction or of slowing down: <= 0 (the others >= 0)."""
 CONTROLLER_KEYS = ("drive_controller", "panther_base_controller")
 CONTROLLER_PARAMS = ("cmd_vel_timeout",)
 """Parameters of the controller itself (``controller.<param>``, no axis): seconds > 0."""
@@ -92,7 +119,7 @@ class LimitKey:
         base = "rad" if self.axis.startswith("angular") else "m"
         if "velocity" in self.param:
             return f"{base}/s"
-        if "acceleration" in self.param:
+        if "celeration" in self.param:
             return f"{base}/s²"
         return f"{base}/s³" if "jerk" in self.param else ""
 
@@ -110,10 +137,22 @@ class ValidatedLimit:
     warnings: tuple[str, ...] = ()
 
 
-def all_limit_keys(wheel_type: str = "WH02") -> list[str]:
-    """Every limit key for a wheel type (``linear.y`` only for WH02)."""
+def jazzy(stack: Stack) -> bool:
+    """The release runs Jazzy's ros2_controllers (its limits schema, `JAZZY_PARAMS`)."""
+    return stack.version >= JAZZY_SINCE
+
+
+def schema_params(stack: Stack | None) -> tuple[str, ...]:
+    """The limit parameters of an axis on the stack (either schema's while no robot is known)."""
+    if stack is None:
+        return (*BOOL_PARAMS, *FLOAT_PARAMS)
+    return JAZZY_PARAMS if jazzy(stack) else (*BOOL_PARAMS, *HUMBLE_FLOAT_PARAMS)
+
+
+def all_limit_keys(wheel_type: str = "WH02", stack: Stack | None = None) -> list[str]:
+    """Every limit key for a wheel type (``linear.y`` only for WH02) on the stack (None: either schema)."""
     axes = AXES if wheel_type == "WH02" else tuple(a for a in AXES if a != "linear.y")
-    return [*(f"controller.{a}.{p}" for a in axes for p in (*BOOL_PARAMS, *FLOAT_PARAMS)),
+    return [*(f"controller.{a}.{p}" for a in axes for p in schema_params(stack)),
             *(f"controller.{p}" for p in CONTROLLER_PARAMS)]
 
 
@@ -162,7 +201,9 @@ def _as_bool(key: LimitKey, value: Any) -> bool:
 
 
 def _as_float(key: LimitKey, value: Any) -> float:
-    """A limit's number: a YAML number, or its text in ASCII digits (`core.parse.numbers`)."""
+    """A limit's number: a YAML number, or its text in ASCII digits (`core.parse.numbers`); NaN
+    (YAML ``.nan``, or the text ``nan``/``.nan``) for an axis limit: whether the release takes
+    it is `validate_limit`'s check."""
     from panther_ops.core.parse.numbers import NumberError, decimal
 
     if isinstance(value, bool):
@@ -172,6 +213,8 @@ def _as_float(key: LimitKey, value: Any) -> float:
     except NumberError:
         pass
     text = str(value).strip().lower().lstrip("+-")
+    if key.axis and text in ("nan", ".nan"):
+        return math.nan
     if (isinstance(value, float) and not math.isfinite(value)) or text in ("nan", "inf", "infinity"):
         raise ControllerError(f"{key.dotted}={value!r} must be a finite number ({key.unit})")
     raise ControllerError(f"{key.dotted}={value!r} is not a number ({key.unit}; ASCII digits, e.g. 1.5)")
@@ -179,7 +222,7 @@ def _as_float(key: LimitKey, value: Any) -> float:
 
 def limit_value(key: str | LimitKey, value: Any) -> tuple[LimitKey, bool | float]:
     """The key and its value as written, whatever the robot's wheels: a boolean for
-    ``has_*_limits``, a finite number otherwise, seconds > 0 for ``cmd_vel_timeout``. What
+    ``has_*_limits``, a finite number or NaN otherwise, seconds > 0 for ``cmd_vel_timeout``. What
     `validate_limit` checks first, and the inventory's ``desired.controller`` when it loads.
 
     Raises:
@@ -215,15 +258,23 @@ def validate_limit(
 
     if not lk.axis:  # cmd_vel_timeout: the watchdog's seconds, whatever the wheels
         return ValidatedLimit(lk, checked)
+    _check_schema(stack, lk)
     if lk.axis == "linear.y" and wheel_type not in ("WH02", "custom"):  # custom wheels may be mecanum
         refuse(f"{lk.dotted}: linear.y limits exist only for the mecanum wheels WH02 (this robot: {wheel_type})")
     if isinstance(checked, bool):
         return ValidatedLimit(lk, checked, tuple(warnings))
     number = checked
-    if lk.param.startswith("max_") and number < 0:
+    if math.isnan(number):
+        if not jazzy(stack):
+            raise ControllerError(f"{lk.dotted}={value!r} must be a finite number ({lk.unit})",
+                                  hint=f".nan (no limit) is a limit value of husarion_ugv 2.3+ (ROS 2 Jazzy), "
+                                       f"not of {stack.label()}")
+        return ValidatedLimit(lk, number, tuple(warnings))  # no limit: Jazzy's default
+    if lk.param not in NON_POSITIVE and number < 0:
         refuse(f"{lk.dotted}={number} must not be negative")
-    if lk.param.startswith("min_") and number > 0:
-        refuse(f"{lk.dotted}={number} must not be positive (it limits the reverse direction)")
+    if lk.param in NON_POSITIVE and number > 0:
+        what = "it limits the reverse direction" if lk.param.startswith("min_") else "it limits slowing down"
+        refuse(f"{lk.dotted}={number} must not be positive ({what})")
     limit = upper_limit(wheel_type, lk)
     if limit is not None and abs(number) > limit + 1e-9:
         refuse(
@@ -234,6 +285,27 @@ def validate_limit(
     elif limit is None and "jerk" not in lk.param:
         warnings.append(f"no reference limits for wheel type {wheel_type}; {lk.dotted} not checked")
     return ValidatedLimit(lk, number, tuple(warnings))
+
+
+_JAZZY_INSTEAD = {"has_velocity_limits": "set max_velocity and min_velocity to .nan for no limit",
+                  "has_acceleration_limits": "set max_acceleration, max_deceleration, max_acceleration_reverse "
+                                             "and max_deceleration_reverse to .nan for no limit",
+                  "has_jerk_limits": "set max_jerk and min_jerk to .nan for no limit",
+                  "min_acceleration": "max_deceleration (<= 0) and max_acceleration_reverse (<= 0) replace it"}
+
+
+def _check_schema(stack: Stack, key: LimitKey) -> None:
+    """Refuse a limit of the other schema than the stack's (Humble's or Jazzy's)."""
+    if key.param in schema_params(stack):
+        return
+    if jazzy(stack):
+        raise ControllerError(
+            f"{key.dotted}: not a limit of {stack.label()} (ROS 2 Jazzy's ros2_controllers): "
+            f"{_JAZZY_INSTEAD[key.param]}",
+            hint="limits on husarion_ugv 2.3+: " + ", ".join(JAZZY_PARAMS))
+    raise ControllerError(
+        f"{key.dotted}: a limit of husarion_ugv 2.3+ (ROS 2 Jazzy), not of {stack.label()}",
+        hint=f"limits on {stack.label()}: " + ", ".join((*BOOL_PARAMS, *HUMBLE_FLOAT_PARAMS)))
 
 
 def _limits_text(wheel_type: str) -> str:
@@ -293,13 +365,24 @@ def file_limits(doc: YamlDocument, top: str, controller_key: str) -> dict[str, A
     return out
 
 
+def same_limit(a: Any, b: Any) -> bool:
+    """Two limit values are the same: equal, or both NaN (Jazzy's "no limit", which != itself)."""
+    nan = [isinstance(v, float) and math.isnan(v) for v in (a, b)]
+    return all(nan) or (not any(nan) and bool(a == b))
+
+
+def same_limits(a: dict[str, Any], b: dict[str, Any]) -> bool:
+    """Two files' limits (`file_limits`) are the same, key for key (`same_limit`)."""
+    return a.keys() == b.keys() and all(same_limit(a[k], b[k]) for k in a)
+
+
 def limit_warnings(limits: dict[str, Any], wheel_type: str) -> list[str]:
     """Warnings about a file's limits as they are: above the wheel limits, enabled limits at 0."""
     warnings: list[str] = []
     for dotted, value in limits.items():
         lk = parse_limit_key(dotted)
         limit = upper_limit(wheel_type, lk)
-        if limit is not None and isinstance(value, int | float) and abs(value) > limit + 1e-9:
+        if limit is not None and isinstance(value, int | float) and abs(value) > limit + 1e-9:  # NaN: never
             warnings.append(f"{dotted}={value} {lk.unit} exceeds the {wheel_type} limit of {limit} {lk.unit}")
     for axis in AXES:
         for kind in ("velocity", "acceleration", "jerk"):

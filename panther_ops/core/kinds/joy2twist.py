@@ -10,6 +10,16 @@ number). The parameters sit under the node's name (``joy2twist_node``) or the wi
 ``/**``, below ``ros__parameters``. The E-stop topic, its services and ``cmd_vel_topic`` are
 ROS names by rcl's rules (`core/parse/ros_names.py`): ``hardware/e-stop-reset`` would stop the
 node when it creates its client, so it is refused here.
+
+On husarion_ugv 2.3 (ROS 2 Jazzy) the drive controller takes only ``TwistStamped``
+(husarion_ugv_ros@2.3.1:husarion_ugv_bringup/config/joy2twist_<model>.yaml and
+@2.3.2:husarion_ugv_teleop/config/joy2twist_<model>.yaml say ``cmd_vel_stamped: true``), so
+``cmd_vel_stamped: false`` is refused there. From 2.3.2 the velocity goes through the chainable
+``twist_mux_controller``, whose inputs are ``manual/cmd_vel`` (priority 100),
+``autonomous/cmd_vel`` (10) and ``cmd_vel`` (1) (husarion_ugv_ros@2.3.2:husarion_ugv_controller/
+config/WH0X_controller.yaml); the stock gamepad file publishes on ``manual/cmd_vel``. A topic
+that is no input of the mux is refused (nothing would read it); another input than
+``manual/cmd_vel``, or no ``cmd_vel_topic`` (joy2twist's default ``cmd_vel``), is a warning.
 """
 
 from __future__ import annotations
@@ -23,6 +33,7 @@ from typing import Any
 from panther_ops.core.kinds.common import is_number, load_mapping
 from panther_ops.core.kinds.registry import FileKindError, Target
 from panther_ops.core.parse.ros_names import RosNameError, service_name, topic_name
+from panther_ops.core.stack import Stack
 
 WHAT = "gamepad (joy2twist) parameters"
 NODES = ("joy2twist_node", "/**")
@@ -33,6 +44,11 @@ E_STOP = ("present", "topic", "reset_srv", "trigger_srv")
 TOP = ("linear_velocity_factor", "angular_velocity_factor", "button_index_map", "input_index_map", "e_stop",
        "cmd_vel_topic", "cmd_vel_stamped")
 _INPUT = re.compile(r"^!?[AB][0-9]{1,2}$")
+STAMPED_SINCE = (2, 3, 0)
+"""The first release whose drive controller takes only TwistStamped (ROS 2 Jazzy)."""
+MUX_SINCE = (2, 3, 2)
+"""The first release with the twist_mux_controller's inputs."""
+MUX_INPUTS = ("manual/cmd_vel", "autonomous/cmd_vel", "cmd_vel")
 _HINT = ("a joy2twist parameters file: joy2twist_node: ros__parameters: {linear_velocity_factor, "
          "angular_velocity_factor, button_index_map, e_stop}")
 
@@ -120,6 +136,7 @@ def _name(value: Any, parse: Callable[[object], str], where: str, errors: list[s
 def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
     doc = load_mapping(source, data, WHAT)
     errors: list[str] = []
+    warnings: list[str] = []
     nodes = [k for k in doc if k in NODES]
     for key in doc:
         if key not in NODES:
@@ -148,6 +165,32 @@ def check_joy2twist(source: str, data: bytes, local: Path | None, target: Target
             _name(params["cmd_vel_topic"], topic_name, f"{where}cmd_vel_topic", errors)
         if "cmd_vel_stamped" in params and not isinstance(params["cmd_vel_stamped"], bool):
             errors.append(f"{where}cmd_vel_stamped={params['cmd_vel_stamped']!r} must be true or false")
+        elif target.stack is not None:
+            _velocity_input(params, where, target.stack, errors, warnings)
     if errors:
         raise FileKindError(source, WHAT, errors, hint=_HINT)
-    return []
+    return warnings
+
+
+def _velocity_input(params: dict[str, Any], where: str, stack: Stack, errors: list[str],
+                    warnings: list[str]) -> None:
+    """The release's rules for the gamepad's output (stamped from 2.3.0, the mux's inputs from 2.3.2)."""
+    if stack.version < STAMPED_SINCE:
+        return
+    stamped = params.get("cmd_vel_stamped")
+    if stamped is False:
+        errors.append(f"{where}cmd_vel_stamped=false: {stack.label()}'s drive controller takes only TwistStamped "
+                      f"(ROS 2 Jazzy): the gamepad's commands would not be read; write true")
+    elif stamped is None:
+        warnings.append(f"{where}cmd_vel_stamped: not set; {stack.label()}'s drive controller takes only "
+                        f"TwistStamped: the stock file says true")
+    if stack.version < MUX_SINCE:
+        return
+    topic = params.get("cmd_vel_topic")
+    if isinstance(topic, str) and topic.strip("/") not in MUX_INPUTS:
+        errors.append(f"{where}cmd_vel_topic={topic!r}: not an input of {stack.label()}'s twist_mux_controller "
+                      f"({', '.join(MUX_INPUTS)}): nothing would drive the robot from it")
+    elif topic is None or topic.strip("/") != MUX_INPUTS[0]:
+        shown = "not set (joy2twist's default cmd_vel)" if topic is None else repr(topic)
+        warnings.append(f"{where}cmd_vel_topic {shown}: the twist mux gives it a lower priority than "
+                        f"{MUX_INPUTS[0]} (the stock file's, priority 100)")

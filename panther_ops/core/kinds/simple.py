@@ -34,6 +34,10 @@ def _unknown(doc: dict[str, Any], allowed: tuple[str, ...], where: str, errors: 
 
 
 COMPONENT_KEYS = ("type", "parent_link", "xyz", "rpy", "device_namespace", "name")
+NAME_KEY_SINCE = (2, 3, 2)
+"""The first release whose components.yaml documents ``name`` where 2.2 had ``device_namespace``
+(husarion_ugv_ros@2.3.2:husarion_ugv_description/config/components.yaml and CONFIGURATION.md;
+2.3.0 and 2.3.1 keep 2.2's example)."""
 
 
 def check_components(source: str, data: bytes, local: Path | None, target: Target, force: bool) -> list[str]:
@@ -65,7 +69,17 @@ def check_components(source: str, data: bytes, local: Path | None, target: Targe
                 errors.extend(_triple(f"{where}.{key}", item[key]))
     if errors:
         raise FileKindError(source, what, errors)
-    return []
+    return _renamed(items, target)
+
+
+def _renamed(items: list[Any], target: Target) -> list[str]:
+    """On 2.3.2+: a warning for each component still keyed ``device_namespace`` (2.2's key)."""
+    if target.stack is None or target.stack.version < NAME_KEY_SINCE:
+        return []
+    return [f"components[{i}].device_namespace: {target.stack.label()} documents 'name' for it (its "
+            f"components.yaml and CONFIGURATION.md); write name: {item['device_namespace']}"
+            for i, item in enumerate(items) if isinstance(item, dict) and "device_namespace" in item
+            and "name" not in item]
 
 
 def triple(value: Any) -> str | None:

@@ -14,7 +14,11 @@ The values (the same at every tag of a family unless noted), from the stock file
 * husarion_ugv_ros@2.2.0 and @2.2.2: husarion_ugv_description/config/WH0{1,2,4,5}.yaml
   (``mount_point_offset`` instead of ``wheel_separation``) and
   husarion_ugv_controller/config/WH0{1,2,4,5}_controller.yaml; WH05's controller
-  ``wheel_radius`` is 0.1348 up to 2.2.1 and 0.144 from 2.2.2 (the wheel file keeps 0.1348).
+  ``wheel_radius`` is 0.1348 up to 2.2.1 and 0.144 from 2.2.2 (the wheel file keeps 0.1348);
+* husarion_ugv_ros@2.3.0, @2.3.1 and @2.3.2: the same kinematics as 2.2.2 (WH05's controller
+  0.144; the wheel files unchanged), and the same upper limits in the Jazzy limits schema
+  (`controller_limits`). 2.3.2's WH02 drive controller is ``husarion_mecanum_drive_controller/
+  MecanumDriveController``: still mecanum.
 """
 
 from __future__ import annotations

@@ -5,7 +5,12 @@ Facts: panther-stack.md sections 1.3-1.9 and 2.2. Templates live in
 2.0.2-2.0.4, written from 2.0.4), ``panther-2.1`` (2.1.1-2.1.2, from 2.1.1),
 ``husarion-ugv-2.2`` (2.2.1+, from husarion_ugv_ros 2.2.2), with overlay directories for the
 versions that differ (``panther-2.0.0`` for 2.0.0-2.0.1, ``panther-2.1.0``,
-``husarion-ugv-2.2.0``). Each template names the upstream file it is written from in its
+``husarion-ugv-2.2.0``). husarion_ugv 2.3 (ROS 2 Jazzy) keeps 2.2's files where they did not
+change and overlays them (`JAZZY_DIRS`): ``husarion-ugv-2.3`` (every 2.3 tag, written from
+2.3.0: the Jazzy limits schema, the EKF's ``stamped_control``), ``husarion-ugv-2.3.1``
+(bringup's stamped joy2twist) and ``husarion-ugv-2.3.2`` (the twist mux, the EKF's 0.2 s
+timeout, animations 16-17, the Lights tree on ``twist_mux_controller/source``, joy2twist in
+husarion_ugv_teleop). Each template names the upstream file it is written from in its
 header (``Source: <repo>@<tag>:<path>``, `template_source`); templates/config/README.md lists them.
 
 Where a customised copy goes: on 2.2 the robot keeps its configuration in
@@ -42,6 +47,13 @@ _FAMILY_DIRS: dict[Generation, tuple[str, ...]] = {
     Generation.G2_2_0: ("husarion-ugv-2.2.0", "husarion-ugv-2.2"),
     Generation.G2_2_1: ("husarion-ugv-2.2",),
 }
+JAZZY_DIRS: dict[tuple[int, int, int], tuple[str, ...]] = {
+    (2, 3, 0): ("husarion-ugv-2.3",),
+    (2, 3, 1): ("husarion-ugv-2.3.1", "husarion-ugv-2.3"),
+    (2, 3, 2): ("husarion-ugv-2.3.2", "husarion-ugv-2.3"),
+}
+"""husarion_ugv 2.3's overlays, the version's first, in front of 2.2's directories (a later
+2.3 patch takes 2.3.2's until it has its own)."""
 
 
 @dataclass(frozen=True)
@@ -116,11 +128,14 @@ def stock_bt_project(stack: Stack, which: str) -> tuple[str, str]:
 
 def family_dirs(stack: Stack) -> tuple[str, ...]:
     """The template directories of ``stack``, the version's overlay first."""
-    return _FAMILY_DIRS[stack.generation]
+    base = _FAMILY_DIRS[stack.generation] if stack.version < (2, 3, 0) else _FAMILY_DIRS[Generation.G2_2_1]
+    if stack.version < (2, 3, 0):
+        return base
+    return (*JAZZY_DIRS[min(stack.version, max(JAZZY_DIRS))], *base)
 
 
 def _exists(stack: Stack, package: str, filename: str) -> str | None:
-    for directory in _FAMILY_DIRS[stack.generation]:
+    for directory in family_dirs(stack):
         if template_path("config", directory, package, "config", filename).is_file():
             return f"{directory}/{package}/config/{filename}"
     return None
@@ -201,10 +216,20 @@ JOY2TWIST_SINCE = (2, 2, 2)
 (``launch_gamepad``; `core.robot.gamepad`)."""
 
 
+TELEOP_SINCE = (2, 3, 2)
+"""The first version whose gamepad parameters are husarion_ugv_teleop's (husarion_ugv_ros@2.3.2:
+husarion_ugv_teleop/launch/teleop.launch.py); 2.3.0 runs the gamepad as a compose service of its
+own (husarion_ugv_ros@2.3.0:docker/demo/compose.hardware.yaml), as 2.2.0 did."""
+
+
 def _joy2twist(stack: Stack, wheel_type: str, robot_model: str) -> _Spec:
-    if stack.family is not Family.HUSARION_UGV or stack.version < JOY2TWIST_SINCE:
-        raise UsageError(f"the gamepad parameters are bringup's from husarion_ugv 2.2.2; this robot runs "
-                         f"{stack.label()} (the gamepad's own container has its own)")
+    if stack.family is not Family.HUSARION_UGV or stack.version < JOY2TWIST_SINCE or stack.version == (2, 3, 0):
+        raise UsageError(f"the gamepad parameters are bringup's on husarion_ugv 2.2.2 and 2.3.1, teleop's from "
+                         f"2.3.2; this robot runs {stack.label()} (the gamepad's own container has its own)")
+    if stack.version >= TELEOP_SINCE:
+        note = ("read by husarion_ugv_teleop's teleop.launch.py (which bringup always includes) as "
+                "joy2twist_${ROBOT_MODEL_NAME}.yaml under common_dir_path")
+        return _pkg(stack, "teleop"), f"joy2twist_{robot_model}.yaml", None, note
     note = "read by bringup (launch_gamepad:=true) as joy2twist_${ROBOT_MODEL_NAME}.yaml under common_dir_path"
     return _pkg(stack, "bringup"), f"joy2twist_{robot_model}.yaml", None, note
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from panther_ops.core.fleet.plan import FileEdit
 from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.kinds import FileKind
-from panther_ops.core.kinds.controller_limits import parse_limit_key, validate_limit
+from panther_ops.core.kinds.controller_limits import parse_limit_key, same_limit, same_limits, validate_limit
 from panther_ops.core.robot.controller import ControllerConfig
 from panther_ops.core.robot.files import config_file
 from panther_ops.core.robot.launch_args import spec
@@ -115,7 +115,7 @@ def _carry_limits(cfg: RobotConfig, current: ControllerConfig, stock: Controller
     kept: list[str] = []
     warnings: list[str] = []
     for key, value in current.limits().items():
-        if value == new.get(key) or (stock is not None and value == stock.get(key)):
+        if same_limit(value, new.get(key)) or (stock is not None and same_limit(value, stock.get(key))):
             continue  # the old type's default: the new type's value replaces it
         lk = parse_limit_key(key)
         if lk.axis == "linear.y" and new_wheel != "WH02":
@@ -157,7 +157,7 @@ def _migrate_tree(reads: Reads, cfg: RobotConfig, new_wheel: str, model: str | N
         raise UsageError(f"{old_cf.robot_path}: your {old} limits cannot be carried to {new_wheel}: {exc.message}",
                          hint=f"correct the file, or push a {new_wheel} controller file: panther-ops config push "
                          "FILE --as controller") from None
-    if current.limits() == stock.limits():
+    if same_limits(current.limits(), stock.limits()):
         return None  # the stock limits: the new type's file is used as it is
     target_before = reads.file(new_cf.robot_path)
     try:

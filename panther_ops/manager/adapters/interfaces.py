@@ -14,6 +14,11 @@ One table for everything that talks to a robot's ROS graph: the manager's ROS 2 
   its lights manager also reads ``joy`` (``drive_state``) and gives its Lights tree the
   husarion_ugv_msgs animation numbers and ``current_battery_anim_id``,
   ``current_error_anim_id`` (husarion_ugv_ros@2.2.2:husarion_ugv_manager/src/lights_manager_node.cpp).
+  2.3.0 and 2.3.1 are the same (husarion_ugv_ros@2.3.1:husarion_ugv_manager/src/lights_manager_node.cpp).
+* husarion_ugv 2.3.2: as 2.2, but the lights manager no longer reads ``joy`` (no ``drive_state``):
+  the Lights tree checks ``twist_mux_controller/source`` itself (CheckStringMsg), and its
+  blackboard adds GOAL_FAILED_ANIM_ID 16 and FLOOD_LIGHT_ANIM_ID 17
+  (husarion_ugv_ros@2.3.2:husarion_ugv_manager/src/lights_manager_node.cpp).
 
 Sources: panther_ros 2.0.x ``panther_manager/src/safety_manager_node.cpp`` and
 ``panther_lights`` controller node (2.1.0 renamed the ROS API, "Enhance ROS API names");
@@ -29,7 +34,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from panther_ops.manager import keys
-from panther_ops.manager.constants import ANIMATION_ID_CONSTANTS, ANIMATION_ID_CONSTANTS_22
+from panther_ops.manager.constants import (
+    ANIMATION_ID_CONSTANTS,
+    ANIMATION_ID_CONSTANTS_22,
+    ANIMATION_ID_CONSTANTS_232,
+    MUX_SOURCE_TOPIC,
+)
 
 Version = tuple[int, int, int]
 
@@ -56,6 +66,8 @@ class RosInterfaces:
     """The Lights tree's initial state entries, as this stack's lights manager sets them."""
     joy: str | None = None
     """The topic whose dead man button sets ``drive_state`` (2.2), or None."""
+    string_topics: tuple[str, ...] = ()
+    """std_msgs/String topics the stock trees check (CheckStringMsg, 2.3.2)."""
 
     def service(self, name: str) -> str:
         """The robot's name of a service the trees call by its 2.1+ name."""
@@ -82,10 +94,18 @@ HUSARION_UGV_2_2 = RosInterfaces(
     lights_state={keys.CHARGING_ANIM_PERCENT: "", keys.CURRENT_ANIM_ID: -1, keys.CURRENT_BATTERY_ANIM_ID: -1,
                   keys.CURRENT_ERROR_ANIM_ID: -1, keys.DRIVE_STATE: False},
     joy="joy")
+HUSARION_UGV_2_3_2 = RosInterfaces(
+    "husarion_ugv 2.3.2", "husarion_ugv_msgs", driver_state="hardware/robot_driver_state",
+    driver_state_type="RobotDriverState", animation_ids=dict(ANIMATION_ID_CONSTANTS_232),
+    lights_state={keys.CHARGING_ANIM_PERCENT: "", keys.CURRENT_ANIM_ID: -1, keys.CURRENT_BATTERY_ANIM_ID: -1,
+                  keys.CURRENT_ERROR_ANIM_ID: -1},
+    string_topics=(MUX_SOURCE_TOPIC,))
 
 
 def interfaces_for(version: Version) -> RosInterfaces:
-    """The interfaces of a stack version (2.0.0 - 2.2.x)."""
+    """The interfaces of a stack version (2.0.0 - 2.3.x)."""
+    if version >= (2, 3, 2):
+        return HUSARION_UGV_2_3_2
     if version >= (2, 2, 0):
         return HUSARION_UGV_2_2
     if version >= (2, 1, 0):

@@ -26,6 +26,7 @@ from panther_ops.manager.robot_io import (
     RobotMsg,
     ServiceRequest,
     ServiceResult,
+    StringMsg,
     SystemStatusMsg,
 )
 
@@ -96,6 +97,14 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
         self.node.create_subscription(getattr(msgs, names.driver_state_type), names.driver_state, driver_cb, 10)
         if names.joy:  # 2.2's lights manager: drive_state from the dead man button
             self.node.create_subscription(sensor.Joy, names.joy, self._joy, 10)
+        for topic in names.string_topics:  # 2.3.2: CheckStringMsg's topics
+            self.node.create_subscription(std.String, topic, self._string(topic), 10)
+
+    def _string(self, topic: str) -> Any:
+        def callback(msg: Any) -> None:
+            self.inbox.append(StringMsg(topic, str(msg.data)))
+
+        return callback
 
     def _joy(self, msg: Any) -> None:
         self.inbox.append(JoyMsg(tuple(int(b) for b in msg.buttons)))

@@ -10,7 +10,7 @@ import py_trees
 from py_trees.common import Status
 
 from panther_ops.manager.errors import BtProjectError
-from panther_ops.manager.nodes import controls, decorators, scripting, services, shutdown
+from panther_ops.manager.nodes import controls, decorators, scripting, services, shutdown, topics
 from panther_ops.manager.nodes.base import NodeContext, PortedLeaf, PortSpec, ScriptProgram
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -76,6 +76,8 @@ def _script(kind: str, cls: type[scripting.Script]) -> NodeType:
 
 REGISTRY: dict[str, NodeType] = {
     **{tag: _control(cls) for tag, cls in controls.CONTROLS.items()},
+    "IfThenElse": NodeType("control", lambda name, ctx, ports, children: controls.IfThenElse(name, children),
+                           children=(2, 3)),
     "Parallel": NodeType("control", lambda name, ctx, ports, children: controls.Parallel(name, children, ctx, ports),
                          controls.Parallel.PORTS, children=(1, None)),
     "Delay": _decorator(decorators.Delay,
@@ -100,6 +102,7 @@ REGISTRY: dict[str, NodeType] = {
     "CallSetBoolService": _leaf(services.CallSetBoolService),
     "CallTriggerService": _leaf(services.CallTriggerService),
     "CallSetLedAnimationService": _leaf(services.CallSetLedAnimationService),
+    "CheckStringMsg": _leaf(topics.CheckStringMsg, "condition"),
     "SignalShutdown": _leaf(shutdown.SignalShutdown),
     "ShutdownSingleHost": _leaf(shutdown.ShutdownSingleHost),
     "ShutdownHostsFromFile": _leaf(shutdown.ShutdownHostsFromFile),

@@ -30,12 +30,19 @@ husarion_ugv 2.2.0 and 2.2.2 (package ``husarion_ugv_lights``):
     (husarion_ugv_ros@2.2.0:husarion_ugv_lights/animations/, the same at 2.2.2), installed with the
     package (CMakeLists.txt ``install(DIRECTORY animations ...)``): they are in the robot's image,
     panther-ops does not ship them.
+
+husarion_ugv 2.3.0-2.3.2 (the same package): plugins, priorities and rules as 2.2 (no change to
+husarion_ugv_lights' sources but the header guards, ``git diff 2.2.2 2.3.2 -- husarion_ugv_lights``);
+2.3.2 adds the images ``goal_failed_front``, ``goal_failed_rear`` and ``flood_light`` for both
+models (husarion_ugv_ros@2.3.2:husarion_ugv_lights/animations/{panther,lynx}/), used by its
+animations 16 GOAL_FAILED and 17 FLOOD_LIGHT (husarion_ugv_ros@2.3.2:husarion_ugv_lights/config/
+{panther,lynx}_animations.yaml).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from panther_ops.manager.paths import LIGHTS, TEMPLATES
@@ -52,6 +59,8 @@ _UGV_IMAGES = ("autonomous_action_front", "autonomous_action_rear", "autonomous_
                "goal_achieved_front", "goal_achieved_rear", "low_battery", "manual_action_front",
                "manual_action_rear", "ready_front", "ready_rear")
 _UGV_MODELS = ("panther", "lynx")
+_UGV_2_3_2_IMAGES = ("flood_light", "goal_failed_front", "goal_failed_rear")
+"""Images new in husarion_ugv 2.3.2."""
 
 
 @dataclass(frozen=True)
@@ -113,12 +122,25 @@ HUSARION_UGV_2_2 = LightsRelease(
     / "panther_animations.yaml",
     source="husarion_ugv_ros@2.2.0:husarion_ugv_lights/plugins.xml",
 )
+HUSARION_UGV_2_3_2 = replace(
+    HUSARION_UGV_2_2,
+    name="husarion_ugv 2.3.2",
+    images=HUSARION_UGV_2_2.images | {f"animations/{m}/{n}.png" for m in _UGV_MODELS for n in _UGV_2_3_2_IMAGES},
+    default_led_config=TEMPLATES / "config" / "husarion-ugv-2.3.2" / "husarion_ugv_lights" / "config"
+    / "panther_animations.yaml",
+    source="husarion_ugv_ros@2.3.2:husarion_ugv_lights/plugins.xml",
+)
 RELEASES = (PANTHER_ROS, HUSARION_UGV_2_2)
+"""One per lights package (a file checked without a robot: `release_of`)."""
 PACKAGES = {r.package: r for r in RELEASES}
+IMAGES_2_3_2 = (2, 3, 2)
 
 
 def release_for(version: Version) -> LightsRelease:
-    """The lights rules of a stack version (2.0.x-2.1.x: panther_ros; 2.2.x: husarion_ugv)."""
+    """The lights rules of a stack version (2.0.x-2.1.x: panther_ros; 2.2.x-2.3.1: husarion_ugv;
+    2.3.2+: husarion_ugv with 2.3.2's images)."""
+    if version >= IMAGES_2_3_2:
+        return HUSARION_UGV_2_3_2
     return HUSARION_UGV_2_2 if version >= (2, 2, 0) else PANTHER_ROS
 
 

@@ -21,7 +21,7 @@ from panther_ops.manager.blackboard import TreeBlackboard
 from panther_ops.manager.bt.expression import Env, format_value, parse, to_number, truthy
 from panther_ops.manager.clock import Clock
 from panther_ops.manager.errors import BtProjectError, ScriptError
-from panther_ops.manager.robot_io import RobotIO
+from panther_ops.manager.robot_io import RobotIO, TopicLatch
 
 if TYPE_CHECKING:
     from panther_ops.manager.shutdown_executor.backends import ShutdownBackends
@@ -42,11 +42,13 @@ class NodeContext:
     service_timeout: float = 1.0
     resolve: Callable[[str], str] = field(default=lambda name: name.lstrip("@"))
     """Maps a name used in the tree to its blackboard key (SubTree scopes)."""
+    topics: TopicLatch = field(default_factory=TopicLatch)
+    """The last message of each string topic (CheckStringMsg), fed by the runtime's inputs."""
 
     def scoped(self, resolve: Callable[[str], str]) -> NodeContext:
         """The same context seen from a subtree scope."""
         return NodeContext(self.io, self.clock, self.blackboard, self.shutdown,
-                           self.service_timeout, resolve)
+                           self.service_timeout, resolve, self.topics)
 
 
 def was_skipped(node: py_trees.behaviour.Behaviour) -> bool:

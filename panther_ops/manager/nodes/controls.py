@@ -227,6 +227,37 @@ def run_outcome(node: py_trees.behaviour.Behaviour) -> Outcome:
     return None if getattr(node, "skipped", False) else node.status
 
 
+class IfThenElse(BtComposite, py_trees.composites.Sequence):
+    """BT.CPP IfThenElse (BehaviorTree.CPP@4.9.0:src/controls/if_then_else_node.cpp): the first child
+    is the condition; on SUCCESS the second child runs, on FAILURE the third (FAILURE when there are
+    only two); the chosen child is resumed while it runs, and its outcome is the node's."""
+
+    MEMORY = True
+
+    def run_children(self) -> TickGen:
+        if self.index == 0:
+            condition = self.children[0]
+            self.current_child = condition
+            outcome = yield from tick_child(condition)
+            if outcome == Status.RUNNING:
+                return Status.RUNNING
+            if outcome == Status.SUCCESS:
+                self.index = 1
+            elif outcome == Status.FAILURE:
+                if len(self.children) < 3:
+                    return Status.FAILURE
+                self.index = 2
+            else:  # a skipped condition: BT.CPP throws "Something unexpected happened in IfThenElseNode"
+                raise RuntimeError(f"IfThenElse '{self.name}': its condition was skipped")
+        chosen = self.children[self.index]
+        self.current_child = chosen
+        outcome = yield from tick_child(chosen)
+        if outcome == Status.RUNNING:
+            return Status.RUNNING
+        self.index = 0
+        return outcome
+
+
 CONTROLS: dict[str, type[BtComposite]] = {
     "Sequence": Sequence,
     "Fallback": Fallback,

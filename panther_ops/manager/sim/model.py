@@ -6,7 +6,10 @@ both are accepted and `charge_scale` says which was read), ``charging_time`` [h]
 ``power_load`` [W] and ``capacity`` [Ah]. Without discharging the charge stays put; a
 depleted battery stops the robot. Health comes from the temperature (OVERHEAT from 45 °C,
 COLD below -10 °C, as the battery driver) unless a scenario forces it; status from the
-charger (CHARGING, FULL when full, else DISCHARGING) unless a scenario forces it.
+charger (CHARGING, FULL when full, else DISCHARGING) unless a scenario forces it. A robot of
+husarion_ugv 2.3.2 also publishes its twist mux's active input (``mux_source``: manual,
+autonomous, unknown, not_published) on twist_mux_controller/source; None (the default): a
+robot without the mux (before 2.3.2), which publishes nothing there.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from panther_ops.manager.constants import PowerSupplyHealth, PowerSupplyStatus
+from panther_ops.manager.constants import MUX_SOURCE_TOPIC, MUX_SOURCES, PowerSupplyHealth, PowerSupplyStatus
 from panther_ops.manager.errors import ScenarioError
 from panther_ops.manager.robot_io import (
     BatteryMsg,
@@ -25,6 +28,7 @@ from panther_ops.manager.robot_io import (
     EStopMsg,
     IOStateMsg,
     RobotMsg,
+    StringMsg,
     SystemStatusMsg,
 )
 from panther_ops.manager.yaml_io import read_yaml
@@ -125,6 +129,7 @@ class PantherModel:
     health_override: PowerSupplyHealth | None = None
     power_button: bool = False
     powered_off: bool = False
+    mux_source: str | None = None
     hosts: dict[str, SimHost] = field(default_factory=dict)
     time: float | None = None
 
@@ -176,13 +181,16 @@ class PantherModel:
         pressed, self.power_button = self.power_button, False
         status = self.status()
         percent = float("nan") if status is PowerSupplyStatus.UNKNOWN else self.charge
-        return [
+        out: list[RobotMsg] = [
             BatteryMsg(percent, self.bat_temp, int(status), int(self.health()), self.voltage),
             EStopMsg(self.e_stop),
             IOStateMsg(self.aux, self.fan, pressed, self.charger),
             SystemStatusMsg(self.cpu_temp),
             DriverStateMsg(self.driver_front_temp, self.driver_rear_temp),
         ]
+        if self.mux_source is not None:
+            out.append(StringMsg(MUX_SOURCE_TOPIC, self.mux_source))
+        return out
 
     @property
     def driver_temp(self) -> float:
@@ -200,6 +208,11 @@ class PantherModel:
             self.charge = float(value)
         elif key in {"charger", "e_stop", "aux", "fan"}:
             setattr(self, key, bool(value))
+        elif key == "mux_source":
+            if value not in MUX_SOURCES:
+                raise ScenarioError(f"mux_source is one of {', '.join(MUX_SOURCES)} (what husarion_ugv 2.3.2's "
+                                    f"{MUX_SOURCE_TOPIC} says), got {value!r}")
+            self.mux_source = str(value)
         elif key == "status":
             self.status_override = None if value == "auto" else _enum(PowerSupplyStatus, value)
         elif key == "health":

@@ -33,7 +33,7 @@ from panther_ops.manager.yaml_io import read_yaml
 
 RAMPABLE = {"bat_temp", "cpu_temp", "driver_temp", "driver_front_temp", "driver_rear_temp",
             "charge"}
-SETTABLE = RAMPABLE | {"charger", "e_stop", "aux", "fan", "status", "health"}
+SETTABLE = RAMPABLE | {"charger", "e_stop", "aux", "fan", "status", "health", "mux_source"}
 PRESSABLE = {"power_button"}
 
 
