@@ -26,6 +26,8 @@ if str(_ROOT) not in sys.path:  # `pytest` without `python -m`: make `tests.lab`
 
 from tests.lab import Lab, missing_requirements  # noqa: E402
 
+pytest_plugins = ["tests.fixtures"]  # the demo fleet fixtures every feature folder uses
+
 LAB_FIXTURES = frozenset({"lab", "lab_factory", "lab_ready"})
 DEFAULT_IMAGES = ("2.0", "2.1.1", "2.2")
 

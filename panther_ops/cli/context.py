@@ -48,7 +48,7 @@ def _import_paramiko() -> threading.Thread:
     package that imports nothing of ours; the inventory's parser, PyYAML, which paramiko
     also reaches (through invoke's vendored yaml), is imported here first; while the thread
     runs, reading the inventory imports only single standard-library modules (held by
-    tests/unit/test_background_import.py); and the thread is joined before any robot's task
+    tests/cli/test_background_import.py); and the thread is joined before any robot's task
     starts, so no task ever imports while it does. The robots' tasks import what else they
     need themselves, all along the same path."""
     import importlib

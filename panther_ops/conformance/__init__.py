@@ -17,7 +17,7 @@ release's *table*, ``tests/golden/upstream/<tag>.json`` (`distil`).
 
 *Offline* (the tables and the project only; `checks`, `catalogue`, `report`): compare the
 tables with the project's validators, launch-argument catalogue and templates, and render
-docs/conformance.md. tests/unit/test_conformance.py runs this half in CI.
+docs/conformance.md. tests/conformance/test_conformance.py runs this half in CI.
 
 What a table keeps, and why it is not a copy of upstream's files: per launch argument, the
 facts the catalogue must state (name, declaring files, kind, choices, default in three

@@ -1,7 +1,7 @@
 """The conformance failures known today, each tied to the finding of issue #24 that fixes it.
 
 A key is an ``fnmatch`` pattern over a result's id (``<tag>:<check>:<item>``). The report
-marks a failure with its finding; tests/unit/test_conformance.py expects these items to fail
+marks a failure with its finding; tests/conformance/test_conformance.py expects these items to fail
 (``xfail(strict=True)``), so the test of an item turns red the day a fix makes it pass:
 then delete its line here (and re-run scripts/conformance.py if the fix changed a
 validator, so the recorded verdicts follow).

@@ -53,7 +53,7 @@ OWN: dict[str, str] = {
         "(templates/config/README.md)",
     "joy2twist/joy2twist_panther.yaml": "written from husarion/joy2twist@2f8ad45:joy2twist/config/"
                                         "joy2twist_panther.yaml (the gamepad image of panther_ros 2.0-2.1), a "
-                                        "repository this tool does not read: tests/unit/test_joy2twist_template.py "
+                                        "repository this tool does not read: tests/kinds/test_joy2twist_template.py "
                                         "compares them",
     "config-tree/husarion-ugv-2.2/common/.env": "the robot's ~/config/common/.env is written by the robot's OS "
                                                 "image, not by husarion_ugv_ros (templates/config/README.md)",

@@ -40,7 +40,7 @@ prints one line per check and tag. A new release is one more `--tag` (then its t
 committed and, when panther-ops supports it, its failures fixed or listed in
 `panther_ops/conformance/known.py`).
 
-The unit test `tests/unit/test_conformance.py` runs the same checks from the tables, one
+The unit test `tests/conformance/test_conformance.py` runs the same checks from the tables, one
 test per item: the known failures below are `xfail(strict=True)`, so a fix turns its test
 red until its line in `known.py` is removed.
 """

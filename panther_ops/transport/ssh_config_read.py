@@ -13,7 +13,7 @@ line paramiko cannot parse, or a ``%`` token in a value that paramiko would expa
 answers only for the settings panther-ops uses (:data:`USED`), with paramiko's rules:
 the first value obtained wins, ``IdentityFile`` values add up in order, ``HostName``
 defaults to the name looked up and ``~`` in ``IdentityFile`` becomes the home directory.
-tests/unit/test_ssh_config_read.py checks it against paramiko on a corpus of files.
+tests/transport/test_ssh_config_read.py checks it against paramiko on a corpus of files.
 """
 
 from __future__ import annotations

@@ -145,7 +145,7 @@ LAUNCH_ARGS = [
                 ["compose.yaml:38", "components_config_path", "'$(find panther_description)/x.yaml'",
                  "double-quoted bash -c script", "a dollar sign ($)"]),
     # a path argument meets the config-path rule first (issue 23 item 9); the bash -c quoting check
-    # behind it has its own tests (tests/core/test_launchcmd_diff.py)
+    # behind it has its own tests (tests/robot/test_launchcmd_diff.py)
     bash_c_case("arg-bash-c-double-quote", ["config", "set", "battery_config_path", '/config/a"b.yaml', *R1],
                 ["battery_config_path", "'/config/a\"b.yaml'", "not a character of a config path"]),
     bash_c_case("arg-bash-c-backslash", ["config", "set", "battery_config_path", "/config/a\\b.yaml", *R1],

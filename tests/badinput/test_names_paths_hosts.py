@@ -96,7 +96,7 @@ BT_SAFETY = {"proj/PantherSafetyBT.btproj": (BT / "PantherSafetyBT.btproj").read
 LIGHTS_NAMED = ["<CallSetLedAnimationService> service_name='lights/set-animation'", "'-' is not allowed"]
 SAFETY_NAMED = ["service_name='hardware/e_stop trigger'", "' ' is not allowed"]
 NAMESPACES += [
-    # bt validate lists its findings on stdout (tests/unit/test_ros_names.py reads them); stderr has the verdict
+    # bt validate lists its findings on stdout (tests/parse/test_ros_names.py reads them); stderr has the verdict
     Case("bt-validate-lights-service", ["bt", "validate", "{tmp}/proj/PantherLightsBT.btproj"],
          ["PantherLightsBT.btproj: BT project refused (1 error,"], files=BT_LIGHTS),
     Case("bt-validate-safety-service", ["bt", "validate", "{tmp}/proj/PantherSafetyBT.btproj"],
@@ -154,7 +154,7 @@ for cid, args in (("config-set", ["config", "set", "log_level", "DEBUG", *R3]),
 
 
 # ------------------------------------------------------------------ shutdown hosts commands (item 10)
-# chaining (';', '&&', '||', '|', '&') is a warning (tests/unit/test_shutdown_cli.py): the host's login shell
+# chaining (';', '&&', '||', '|', '&') is a warning (tests/shutdown/test_shutdown_cli.py): the host's login shell
 # runs the chain; a control character other than a newline was let through and is refused now
 HOSTS: list[Case] = []
 ONE_LINE = "must be a one-line command of printable text"

@@ -90,6 +90,17 @@ def run_for(rt: ManagerRuntime, clock: ManualClock, seconds: float) -> None:
         clock.advance(0.1)
 
 
+def started(tag: str, tmp: Path, status: PowerSupplyStatus,
+            seconds: float) -> tuple[ManagerRuntime, FakeRobotIO, ManualClock]:
+    """Release ``tag``'s stock manager on a fake robot whose battery is in ``status``, run for
+    ``seconds``: (runtime, robot, clock)."""
+    io, clock = FakeRobotIO(), ManualClock()
+    rt = runtime(tag, tmp, io, clock)
+    io.messages = robot(battery(status))
+    run_for(rt, clock, seconds)
+    return rt, io, clock
+
+
 @pytest.mark.parametrize("tag", sorted(STOCK))
 def test_each_release_stock_project_validates_cleanly(tag: str, tmp_path: Path) -> None:
     _, _, lights, safety, _ = STOCK[tag]
@@ -104,10 +115,7 @@ def test_2_2_stock_lights_use_husarion_ugv_numbers(tag: str, tmp_path: Path) -> 
     numbers; a charger then: CHARGER_INSERTED (9) after 300 ms, CHARGING_BATTERY (7) after 2.5 s.
     With panther_msgs' numbers (main before this change) 3 is MANUAL_ACTION, 7 CRITICAL_BATTERY,
     9 CHARGING_BATTERY, and 10 is no animation at all."""
-    io, clock = FakeRobotIO(), ManualClock()
-    rt = runtime(tag, tmp_path, io, clock)
-    io.messages = robot(battery(PowerSupplyStatus.DISCHARGING))
-    run_for(rt, clock, 1.0)
+    rt, io, clock = started(tag, tmp_path, PowerSupplyStatus.DISCHARGING, 1.0)
     assert sorted(set(animations(io))) == [1, 3, 10]
     io.calls.clear()
     io.messages = [battery(PowerSupplyStatus.CHARGING)]
@@ -121,10 +129,7 @@ def test_2_2_stock_lights_use_husarion_ugv_numbers(tag: str, tmp_path: Path) -> 
 
 def test_2_2_dead_man_button_shows_manual_action(tmp_path: Path) -> None:
     """2.2's lights manager sets drive_state from joy.buttons[4]: MANUAL_ACTION (4) while held."""
-    io, clock = FakeRobotIO(), ManualClock()
-    rt = runtime("2.2.2", tmp_path, io, clock)
-    io.messages = robot(battery(PowerSupplyStatus.DISCHARGING))
-    run_for(rt, clock, 1.0)
+    rt, io, clock = started("2.2.2", tmp_path, PowerSupplyStatus.DISCHARGING, 1.0)
     io.calls.clear()
     io.messages = [JoyMsg((0, 0, 0, 0, 1, 0))]
     run_for(rt, clock, 1.0)
@@ -138,10 +143,7 @@ def test_2_2_dead_man_button_shows_manual_action(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("tag", ["2.0.4", "2.1.1"])
 def test_2_0_and_2_1_stock_lights_keep_panther_msgs_numbers(tag: str, tmp_path: Path) -> None:
-    io, clock = FakeRobotIO(), ManualClock()
-    rt = runtime(tag, tmp_path, io, clock)
-    io.messages = robot(battery(PowerSupplyStatus.CHARGING))
-    run_for(rt, clock, 1.0)
+    rt, io, _ = started(tag, tmp_path, PowerSupplyStatus.CHARGING, 1.0)
     assert animations(io) == [9]  # panther_msgs CHARGING_BATTERY, at once (no Delay before 2.2)
     rt.close()
 
@@ -151,10 +153,8 @@ def test_stock_safety_holds_fan_on_under_the_fan_off_timeout(tag: str, tmp_path:
     """The stock safety.xml (the same at every release) puts fan-on and fan-off under one
     TickAfterTimeout(FAN_TURN_OFF_TIMEOUT): after the fan went off, a hot CPU turns it on only
     when the 60 s have passed again. The deployed manager now does that, as the stock one."""
-    io, clock = FakeRobotIO(), ManualClock()
-    rt = runtime(tag, tmp_path, io, clock)
-    io.messages = robot(battery(PowerSupplyStatus.DISCHARGING))
-    run_for(rt, clock, 61.0)  # start-up fan on, then fan off after 60 s (cool robot)
+    # start-up fan on, then fan off after 60 s (cool robot)
+    rt, io, clock = started(tag, tmp_path, PowerSupplyStatus.DISCHARGING, 61.0)
     fan = [dict(r.args)["data"] for r, _ in io.calls if r.service == "hardware/fan_enable"]
     assert fan == [True, False]
     io.calls.clear()
@@ -194,10 +194,7 @@ def test_2_3_2_stock_lights_follow_the_twist_mux_source(tmp_path: Path) -> None:
 
 def test_2_2_stock_lights_ignore_the_mux_source(tmp_path: Path) -> None:
     """2.2.2's tree keys on drive_state: a mux source message changes nothing."""
-    io, clock = FakeRobotIO(), ManualClock()
-    rt = runtime("2.2.2", tmp_path, io, clock)
-    io.messages = robot(battery(PowerSupplyStatus.DISCHARGING))
-    run_for(rt, clock, 1.0)
+    rt, io, clock = started("2.2.2", tmp_path, PowerSupplyStatus.DISCHARGING, 1.0)
     io.calls.clear()
     io.messages = [StringMsg(MUX, "manual")]
     run_for(rt, clock, 1.0)

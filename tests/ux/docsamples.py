@@ -73,26 +73,26 @@ NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
         "on where the loop is",
     ("reimage.md", "panther-ops trust r01 --replace --yes"):
         "continues the `reimage restore` above it (a backup archive of r01 and a reinstalled card: "
-        "tests/integration/test_reimage_restore_lab.py)",
+        "tests/reimage/test_reimage_restore_lab.py)",
 }
 """(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
 
 NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
     ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01"):
-        "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/integration/test_teleop_lab.py)",
+        "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/remote/teleop/test_teleop_lab.py)",
     ("remote.md", "export PANTHER_OPS_SUDO_PASSWORD=...      # or --ask-sudo-password"):
-        "a User Computer with the snap stand-in (tests/integration/test_webui_lab.py)",
+        "a User Computer with the snap stand-in (tests/remote/webui/test_webui_lab.py)",
     ("remote.md", "panther-ops -i lab/inventory.yaml config diff -r r02"):
-        "a User Computer with the snap stand-in and desired.webui in the inventory (tests/integration/test_webui_lab.py)",
+        "a User Computer with the snap stand-in and desired.webui in the inventory (tests/remote/webui/test_webui_lab.py)",
 }
 """(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
 
 LAB_PAGES_NOT_YET: dict[str, str] = {
     "gps.md": "needs a lab with the nmea-gps image and an NMEA sender on the robots' LAN, and the stand-in "
-              "router (tests/integration/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
+              "router (tests/gps/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
     "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
-                         "(tests/integration/test_manager_deploy_lab.py)",
-    "shutdown.md": "needs the lab's User Computers set up by shutdown setup (tests/integration/test_shutdown_*_lab.py)",
+                         "(tests/manager_ops/test_manager_lab.py)",
+    "shutdown.md": "needs the lab's User Computers set up by shutdown setup (tests/shutdown/test_shutdown_lab.py)",
 }
 """Pages whose lab samples need more than the docs' lab (tests/ux/doclab.py) and are not run yet:
 the reason (listed by ``capture_docs.py --lab --list``; their text is left as written)."""

@@ -166,10 +166,10 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
      "runs on the lab's robots (docs/lab.md: sshd + dockerd + Compose v2), as shown"),
     (r"\btrust panther-07\b|-r panther-11\b", "a robot of a real fleet (not in the demo fleet)"),
     (r"--ask-password", "asks a password on the terminal (the lab's shutdown tests run it)"),
-    (r"--ask-sudo-password", "asks the User Computers' sudo password on the terminal (tests/integration/"
+    (r"--ask-sudo-password", "asks the User Computers' sudo password on the terminal (tests/remote/webui/"
      "test_webui_lab.py gives it as $PANTHER_OPS_SUDO_PASSWORD)"),
     (r"^panther-ops (-i \S+ )?teleop ", "drives a robot's driver container from an interactive terminal "
-     "(tests/integration/test_teleop_lab.py, on a pty)"),
+     "(tests/remote/teleop/test_teleop_lab.py, on a pty)"),
     (r"^panther-ops shutdown --hosts (?!.*--dry-run)", "powers real computers off (the lab's shutdown tests)"),
     (r"shutdown robot .*--yes", "powers the robot off"),
     (r"shutdown setup ", "sets a computer up over the robot's LAN (the lab's shutdown tests)"),
@@ -177,13 +177,13 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r" -f\b| --follow\b", "follows a live container log (docker on the robot)"),
     (r"config rollback (?!--file ).*--to \d", "needs a backup id from that robot's `config history`"),
     (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
-    (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/integration/test_reimage_flash_lab.py: loop devices)"),
-    (r"reimage bmap ", "needs an OS image file (tests/integration/test_reimage_bmap_lab.py builds a card image and maps it)"),
-    (r"reimage restore ", "needs a backup archive of that robot (tests/integration/test_reimage_restore_lab.py)"),
-    (r"gps (listen|watch) ", "waits for NMEA from a sender on the robot's network (tests/unit/test_gps_listen.py sends it)"),
+    (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/reimage/test_reimage_flash_lab.py: loop devices)"),
+    (r"reimage bmap ", "needs an OS image file (tests/reimage/test_reimage_bmap_lab.py builds a card image and maps it)"),
+    (r"reimage restore ", "needs a backup archive of that robot (tests/reimage/test_reimage_restore_lab.py)"),
+    (r"gps (listen|watch) ", "waits for NMEA from a sender on the robot's network (tests/gps/test_gps_listen.py sends it)"),
     (r"gps router (show|set) |gps (enable|status|watch) .*--router\b",
      "talks to the robot's RUTX11 router (credentials, its REST API behind the robot's SSH; "
-     "tests/integration/test_gps_router_lab.py runs it on the lab's stand-in router)"),
+     "tests/gps/test_gps_router_lab.py runs it on the lab's stand-in router)"),
     (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
     (r"<TAB>", "a shell completing the line (tests/ux/test_completion.py asks the entry point as bash and zsh do)"),
 )

@@ -1,4 +1,5 @@
-"""Run the real ``panther-ops`` process piped or on a pseudo-terminal (the ``pty`` module)."""
+"""Run the real ``panther-ops`` process (or another program) piped or on a pseudo-terminal (the ``pty``
+module)."""
 
 from __future__ import annotations
 
@@ -115,6 +116,26 @@ def _pty_run(argv: list[str], master: int, slave: int, piped_out: IO[bytes], *, 
     return Run(code, b"".join(chunks).decode(errors="replace"), piped_out.read().decode(errors="replace"))
 
 
+def _until_ended(args: list[str], timeout: float, source: int, chunks: list[bytes], ready: Callable[[str], bool],
+                 act: Callable[[], object], ended: Callable[[], bool]) -> tuple[float | None, float]:
+    """Read ``source`` into ``chunks`` until ``ended()``; the first time ``ready(output so far,
+    plain)`` holds, ``act()`` (the Ctrl-C). (When it acted or None, when it ended.)"""
+    acted: float | None = None
+    deadline = time.monotonic() + timeout
+    while True:
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"panther-ops {' '.join(args)}: not over after {timeout} s")
+        if acted is None and ready(plain(b"".join(chunks).decode(errors="replace"))):
+            act()
+            acted = time.monotonic()
+        readable, _, _ = select.select([source], [], [], 0.01)
+        if readable:
+            with contextlib.suppress(OSError):  # the child closed the terminal
+                chunks.append(os.read(source, 65536))
+        if ended():
+            return acted, time.monotonic()
+
+
 @dataclass
 class Interrupted:
     run: Run
@@ -141,24 +162,9 @@ def interrupted(args: list[str], ready: Callable[[str], bool], *, on_terminal: b
         source, out_pipe = p.stderr.fileno(), p.stdout
     chunks: list[bytes] = []
     sent: float | None = None
-    ended: float | None = None
-    deadline = time.monotonic() + timeout
     try:
-        while ended is None:
-            if time.monotonic() > deadline:
-                raise TimeoutError(f"panther-ops {' '.join(args)}: not over after {timeout} s")
-            if sent is None and ready(plain(b"".join(chunks).decode(errors="replace"))):
-                p.send_signal(signal.SIGINT)
-                sent = time.monotonic()
-            readable, _, _ = select.select([source], [], [], 0.01)
-            if readable:
-                try:
-                    data = os.read(source, 65536)
-                except OSError:  # the child closed the terminal
-                    data = b""
-                chunks.append(data)
-            if p.poll() is not None:
-                ended = time.monotonic()
+        sent, ended = _until_ended(args, timeout, source, chunks, ready, lambda: p.send_signal(signal.SIGINT),
+                                   lambda: p.poll() is not None)
         _drain(source, chunks, 0.5)  # what is left in the stream
     finally:
         if p.poll() is None:
@@ -187,21 +193,14 @@ def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 1
     typed: float | None = None
     ended: float | None = None
     status = 0
-    deadline = time.monotonic() + timeout
+
+    def over() -> bool:
+        nonlocal status
+        done, status = os.waitpid(pid, os.WNOHANG)
+        return done != 0
+
     try:
-        while ended is None:
-            if time.monotonic() > deadline:
-                raise TimeoutError(f"panther-ops {' '.join(args)}: not over after {timeout} s")
-            if typed is None and ready(plain(b"".join(chunks).decode(errors="replace"))):
-                os.write(master, b"\x03")
-                typed = time.monotonic()
-            readable, _, _ = select.select([master], [], [], 0.01)
-            if readable:
-                with contextlib.suppress(OSError):  # the child is gone
-                    chunks.append(os.read(master, 65536))
-            done, status = os.waitpid(pid, os.WNOHANG)
-            if done:
-                ended = time.monotonic()
+        typed, ended = _until_ended(args, timeout, master, chunks, ready, lambda: os.write(master, b"\x03"), over)
         _drain(master, chunks, 0.2)
     finally:
         if ended is None:
@@ -211,3 +210,40 @@ def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 1
     text = b"".join(chunks).decode(errors="replace")
     assert typed is not None, f"never ready; it ended with: {text}"
     return Interrupted(Run(os.waitstatus_to_exitcode(status), text, text), ended - typed)
+
+
+def keys_on_pty(argv: list[str], keys: list[tuple[bytes, float]], *, ready: str, timeout: float,
+                env: dict[str, str] | None = None) -> tuple[int, str]:
+    """Run ``argv`` as the child of a pseudo-terminal (its controlling terminal), wait up to
+    ``timeout`` seconds for ``ready`` in its output, then type ``keys`` (each one followed by its
+    pause, reading meanwhile) and wait for it to end: (exit code, everything it wrote)."""
+    pid, fd = pty.fork()
+    if pid == 0:  # pragma: no cover - the child
+        os.execve(argv[0], argv, os.environ if env is None else env)
+    out = b""
+
+    def pump(seconds: float) -> None:
+        nonlocal out
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            if select.select([fd], [], [], 0.05)[0]:
+                try:
+                    out += os.read(fd, 4096)
+                except OSError:
+                    return
+
+    deadline = time.monotonic() + timeout
+    while ready.encode() not in out and time.monotonic() < deadline:
+        pump(0.1)
+    if ready.encode() not in out:
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        os.close(fd)
+        raise AssertionError(f"{ready!r} not shown in {timeout} s: {out.decode(errors='replace')}")
+    for key, pause in keys:
+        os.write(fd, key)
+        pump(pause)
+    pump(0.5)
+    _, status = os.waitpid(pid, 0)
+    os.close(fd)
+    return os.waitstatus_to_exitcode(status), out.decode(errors="replace")

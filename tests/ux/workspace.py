@@ -12,8 +12,8 @@ from pathlib import Path
 
 from panther_ops.cli.app import main
 from tests.badinput.test_file_kinds import JOY2TWIST
+from tests.config.test_custom_wheels import custom_controller, custom_wheel
 from tests.sim_world import WORLD
-from tests.unit.test_custom_wheels import custom_controller, custom_wheel
 
 from .examples import ROOT
 
