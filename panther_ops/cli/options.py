@@ -103,7 +103,8 @@ DryRun = Annotated[bool, typer.Option("--dry-run", help="Show the exact diffs; w
 NoRestart = Annotated[bool, typer.Option("--no-restart", help="Write the files but do not recreate containers.")]
 Settle = Annotated[
     float, typer.Option("--settle", parser=real_number(0),
-                        help="Seconds the recreated container must stay up, unrestarted.")
+                        help="Upper bound in seconds on the wait for a recreated container to be ready "
+                             "(up and unrestarted for 2 s); a crash within it rolls back.")
 ]
 Force = Annotated[bool, typer.Option("--force", help="Accept unknown keys and values beyond limits (with a warning).")]
 Lines = Annotated[

@@ -83,7 +83,7 @@ def logs(
 def restart(fleet: Fleet) -> int:
     """Recreate the driver container: `docker compose up -d --force-recreate <driver service>` as
     the robot user in a login shell (what Husarion's configurator does), then check it keeps
-    running, unrestarted, with compose.yaml's launch command for --settle seconds.
+    running, unrestarted, with compose.yaml's launch command: ready after 2 s up, at most --settle seconds.
 
     `changed` when it came back up, `failed` (exit 3) when it did not (see `driver logs`).
 
@@ -120,7 +120,7 @@ def stop(fleet: Fleet) -> int:
 def start(fleet: Fleet) -> int:
     """Start a stopped driver container as it is: `docker compose start <driver service>` (no
     recreate: a change made with --no-restart still waits for `driver restart`), then check it
-    keeps running, unrestarted, for --settle seconds.
+    keeps running, unrestarted: ready after 2 s up, at most --settle seconds.
 
     `changed` when it started, `ok` when it was already running, `failed` (exit 3) when it did
     not stay up (see `driver logs`).

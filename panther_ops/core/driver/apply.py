@@ -24,6 +24,7 @@ from panther_ops.core.containers.engine import engine
 from panther_ops.core.driver.containers import last_line
 from panther_ops.core.driver.migrate.dirs import RMDIR_EMPTY
 from panther_ops.core.driver.plan import RecreateDriver, ResetConfigTree, SetRunState, UpdateDriver
+from panther_ops.core.fleet import readiness
 from panther_ops.core.fleet.pipeline import (
     BACKUP_ROOT,
     ApplyOptions,
@@ -64,7 +65,7 @@ def apply_restart(ctx: RobotContext, plan: RobotPlan, step: RecreateDriver, opts
         return result
     after = service_containers(client, service, wd, own_only=True)
     result.data["container"] = after[0].id[:12] if after else None
-    result.message = f"recreated {service} ({step.image}); running after {opts.settle_s:g} s"
+    result.message = f"recreated {service} ({step.image}); running after {readiness.stable_for(opts.settle_s):g} s"
     return result
 
 
@@ -109,7 +110,7 @@ def apply_run_state(ctx: RobotContext, plan: RobotPlan, step: SetRunState, opts:
             result.message = problem
             result.data["hint"] = f"panther-ops driver logs -r {name}"
             return result
-        result.message = f"started {service}; running after {opts.settle_s:g} s"
+        result.message = f"started {service}; running after {readiness.stable_for(opts.settle_s):g} s"
         return result
     deadline = time.monotonic() + 5
     while True:

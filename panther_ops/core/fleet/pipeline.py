@@ -3,8 +3,8 @@
 read -> plan (pure, with exact diffs) -> [confirm, in the CLI] -> backup on the robot ->
 stage every file (temp file beside it, fsynced) -> rename each into place (atomic) ->
 ``docker compose up -d --force-recreate`` of the affected services as the robot user in a
-login shell -> verify (the container runs the planned command, its state and restart count
-hold for a settle window) -> on failure restore the backup, recreate, report
+login shell -> verify (the container runs the planned command and is ready, `readiness`: up and
+unrestarted for a short window, ``--settle`` the upper bound) -> on failure restore the backup, recreate, report
 ``rolled-back``. A plan with nothing to change reports ``ok`` with the reason and writes
 nothing.
 """
@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from typing import Any
 
+from panther_ops.core.fleet import readiness
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.plan import RobotPlan, Verify
 from panther_ops.core.fleet.runner import RobotContext
@@ -389,17 +390,20 @@ def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, res
 
 
 def watch_services(client: Any, plan: RobotPlan, settle_s: float, working_dir: str) -> str | None:
-    """Watch the plan's services (its verify checks, else its recreated services) for ``settle_s``:
-    a problem, or None when each kept running, unrestarted, with the planned command."""
-    deadline = time.monotonic() + settle_s
+    """Watch the plan's services (its verify checks, else its recreated services) until each is
+    ready (`readiness.judge`: running, unrestarted, for ``readiness.MIN_STABLE_S``) or for at
+    most ``settle_s``: a problem, or None when each runs the planned command and none failed."""
+    start = time.monotonic()
+    deadline = start + settle_s
     checks = plan.verify or [Verify(s) for s in plan.recreate]
+    samples: dict[str, list[readiness.Sample]] = {v.service: [] for v in checks}
     while True:
+        ready = 0
         for v in checks:
             ctrs = service_containers(client, v.service, working_dir, own_only=True)
             if not ctrs:
                 return f"service {v.service}: no container of the project in {working_dir} after recreate"
             c = ctrs[0]
-            state = c.attrs.get("State", {})
             cmd = [str(x) for x in c.attrs.get("Config", {}).get("Cmd") or []]
             missing = [x for x in v.cmd_contains if not has_word(cmd, x)]
             if missing:
@@ -407,13 +411,11 @@ def watch_services(client: Any, plan: RobotPlan, settle_s: float, working_dir: s
             present = [x for x in v.cmd_lacks if has_word(cmd, x)]
             if present:
                 return f"service {v.service}: container command still has {', '.join(present)}"
-            status, restarts = state.get("Status", "?"), int(c.attrs.get("RestartCount", 0))
-            if status not in ("running", "created") or state.get("Restarting"):
-                code = state.get("ExitCode")
-                return f"service {v.service}: container {status} (exit code {code}) after recreate"
-            if restarts > 0:  # a recreated container starts at 0; restart: always hides crashes
-                return f"service {v.service}: container restarted {restarts} time(s) after recreate (exit code " \
-                    f"{state.get('ExitCode')})"
-        if time.monotonic() >= deadline:
+            samples[v.service].append(readiness.sample_of(c.attrs, time.monotonic() - start))
+            verdict, problem = readiness.judge(samples[v.service], readiness.MIN_STABLE_S)
+            if verdict == readiness.FAILED:
+                return f"service {v.service}: {problem}"
+            ready += verdict == readiness.READY
+        if ready == len(checks) or time.monotonic() >= deadline:
             return None
-        time.sleep(0.5)
+        time.sleep(min(readiness.POLL_S, max(0.0, deadline - time.monotonic())))
