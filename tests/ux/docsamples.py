@@ -73,7 +73,8 @@ NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
         "on where the loop is",
     ("reimage.md", "panther-ops trust r01 --replace --yes"):
         "continues the `reimage restore` above it (a backup archive of r01 and a reinstalled card: "
-        "tests/integration/test_reimage_restore_lab.py)",
+        "tests/integration/test_reimage_restore_lab.py); its shape is trust's as a change (issue 28), "
+        "the keys' base64 elided",
 }
 """(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
 
