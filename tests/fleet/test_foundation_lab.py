@@ -139,8 +139,10 @@ def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.Captur
     assert lab.host_fingerprint(robot.name) in out
     code, doc, _, _ = run_cli(capsys, "-i", str(inv), "trust", robot.name, "--json")
     assert code == doc["exit_code"] == 0 and doc["command"] == "trust"
-    assert doc["state"] == "known" and doc["fingerprint"] == lab.host_fingerprint(robot.name)
-    assert doc["recorded"] is False and doc["known_hosts_file"] == str(kh)
+    (key,) = doc["robots"]  # the change's envelope: one host key, nothing recorded this time
+    assert key["robot"] == robot.name and key["outcome"] == "ok" and not key["diffs"]
+    assert key["data"]["state"] == "known" and key["data"]["fingerprint"] == lab.host_fingerprint(robot.name)
+    assert key["data"]["known_hosts_file"] == str(kh)
     code, doc, _, _ = run_cli(capsys, "-i", str(inv), "status", "--json")
     assert code == 0
 

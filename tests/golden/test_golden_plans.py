@@ -71,3 +71,27 @@ def test_trust_planner() -> None:
     assert trust_state("ssh-ed25519", "SHA256:b", [("ssh-ed25519", "SHA256:a")]) == "changed"
     assert trust_state("ssh-ed25519", "SHA256:b", [("ssh-rsa", "SHA256:c")]) == "new"
     assert trust_state("ssh-ed25519", "SHA256:b", []) == "new"
+
+
+def test_trust_plans_the_known_hosts_edit() -> None:
+    """`trust`: the plan is the exact edit of known_hosts (appended; --replace drops the host's
+    plain lines, keeps comments and other hosts); a known key is no change, a changed one refused."""
+    from panther_ops.core.fleet.plan_trust import HOST_KEY, OfferedKey, plan_trust
+    from panther_ops.core.fleet.reads import Need, Reads
+    from panther_ops.errors import HostKeyError
+
+    def reads(known: tuple[tuple[str, str], ...], text: str) -> Reads:
+        offered = OfferedKey("10.0.0.7", 2222, "[10.0.0.7]:2222", "ssh-ed25519", "AAAAnew", "SHA256:new", known,
+                             "/home/op/.ssh/known_hosts")
+        return Reads("panther-07", files={"/home/op/.ssh/known_hosts": text.encode()},
+                     facts={Need(HOST_KEY, "panther-07"): offered})
+
+    plan = plan_trust(reads((), "a ssh-rsa AAAAa"), "panther-07", replace=False)
+    assert plan.edits[0].after == b"a ssh-rsa AAAAa\n[10.0.0.7]:2222 ssh-ed25519 AAAAnew\n"
+    assert plan.data["state"] == "new" and plan.home == "/home/op/.ssh" and plan.edits[0].mode == 0o600
+    assert plan_trust(reads((("ssh-ed25519", "SHA256:new"),), ""), "panther-07", replace=False).noop
+    changed = reads((("ssh-ed25519", "SHA256:old"),), "# c\n[10.0.0.7]:2222 ssh-ed25519 AAAAold\nb ssh-rsa AAAAb\n")
+    with pytest.raises(HostKeyError, match="host key changed"):
+        plan_trust(changed, "panther-07", replace=False)
+    plan = plan_trust(changed, "panther-07", replace=True)
+    assert plan.edits[0].after == b"# c\nb ssh-rsa AAAAb\n[10.0.0.7]:2222 ssh-ed25519 AAAAnew\n"

@@ -120,3 +120,27 @@ def test_a_step_that_is_the_whole_change_writes_nothing_after_it(tmp_path: Path)
     plan = RobotPlan("r", "one step", steps=[Marked("a", skip_rest=True), Marked("never")])
     result = apply_plan(_ctx(tmp_path), plan, ApplyOptions())
     assert NOTES == ["a before"] and result.message == "a did it all"
+
+
+COMMANDS = Path(__file__).resolve().parents[2] / "panther_ops" / "cli" / "commands"
+OWN_CONFIRMATION = {
+    "reimage.py": "reimage write/flash: erases a block device of this machine, not a target the runner reaches",
+    "sim.py": "sim files and sim charging: a local simulation's file and a call into the running simulation",
+    "shutdown_inputs.py": "`shutdown setup` (ask_to_confirm): asks, in the middle of its setup, before recording "
+                          "a computer's host key in the robot's known_hosts; not yet a change (left)",
+}
+"""The commands that still confirm on their own, each with why (a new one must go through `fleet.change`)."""
+
+
+def confirmations(source: str) -> list[int]:
+    """Lines calling ``require(...)`` or ``confirm(...)`` (the CLI's own plan -> confirm -> act)."""
+    return [node.lineno for node in ast.walk(ast.parse(source))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("require", "confirm")]
+
+
+def test_every_command_that_changes_something_goes_through_fleet_change() -> None:
+    """Issue 28: no command hand-rolls plan -> confirm -> act: `cli/mutate.py` asks, for every
+    change (`trust`, `shutdown --hosts`, `estop reset`, `webui set`, `shutdown robot` moved onto it)."""
+    found = {p.name: lines for p in sorted(COMMANDS.glob("*.py")) if (lines := confirmations(p.read_text()))}
+    assert set(found) <= set(OWN_CONFIRMATION), {n: ls for n, ls in found.items() if n not in OWN_CONFIRMATION}
+    assert not {"trust.py", "shutdown.py"} & set(found) and set(OWN_CONFIRMATION) <= set(found), found  # the list is kept exact

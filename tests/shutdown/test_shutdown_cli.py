@@ -291,3 +291,24 @@ def test_a_chained_command_is_a_warning_of_validate_and_of_every_plan_that_write
     assert code == 0 and "'sudo shutdown now | tee /tmp/log' chains commands with '|'" in err
     assert local.read_text() == "hosts:\n  - ip: 10.15.20.3\n    username: husarion\n"
     assert no_network == []
+
+
+def test_the_hosts_are_the_changes_subjects(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                            no_network: list[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 28: `shutdown --hosts` is a change through fleet.change: one target per host (subject
+    `host`), each planned (what it would get) in the change's envelope; the secret never shown."""
+    good = tmp_path / "good.yaml"
+    good.write_text(GOOD)
+    monkeypatch.setenv("BENCH_SECRET", "bench-secret-value")
+    code, out, err = run(capsys, "shutdown", "--hosts", str(good), "--dry-run", "--json")
+    doc = json.loads(out)
+    assert code == doc["exit_code"] == 0 and doc["command"] == "shutdown --hosts good.yaml", err
+    assert doc["notes"] == ["dry run: nothing was contacted"] and doc["summary"]["changed"] == 2
+    ssh, http = doc["robots"]
+    assert ssh["robot"] == "husarion@192.0.2.3:22" and ssh["message"].startswith("would shut down husarion@")
+    assert ssh["data"] == {"ip": "192.0.2.3", "method": "ssh", "port": 22, "timeout": 3.0, "username": "husarion",
+                           "command": "sudo shutdown now", "ping_for_success": True, "via": None, "dry_run": True}
+    assert http["robot"] == "http://192.0.2.5:3003" and http["data"]["secret"] == "env BENCH_SECRET"
+    assert "bench-secret-value" not in out + err and no_network == []
+    code, out, err = run(capsys, "shutdown", "--hosts", str(good), "--dry-run")
+    assert code == 0 and "2 hosts" in out + err, out + err

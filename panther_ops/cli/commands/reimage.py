@@ -323,13 +323,15 @@ def restore(
         raise UsageError(f"--from {from_}: the backup is of robot {taken_from!r}, not {target.name!r}")
     old_key = backup.robot.get("host_key") or "none recorded"
     if target.transport != "local":
-        from panther_ops.core.fleet.trust import plan_trust
+        from panther_ops.core.fleet.plan_trust import trust_state
+        from panther_ops.core.fleet.trust import read_offered_key
 
-        trust = plan_trust(inv, target)
+        trust = read_offered_key(inv, target)
         context.info(f"{target.name} offers host key {trust.key_type} {trust.fingerprint}; "
                      f"the backup recorded {old_key}")
-        if trust.state != "known":
-            again = " --replace" if trust.state == "changed" else ""
+        state = trust_state(trust.key_type, trust.fingerprint, trust.known)
+        if state != "known":
+            again = " --replace" if state == "changed" else ""
             raise UsageError(
                 f"{target.name}: its host key {trust.fingerprint} is not trusted "
                 f"({'changed' if again else 'new'}; the backup recorded {old_key}): refused, nothing was changed",

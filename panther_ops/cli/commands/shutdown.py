@@ -23,17 +23,19 @@ from panther_ops.cli.commands.shutdown_inputs import (
     SecretFile,
     ask_to_confirm,
     refusal,
-    require_confirmation,
     secret_from,
     usage_error,
 )
 from panther_ops.cli.context import Fleet
 from panther_ops.cli.options import READ, TARGETS, OptFloat, OptInt, OptPath, OptStr, port_number, real_number, shared
-from panther_ops.cli.views.shutdown import finish_hosts, print_findings, print_plan, print_steps
+from panther_ops.cli.views.shutdown import finish_hosts, print_findings, print_steps
 
 if TYPE_CHECKING:
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.plan import RobotPlan
+    from panther_ops.core.kinds.hostsfile import HostsFile
+    from panther_ops.manager.shutdown_executor.hosts import ShutdownHost
+    from panther_ops.results import FleetResult
 
 
 app = typer.Typer(
@@ -84,7 +86,6 @@ def shutdown(
 def _shutdown_file(fleet: Fleet, path: Path, via: str | None, identity: Path | None, known_hosts: Path | None,
                    power_budget: float) -> int:
     from panther_ops.core.kinds.hostsfile import load_hosts_file
-    from panther_ops.core.shutdown.run import shutdown_hosts
 
     for option, given in (("--identity", identity), ("--known-hosts", known_hosts)):
         if given is not None and not given.is_file():
@@ -102,39 +103,42 @@ def _shutdown_file(fleet: Fleet, path: Path, via: str | None, identity: Path | N
     parsed = load_hosts_file(path, power_budget=power_budget)
     print_findings(parsed)
     hosts = parsed.hosts()  # exit 2 on errors, before anything is contacted
-    where = f"through {via}" if via else "from here"
-    dry_run, json_out = fleet.dry_run, fleet.json_out
-    if json_out and (dry_run or not hosts):
-        from panther_ops.cli.render import emit_json
+    return _shutdown_hosts_change(fleet, path, parsed, hosts, (inv, link_robot) if inv and link_robot else None,
+                                  known_hosts, identity)
 
-        emit_json({"schema": 1, "command": f"shutdown --hosts {path}", "via": via, "dry_run": dry_run,
-                   "hosts": [e.row() for e in parsed.entries], "warnings": [str(w) for w in parsed.warnings]})
-        return 0
-    if not hosts:
-        context.info(f"{path}: no hosts, nothing to shut down")
-        return 0
-    if not json_out:
-        print_plan(parsed, title=f"shutdown --hosts {path} ({where})" + (" -- dry run" if dry_run else ""))
-    if dry_run:
-        context.info("dry run: nothing was contacted")
-        return 0
-    names = ", ".join(h.describe() for h in hosts)
-    require_confirmation(f"Shut down {len(hosts)} host(s) {where}: {names}?", fleet.yes, "shutting hosts down")
-    if inv is not None and link_robot is not None:
-        from panther_ops.core.fleet.runner import Connections
-        from panther_ops.core.shutdown.links import backends_via
-        from panther_ops.transport.lan import RobotLink
 
-        with Connections(inv) as conns:
-            link = RobotLink(conns.get(link_robot), link_robot.name)
-            done = shutdown_hosts(hosts, backends_via(link), command=f"shutdown --hosts {path.name} --via {via}")
-    else:
-        from panther_ops.core.shutdown.links import backends_here
+def _shutdown_hosts_change(fleet: Fleet, path: Path, parsed: HostsFile, hosts: list[ShutdownHost],
+                           via: tuple[Inventory, Robot] | None, known_hosts: Path | None, identity: Path | None) -> int:
+    """The hosts of the file as the change's targets (core/shutdown/localfile.py), each planned
+    and shut down by its step (core/shutdown/apply.py), through `fleet.change`."""
+    from panther_ops.cli.mutate import Asking
+    from panther_ops.core.shutdown.localfile import hosts_as_targets
+    from panther_ops.core.shutdown.plan import ShutdownFileHost, plan_file_host
 
-        done = shutdown_hosts(hosts, backends_here(str(known_hosts) if known_hosts else None,
-                                                   str(identity) if identity else None),
-                              command=f"shutdown --hosts {path.name}")
-    return finish_hosts(done, json_out)
+    names = [e.describe() for e in parsed.entries]
+    inv, targets = hosts_as_targets(path, names, via)
+    where = f"through {via[1].name}" if via else "from here"
+    kh, key = str(known_hosts) if known_hosts else None, str(identity) if identity else None
+    steps = {name: ShutdownFileHost(host, via[1].name if via else None, kh, key)
+             for name, host in zip(names, hosts, strict=True)}
+    rows = {e.describe(): e.row() for e in parsed.entries}
+    warned = {name: [str(w) for w in parsed.warnings if w.where.startswith(f"hosts[{e.index}]")]
+              for name, e in zip(names, parsed.entries, strict=True)}
+
+    def question(to_change: list[str], _plans: object) -> str:
+        return f"Shut down {len(to_change)} host(s) {where}: {', '.join(to_change)}?"
+
+    asking = Asking(question=question, refusal=lambda q: refusal(q, "shutting hosts down"), nothing="nothing was done",
+                    dry_note=lambda _names: "dry run: nothing was contacted",
+                    idle=f"{path}: no hosts, nothing to shut down")
+    return fleet.change(f"shutdown --hosts {path.name}" + (f" --via {via[1].name}" if via else ""),
+                        lambda c: plan_file_host(c.robot.name, rows[c.robot.name], steps[c.robot.name],
+                                                 warned[c.robot.name]),
+                        on=(inv, targets), restart=False, asking=asking, view=_show_hosts)
+
+
+def _show_hosts(fleet: FleetResult) -> None:
+    finish_hosts(fleet, False)
 
 
 # =================================================================================================

@@ -42,13 +42,6 @@ def ask_to_confirm(question: str, yes: bool, what: str) -> bool:
     return confirm(question, yes, refusal(question, what))
 
 
-def require_confirmation(question: str, yes: bool, what: str) -> None:
-    """Go on only with --yes or the operator's yes (else exit 2 not interactive, 5 declined)."""
-    from panther_ops.cli.mutate import require
-
-    require(question, yes, refusal(question, what), "nothing was done")
-
-
 def refusal(question: str, what: str) -> str:
     return f"{question} -- {what} needs confirmation: pass --yes when not interactive (or --dry-run to only look)"
 

@@ -6,64 +6,46 @@ from typing import Annotated
 
 import typer
 
-from panther_ops.cli import context
-from panther_ops.cli.options import Json
+from panther_ops.cli.context import Fleet
+from panther_ops.cli.options import shared
 
 
+@shared("yes", "dry_run", "json_out", helps={"yes": "Record without asking.",
+                                             "dry_run": "Only show the key and the edit of known_hosts."})
 def trust(
-    ctx: typer.Context,
+    fleet: Fleet,
     name: Annotated[str, typer.Argument(help="Robot name from the inventory.")],
-    yes: Annotated[bool, typer.Option("--yes", "-y", help="Record without asking.")] = False,
     replace: Annotated[
         bool, typer.Option("--replace", help="Replace a key that CHANGED (after checking it on the robot).")
     ] = False,
-    json_out: Json = False,
 ) -> int:
     """Show ROBOT's SSH host key fingerprint and record it in known_hosts when you confirm.
 
     Compare the fingerprint with the robot's own (on the robot:
     `ssh-keygen -lf /etc/ssh/ssh_host_ed25519_key.pub`). A changed key is refused unless
-    --replace. Host keys are never accepted silently. --json: the key, its state (new, known,
-    changed) and whether it was recorded (the messages on stderr).
+    --replace. Host keys are never accepted silently. A change as any other: the plan is the
+    exact edit of your known_hosts file, written atomically with a backup beside it
+    (.panther-ops/backups/); its subject is the host key, so nothing connects to the robot but
+    to read the key it offers. --json: the change's document, the key, its state (new, known,
+    changed) and the known fingerprints in the result's data.
 
     \b
     Example:
       panther-ops trust panther-07
     """
-    from panther_ops.cli.mutate import require
-    from panther_ops.core.fleet.trust import plan_trust, record
-    from panther_ops.errors import HostKeyError
+    from panther_ops.cli import context
+    from panther_ops.cli.mutate import Asking
+    from panther_ops.core.fleet.trust import read_and_plan_trust, trust_target
 
-    inv = context.load(ctx)
+    inv = context.load(fleet.ctx)
     (robot,) = inv.select([name], [], False)[:1]
-    plan = plan_trust(inv, robot)
-
-    def done(recorded: bool, said: str) -> int:
-        typer.echo(said, err=json_out)
-        if json_out:
-            from panther_ops.cli.render import emit_json
-
-            emit_json({"schema": 1, "command": "trust", "robot": plan.robot, "address": plan.address,
-                       "key_type": plan.key_type, "fingerprint": plan.fingerprint, "state": plan.state,
-                       "known_hosts_file": str(plan.known_hosts_file),
-                       "known_fingerprints": list(plan.known_fingerprints), "recorded": recorded})
-        return 0
-
-    typer.echo(f"{plan.robot} ({plan.address}) offers {plan.key_type} {plan.fingerprint}", err=json_out)
-    if plan.state == "known":
-        return done(False, f"already trusted in {plan.known_hosts_file}")
-    if plan.state == "changed":
-        typer.echo(f"WARNING: {plan.known_hosts_file} has a different key: {', '.join(plan.known_fingerprints)}",
-                   err=True)
-        if not replace:
-            raise HostKeyError(robot.name, "host key changed: refused",
-                               offered=plan.fingerprint, expected=", ".join(plan.known_fingerprints),
-                               hint="if you reinstalled the robot and checked the fingerprint on it: "
-                               f"panther-ops trust {robot.name} --replace")
-    require(f"Record this key in {plan.known_hosts_file}?", yes, "not recording: pass --yes when not interactive",
-            "nothing was recorded")
-    record(plan)
-    return done(True, f"recorded in {plan.known_hosts_file}")
+    target_inv, target = trust_target(inv, robot)
+    asking = Asking(
+        question=lambda _names, plans: f"{plans[robot.name].summary.capitalize()}?",
+        refusal=lambda _q: "not recording: pass --yes when not interactive (or --dry-run to only look)",
+        nothing="nothing was recorded")
+    return fleet.change("trust", lambda c: read_and_plan_trust(c, inv, robot, replace), on=(target_inv, [target]),
+                        restart=False, asking=asking)
 
 
 def register(app: typer.Typer) -> None:

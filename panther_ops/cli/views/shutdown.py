@@ -1,6 +1,6 @@
-"""How the shutdown commands show their results: the hosts file's plan and findings, the
-hosts shut down, the robots' hosts files, the setup steps (tables on a terminal, one JSON
-document with --json)."""
+"""How the shutdown commands show their results: the hosts file's findings, the hosts shut
+down (`shutdown --hosts`' results table; its plan is the change's), the robots' hosts files,
+the setup steps (tables on a terminal, one JSON document with --json)."""
 
 from __future__ import annotations
 
@@ -15,22 +15,6 @@ def print_findings(parsed: HostsFile) -> None:
     err = stderr()
     for f in parsed.warnings:
         err.print(f"[yellow]warning[/] {esc(parsed.source)}: {esc(f)}")
-
-
-def print_plan(parsed: HostsFile, title: str) -> None:
-    from panther_ops.cli.render import new_table
-    from panther_ops.cli.tables import Column
-
-    table = new_table(title, (Column("host", "name"), Column("method"), Column("request"),
-                              Column("timeout"), Column("then", drop=1)))
-    for e in parsed.entries:
-        if e.http:
-            request, then = f"GET /shutdown?ts=…&sig=… (secret: {e.row()['secret']})", "ping until gone"
-        else:
-            request = f"ssh: {e.command}"
-            then = "ping until gone" if e.ping_for_success else "done at the response"
-        table.add_row(esc(e.describe()), "http" if e.http else "ssh", esc(request), f"{e.timeout:g} s", then)
-    show(table)
 
 
 def finish_hosts(fleet: FleetResult, json_out: bool) -> int:

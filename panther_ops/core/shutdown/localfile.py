@@ -49,3 +49,22 @@ def plan_local_hosts_edit(ctx: RobotContext, file: Path, change: Callable[[str],
 def plan_local_rollback(ctx: RobotContext, file: Path, to: str | None) -> RobotPlan:
     """The plan restoring the local file as it was before backup ``to`` (default: the newest)."""
     return read_and_plan(ctx, lambda reads: plan_local_restore(reads, file, to), ROLLBACK_FACTS)
+
+
+def hosts_as_targets(file: Path, hosts: list[str], via: tuple[Inventory, Robot] | None = None
+                     ) -> tuple[Inventory, list[Robot]]:
+    """`shutdown --hosts FILE`: the hosts of the file as the change's targets (subject ``host``),
+    named as the file describes them, all at once (side by side, as the manager's tree). From
+    here each is a local target (nothing is connected to but the host itself, by its step);
+    through ``via`` each target's connection is the robot's (its endpoint, its jump hosts)."""
+    from dataclasses import replace
+
+    if via is None:
+        targets = [Robot(name=h, host="localhost", transport="local", root=Path("/"), home=str(file.resolve().parent),
+                         source=str(file)) for h in hosts]
+        return Inventory(path=file.resolve(), origin=str(file), robots={r.name: r for r in targets}, groups={},
+                         forks=max(1, len(targets)), subject="host"), targets
+    inv, robot = via
+    targets = [replace(robot, name=h) for h in hosts]
+    return replace(inv, robots={**inv.robots, **{r.name: r for r in targets}}, forks=max(1, len(targets)),
+                   subject="host"), targets

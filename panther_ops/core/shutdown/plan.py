@@ -258,3 +258,28 @@ def desired_hosts(reads: Reads, cfg: RobotConfig, entries: list[Mapping[str, Any
     pushed = push_onto(reads, cfg, FileKind.SHUTDOWN_HOSTS, Bundle(Path(cf.filename), edit.text.encode()))
     edits: list[FileEdit] = [MaskedFileEdit(e.path, e.before, e.after, e.mode) for e in pushed.edits]
     return DesiredHosts(edits, warnings + pushed.warnings, f"shutdown hosts: {edit.message} ({pushed.summary})")
+
+
+@dataclass(frozen=True)
+class ShutdownFileHost(Step):
+    """`shutdown --hosts FILE`: the shutdown order of one host of the file (`apply.py`), from
+    this machine (``known_hosts``, ``identity``: for SSH hosts) or through the robot ``via``
+    (the target's connection is then the robot's)."""
+
+    host: ShutdownHost
+    via: str | None = None
+    known_hosts: str | None = None
+    identity: str | None = None
+
+
+def plan_file_host(target: str, row: dict[str, Any], step: ShutdownFileHost, warnings: list[str]) -> RobotPlan:
+    """What would be done to one host of a hosts file (a pure function of its entry, ``row``:
+    `HostEntry.row`, which never holds the secret)."""
+    if row["method"] == "http":
+        request, then = f"GET /shutdown?ts=…&sig=… (secret: {row['secret']})", "ping until gone"
+    else:
+        request = f"ssh: {row['command']}"
+        then = "ping until gone" if row["ping_for_success"] else "done at the response"
+    where = f"through {step.via}" if step.via else "from here"
+    return RobotPlan(target, f"shut down {target} ({request}, {where}; then {then}, timeout {row['timeout']:g} s)",
+                     warnings=list(warnings), data={**row, "via": step.via}, steps=[step])
