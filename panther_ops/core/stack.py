@@ -76,6 +76,13 @@ LINES = (
 """The supported lines (husarion_ugv_ros@2.2.2/2.3.x:docker/Dockerfile.hardware `ARG ROS_DISTRO`)."""
 SUPPORTED_TEXT = "; ".join(line.text for line in LINES)
 
+_GENERATION_FROM: tuple[tuple[tuple[int, int, int], Generation], ...] = (
+    ((2, 0, 0), Generation.G2_0_0), ((2, 0, 2), Generation.G2_0_2), ((2, 1, 0), Generation.G2_1_0),
+    ((2, 1, 1), Generation.G2_1_1), ((2, 2, 0), Generation.G2_2_0), ((2, 2, 1), Generation.G2_2_1),
+    ((2, 3, 0), Generation.G2_3_0), ((2, 3, 1), Generation.G2_3_1), ((2, 3, 2), Generation.G2_3_2),
+)
+"""Each generation from its first version on (`Stack.generation`: the last one a version reaches;
+older than them all: the first)."""
 _LACKS: dict[tuple[int, int, int], tuple[tuple[int, int, int], ...]] = {(2, 3, 0): ((2, 2, 2),)}
 """Releases that a higher version lacks: husarion_ugv_ros 2.3.0 branched off after 2.2.1 (2.2.1 is an
 ancestor of the tag 2.3.0, 2.2.2 is not; 2.3.1 carries 2.2.2's changes: launch_gamepad in bringup,
@@ -101,20 +108,8 @@ class Stack:
 
     @property
     def generation(self) -> Generation:
-        v = self.version
-        if v < (2, 0, 2):
-            return Generation.G2_0_0
-        if v < (2, 1, 0):
-            return Generation.G2_0_2
-        if v < (2, 1, 1):
-            return Generation.G2_1_0
-        if v < (2, 2, 0):
-            return Generation.G2_1_1
-        if v < (2, 2, 1):
-            return Generation.G2_2_0
-        if v < (2, 3, 0):
-            return Generation.G2_2_1
-        return {(2, 3, 0): Generation.G2_3_0, (2, 3, 1): Generation.G2_3_1}.get(v, Generation.G2_3_2)
+        reached = [gen for first, gen in _GENERATION_FROM if self.version >= first]
+        return reached[-1] if reached else Generation.G2_0_0
 
     @property
     def driver_service(self) -> str:

@@ -24,6 +24,7 @@ from panther_ops.cli.options import (
 
 if TYPE_CHECKING:
     from panther_ops.core.gps.nmea import Fix
+    from panther_ops.core.gps.status import StatusOptions
 
 app = typer.Typer(
     help="GPS (ANT02 on the RUTX11): the NMEA driver on robots, the router's forwarding, fix status, NMEA decoding.",
@@ -156,12 +157,26 @@ def disable(fleet: Fleet) -> int:
     return fleet.change("gps disable", read_and_plan_disable)
 
 
+NmeaPort = Annotated[int, typer.Option("--port", parser=port_number(), help="The robot's NMEA port, 1-65535 (5000).")]
+
+
+def _status_options(port: int, window: float, router: bool, address: str) -> StatusOptions:
+    """`gps status` and `gps watch`: their options checked, then (--router) the router's
+    credentials asked for: bad input is refused before anyone is asked for a password."""
+    from panther_ops.core.gps.router.plan import check_address
+    from panther_ops.core.gps.status import StatusOptions
+
+    check_address(address)
+    StatusOptions(port=port, window_s=window)
+    creds = _credentials() if router else None
+    return StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+
+
 @app.command("status")
 @shared(*READ)
 def status(
     fleet: Fleet,
-    port: Annotated[int, typer.Option("--port", parser=port_number(),
-                                      help="The robot's NMEA port, 1-65535 (5000).")] = 5000,
+    port: NmeaPort = 5000,
     window: Annotated[float, typer.Option("--window", parser=real_number(0.5, 60),
                                           help="Seconds to listen, 0.5-60 (3).")] = 3.0,
     router: Annotated[
@@ -185,13 +200,9 @@ def status(
       panther-ops gps status -r panther-01 --router --json
     """
     from panther_ops.cli.views.gps import print_status
-    from panther_ops.core.gps.router.plan import check_address
-    from panther_ops.core.gps.status import StatusOptions, status_task
+    from panther_ops.core.gps.status import status_task
 
-    check_address(address)
-    StatusOptions(port=port, window_s=window)  # bad input refused before asking for credentials
-    creds = _credentials() if router else None
-    opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+    opts = _status_options(port, window, router, address)
     return fleet.run("gps status", status_task(opts), print_status, read_only=True)
 
 
@@ -199,8 +210,7 @@ def status(
 @shared(*TARGETS, "json_out")
 def watch(
     fleet: Fleet,
-    port: Annotated[int, typer.Option("--port", parser=port_number(),
-                                      help="The robot's NMEA port, 1-65535 (5000).")] = 5000,
+    port: NmeaPort = 5000,
     window: Annotated[float, typer.Option("--window", parser=real_number(0.5, 60),
                                           help="Seconds per refresh, 0.5-60 (2).")] = 2.0,
     count: Annotated[OptInt, typer.Option("--count", "-n", parser=whole_number(1),
@@ -223,17 +233,13 @@ def watch(
     from panther_ops.cli.views.gps import watch_display
     from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
     from panther_ops.core.fleet.runner import Connections, RunOptions, run_fleet
-    from panther_ops.core.gps.router.plan import check_address
-    from panther_ops.core.gps.status import StatusOptions, status_task
+    from panther_ops.core.gps.status import status_task
     from panther_ops.errors import ExitCode, UsageError
     from panther_ops.results import RobotResult
 
-    check_address(address)  # every input checked before the first refresh
-    StatusOptions(port=port, window_s=window)
-    if fleet.json_out and count is None:
+    if fleet.json_out and count is None:  # every input checked before the first refresh
         raise UsageError("gps watch --json needs --count N (one JSON document at the end)")
-    creds = _credentials() if router else None
-    opts = StatusOptions(port=port, window_s=window, router=address if router else None, credentials=creds)
+    opts = _status_options(port, window, router, address)
     inv, chosen = fleet.targets(read_only=True)
     rounds: list[dict[str, Any]] = []
     code = 0

@@ -3,6 +3,7 @@ User Computer, reached through the robot."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -66,32 +67,33 @@ def install(fleet: Fleet, channel: Annotated[str, typer.Option("--channel", help
     return fleet.run("webui install", install_task(channel, sudo_password(ask_sudo_password)))
 
 
-@app.command("start")
-@shared(*TARGETS, "json_out")
-def start(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
-    """`sudo husarion-webui.start` where it is not running.
+def _start_stop(verb: str, start: bool, doc: str) -> Callable[..., int]:
+    """`webui start` and `webui stop`: the same options and task, told which way to go."""
+
+    def command(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
+        from panther_ops.core.remote.webui.apply import start_stop_task
+
+        return fleet.run(f"webui {verb}", start_stop_task(start, sudo_password(ask_sudo_password)))
+
+    command.__name__ = command.__qualname__ = verb
+    command.__doc__ = doc
+    return command
+
+
+start = app.command("start")(shared(*TARGETS, "json_out")(_start_stop("start", True, """\
+`sudo husarion-webui.start` where it is not running.
 
     \b
     Example:
       panther-ops webui start -r panther-01
-    """
-    from panther_ops.core.remote.webui.apply import start_stop_task
-
-    return fleet.run("webui start", start_stop_task(True, sudo_password(ask_sudo_password)))
-
-
-@app.command("stop")
-@shared(*TARGETS, "json_out")
-def stop(fleet: Fleet, ask_sudo_password: AskPassword = False) -> int:
-    """`sudo husarion-webui.stop` where it runs.
+    """)))
+stop = app.command("stop")(shared(*TARGETS, "json_out")(_start_stop("stop", False, """\
+`sudo husarion-webui.stop` where it runs.
 
     \b
     Example:
       panther-ops webui stop -r panther-01
-    """
-    from panther_ops.core.remote.webui.apply import start_stop_task
-
-    return fleet.run("webui stop", start_stop_task(False, sudo_password(ask_sudo_password)))
+    """)))
 
 
 @app.command("url")

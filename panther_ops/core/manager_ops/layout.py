@@ -32,7 +32,7 @@ class Layout:
 
     @property
     def state(self) -> str:
-        return f"{self.root}/{STATE_FILE}"
+        return state_path(self.home)
 
     @property
     def archive(self) -> str:
