@@ -67,7 +67,7 @@ def _crash_loop(lab: Lab) -> None:
 
 def _publisher(lab: Lab) -> None:
     """docs/remote.md: on r01 a ``ros2 topic pub`` publishes on cmd_vel."""
-    from tests.integration.test_estop_lab import start_publisher
+    from tests.remote.estop.test_estop_lab import start_publisher
 
     start_publisher(lab, "r01")
 
