@@ -11,6 +11,7 @@ from panther_ops.cli.app import main
 from panther_ops.core.fleet.inventory import Inventory
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.runner import Connections
+from tests.sshd import LoopbackSshd, missing
 
 
 @pytest.fixture
@@ -28,3 +29,14 @@ def demo_connections(tmp_path: Path) -> Iterator[tuple[Inventory, Connections]]:
     inv = load_inventory(str(tmp_path / "demo"))
     with Connections(inv) as conns:
         yield inv, conns
+
+
+@pytest.fixture
+def sshd(tmp_path: Path) -> Iterator[LoopbackSshd]:
+    """A real OpenSSH sshd on loopback for this test (skipped where sshd is missing)."""
+    why = missing()
+    if why:
+        pytest.skip(why)
+    server = LoopbackSshd(tmp_path / "sshd")
+    yield server
+    server.close()

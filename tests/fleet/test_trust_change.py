@@ -5,26 +5,15 @@ rename); no trusted connection to the robot is needed, since there is none yet."
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
 from tests.clirun import run_cli
-from tests.sshd import LoopbackSshd, keygen, missing
+from tests.sshd import LoopbackSshd, keygen
 
 Capsys = pytest.CaptureFixture[str]
 ROBOT = "newkey-05"
-
-
-@pytest.fixture
-def sshd(tmp_path: Path) -> Iterator[LoopbackSshd]:
-    why = missing()
-    if why:
-        pytest.skip(why)
-    server = LoopbackSshd(tmp_path / "sshd")
-    yield server
-    server.close()
 
 
 def _other_key(tmp_path: Path) -> str:

@@ -240,8 +240,24 @@ def login_profile(st: StackImage, skel_profile: str) -> str:
     )
 
 
-def _controller_yaml(drive: str, wheel: str) -> str:
+def _drive_params(wheel: str) -> str:
+    """The drive controller's wheel geometry and frames, as every release's controller file has them
+    (husarion_ugv_ros@2.2.2 and @2.3.2:husarion_ugv_controller/config/{WH01,WH04}_controller.yaml)."""
     sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
+    return f"""      left_wheel_names: [fl_wheel_joint, rl_wheel_joint]
+      right_wheel_names: [fr_wheel_joint, rr_wheel_joint]
+      wheel_separation: {sep}
+      wheel_radius: {radius}
+      wheel_separation_multiplier: {mult}
+      publish_rate: 100.0
+      odom_frame_id: odom
+      base_frame_id: base_link
+      enable_odom_tf: false
+      cmd_vel_timeout: 0.2
+"""
+
+
+def _controller_yaml(drive: str, wheel: str) -> str:
     # the limits of husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/{WH01,WH04}_controller.yaml
     v, a, w, b = {"WH04": (1.1, 1.5, 2.2, 3.2)}.get(wheel, (2.0, 2.7, 4.0, 5.74))
     # the IMU broadcaster as husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH01_controller.yaml has it
@@ -264,17 +280,7 @@ def _controller_yaml(drive: str, wheel: str) -> str:
 
   {drive}:
     ros__parameters:
-      left_wheel_names: [fl_wheel_joint, rl_wheel_joint]
-      right_wheel_names: [fr_wheel_joint, rr_wheel_joint]
-      wheel_separation: {sep}
-      wheel_radius: {radius}
-      wheel_separation_multiplier: {mult}
-      publish_rate: 100.0
-      odom_frame_id: odom
-      base_frame_id: base_link
-      enable_odom_tf: false
-      cmd_vel_timeout: 0.2
-      linear:
+{_drive_params(wheel)}      linear:
         x:
           has_velocity_limits: true
           has_acceleration_limits: true
@@ -292,7 +298,6 @@ def _controller_yaml(drive: str, wheel: str) -> str:
 def _jazzy_controller_yaml(wheel: str) -> str:
     """2.3.2's controller file shape (husarion_ugv_ros@2.3.2:husarion_ugv_controller/config/WH01_controller.yaml):
     the Jazzy limits schema, the IMU covariance placeholder filled at launch, and the twist mux's inputs."""
-    sep, radius, mult = {"WH01": (0.697, 0.1825, 1.5), "WH04": (0.616, 0.1016, 1.0)}.get(wheel, (0.697, 0.1825, 1.5))
     axes = "".join(
         f"      {axis}:\n        {sub}:\n          max_velocity: {v}\n          min_velocity: -{v}\n"
         f"          max_acceleration: {a}\n          max_deceleration: -{a}\n          max_acceleration_reverse: -{a}\n"
@@ -323,17 +328,7 @@ def _jazzy_controller_yaml(wheel: str) -> str:
 
   drive_controller:
     ros__parameters:
-      left_wheel_names: [fl_wheel_joint, rl_wheel_joint]
-      right_wheel_names: [fr_wheel_joint, rr_wheel_joint]
-      wheel_separation: {sep}
-      wheel_radius: {radius}
-      wheel_separation_multiplier: {mult}
-      publish_rate: 100.0
-      odom_frame_id: odom
-      base_frame_id: base_link
-      enable_odom_tf: false
-      cmd_vel_timeout: 0.2
-      publish_limited_velocity: false
+{_drive_params(wheel)}      publish_limited_velocity: false
 {axes}
   twist_mux_controller:
     ros__parameters:

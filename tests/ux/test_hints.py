@@ -23,16 +23,6 @@ PLACEHOLDER = re.compile(r"\b(ROBOT|HOST|PORT|KEY|NAME)\b")
 
 
 @pytest.fixture
-def sshd(tmp_path: Path) -> Iterator[LoopbackSshd]:
-    why = missing()
-    if why:
-        pytest.skip(why)
-    server = LoopbackSshd(tmp_path / "sshd")
-    yield server
-    server.close()
-
-
-@pytest.fixture
 def home(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """An empty home (no ~/.ssh keys) and no ssh-agent: only what the inventory says is offered."""
     h = tmp_path / "home"
