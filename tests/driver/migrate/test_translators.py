@@ -76,7 +76,7 @@ def test_stock_2_2_2_becomes_stock_2_3(tag: str, old: str, new: str, translate: 
 
 WHEELS = ("WH01", "WH02", "WH04", "WH05")
 S232 = Stack("husarion/husarion-ugv:jazzy-2.3.2-20260622", "jazzy", T232, "20260622")
-TEMPLATE_22 = Path(__file__).resolve().parents[2] / "templates/config/husarion-ugv-2.2/husarion_ugv_controller/config"
+TEMPLATE_22 = Path(__file__).resolve().parents[3] / "templates/config/husarion-ugv-2.2/husarion_ugv_controller/config"
 
 
 def customised(text: str, wheel: str) -> tuple[str, dict[str, float]]:
