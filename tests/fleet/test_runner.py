@@ -100,7 +100,7 @@ def test_demo_fleet_status(tmp_path: Path) -> None:
 
     inv = load_inventory(str(init_demo(tmp_path / "demo")))
     fleet = run_fleet("status", inv, list(inv.robots.values()), status_task)
-    assert [r.outcome for r in fleet.results] == [Outcome.OK] * 3
+    assert [r.outcome for r in fleet.results] == [Outcome.OK] * 4
     by = {r.robot: r.data for r in fleet.results}
     assert by["panther-01"]["stack_version"] == "2.1.1"
     assert by["panther-02"]["stack_version"] == "2.0.4"

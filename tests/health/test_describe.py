@@ -75,7 +75,7 @@ def test_json_has_each_part_from_its_own_reader(demo: str, capsys: Capsys) -> No
             {"e_stop", "cmd_vel_publishers", "namespace"} if part == "estop" else {"verdict", "detail", "fix"}
         assert {k: mine[k] for k in keys} == {k: own[k] for k in keys}, command
     checks = [f["check"] for f in data["doctor"]["data"]["findings"]]
-    assert checks == ["ssh key auth", "clock", "stack", "docker", "disk"]  # no password check: one connection
+    assert checks == ["ssh key auth", "clock", "stack", "safety fixes", "docker", "disk"]  # no password check: one connection
 
 
 def test_a_part_that_cannot_be_read_says_why_and_the_rest_is_shown(demo: str, capsys: Capsys) -> None:
@@ -93,7 +93,7 @@ def test_a_part_that_cannot_be_read_says_why_and_the_rest_is_shown(demo: str, ca
 def test_one_robot_only(demo: str, capsys: Capsys) -> None:
     code, doc, _, err = run_cli(capsys, "-i", demo, "describe", "panther-0*", "--json")
     assert code == 2 and doc["exit_code"] == 2
-    assert "describe shows one robot; 'panther-0*' names 3: panther-01, panther-02, panther-03" in err
+    assert "describe shows one robot; 'panther-0*' names 4: panther-01, panther-02, panther-03, panther-04" in err
     code, _, err = run(capsys, "-i", demo, "describe", "panther-1")
     assert code == 2 and "did you mean 'panther-01'" in err
 
