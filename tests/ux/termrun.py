@@ -136,6 +136,24 @@ def _until_ended(args: list[str], timeout: float, source: int, chunks: list[byte
             return acted, time.monotonic()
 
 
+def reading_its_terminal(pid: int) -> bool:
+    """Whether process ``pid`` is blocked in ``read(0, ...)`` (``/proc/PID/syscall``, Linux):
+    waiting for the operator's answer. A Ctrl-C typed by a person comes then; one sent the
+    instant the prompt's text shows can land between Python's last signal check and that
+    read, where no program sees it until the read returns."""
+    try:
+        fields = Path(f"/proc/{pid}/syscall").read_text().split()
+    except OSError:
+        return False
+    return len(fields) > 1 and fields[0] == "0" and int(fields[1], 16) == 0
+
+
+def _ctrl_c_as_on_a_terminal() -> None:
+    """In the child before exec: SIGINT back to its default, as an operator's shell starts a
+    command (a CI script's background job inherits it ignored, and Python keeps that)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @dataclass
 class Interrupted:
     run: Run
@@ -144,26 +162,31 @@ class Interrupted:
 
 
 def interrupted(args: list[str], ready: Callable[[str], bool], *, on_terminal: bool = True, cols: int = 120,
-                cwd: Path | None = None, env: dict[str, str] | None = None, timeout: float = 30) -> Interrupted:
+                cwd: Path | None = None, env: dict[str, str] | None = None, timeout: float = 30,
+                at_question: bool = False) -> Interrupted:
     """Run ``panther-ops`` (on a pseudo-terminal, or with both streams piped), send it SIGINT (a
-    Ctrl-C) once ``ready(output so far, plain)`` holds, and time how long it takes to end.
+    Ctrl-C) once ``ready(output so far, plain)`` holds (``at_question``: and the process waits
+    for its answer, :func:`reading_its_terminal`), and time how long it takes to end.
     Piped, ``ready`` sees nothing but what stderr showed so far (read as it comes)."""
     if on_terminal:
         master, slave = pty.openpty()
         fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
         p = subprocess.Popen([*CLI, *args], cwd=cwd, env=_env({"TERM": "xterm-256color", **(env or {})}),
-                             stdin=slave, stdout=slave, stderr=slave, close_fds=True)
+                             stdin=slave, stdout=slave, stderr=slave, close_fds=True,
+                             preexec_fn=_ctrl_c_as_on_a_terminal)  # noqa: PLW1509 (one signal call)
         os.close(slave)
         source, out_pipe = master, None
     else:
         p = subprocess.Popen([*CLI, *args], cwd=cwd, env=_env(env), stdin=subprocess.DEVNULL,
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             preexec_fn=_ctrl_c_as_on_a_terminal)  # noqa: PLW1509 (one signal call)
         assert p.stderr is not None and p.stdout is not None
         source, out_pipe = p.stderr.fileno(), p.stdout
     chunks: list[bytes] = []
     sent: float | None = None
     try:
-        sent, ended = _until_ended(args, timeout, source, chunks, ready, lambda: p.send_signal(signal.SIGINT),
+        when = (lambda out: ready(out) and reading_its_terminal(p.pid)) if at_question else ready
+        sent, ended = _until_ended(args, timeout, source, chunks, when, lambda: p.send_signal(signal.SIGINT),
                                    lambda: p.poll() is not None)
         _drain(source, chunks, 0.5)  # what is left in the stream
     finally:
@@ -188,6 +211,7 @@ def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 1
     pid, master = pty.fork()
     if pid == 0:  # the child: its own session, the terminal its controlling one
         fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
+        _ctrl_c_as_on_a_terminal()
         os.execve(CLI[0], [*CLI, *args], full_env)
     chunks: list[bytes] = []
     typed: float | None = None

@@ -141,7 +141,7 @@ def test_ctrl_c_at_the_confirmation_says_nothing_was_written_and_exits_130(demo:
     compose = demo / "robots/panther-01/home/husarion/compose.yaml"
     before = compose.read_bytes()
     got = interrupted(["-i", str(demo), "config", "set", "wheel_type", "WH04", "-r", "panther-01"],
-                      lambda out: "[y/N]" in out)
+                      lambda out: "[y/N]" in out, at_question=True)
     shown = plain(got.run.err)
     assert got.run.code == 130, shown
     assert got.after_s < ANSWER_S, f"{got.after_s:.2f} s after the SIGINT"
