@@ -14,10 +14,10 @@ from panther_ops.core.remote.webui.read import (
     Task,
     demo_skip,
     no_user_computer,
-    open_webui_session,
     read_state,
     read_webui,
     robot_namespace,
+    webui_session,
 )
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
@@ -39,8 +39,7 @@ def install_task(channel: str, password: Secret | None) -> Task:
         if ctx.robot.transport == "local":
             return _demo_install(ctx, channel)
         robot = robot_namespace(ctx)
-        session = open_webui_session(ctx, password)
-        try:
+        with webui_session(ctx, password) as session:
             offsets = clock_offsets(ctx, session)
             worst = max(offsets.values(), key=abs)
             if abs(worst) > CLOCK_LIMIT_S:
@@ -57,8 +56,6 @@ def install_task(channel: str, password: Secret | None) -> Task:
             if after.installed:
                 applied = apply_settings(session, {}, robot)
                 after, changes = applied.after, applied.changes
-        finally:
-            session.close()
         data = {"clock_offsets": offsets, **after.to_json()}
         if not after.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} not installed after snap install", data=data)
