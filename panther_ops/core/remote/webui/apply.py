@@ -25,10 +25,9 @@ from panther_ops.core.remote.webui.defaults import RobotNamespace, with_robot_na
 from panther_ops.core.remote.webui.plan import SetKeys, SetWebui
 from panther_ops.core.remote.webui.read import (
     Task,
+    demo_change,
     demo_skip,
-    no_user_computer,
     read_state,
-    read_webui,
     robot_namespace,
     webui_session,
 )
@@ -118,11 +117,7 @@ def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
 def start_stop_task(start: bool, password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
-            if (skipped := no_user_computer(ctx)) is not None:
-                return skipped
-            state, _ = read_webui(ctx, password)
-            done = _start_stop_needless(ctx, state, start)
-            return done or demo_skip(ctx, "start" if start else "stop")
+            return demo_change(ctx, "start" if start else "stop", lambda state: _start_stop_needless(ctx, state, start))
         with webui_session(ctx, password) as session:
             state = read_state(session)
             done = _start_stop_needless(ctx, state, start)

@@ -152,6 +152,15 @@ def demo_skip(ctx: RobotContext, what: str) -> RobotResult:
     return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"demo robot: no User Computer to {what}")
 
 
+def demo_change(ctx: RobotContext, what: str, needless: Callable[[WebuiState], RobotResult | None]) -> RobotResult:
+    """A change asked of a demo robot: skipped without a recorded User Computer; else
+    ``needless``'s result where the recorded state needs no change, or skipped (`demo_skip`)."""
+    if (skipped := no_user_computer(ctx)) is not None:
+        return skipped
+    state, _ = read_webui(ctx, None)
+    return needless(state) or demo_skip(ctx, what)
+
+
 def _demo_status(ctx: RobotContext) -> RobotResult:
     """A demo robot: its User Computer's recorded answers."""
     rec = _recording(ctx)
