@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 
+from tests.badinput import test_file_kinds, test_inputs, test_integrity, test_names_paths_hosts, test_upstream_rules
 from tests.badinput.harness import Case, check_refused, tree_hashes
 
 CASES = [
@@ -18,6 +20,13 @@ CASES = [
 def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                  monkeypatch: pytest.MonkeyPatch) -> None:
     check_refused(case, tmp_path, capsys, monkeypatch)
+
+
+@pytest.mark.parametrize("corpus", [test_file_kinds, test_inputs, test_integrity, test_names_paths_hosts,
+                                    test_upstream_rules], ids=lambda m: m.__name__.rsplit(".", 1)[-1])
+def test_each_corpus_names_a_case_once(corpus: ModuleType) -> None:
+    """A case id given twice would run (pytest tells the two apart) but name two cases alike."""
+    assert len({c.id for c in corpus.CASES}) == len(corpus.CASES)
 
 
 def test_harness_sees_a_write(tmp_path: Path, capsys: pytest.CaptureFixture[str],

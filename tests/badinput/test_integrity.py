@@ -196,10 +196,6 @@ INVENTORY_NUMBERS = [  # the inventory's versions and jump ports (also read by e
 CASES = WORLD_FILE + SIM_GPS + HOSTS_FILE + WEBUI_SET + DESIRED + OPTIONS + INVENTORY_NUMBERS
 
 
-def test_the_corpus_is_unique() -> None:
-    assert len({c.id for c in CASES}) == len(CASES)
-
-
 @pytest.mark.parametrize("case", CASES, ids=str)
 def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                  monkeypatch: pytest.MonkeyPatch) -> None:

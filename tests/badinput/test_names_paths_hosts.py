@@ -181,10 +181,6 @@ for cid, char, shown in (("cr", "\r", "U+000D"), ("escape", "\x1b", "U+001B"), (
 CASES = NAMESPACES + PATHS + HOSTS
 
 
-def test_the_corpus_is_unique() -> None:
-    assert len({c.id for c in CASES}) == len(CASES)
-
-
 @pytest.mark.parametrize("case", CASES, ids=str)
 def test_refused(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                  monkeypatch: pytest.MonkeyPatch) -> None:

@@ -4,10 +4,8 @@ real-shaped compose files of templates/compose/ (the demo fleet: robots that are
 from __future__ import annotations
 
 import json
-import threading
 from collections.abc import Iterator
 from datetime import datetime, timezone
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +32,7 @@ from panther_ops.core.fleet.templates import template_path
 from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.errors import RemoteStateError, UsageError
 from tests.clirun import run_cli
+from tests.loopback_http import QuietHandler, serving
 from tests.ports import free_port
 
 
@@ -325,7 +324,7 @@ def fake_hub() -> Iterator[tuple[str, list[str]]]:
     """A loopback HTTP server answering like Docker Hub's tag list (two pages); records the paths asked."""
     asked: list[str] = []
 
-    class Handler(BaseHTTPRequestHandler):
+    class Handler(QuietHandler):
         def do_GET(self) -> None:
             asked.append(self.path)
             base = f"http://127.0.0.1:{self.server.server_address[1]}"
@@ -335,26 +334,12 @@ def fake_hub() -> Iterator[tuple[str, list[str]]]:
                 body = {"count": 1, "next": None, "results": [{"name": "humble-2.1.2-20241125"},
                                                               {"name": "humble-2.1.1-20240828"}]}
             else:
-                self.send_response(404)
-                self.end_headers()
+                self.reply(404, b"")
                 return
-            data = json.dumps(body).encode()
-            self.send_response(200)
-            self.send_header("Content-Type", "application/json")
-            self.send_header("Content-Length", str(len(data)))
-            self.end_headers()
-            self.wfile.write(data)
+            self.reply(200, json.dumps(body).encode(), "application/json")
 
-        def log_message(self, *args: Any) -> None:
-            return None
-
-    server = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    url = f"http://127.0.0.1:{server.server_address[1]}/v2/namespaces/husarion/repositories/{{repo}}/tags?page_size=100"
-    yield url, asked
-    server.shutdown()
-    server.server_close()
+    with serving(Handler) as port:
+        yield f"http://127.0.0.1:{port}/v2/namespaces/husarion/repositories/{{repo}}/tags?page_size=100", asked
 
 
 def test_fetch_follows_pages_and_sorts(fake_hub: tuple[str, list[str]]) -> None:

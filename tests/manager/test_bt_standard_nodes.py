@@ -55,15 +55,19 @@ def test_parallel_with_the_default_counts_succeeds_when_every_child_has(tmp_path
     assert board().get("a") == 2
 
 
-def test_parallel_fails_at_failure_count_and_halts_the_running_child(tmp_path: Path, clock: ManualClock) -> None:
-    root = build(tmp_path, clock, """
-      <Parallel failure_count="1" success_count="-1">
-        <Sleep msec="500"/>
-        <AlwaysFailure/>
-      </Parallel>""")
-    assert tick(root) == Status.FAILURE
-    sleep = root.children[0]
-    assert sleep.status == Status.INVALID  # halted (BT.CPP resetChildren)
+@pytest.mark.parametrize(("counts", "children", "decided", "sleeper"), [
+    # the Sleep ticked first, RUNNING, is halted (BT.CPP resetChildren)
+    pytest.param('failure_count="1" success_count="-1"', '<Sleep msec="500"/><AlwaysFailure/>', Status.FAILURE, 0,
+                 id="fails-at-failure-count-and-halts-the-running-child"),
+    # the Sleep after the deciding child is never started
+    pytest.param('success_count="1" failure_count="2"', '<AlwaysSuccess/><Sleep msec="500"/>', Status.SUCCESS, 1,
+                 id="success-count-reached-before-the-last-child"),
+])
+def test_parallel_decides_at_its_count_and_leaves_the_sleep_invalid(
+        tmp_path: Path, clock: ManualClock, counts: str, children: str, decided: Status, sleeper: int) -> None:
+    root = build(tmp_path, clock, f"<Parallel {counts}>{children}</Parallel>")
+    assert tick(root) == decided
+    assert root.children[sleeper].status == Status.INVALID
 
 
 def test_parallel_counts_skipped_children_as_successes_with_a_negative_success_count(
@@ -80,16 +84,6 @@ def test_parallel_counts_skipped_children_as_successes_with_a_negative_success_c
         <AlwaysSuccess _skipIf="true"/>
       </Parallel>""")
     assert tick(all_skipped) is None  # SKIPPED when every child was skipped
-
-
-def test_parallel_success_count_reached_before_the_last_child(tmp_path: Path, clock: ManualClock) -> None:
-    root = build(tmp_path, clock, """
-      <Parallel success_count="1" failure_count="2">
-        <AlwaysSuccess/>
-        <Sleep msec="500"/>
-      </Parallel>""")
-    assert tick(root) == Status.SUCCESS
-    assert root.children[1].status == Status.INVALID  # not started: the decision came first
 
 
 def test_delay_waits_then_returns_the_childs_outcome_and_starts_over(tmp_path: Path, clock: ManualClock) -> None:

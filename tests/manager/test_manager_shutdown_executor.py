@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import hashlib
 import hmac
-import http.server
 import shutil
 import subprocess
 import threading
@@ -40,13 +39,14 @@ from panther_ops.manager.shutdown_executor import (
     sign_shutdown_request,
 )
 from panther_ops.manager.trees.safety import build_shutdown_tree
+from tests.loopback_http import QuietHandler, serving
 from tests.manager.doubles import FakeLocalRunner, FakeRobotIO, fake_backends, tick
 from tests.ports import free_port
 
 SECRET = "husarion"
 
 
-class ShutdownServer(http.server.BaseHTTPRequestHandler):
+class ShutdownServer(QuietHandler):
     """A husarion-shutdown stand-in: checks the signature, never shuts anything down."""
 
     received: ClassVar[list[str]] = []
@@ -60,23 +60,14 @@ class ShutdownServer(http.server.BaseHTTPRequestHandler):
         expected = hmac.new(self.secret.encode(), f"/shutdown|{ts}".encode(),
                             hashlib.sha256).hexdigest()
         ok = url.path == "/shutdown" and query.get("sig", [""])[0] == expected
-        self.send_response(200 if ok else 403)
-        self.end_headers()
-        self.wfile.write(b"shutting down" if ok else b"bad signature")
-
-    def log_message(self, *args: Any) -> None:
-        return None
+        self.reply(200 if ok else 403, b"shutting down" if ok else b"bad signature")
 
 
 @pytest.fixture
 def http_port() -> Iterator[int]:
     ShutdownServer.received = []
-    server = http.server.HTTPServer(("127.0.0.1", 0), ShutdownServer)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    yield int(server.server_address[1])
-    server.shutdown()
-    server.server_close()
+    with serving(ShutdownServer) as port:
+        yield port
 
 
 def test_signature_is_hmac_sha256_of_path_and_timestamp() -> None:

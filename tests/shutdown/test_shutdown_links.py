@@ -3,9 +3,7 @@
 
 from __future__ import annotations
 
-import http.server
 import subprocess
-import threading
 from collections.abc import Iterator
 
 import docker.errors
@@ -22,6 +20,7 @@ from panther_ops.core.shutdown.links import (
 from panther_ops.transport.base import CommandResult
 from panther_ops.transport.docker_client import EngineError, EngineRefused, NotInEngine, engine_errors
 from panther_ops.transport.lan import TargetError
+from tests.loopback_http import QuietHandler, serving
 
 
 def result(status: int, out: str = "", err: str = "") -> CommandResult:
@@ -62,27 +61,15 @@ def test_route_source_is_the_word_after_src() -> None:
     assert route_source(result(2, line)) is None
 
 
-class _Teapot(http.server.BaseHTTPRequestHandler):
+class _Teapot(QuietHandler):
     def do_GET(self) -> None:
-        body = f"refused {self.path}".encode()
-        self.send_response(418)
-        self.send_header("Content-Length", str(len(body)))
-        self.end_headers()
-        self.wfile.write(body)
-
-    def log_message(self, *args: object) -> None:
-        pass
+        self.reply(418, f"refused {self.path}".encode())
 
 
 @pytest.fixture
 def server() -> Iterator[int]:
-    srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), _Teapot)
-    threading.Thread(target=srv.serve_forever, daemon=True).start()
-    try:
-        yield int(srv.server_address[1])
-    finally:
-        srv.shutdown()
-        srv.server_close()
+    with serving(_Teapot) as port:
+        yield port
 
 
 def test_the_get_script_and_its_reading_against_a_real_server(server: int) -> None:

@@ -32,6 +32,7 @@ from panther_ops.core.fleet.pipeline import (
     new_backup_id,
     recreate_and_verify,
     roll_back,
+    rolled_back,
     watch_services,
 )
 from panther_ops.core.fleet.plan import RobotPlan
@@ -284,8 +285,5 @@ def apply_restore(ctx: RobotContext, plan: RobotPlan, step: ResetConfigTree, opt
         result.outcome = Outcome.FAILED
         result.message = f"{problem}; RESTORE FAILED: {exc.message} (the previous {tree} is in {archive})"
         return result
-    result.outcome = Outcome.ROLLED_BACK
-    result.message = (f"{problem}; {tree} restored from {archive}" + (f" (after restore: {again})" if again else "")
-                      + ("" if recreated else "; the driver was not touched"))
-    mark_backup(ctx, backup_id, f"rolled-back: {problem}")
-    return result
+    return rolled_back(ctx, result, problem, backup_id, f"{tree} restored from {archive}", again,
+                       "" if recreated else "; the driver was not touched")

@@ -286,11 +286,7 @@ def roll_back(ctx: RobotContext, plan: RobotPlan, opts: ApplyOptions, result: Ro
         result.outcome = Outcome.FAILED
         result.message = f"{problem}; ROLLBACK FAILED: {exc.message} (backup {backup_id} on the robot)"
         return result
-    result.outcome = Outcome.ROLLED_BACK
-    result.message = (f"{problem}; restored backup {backup_id}" + (f" (after restore: {again})" if again else "")
-                      + logs + note)
-    mark_backup(ctx, backup_id, f"rolled-back: {problem}")
-    return result
+    return rolled_back(ctx, result, problem, backup_id, f"restored backup {backup_id}", again, logs + note)
 
 
 def _restore_files(ctx: RobotContext, plan: RobotPlan, backup_id: str) -> str | None:
@@ -367,6 +363,17 @@ def mark_backup(ctx: RobotContext, backup_id: str, status: str) -> None:
         ctx.transport.run(Command.sh(scripts_backup.MARK, f"{BACKUP_ROOT}/{backup_id}", status))
     except OpsError:
         return
+
+
+def rolled_back(ctx: RobotContext, result: RobotResult, problem: str, backup_id: str, restored: str,
+                again: str | None, tail: str = "") -> RobotResult:
+    """The end of every rollback that went through: ROLLED_BACK, ``<problem>; <restored>`` (then
+    what the services recreated after the restore said, ``again``, and ``tail``), the backup
+    marked ``rolled-back``."""
+    result.outcome = Outcome.ROLLED_BACK
+    result.message = f"{problem}; {restored}" + (f" (after restore: {again})" if again else "") + tail
+    mark_backup(ctx, backup_id, f"rolled-back: {problem}")
+    return result
 
 
 def recreate_and_verify(ctx: RobotContext, plan: RobotPlan, settle_s: float, result: RobotResult) -> str | None:

@@ -3,7 +3,8 @@
 Message package, topic and service names follow the robot's stack (`adapters.interfaces`):
 ``panther_msgs`` on panther_ros 2.0/2.1, ``husarion_ugv_msgs`` on husarion_ugv 2.2.
 
-Thin on purpose: it only turns messages into `RobotMsg` values and service requests into
+Thin on purpose: it only turns messages into `RobotMsg` values (``robot_io.BatteryMsg`` beside
+rclpy's ``msgs.*``, ``sensor.*``, ``std.*``) and service requests into
 asynchronous rclpy calls. rclpy and the message packages are imported when an adapter is
 created, never at import time, so the rest of the manager runs without ROS. It cannot be
 exercised without a ROS 2 installation and is excluded from the tests.
@@ -16,19 +17,9 @@ from collections import deque
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from panther_ops.manager import robot_io
 from panther_ops.manager.adapters.interfaces import RosInterfaces, detect_interfaces
-from panther_ops.manager.robot_io import (
-    BatteryMsg,
-    DriverStateMsg,
-    EStopMsg,
-    IOStateMsg,
-    JoyMsg,
-    RobotMsg,
-    ServiceRequest,
-    ServiceResult,
-    StringMsg,
-    SystemStatusMsg,
-)
+from panther_ops.manager.robot_io import RobotMsg, ServiceRequest, ServiceResult
 
 if TYPE_CHECKING:
     from panther_ops.manager.config import ManagerConfig
@@ -102,36 +93,36 @@ class Ros2RobotIO:  # pragma: no cover - needs ROS 2
 
     def _string(self, topic: str) -> Any:
         def callback(msg: Any) -> None:
-            self.inbox.append(StringMsg(topic, str(msg.data)))
+            self.inbox.append(robot_io.StringMsg(topic, str(msg.data)))
 
         return callback
 
     def _joy(self, msg: Any) -> None:
-        self.inbox.append(JoyMsg(tuple(int(b) for b in msg.buttons)))
+        self.inbox.append(robot_io.JoyMsg(tuple(int(b) for b in msg.buttons)))
 
     def _battery(self, msg: Any) -> None:
-        self.inbox.append(BatteryMsg(float(msg.percentage), float(msg.temperature),
-                                     int(msg.power_supply_status), int(msg.power_supply_health),
-                                     float(msg.voltage)))
+        self.inbox.append(robot_io.BatteryMsg(float(msg.percentage), float(msg.temperature),
+                                              int(msg.power_supply_status), int(msg.power_supply_health),
+                                              float(msg.voltage)))
 
     def _e_stop(self, msg: Any) -> None:
-        self.inbox.append(EStopMsg(bool(msg.data)))
+        self.inbox.append(robot_io.EStopMsg(bool(msg.data)))
 
     def _io_state(self, msg: Any) -> None:
-        self.inbox.append(IOStateMsg(bool(msg.aux_power), bool(msg.fan), bool(msg.power_button),
-                                     bool(getattr(msg, "charger_connected", False))))
+        self.inbox.append(robot_io.IOStateMsg(bool(msg.aux_power), bool(msg.fan), bool(msg.power_button),
+                                              bool(getattr(msg, "charger_connected", False))))
 
     def _system(self, msg: Any) -> None:
-        self.inbox.append(SystemStatusMsg(float(msg.cpu_temp)))
+        self.inbox.append(robot_io.SystemStatusMsg(float(msg.cpu_temp)))
 
     def _driver(self, msg: Any) -> None:
-        self.inbox.append(DriverStateMsg(float(msg.front.temperature), float(msg.rear.temperature)))
+        self.inbox.append(robot_io.DriverStateMsg(float(msg.front.temperature), float(msg.rear.temperature)))
 
     def _robot_driver(self, msg: Any) -> None:
         """husarion_ugv 2.2: one entry per motor driver; the first two stand for front and rear."""
         temps = [float(d.state.temperature) for d in msg.driver_states]
         if temps:
-            self.inbox.append(DriverStateMsg(temps[0], temps[1] if len(temps) > 1 else temps[0]))
+            self.inbox.append(robot_io.DriverStateMsg(temps[0], temps[1] if len(temps) > 1 else temps[0]))
 
     def drain(self) -> list[RobotMsg]:
         for _ in range(MAX_CALLBACKS_PER_DRAIN):

@@ -25,12 +25,11 @@ from panther_ops.core.remote.webui.defaults import RobotNamespace, with_robot_na
 from panther_ops.core.remote.webui.plan import SetKeys, SetWebui
 from panther_ops.core.remote.webui.read import (
     Task,
+    demo_change,
     demo_skip,
-    no_user_computer,
-    open_webui_session,
     read_state,
-    read_webui,
     robot_namespace,
+    webui_session,
 )
 from panther_ops.core.remote.webui.state import WebuiState, plan_changes
 from panther_ops.errors import OpsError, RemoteStateError
@@ -93,11 +92,8 @@ def set_keys(ctx: RobotContext, plan: RobotPlan, step: SetKeys, opts: ApplyOptio
     if ctx.robot.transport == "local":
         return demo_skip(ctx, "set")
     robot = robot_namespace(ctx)
-    session = open_webui_session(ctx, opts.sudo_password)
-    try:
+    with webui_session(ctx, opts.sudo_password) as session:
         done = apply_settings(session, dict(step.wanted), robot, step.dds)
-    finally:
-        session.close()
     data_out: dict[str, Any] = {**done.after.to_json(), "restarted": done.restarted}
     if done.wrong:
         return RobotResult(ctx.robot.name, Outcome.FAILED, f"read back: {', '.join(done.wrong)} not as set",
@@ -121,21 +117,14 @@ def _upload(session: UserComputerSession, target: str, data: bytes) -> None:
 def start_stop_task(start: bool, password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
-            if (skipped := no_user_computer(ctx)) is not None:
-                return skipped
-            state, _ = read_webui(ctx, password)
-            done = _start_stop_needless(ctx, state, start)
-            return done or demo_skip(ctx, "start" if start else "stop")
-        session = open_webui_session(ctx, password)
-        try:
+            return demo_change(ctx, "start" if start else "stop", lambda state: _start_stop_needless(ctx, state, start))
+        with webui_session(ctx, password) as session:
             state = read_state(session)
             done = _start_stop_needless(ctx, state, start)
             if done is not None:
                 return done
             sudo(session, f"{SNAP}.{'start' if start else 'stop'}")
             after = read_state(session)
-        finally:
-            session.close()
         if after.running != start:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"still {'stopped' if start else 'running'}",
                                data=after.to_json())
@@ -160,11 +149,8 @@ def apply_desired_webui(ctx: RobotContext, wanted: dict[str, str], password: Sec
     already): outcome, message and what was read back."""
     if ctx.robot.transport == "local":
         return Outcome.SKIPPED, "WebUI not set: demo robot, no User Computer to change", {}
-    session = open_webui_session(ctx, password)
-    try:
+    with webui_session(ctx, password) as session:
         done = apply_settings(session, wanted, RobotNamespace(None, "decided by the plan"))
-    finally:
-        session.close()
     data = {**done.after.to_json(), "restarted": done.restarted}
     if done.wrong:
         return Outcome.FAILED, f"WebUI read back: {', '.join(done.wrong)} not as set", data

@@ -12,13 +12,12 @@ from panther_ops.core.kinds.webui_settings import SNAP
 from panther_ops.core.remote.webui.apply import apply_settings, sudo
 from panther_ops.core.remote.webui.read import (
     Task,
-    demo_skip,
-    no_user_computer,
-    open_webui_session,
+    demo_change,
     read_state,
-    read_webui,
     robot_namespace,
+    webui_session,
 )
+from panther_ops.core.remote.webui.state import WebuiState
 from panther_ops.errors import RemoteStateError
 from panther_ops.results import Outcome, RobotResult
 from panther_ops.secret import Secret
@@ -39,8 +38,7 @@ def install_task(channel: str, password: Secret | None) -> Task:
         if ctx.robot.transport == "local":
             return _demo_install(ctx, channel)
         robot = robot_namespace(ctx)
-        session = open_webui_session(ctx, password)
-        try:
+        with webui_session(ctx, password) as session:
             offsets = clock_offsets(ctx, session)
             worst = max(offsets.values(), key=abs)
             if abs(worst) > CLOCK_LIMIT_S:
@@ -57,8 +55,6 @@ def install_task(channel: str, password: Secret | None) -> Task:
             if after.installed:
                 applied = apply_settings(session, {}, robot)
                 after, changes = applied.after, applied.changes
-        finally:
-            session.close()
         data = {"clock_offsets": offsets, **after.to_json()}
         if not after.installed:
             return RobotResult(ctx.robot.name, Outcome.FAILED, f"{SNAP} not installed after snap install", data=data)
@@ -71,14 +67,15 @@ def install_task(channel: str, password: Secret | None) -> Task:
 
 
 def _demo_install(ctx: RobotContext, channel: str) -> RobotResult:
-    if (skipped := no_user_computer(ctx)) is not None:
-        return skipped
-    state, _ = read_webui(ctx, None)
     want = channel if "/" in channel else f"{channel}/stable"
-    if state.installed and state.channel == want:
-        return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed (recorded: demo robot)",
-                           data=state.to_json())
-    return demo_skip(ctx, "install on")
+
+    def needless(state: WebuiState) -> RobotResult | None:
+        if state.installed and state.channel == want:
+            return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} {want} already installed (recorded: demo robot)",
+                               data=state.to_json())
+        return None
+
+    return demo_change(ctx, "install on", needless)
 
 
 def clock_offsets(ctx: RobotContext, session: UserComputerSession) -> dict[str, float]:

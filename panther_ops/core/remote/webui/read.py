@@ -14,7 +14,8 @@ robot's connection.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from panther_ops.core.fleet.plan import RobotPlan
@@ -64,8 +65,15 @@ def ui_answers(ctx: RobotContext, url: str, timeout: float = 3.0) -> int | None:
     return int(code) if code.isdigit() and code != "000" else None
 
 
-def open_webui_session(ctx: RobotContext, password: Secret | None) -> UserComputerSession:
-    return open_session(ctx, password)
+@contextmanager
+def webui_session(ctx: RobotContext, password: Secret | None) -> Iterator[UserComputerSession]:
+    """A connected session on the robot's User Computer (raises UnreachableError), closed when
+    the block ends."""
+    session = open_session(ctx, password)
+    try:
+        yield session
+    finally:
+        session.close()
 
 
 Task = Callable[[RobotContext], RobotResult]
@@ -87,11 +95,8 @@ def status_task(password: Secret | None) -> Task:
     def task(ctx: RobotContext) -> RobotResult:
         if ctx.robot.transport == "local":
             return _demo_status(ctx)
-        session = open_webui_session(ctx, password)
-        try:
+        with webui_session(ctx, password) as session:
             state = read_state(session)
-        finally:
-            session.close()
         data: dict[str, Any] = {"user_computer": session.address.host, **state.to_json()}
         if not state.installed:
             return RobotResult(ctx.robot.name, Outcome.OK, f"{SNAP} not installed", data=data)
@@ -124,11 +129,8 @@ def read_webui(ctx: RobotContext, password: Secret | None) -> tuple[WebuiState, 
         if rec is None:
             raise RemoteStateError("no User Computer recorded (demo robot)")
         return parse_state(str(rec.get("state", ""))), str(rec.get("host", "10.15.20.3"))
-    session = open_webui_session(ctx, password)
-    try:
+    with webui_session(ctx, password) as session:
         return read_state(session), session.address.host
-    finally:
-        session.close()
 
 
 NO_DEMO_USER_COMPUTER = "demo robot: no User Computer recorded (the WebUI runs on one)"
@@ -148,6 +150,15 @@ def _no_recording(ctx: RobotContext) -> RobotResult:
 def demo_skip(ctx: RobotContext, what: str) -> RobotResult:
     """A change a demo robot cannot make: reported, nothing pretended."""
     return RobotResult(ctx.robot.name, Outcome.SKIPPED, f"demo robot: no User Computer to {what}")
+
+
+def demo_change(ctx: RobotContext, what: str, needless: Callable[[WebuiState], RobotResult | None]) -> RobotResult:
+    """A change asked of a demo robot: skipped without a recorded User Computer; else
+    ``needless``'s result where the recorded state needs no change, or skipped (`demo_skip`)."""
+    if (skipped := no_user_computer(ctx)) is not None:
+        return skipped
+    state, _ = read_webui(ctx, None)
+    return needless(state) or demo_skip(ctx, what)
 
 
 def _demo_status(ctx: RobotContext) -> RobotResult:
@@ -200,11 +211,8 @@ def status_column(ctx: RobotContext) -> dict[str, Any] | None:
     if ctx.robot.user_computer is None:
         return None
     try:
-        session = open_webui_session(ctx, None)
-        try:
+        with webui_session(ctx, None) as session:
             state = read_state(session)
-        finally:
-            session.close()
     except OpsError as exc:
         return {"error": exc.message}
     return _column({"installed": state.installed, "running": state.running,
