@@ -77,3 +77,21 @@ def test_the_stock_tree_file_changes_only_the_wheel_type(demo: Path, capsys: pyt
     assert code == 0, err
     assert (demo / TREE_CONTROLLER / "WH02_controller.yaml").read_bytes() == stock_wh02
     assert not any("limits" in w for w in doc["robots"][0]["warnings"]), doc
+
+
+def test_a_robot_without_a_tree_does_not_parse_the_stock_controller_file(
+        demo: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    """panther-01 (2.1.1) reads no tree: the stock file the tree's limits are compared with is
+    not parsed (~10 ms of CPU per robot, a third of what `config set wheel_type` on 30 lab
+    robots had grown by: docs/performance.md, "Issue #28: main before and after")."""
+    from panther_ops.core.robot.controller import ControllerConfig
+
+    def parsed(*args: object, **kwargs: object) -> ControllerConfig:
+        raise AssertionError("the stock controller file was parsed for a robot without a tree")
+
+    monkeypatch.setattr(ControllerConfig, "default", classmethod(parsed))
+    code, out, err = run(capsys, "-i", str(demo), "config", "set", "wheel_type", "WH02", "-r", "panther-01",
+                         "--dry-run", "--json")
+    assert code == 0, err
+    robot = json.loads(out)["robots"][0]
+    assert [d["path"].rsplit("/", 1)[1] for d in robot["diffs"]] == ["compose.yaml"], robot

@@ -142,7 +142,6 @@ def _migrate_tree(reads: Reads, cfg: RobotConfig, new_wheel: str, model: str | N
     try:
         old_cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=old)
         new_cf = config_file(cfg.stack, FileKind.CONTROLLER, wheel_type=new_wheel)
-        stock = ControllerConfig.default(cfg.stack, old)
     except UsageError:
         return None  # no stock file of that type on this release
     if not (cfg.reads_from_tree(old_cf) and cfg.reads_from_tree(new_cf)):
@@ -150,6 +149,10 @@ def _migrate_tree(reads: Reads, cfg: RobotConfig, new_wheel: str, model: str | N
     before = reads.file(old_cf.robot_path)
     if before is None:
         return None
+    try:  # parsed only for a robot that reads the tree: ~10 ms of CPU each (docs/performance.md)
+        stock = ControllerConfig.default(cfg.stack, old)
+    except UsageError:
+        return None  # no stock file of that type on this release
     try:
         current = ControllerConfig.parse(before.decode(errors="replace"), cfg.stack, old, path=old_cf.robot_path,
                                          force=True)
