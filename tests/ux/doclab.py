@@ -4,9 +4,11 @@ the docs' samples name (docs/lab.md, "From pytest": 5 robots r01..r05, docker on
 (SHAPES), one fresh lab per page (a page's samples change its robots in the page's order), torn
 down after the page.
 
-The docs show the lab's addresses as the lab on an idle machine has them: its LAN 10.200.1.x,
-then the robots' own LANs 10.200.2.x, 10.200.3.x ... in the order the lab made them
-(:func:`shown_subnets`); a command naming one runs on the lab actually up."""
+The docs' lab takes its subnets from 10.200.100.0 up (FIRST_SUBNET: three digits, so that an
+address is as wide, and a table wraps the same, whatever other labs are up), and the docs show
+them as the lab on an idle machine has them: its LAN 10.200.100.x, then the robots' own LANs
+10.200.101.x, 10.200.102.x ... in the order the lab made them (:func:`shown_subnets`); a command
+naming one runs on the lab actually up."""
 
 from __future__ import annotations
 
@@ -48,11 +50,11 @@ NUC_PASSWORD = "husarion"
 NUC2_SECRET = "lab-nuc2-secret"
 
 SHUTDOWN = Shape(2, ("2.1.1", "2.2"), {}, (
-    # r01's LAN (2.1.1, SSH era): 10.200.2.101 ..103
+    # r01's LAN (2.1.1, SSH era): 10.200.101.101 ..103
     ComputerSpec("nuc", behind="r01", password=NUC_PASSWORD, admin="group", operator_key=False),  # Ubuntu-like
     ComputerSpec("pi", behind="r01", robot_key=True),  # the robot's key, no sudo rule
     ComputerSpec("arm", behind="r01", sudo_rule=True),  # the sudo rule, not the robot's key
-    # r02's LAN (2.2.2, HTTP era): 10.200.3.101, .102
+    # r02's LAN (2.2.2, HTTP era): 10.200.102.101, .102
     ComputerSpec("bare", behind="r02"),  # no husarion-shutdown
     ComputerSpec("nuc2", behind="r02", http=HttpService(3003, NUC2_SECRET), poweroff_delay=0.5),
 ), NUC_PASSWORD)
@@ -75,13 +77,15 @@ SHAPES: dict[str, Shape] = {
 """Pages whose samples name another lab than the docs' one."""
 
 POWER_OFF = {"/sbin/shutdown", "/sbin/poweroff", "/sbin/reboot"}
+FIRST_SUBNET = 100
 
 
 @contextmanager
 def page_lab(prefix: str | None = None, page: str = "") -> Iterator[Lab]:
     """A lab of the page's shape (the docs' one unless SHAPES says), up for one page, torn down after it."""
     shape = SHAPES.get(page, Shape())
-    lab = Lab(shape.robots, docker=True, images=shape.images, jumps=shape.jumps, prefix=prefix, ephemeral=True)
+    lab = Lab(shape.robots, docker=True, images=shape.images, jumps=shape.jumps, prefix=prefix, ephemeral=True,
+              first_subnet=FIRST_SUBNET)
     lab.up()
     try:
         if shape.computers:
@@ -95,10 +99,11 @@ def page_lab(prefix: str | None = None, page: str = "") -> Iterator[Lab]:
 
 
 def shown_subnets(lab: Lab) -> dict[int, int]:
-    """The lab's subnets (third bytes) as the docs show them: its LAN 1, the robots' own LANs 2, 3 ...
-    in the order the lab made them (as on an idle machine, where they are the first free ones)."""
+    """The lab's subnets (third bytes) as the docs show them: its LAN 100, the robots' own LANs 101,
+    102 ... in the order the lab made them (as on an idle machine, where they are the first free ones)."""
     st = lab.st
-    return {st.subnet: 1, **{w: n for n, w in enumerate(st.jump_subnets.values(), start=2)}}
+    return {st.subnet: FIRST_SUBNET,
+            **{w: n for n, w in enumerate(st.jump_subnets.values(), start=FIRST_SUBNET + 1)}}
 
 
 def _panther_ops(lab: Lab, *args: str) -> None:
@@ -136,7 +141,7 @@ def _host_key_changed(lab: Lab) -> None:
 
 
 def _r01_lan_listed(lab: Lab) -> None:
-    """docs/shutdown.md, before ``shutdown check``: r01's hosts file also lists arm (10.200.2.103),
+    """docs/shutdown.md, before ``shutdown check``: r01's hosts file also lists arm (10.200.101.103),
     and the robot trusts the host keys of pi and arm (known_hosts, as a first ``ssh`` from it would)."""
     _panther_ops(lab, "shutdown", "hosts", "add", "-r", "r01", "--ip", str(lab.computer("arm").ip), "--user",
                  "husarion", "--yes", "--settle", "1")
