@@ -13,8 +13,10 @@ robot reached over SSH (tests/ux/examples.py: NEEDS_A_ROBOT).
 
 With --lab (as root), the samples of the ```console lab blocks instead: per page, a lab of
 simulated robots of the docs' shape is brought up (tests/ux/doclab.py: r01..r05, real sshd,
-dockerd and Compose v2; docs/lab.md), the page's lab samples run on it in order with the same
-normalisation, and it is torn down. A block marked ``scene=NAME`` first has the lab brought
+dockerd and Compose v2; docs/lab.md; or the page's own shape, e.g. shutdown.md's robots with
+User Computers on their LANs), the page's lab samples run on it in order with the same
+normalisation (the lab's addresses shown as on an idle machine, a password prompt answered with
+the lab's password), and it is torn down. A block marked ``scene=NAME`` first has the lab brought
 into the state its text describes (tests/ux/doclab.py: SCENES). Not run, and listed: blocks
 marked ```console lab-standin, lab samples that need more (an interactive terminal, Docker
 Hub, a password typed), and the pages and samples of docsamples.LAB_PAGES_NOT_YET and

@@ -230,6 +230,7 @@ class Lab:
         jitter_ms: float = 0.0,
         rate: str | None = None,
         relay_trace: bool = False,
+        first_subnet: int = 1,
     ) -> None:
         if not 1 <= n <= MAX_ROBOTS:
             raise ValueError(f"n must be within 1..{MAX_ROBOTS}")
@@ -246,6 +247,7 @@ class Lab:
         self.images = [F.stack(i).key for i in images] or ["2.1.1"]
         self.prefix = prefix
         self.jumps = dict(jumps or {})
+        self.first_subnet = first_subnet  # subnets from 10.200.<first_subnet>.0 up (tests/ux/doclab.py: 100)
         self.base = Path(base)
         self.ephemeral = ephemeral
         self._log_cb = log
@@ -422,7 +424,7 @@ class Lab:
                 rmtree_lab(labdir, self.base)
             used = _used_subnets(self.base)
             span = lan_span(self.n)
-            subnet = _free_subnet(used, span)
+            subnet = _free_subnet(used, span, self.first_subnet)
             used.update(range(subnet, subnet + span))
             st = LabState(
                 prefix=prefix,
@@ -440,7 +442,7 @@ class Lab:
             if self.ephemeral:
                 st.owner = Proc("owner", os.getpid(), start_time(os.getpid()))
             for jump in sorted(set(self.jumps.values())):
-                w = _free_subnet(used)
+                w = _free_subnet(used, 1, self.first_subnet)
                 used.add(w)
                 st.jump_subnets[jump] = w
                 st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
@@ -648,7 +650,7 @@ class Lab:
         st = self.st
         if jump.name in st.jump_subnets:
             return
-        w = _free_subnet(_used_subnets(self.base))
+        w = _free_subnet(_used_subnets(self.base), 1, self.first_subnet)
         st.jump_subnets[jump.name] = w
         st.routes.append(f"unreachable {SUBNET_BASE}.{w}.0/24")
         st.save()
@@ -1405,10 +1407,10 @@ def _used_subnets(base: Path) -> set[int]:
     return used
 
 
-def _free_subnet(used: Iterable[int], span: int = 1) -> int:
-    """First free 10.200.w.0/24 (`span` consecutive ones, w a multiple of span; w >= 1)."""
+def _free_subnet(used: Iterable[int], span: int = 1, first: int = 1) -> int:
+    """First free 10.200.w.0/24 (`span` consecutive ones, w a multiple of span; w >= first >= 1)."""
     taken = set(used)
-    for w in range(span, 255 - span + 1, span):
+    for w in range(-(-max(first, 1) // span) * span, 255 - span + 1, span):
         if not taken & set(range(w, w + span)):
             return w
     raise LabError(f"no free 10.200.x.0/{lan_prefixlen(span)} subnet")

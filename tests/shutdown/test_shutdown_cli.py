@@ -248,6 +248,33 @@ def test_robot_file_through_the_pipeline_on_the_demo_fleet(demo: Path, capsys: p
     assert [h["ip"] for h in json.loads(out)["robots"][0]["data"]["hosts"]] == ["10.15.20.3"]
 
 
+def test_the_first_change_of_a_robots_file_warns_once_with_its_power_budget(
+        demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The first change on a 2.0/2.1 robot pushes the image's default, edited: each finding of
+    the file is said once (docs/shutdown.md's lab sample showed the "no hosts" warning twice),
+    and the timeout is weighed against --power-budget as on every later change (it was the
+    default 15 s there)."""
+    inv = str(demo)
+    code, out, _ = run(capsys, "-i", inv, "shutdown", "hosts", "remove", "-r", "panther-01", "--ip", "10.15.20.3",
+                       "--yes", "--json")
+    res = json.loads(out)["robots"][0]
+    assert code == 0 and "/home/husarion/compose.yaml" in [d["path"] for d in res["diffs"]]  # the default pushed
+    assert [w for w in res["warnings"] if w.startswith("hosts")] == [
+        "hosts: no hosts: nothing is shut down with the robot (the manager reports a failure and goes on with "
+        "the robot itself)"]
+    argv = ["shutdown", "hosts", "add", "--ip", "192.0.2.10", "--user", "husarion", "--timeout", "40", "--yes",
+            "--json"]
+    # panther-02's first change (2.0.4), panther-01's second; then a budget both 40 s hosts exceed
+    for robot, budget, warned in (("panther-02", "60", 0), ("panther-01", "60", 0), ("panther-01", "30", 2)):
+        if warned:  # 192.0.2.10 is listed now: add another one
+            argv[argv.index("192.0.2.10")] = "192.0.2.11"
+        code, out, _ = run(capsys, "-i", inv, *argv, "-r", robot, "--power-budget", budget)
+        res = json.loads(out)["robots"][0]
+        assert code == 0 and res["outcome"] == "changed", res
+        timeouts = [w for w in res["warnings"] if ".timeout" in w]
+        assert len(timeouts) == warned and all(f"~{budget} s" in w for w in timeouts), (robot, res)
+
+
 def test_setup_check_and_robot_need_an_ssh_robot(demo: Path, capsys: pytest.CaptureFixture[str]) -> None:
     inv = str(demo)
     code, _, err = run(capsys, "-i", inv, "shutdown", "setup", "-r", "panther-01", "--host", "192.0.2.3; reboot",

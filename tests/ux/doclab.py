@@ -1,7 +1,14 @@
 """The lab a page's ```console lab samples run on (tests/ux/docsamples.py, lab mode): the shape
 the docs' samples name (docs/lab.md, "From pytest": 5 robots r01..r05, docker on, stacks
-2.0.4 / 2.1.1 / 2.2.2 / 2.0.4 / 2.1.1, r05 reachable only through r01), one fresh lab per page
-(a page's samples change its robots in the page's order), torn down after the page."""
+2.0.4 / 2.1.1 / 2.2.2 / 2.0.4 / 2.1.1, r05 reachable only through r01), or the page's own
+(SHAPES), one fresh lab per page (a page's samples change its robots in the page's order), torn
+down after the page.
+
+The docs' lab takes its subnets from 10.200.100.0 up (FIRST_SUBNET: three digits, so that an
+address is as wide, and a table wraps the same, whatever other labs are up), and the docs show
+them as the lab on an idle machine has them: its LAN 10.200.100.x, then the robots' own LANs
+10.200.101.x, 10.200.102.x ... in the order the lab made them (:func:`shown_subnets`); a command
+naming one runs on the lab actually up."""
 
 from __future__ import annotations
 
@@ -9,9 +16,11 @@ import subprocess
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from tests.lab import Lab, missing_requirements
+from tests.lab.computers import ComputerSpec, HttpService, trust_on_robot
 
 from .docsamples import Outcome, follow
 
@@ -25,22 +34,76 @@ def lab_unavailable() -> str | None:
     return "; ".join(why) if why else None
 
 
-SHAPES: dict[str, tuple[int, dict[str, str]]] = {
-    "remote.md": (3, {}),  # docs/remote.md: r01..r03 on 2.0.4, 2.1.1 and 2.2.2
+@dataclass(frozen=True)
+class Shape:
+    """A page's lab: robots (stacks cycled), jumps, User Computers (tests/lab/computers.py) and
+    the password typed at a password prompt (``--ask-password``)."""
+
+    robots: int = 5
+    images: tuple[str, ...] = IMAGES
+    jumps: dict[str, str] = field(default_factory=lambda: dict(JUMPS))
+    computers: tuple[ComputerSpec, ...] = ()
+    password: str = ""
+
+
+NUC_PASSWORD = "husarion"
+NUC2_SECRET = "lab-nuc2-secret"
+
+SHUTDOWN = Shape(2, ("2.1.1", "2.2"), {}, (
+    # r01's LAN (2.1.1, SSH era): 10.200.101.101 ..103
+    ComputerSpec("nuc", behind="r01", password=NUC_PASSWORD, admin="group", operator_key=False),  # Ubuntu-like
+    ComputerSpec("pi", behind="r01", robot_key=True),  # the robot's key, no sudo rule
+    ComputerSpec("arm", behind="r01", sudo_rule=True),  # the sudo rule, not the robot's key
+    # r02's LAN (2.2.2, HTTP era): 10.200.102.101, .102
+    ComputerSpec("bare", behind="r02"),  # no husarion-shutdown
+    ComputerSpec("nuc2", behind="r02", http=HttpService(3003, NUC2_SECRET), poweroff_delay=0.5),
+), NUC_PASSWORD)
+"""docs/shutdown.md: r01 on 2.1.1 and r02 on 2.2.2 with computers on their LANs, built as
+tests/shutdown/test_shutdown_lab.py builds its own (no power-off for real: the stand-ins)."""
+
+WEBUI_SUDO_PASSWORD = "lab-w1-password"
+
+REMOTE = Shape(3, jumps={}, computers=(
+    ComputerSpec("w1", behind="r01", password=WEBUI_SUDO_PASSWORD, admin="group", webui=True),  # sudo asks
+    ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
+))
+"""docs/remote.md: r01..r03 on 2.0.4, 2.1.1 and 2.2.2; User Computers with the snap stand-in behind
+r01 and r02, as tests/remote/webui/test_webui_lab.py builds them (no snapd: the stand-in)."""
+
+SHAPES: dict[str, Shape] = {
+    "remote.md": REMOTE,
+    "shutdown.md": SHUTDOWN,
 }
-"""Pages whose samples name another lab than the docs' one: robots, jumps."""
+"""Pages whose samples name another lab than the docs' one."""
+
+POWER_OFF = {"/sbin/shutdown", "/sbin/poweroff", "/sbin/reboot"}
+FIRST_SUBNET = 100
 
 
 @contextmanager
 def page_lab(prefix: str | None = None, page: str = "") -> Iterator[Lab]:
     """A lab of the page's shape (the docs' one unless SHAPES says), up for one page, torn down after it."""
-    n, jumps = SHAPES.get(page, (5, JUMPS))
-    lab = Lab(n, docker=True, images=IMAGES, jumps=jumps, prefix=prefix, ephemeral=True)
+    shape = SHAPES.get(page, Shape())
+    lab = Lab(shape.robots, docker=True, images=shape.images, jumps=shape.jumps, prefix=prefix, ephemeral=True,
+              first_subnet=FIRST_SUBNET)
     lab.up()
     try:
+        if shape.computers:
+            lab.add_computers(list(shape.computers))
+            for name in (*lab.names, *lab.computer_names):  # rule 2: a power-off is the lab's stand-in
+                missing = POWER_OFF - set(lab.standins(name))
+                assert not missing, f"{name}: no power-off stand-in over {sorted(missing)}"
         yield lab
     finally:
         lab.down()
+
+
+def shown_subnets(lab: Lab) -> dict[int, int]:
+    """The lab's subnets (third bytes) as the docs show them: its LAN 100, the robots' own LANs 101,
+    102 ... in the order the lab made them (as on an idle machine, where they are the first free ones)."""
+    st = lab.st
+    return {st.subnet: FIRST_SUBNET,
+            **{w: n for n, w in enumerate(st.jump_subnets.values(), start=FIRST_SUBNET + 1)}}
 
 
 def _panther_ops(lab: Lab, *args: str) -> None:
@@ -77,11 +140,47 @@ def _host_key_changed(lab: Lab) -> None:
     lab.rotate_host_key("r03")
 
 
+def _r01_lan_listed(lab: Lab) -> None:
+    """docs/shutdown.md, before ``shutdown check``: r01's hosts file also lists arm (10.200.101.103),
+    and the robot trusts the host keys of pi and arm (known_hosts, as a first ``ssh`` from it would)."""
+    _panther_ops(lab, "shutdown", "hosts", "add", "-r", "r01", "--ip", str(lab.computer("arm").ip), "--user",
+                 "husarion", "--yes", "--settle", "1")
+    for name in ("pi", "arm"):
+        trust_on_robot(lab, "r01", name)
+    text = lab.read("r01", "/home/husarion/config/panther_manager/config/shutdown_hosts_config.yaml")
+    assert "10.15.20." not in text, text  # nothing but the lab's computers is ever contacted (rule 3)
+
+
+def _user_computers(lab: Lab) -> None:
+    """docs/remote.md: the inventory names r01's and r02's User Computers (``user_computer``)."""
+    from tests.labtools import user_computer_inventory
+
+    user_computer_inventory(lab, lab.inventory_path, {"r01": "w1", "r02": "w2"})
+
+
+def _desired_webui(lab: Lab) -> None:
+    """docs/remote.md: r02's WebUI installed and running on 8080, its snap without a namespace, and
+    ``desired.webui`` of r02 in the inventory."""
+    import yaml
+
+    from tests.remote.webui.test_webui_lab import without_namespace_on_8080
+
+    _panther_ops(lab, "webui", "install", "-r", "r02")
+    _panther_ops(lab, "webui", "start", "-r", "r02")
+    without_namespace_on_8080(lab, "w2")
+    doc = yaml.safe_load(lab.inventory_path.read_text())
+    doc["robots"]["r02"]["desired"] = {"webui": {"transport": "rmw_cyclonedds_cpp", "port": 8082, "layout": "panther"}}
+    lab.inventory_path.write_text(yaml.safe_dump(doc))
+
+
 SCENES: dict[str, Callable[[Lab], None]] = {
     "r02-drift": _drift,
     "r05-crash-loop": _crash_loop,
     "r03-host-key-changed": _host_key_changed,
     "r01-cmd-vel-publisher": _publisher,
+    "r01-lan-listed": _r01_lan_listed,
+    "user-computers": _user_computers,
+    "r02-desired-webui": _desired_webui,
 }
 """The states a page's text describes before a sample (```console lab scene=NAME)."""
 
@@ -89,4 +188,5 @@ SCENES: dict[str, Callable[[Lab], None]] = {
 def follow_on_lab(doc: Path, prefix: str | None = None) -> Outcome:
     """The page's lab samples run on a lab of their own (see docsamples.follow)."""
     with page_lab(prefix, doc.name) as lab:
-        return follow(doc, lab.dir, lambda name: SCENES[name](lab))
+        return follow(doc, lab.dir, lambda name: SCENES[name](lab), subnets=shown_subnets(lab),
+                      password=SHAPES.get(doc.name, Shape()).password)

@@ -84,10 +84,6 @@ NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
 NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
     ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01"):
         "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/remote/teleop/test_teleop_lab.py)",
-    ("remote.md", "export PANTHER_OPS_SUDO_PASSWORD=...      # or --ask-sudo-password"):
-        "a User Computer with the snap stand-in (tests/remote/webui/test_webui_lab.py)",
-    ("remote.md", "panther-ops -i lab/inventory.yaml config diff -r r02"):
-        "a User Computer with the snap stand-in and desired.webui in the inventory (tests/remote/webui/test_webui_lab.py)",
 }
 """(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
 
@@ -96,13 +92,24 @@ LAB_PAGES_NOT_YET: dict[str, str] = {
               "router (tests/gps/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
     "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
                          "(tests/manager_ops/test_manager_lab.py)",
-    "shutdown.md": "needs the lab's User Computers set up by shutdown setup (tests/shutdown/test_shutdown_lab.py)",
 }
 """Pages whose lab samples need more than the docs' lab (tests/ux/doclab.py) and are not run yet:
 the reason (listed by ``capture_docs.py --lab --list``; their text is left as written)."""
 
 LAB_SUBNET = re.compile(r"\b10\.200\.\d+\.")
 """The lab's addresses: the third byte is the lab's own network (the first free one when it came up)."""
+
+_LAB_ADDRESS = re.compile(r"\b10\.200\.(\d+)\.")
+
+
+def relabel(text: str, subnets: dict[int, int]) -> str:
+    """``text`` with each lab address 10.200.W.x on subnet ``subnets[W]`` instead (in one pass:
+    the maps may cross). The docs show a lab's addresses as those of the lab on an idle machine
+    (tests/ux/doclab.py: subnets numbered from 1 in the order the lab made them), so that a
+    command naming one (``--host 10.200.2.101``) runs on the lab actually up."""
+    if not subnets:
+        return text
+    return _LAB_ADDRESS.sub(lambda m: f"10.200.{subnets.get(int(m[1]), int(m[1]))}.", text)
 
 
 INSTALLED = "<panther-ops>"
@@ -238,10 +245,16 @@ _IN_PROCESS = threading.Lock()
 class Reader:
     """One reader's directory and shell state, following one doc."""
 
-    def __init__(self, root: Path, lab_dir: Path | None = None) -> None:
+    def __init__(self, root: Path, lab_dir: Path | None = None, subnets: dict[int, int] | None = None,
+                 password: str = "") -> None:
         self.dir = root / "home"
         self.dir.mkdir()
         self.lab_dir = lab_dir
+        self.shown_subnets = subnets or {}
+        """The lab's subnets as the docs show them (see relabel), and what a command's are."""
+        self.run_subnets = {doc: real for real, doc in self.shown_subnets.items()}
+        self.password = password
+        """Typed at a password prompt (``--ask-password``: the lab's User Computers' one)."""
         if lab_dir is not None:  # docs/lab.md: the docs write the lab's directory as lab/
             (self.dir / "lab").symlink_to(lab_dir)
         bin_dir = root / "bin"
@@ -269,25 +282,28 @@ class Reader:
         if example is not None and example.argv[:2] == ["demo", "init"] and "--dest" not in example.argv:
             shutil.rmtree(self.dir / "demo-fleet", ignore_errors=True)  # the reader creates it here
         s = shlex.quote(str(self.state))
-        command = sample.command.replace(HOME, str(self.dir))  # the doc's /home/me is the reader's directory
+        command = relabel(sample.command.replace(HOME, str(self.dir)), self.run_subnets)  # the doc's /home/me: the
+        # reader's directory; its lab addresses: the lab's
         script = (f"cd \"$(cat {s}/cwd)\"; . {s}/env; (exit $(cat {s}/rc))\n{command}\n"
                   f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
-        typed = "".join(m.group(1) + "\n" for line in sample.output
-                        if (m := re.search(r"\[y/N\]: (\w+)$", line)))
-        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, typed=typed)
+        answers = tuple(m.group(1) for line in sample.output if (m := re.search(r"\[y/N\]: (\w+)$", line)))
+        password = self.password if "--ask-password" in sample.command else ""
+        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password)
         screen = Screen(10**6)  # a line the terminal wraps at its edge is one line (as copied from it)
         screen.feed(run.out)
         lines = screen.text()
         while lines and not lines[-1]:
             lines.pop()
-        return [shown(line, self.dir, self.lab_dir) for line in lines]
+        return [relabel(shown(line, self.dir, self.lab_dir), self.shown_subnets) for line in lines]
 
 
-def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] | None = None) -> Outcome:
+def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] | None = None, *,
+           subnets: dict[int, int] | None = None, password: str = "") -> Outcome:
     """Run the samples of ``doc`` in order; the diffs, the skipped ones, and the doc rewritten.
     With ``lab_dir`` (a lab up for this page, tests/ux/doclab.py), the samples of its
     ```console lab blocks, on that lab, ``scene(NAME)`` called before a block marked
-    ``scene=NAME``; the other blocks are left as they are."""
+    ``scene=NAME``, its addresses shown as ``subnets`` says (see relabel), ``password`` typed at a
+    password prompt; the other blocks are left as they are."""
     lines = doc.read_text().splitlines()
     diffs: list[str] = []
     skipped: list[tuple[str, str, str]] = []
@@ -295,7 +311,7 @@ def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] 
     if lab_dir is not None:
         blocks = [b for b in blocks if LAB in b.marks or LAB_STANDIN in b.marks]
     with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
-        reader = Reader(Path(tmp), lab_dir)
+        reader = Reader(Path(tmp), lab_dir, subnets, password)
         for block in reversed(_in_order(blocks, reader, skipped, diffs, doc, scene)):
             lines[block[0]:block[1]] = block[2]
     text = "\n".join(lines) + "\n"

@@ -77,32 +77,52 @@ def on_pty(args: list[str], *, cols: int = 70, cwd: Path | None = None, env: dic
                         stdout_pipe=stdout_pipe, stderr_pipe=stderr_pipe, typed=typed)
 
 
+QUESTION = re.compile(r"\[y/N\]: $")
+"""The end of what the terminal shows while a question waits for its answer."""
+
+
 def shell_on_pty(script: str, *, cols: int, cwd: Path, env: dict[str, str], timeout: float = 120,
-                 typed: str = "") -> Run:
+                 answers: tuple[str, ...] = (), password: str = "") -> Run:
     """``bash -c script`` with stdin, stdout and stderr on one pseudo-terminal ``cols`` wide, as
     an operator's shell runs a command line, in exactly the environment ``env``; ``Run.out`` is
-    everything the terminal was sent."""
+    everything the terminal was sent. As a person at that terminal: ``answers`` typed (and Enter)
+    one by one when a question (``[y/N]: ``) shows, echoed after it; ``password`` typed once the
+    terminal's echo is off, at a password prompt (the command runs in a session of its own, so
+    that getpass asks this terminal, never the one this runs from)."""
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
     with tempfile.TemporaryFile() as unused:
         return _pty_run(["bash", "-c", script], master, slave, unused, cwd=cwd, env=env, timeout=timeout,
-                        stdout_pipe=False, stderr_pipe=False, typed=typed)
+                        stdout_pipe=False, stderr_pipe=False, typed="", password=password, answers=answers,
+                        session=True)
 
 
 def _pty_run(argv: list[str], master: int, slave: int, piped_out: IO[bytes], *, cwd: Path | None,
-             env: dict[str, str], timeout: float, stdout_pipe: bool, stderr_pipe: bool, typed: str) -> Run:
+             env: dict[str, str], timeout: float, stdout_pipe: bool, stderr_pipe: bool, typed: str,
+             password: str = "", answers: tuple[str, ...] = (), session: bool = False) -> Run:
     p = subprocess.Popen(argv, cwd=cwd, env=env,
                          stdin=slave, stdout=piped_out if stdout_pipe else slave,
-                         stderr=piped_out if stderr_pipe else slave, close_fds=True)
+                         stderr=piped_out if stderr_pipe else slave, close_fds=True, start_new_session=session)
     os.close(slave)
     if typed:  # held by the terminal until the process reads its input
         os.write(master, typed.encode())
     chunks: list[bytes] = []
+    to_type = list(answers)
+    quiet_since = time.monotonic()
     while True:
-        ready, _, _ = select.select([master], [], [], timeout)
+        polling = bool(password or to_type)  # a person watching the terminal, to type
+        ready, _, _ = select.select([master], [], [], 0.05 if polling else timeout)
+        if password and not termios.tcgetattr(master)[3] & termios.ECHO:  # the prompt turned echo off
+            os.write(master, f"{password}\n".encode())
+            password = ""
+        elif to_type and QUESTION.search(plain(b"".join(chunks[-3:]).decode(errors="replace"))):
+            os.write(master, f"{to_type.pop(0)}\n".encode())
         if not ready:
+            if polling and time.monotonic() - quiet_since < timeout:
+                continue
             p.kill()
             raise TimeoutError(f"{' '.join(argv)}: no output for {timeout} s")
+        quiet_since = time.monotonic()
         try:
             data = os.read(master, 65536)
         except OSError:  # the child closed the terminal

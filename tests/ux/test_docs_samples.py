@@ -5,6 +5,8 @@ each doc's samples re-run on a fresh demo fleet by scripts/capture_docs.py's cod
 
 from __future__ import annotations
 
+import shlex
+import sys
 from pathlib import Path
 
 import pytest
@@ -46,3 +48,33 @@ def test_a_changed_sample_is_caught(tmp_path: Path) -> None:
     assert not matches([line.replace("changed", "ok") for line in real], real)
     assert matches([real[0], ELIDED, real[-1]], real)
     assert not matches([real[0], ELIDED, "4 robots: 4 changed in 0.8 s"], real)
+
+
+def test_the_reader_types_an_answer_at_its_question_and_a_password_unseen(tmp_path: Path) -> None:
+    """The lab mode's terminal (docs/shutdown.md's `setup --ask-password`): the answer of a
+    ``[y/N]`` sample line is typed when the question shows, and echoed after it; the page's
+    password once the prompt turned the echo off, so it is read but never shown."""
+    from .termrun import shell_on_pty
+
+    script = ("import getpass, sys; sys.stderr.write('Trust it? [y/N]: '); sys.stderr.flush(); a = input(); "
+              "p = getpass.getpass('password of husarion@10.200.2.101: '); "
+              "print('answer', a, 'password', 'right' if p == 'lab-secret' else 'wrong:' + p)")
+    run = shell_on_pty(f"{sys.executable} -c {shlex.quote(script)}", cols=80, cwd=tmp_path,
+                       env={"PATH": "/usr/bin:/bin"}, timeout=20, answers=("y",), password="lab-secret")
+    lines = run.out.replace("\r", "").splitlines()
+    assert run.code == 0, run.out
+    assert lines == ["Trust it? [y/N]: y", "password of husarion@10.200.2.101: ", "answer y password right"]
+    assert "lab-secret" not in run.out
+
+
+def test_the_lab_addresses_are_shown_as_on_an_idle_machine() -> None:
+    """A lab up beside others has other subnets: the docs' addresses are relabelled both ways
+    (the maps may cross: 7 -> 2 while 2 -> 1)."""
+    from .docsamples import relabel
+
+    shown = {2: 1, 7: 2, 9: 3}
+    line = "10.200.7.101 answers ping from r01 (10.200.2.5), 10.200.9.1 and 10.200.11.4"
+    assert relabel(line, shown) == "10.200.2.101 answers ping from r01 (10.200.1.5), 10.200.3.1 and 10.200.11.4"
+    back = {doc: real for real, doc in shown.items()}
+    assert relabel(relabel(line, shown), back) == line
+    assert relabel("110.200.7.1 10.2000.7.1", shown) == "110.200.7.1 10.2000.7.1"

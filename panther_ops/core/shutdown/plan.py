@@ -148,11 +148,18 @@ def plan_in_place(robot: str, rf: RobotHostsFile, edit: Edit, warnings: list[str
     return plan
 
 
-def as_hosts_push(plan: RobotPlan, edit: Edit, warnings: list[str]) -> RobotPlan:
-    """A `config push` plan of the edited default file, masked, summarised as a hosts change."""
+def as_hosts_push(plan: RobotPlan, edit: Edit, warnings: list[str], checked: list[str]) -> RobotPlan:
+    """A `config push` plan of the edited default file, masked, summarised as a hosts change. The
+    file's findings are the edit's ``warnings`` (weighed against the command's power budget), in
+    place of the push's own check of the same file (``checked``: its validator's default budget),
+    so that each is said once."""
     plan.edits = [MaskedFileEdit(e.path, e.before, e.after, e.mode) for e in plan.edits]
     plan.summary = f"shutdown hosts: {edit.message} ({plan.summary})"
-    plan.warnings[:0] = warnings
+    rest = list(plan.warnings)
+    for finding in checked:
+        if finding in rest:
+            rest.remove(finding)
+    plan.warnings = [*warnings, *rest]
     return plan
 
 

@@ -7,12 +7,13 @@ from pathlib import Path
 
 from panther_ops.core.fleet.plan import RobotPlan
 from panther_ops.core.fleet.reading import read_and_plan
+from panther_ops.core.fleet.reads import Reads
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.kinds.hostsfile import POWER_BUDGET_S
 from panther_ops.core.robot.files import config_file
 from panther_ops.core.robot.pull import pull
-from panther_ops.core.robot.push import Bundle, push_plan
+from panther_ops.core.robot.push import Bundle, checked_for, push_plan
 from panther_ops.core.robot.read import read_compose, read_config
 from panther_ops.core.robot.robot_config import parse_config
 from panther_ops.core.shutdown.plan import (
@@ -46,6 +47,12 @@ def plan_hosts_edit(ctx: RobotContext, editor: Editor, *, power_budget: float = 
         return plan
     cf = config_file(rf.stack, FileKind.SHUTDOWN_HOSTS)
     raw, bundle = read_compose(ctx), Bundle(Path(cf.filename), edit.text.encode())
-    pushed = read_and_plan(ctx, lambda reads: push_plan(reads, parse_config(raw, reads.stack),
-                                                        FileKind.SHUTDOWN_HOSTS, bundle))
-    return as_hosts_push(pushed, edit, warnings)
+
+    def pushed(reads: Reads) -> tuple[RobotPlan, list[str]]:
+        plan = push_plan(reads, parse_config(raw, reads.stack), FileKind.SHUTDOWN_HOSTS, bundle)
+        # the push's own check of the file (memoised: the very findings it put in the plan)
+        return plan, checked_for(reads, parse_config(raw, reads.stack), FileKind.SHUTDOWN_HOSTS, bundle.main,
+                                 bundle.data, False)
+
+    plan, checked = read_and_plan(ctx, pushed)
+    return as_hosts_push(plan, edit, warnings, checked)

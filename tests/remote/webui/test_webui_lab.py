@@ -50,6 +50,15 @@ def snap_state(lab: Lab, computer: str) -> str:
     return str(lab.exec(computer, ["sh", "-c", f"cat {STATE} 2>/dev/null || echo none"]).stdout)
 
 
+def without_namespace_on_8080(lab: Lab, computer: str) -> None:
+    """The computer's snap stand-in without a namespace (as a fresh install leaves it), on its
+    default port, restarted (also docs/remote.md's lab, tests/ux/doclab.py)."""
+    lab.exec(computer, ["python3", "-c", "import json,sys; p=sys.argv[1]; d=json.load(open(p)); "
+                        "d['config'].get('ros', {}).pop('namespace', None); d['config'].setdefault('webui', {})"
+                        "['port']='8080'; json.dump(d, open(p, 'w'))", STATE])
+    lab.exec(computer, ["sh", "-c", "husarion-webui.stop; husarion-webui.start"])
+
+
 def test_install_set_start_with_password_sudo_then_idempotent_then_port(
         wlab: tuple[Lab, Path], capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     lab, inv = wlab
@@ -185,11 +194,7 @@ def test_apply_converges_desired_webui_with_the_robots_namespace_then_changes_no
     assert cli(capsys, base, "webui", "install", "-r", "r02")[0] == 0
     code, doc, err = cli(capsys, base, "webui", "start", "-r", "r02", "--json")
     assert code == 0, err
-    # the snap without a namespace (as a fresh install leaves it), on its default port
-    lab.exec("w2", ["python3", "-c", "import json,sys; p=sys.argv[1]; d=json.load(open(p)); "
-                    "d['config'].get('ros', {}).pop('namespace', None); d['config'].setdefault('webui', {})"
-                    "['port']='8080'; json.dump(d, open(p, 'w'))", STATE])
-    lab.exec("w2", ["sh", "-c", "husarion-webui.stop; husarion-webui.start"])
+    without_namespace_on_8080(lab, "w2")
     inv = _inventory_with(base, tmp_path, r02={"desired": {"webui": {"transport": "rmw_cyclonedds_cpp",
                                                                      "port": 8082, "layout": "panther"}}})
     code, doc, err = cli(capsys, inv, "config", "diff", "-r", "r02", "--json")
