@@ -118,7 +118,8 @@ DEMO_SKIPS: dict[str, tuple[str, str]] = {
     "driver status": ("the driver container (a docker engine)", "tests/driver/test_driver_lab.py"),
     "driver logs": ("the driver container's log (a docker engine)", "tests/driver/test_driver_lab.py"),
     "driver versions": ("the robot's images (a docker engine)", "tests/driver/test_driver_lab.py"),
-    "lights test": ("the lights controller's service in the driver container", "tests/manual_walk/test_manual_walk_lab.py"),
+    "lights test": ("the lights controller's service in the driver container",
+                    "tests/manager_ops/test_manager_safety_lab.py"),
     "manager logs": ("the manager's container (a docker engine)", "tests/manager_ops/test_manager_lab.py"),
     "shutdown check": ("the hosts on the robot's LAN", "tests/shutdown/test_shutdown_lab.py"),
     "estop trigger": ("the driver's trigger service", "tests/remote/estop/test_estop_lab.py"),
@@ -127,7 +128,7 @@ DEMO_SKIPS: dict[str, tuple[str, str]] = {
 """Walked commands whose demo run skips the robot's part (said in their result): the reason and the
 lab test that runs that part."""
 
-LAB_ON_232 = {"estop trigger", "teleop", "trust", "driver status", "driver logs", "driver versions"}
+LAB_ON_232 = {"estop trigger", "teleop", "trust", "driver status", "driver logs", "driver versions", "lights test"}
 """Commands of ELSEWHERE/DEMO_SKIPS whose lab test runs them on a 2.3.2 lab robot too (checked below);
 the others' lab tests run on Humble robots only so far."""
 
