@@ -128,7 +128,8 @@ DEMO_SKIPS: dict[str, tuple[str, str]] = {
 """Walked commands whose demo run skips the robot's part (said in their result): the reason and the
 lab test that runs that part."""
 
-LAB_ON_232 = {"estop trigger", "teleop", "trust", "driver status", "driver logs", "driver versions", "lights test"}
+LAB_ON_232 = {"estop trigger", "teleop", "trust", "driver status", "driver logs", "driver versions", "lights test",
+              "shutdown check"}
 """Commands of ELSEWHERE/DEMO_SKIPS whose lab test runs them on a 2.3.2 lab robot too (checked below);
 the others' lab tests run on Humble robots only so far."""
 
