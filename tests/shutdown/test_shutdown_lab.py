@@ -533,3 +533,20 @@ def test_shutdown_hosts_via_the_robot(r01_ready: Lab, c1_setup: Any, tmp_path: P
     finally:
         for n in ("c1", "c2"):
             lab.power_on(n)
+
+
+def test_shutdown_hosts_via_a_2_3_2_robot(slab: Lab, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """`shutdown --hosts FILE --via r04`: a husarion_ugv 2.3.2 robot reaches its LAN's HTTP host
+    (husarion-shutdown, the secret from the environment) as a 2.2 robot does."""
+    lab = slab
+    hosts = tmp_path / "lan.yaml"
+    hosts.write_text(f"hosts:\n  - ip: {ip(lab, 'h3')}\n    port: 3003\n    secret: {{env: H3_SECRET}}\n")
+    monkeypatch.setenv("H3_SECRET", H3_SECRET)
+    try:
+        code, doc, out, err = cli(capsys, lab, "shutdown", "--hosts", str(hosts), "--via", "r04", "--yes", "--json")
+        (row,) = doc["robots"]
+        assert code == 0 and row["outcome"] == "changed", out + err
+        assert len(lab.power_calls("h3")) >= 1 and H3_SECRET not in out + err
+    finally:
+        lab.power_on("h3")
