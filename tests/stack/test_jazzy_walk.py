@@ -129,7 +129,8 @@ DEMO_SKIPS: dict[str, tuple[str, str]] = {
 lab test that runs that part."""
 
 LAB_ON_232 = {"estop trigger", "teleop", "trust", "driver status", "driver logs", "driver versions", "lights test",
-              "shutdown check", "shutdown", "gps router show", "gps router set"}
+              "shutdown check", "shutdown", "gps router show", "gps router set",
+              "webui start"}
 """Commands of ELSEWHERE/DEMO_SKIPS whose lab test runs them on a 2.3.2 lab robot too (checked below);
 the others' lab tests run on Humble robots only so far."""
 
