@@ -11,8 +11,8 @@ exit 0 or the 2.2 robot's own exit code, the same kind of outcome, its own stack
 catalogue: use_madgwick_filter on 2.3.2 only, publish_robot_state on 2.2 only).
 
 What the demo fleet cannot run (a terminal, SSH, a docker engine, a LAN) is listed in
-`ELSEWHERE` with the reason and the lab test that runs it; `LAB_ON_232` names those lab tests
-that run the command on a 2.3.2 lab robot.
+`ELSEWHERE` (or, where the demo robot skips the robot's part, `DEMO_SKIPS`) with the reason and
+the lab test that runs it, on a lab with a 2.3.2 robot.
 """
 
 from __future__ import annotations
@@ -128,12 +128,6 @@ DEMO_SKIPS: dict[str, tuple[str, str]] = {
 """Walked commands whose demo run skips the robot's part (said in their result): the reason and the
 lab test that runs that part."""
 
-LAB_ON_232 = {"estop trigger", "teleop", "trust", "driver status", "driver logs", "driver versions", "lights test",
-              "shutdown check", "shutdown", "gps router show", "gps router set",
-              "webui start"}
-"""Commands of ELSEWHERE/DEMO_SKIPS whose lab test runs them on a 2.3.2 lab robot too (checked below);
-the others' lab tests run on Humble robots only so far."""
-
 NOT_ROBOTS: dict[str, str] = {
     "inventory validate": "checks the inventory file (every robot's entry), reaches no robot",
     "inventory export": "writes the inventory in Ansible's form, reaches no robot",
@@ -168,13 +162,13 @@ def test_every_command_is_walked_or_listed() -> None:
     assert set(listed) == set(commands), ("a command neither walked nor listed with its reason",
                                            sorted(set(commands) ^ set(listed)))
     assert robots <= set(WALK) | set(ELSEWHERE), sorted(robots & set(NOT_ROBOTS))
-    assert set(DEMO_SKIPS) <= set(WALK) and set(ELSEWHERE) | set(DEMO_SKIPS) >= LAB_ON_232
+    assert set(DEMO_SKIPS) <= set(WALK)
     for command, (_, test) in {**ELSEWHERE, **DEMO_SKIPS}.items():
         text = (ROOT / test).read_text()
         words = ", ".join(f'"{w}"' for w in command.split())
         assert words in text, (command, test)  # the lab test runs the command
-        if command in LAB_ON_232:  # a lab with a 2.3.2 robot: the shared jazzy_lab, or its own images
-            assert re.search(r'jazzy_lab|images=\([^)]*"2\.3\.2"', text), (command, test)
+        # on a lab with a 2.3.2 robot: the shared jazzy_lab, or its own images
+        assert re.search(r'jazzy_lab|images=\([^)]*"2\.3\.2"', text), (command, test)
 
 
 @pytest.fixture(scope="module")
