@@ -225,6 +225,8 @@ def test_jazzy_reset_refused_while_the_last_velocity_is_not_zero(fleet: Any,
         assert code == 0 and data["cmd_vel_publishers"] == [], doc
         assert data["twist_mux_publishers"] == {"/panther/manual/cmd_vel": [f"/{manual}"],
                                                 "/panther/autonomous/cmd_vel": [], "/panther/cmd_vel": []}
+        code, _, out, _ = run_cli(capsys, "-i", str(fleet.inventory_path), "estop", "status", "-r", name)
+        assert code == 0 and f"/{manual} (manual/cmd_vel)" in out, out  # the table names the mux input
         # a publisher of zero velocity (as joy2twist is, idle) does not block the reset
         code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
         assert code == 0 and doc["robots"][0]["outcome"] == "changed", doc
