@@ -119,3 +119,9 @@ def lab_ready() -> None:
 def lab(lab_factory: LabFactory) -> Lab:
     """5 robots with docker, stacks 2.0.4/2.1.1/2.2.2 cycling; r05 reachable only via r01."""
     return lab_factory(5, docker=True, images=DEFAULT_IMAGES, jumps={"r05": "r01"})
+
+
+@pytest.fixture
+def jazzy_lab(lab_factory: LabFactory) -> Lab:
+    """2 robots with docker: r01 on husarion_ugv 2.2.2, r02 on 2.3.2 (ROS 2 Jazzy)."""
+    return lab_factory(2, docker=True, images=("2.2", "2.3.2"))

@@ -54,12 +54,13 @@ def robots_put_back(lab: Any, recreate: Callable[[str, bool], bool] | None = Non
 
 
 @contextmanager
-def computers_lab(*computers: ComputerSpec) -> Iterator[Lab]:
-    """Two robots without docker and these User Computers behind them; torn down after the block."""
+def computers_lab(*computers: ComputerSpec, images: tuple[str, ...] = ("2.1.1",)) -> Iterator[Lab]:
+    """Two robots without docker (``images``: their stacks, cycled) and these User Computers behind
+    them; torn down after the block."""
     why = missing_requirements(docker=False)
     if why:  # a lab test: a failure under CI=true
         pytest.skip("simulated robot lab unavailable: " + "; ".join(why))
-    lab = Lab(2, docker=False, ephemeral=True).up()
+    lab = Lab(2, docker=False, images=images, ephemeral=True).up()
     try:
         lab.add_computers(list(computers))
         yield lab

@@ -97,6 +97,29 @@ def test_status_logs_and_versions_read_every_robot(lab: Any, capsys: pytest.Capt
     assert {r.name: containers(lab, r.name) for r in lab.robots} == before
 
 
+def test_status_logs_and_versions_on_a_2_3_2_robot(jazzy_lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    """The commands of the test above on a husarion_ugv 2.3.2 (Jazzy) robot beside a 2.2.2 one: its
+    driver found and read as the 2.2 robot's (the same container name, husarion_ugv_ros@2.3.2:
+    docker/demo/compose.hardware.yaml), its Jazzy image named."""
+    inv = str(jazzy_lab.inventory_path)
+    humble, jazzy = jazzy_lab.robots
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "status", "--all", "--json")
+    assert code == 0, doc
+    by = {r["robot"]: r for r in doc["robots"]}
+    for r in (humble, jazzy):
+        d = by[r.name]["data"]
+        assert by[r.name]["outcome"] == "ok" and d["service"] == "husarion_ugv_ros" and d["state"] == "running"
+        assert d["image"] == r.image == d["compose_image"] and d["command_drift"] is False
+    assert by[jazzy.name]["data"]["image"] == "husarion/husarion-ugv:jazzy-2.3.2-20260622"
+    code, _, out, _ = run_cli(capsys, "-i", inv, "driver", "logs", "-r", jazzy.name, "-n", "2")
+    assert code == 0 and len(out.splitlines()) == 2 and all("[ros2-standin]" in ln or "[INFO]" in ln
+                                                             for ln in out.splitlines())
+    code, doc, _, _ = run_cli(capsys, "-i", inv, "driver", "versions", "-r", jazzy.name, "--json")
+    assert code == 0, doc
+    local = doc["robots"][0]["data"]["local"]
+    assert [e["image"] for e in local if e["in_use"]] == [jazzy.image]
+
+
 def test_status_shows_drift_and_restart_recreates(lab: Any, pristine: None,
                                                   capsys: pytest.CaptureFixture[str]) -> None:
     inv, name = str(lab.inventory_path), robot_of(lab, "2.1.1")

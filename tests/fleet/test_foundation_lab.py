@@ -121,8 +121,11 @@ def test_doctor_finds_clock_offset_and_default_password(lab: Any, capsys: pytest
         lab.password_login(weak, enabled=False)
 
 
-def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    robot = lab.robots[0]
+@pytest.mark.parametrize("which", ["lab", "jazzy_lab"])  # r01 on 2.0.4; r02 on husarion_ugv 2.3.2
+def test_trust_records_a_new_key(which: str, request: pytest.FixtureRequest, tmp_path: Path,
+                                 capsys: pytest.CaptureFixture[str]) -> None:
+    lab = request.getfixturevalue(which)
+    robot = lab.robots[0] if which == "lab" else lab.robots[1]
     inv = tmp_path / "inv.yaml"
     kh = tmp_path / "kh"
     inv.write_text(
@@ -147,10 +150,10 @@ def test_trust_records_a_new_key(lab: Any, tmp_path: Path, capsys: pytest.Captur
     assert code == 0
 
 
-def test_status_and_doctor_on_a_2_2_2_and_a_2_3_2_robot(lab_factory: Any, capsys: pytest.CaptureFixture[str]) -> None:
+def test_status_and_doctor_on_a_2_2_2_and_a_2_3_2_robot(jazzy_lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
     """A husarion_ugv 2.3.2 (ROS 2 Jazzy) robot beside a 2.2.2 one: status reads its stack from the running
     driver's image, doctor says the Humble robot lacks the soft E-stop and battery-dead fixes (first in 2.3.2)."""
-    lab = lab_factory(2, docker=True, images=("2.2", "2.3.2"))
+    lab = jazzy_lab
     humble, jazzy = lab.robots
     assert (humble.stack.key, jazzy.stack.key) == ("2.2.2", "2.3.2")
     code, doc, _, _ = run_cli(capsys, "-i", str(lab.inventory_path), "status", "--all", "--json")

@@ -40,6 +40,13 @@ def router_lab(lab_factory: Any) -> tuple[Any, Router]:
     return lab, add_router(lab, "r01", password=PASSWORD, token_ttl=3.0)
 
 
+@pytest.fixture(scope="module")
+def jazzy_router_lab(lab_factory: Any) -> tuple[Any, Router]:
+    """One husarion_ugv 2.3.2 (Jazzy) robot with its RUTX11: the NMEA setup is unchanged from 2.2."""
+    lab = lab_factory(1, docker=False, images=("2.3.2",))
+    return lab, add_router(lab, "r01", password=PASSWORD, token_ttl=3.0)
+
+
 @pytest.fixture
 def env(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     pins = tmp_path / "pins"
@@ -329,3 +336,23 @@ def test_doctor_gps_check(router_lab: tuple[Any, Router], env: Path, reset: None
         assert f["detail"].startswith("fix: ") and f["state"] == "warn" and "gps enable -r r01" in f["fix"]
     finally:
         inv.unlink()
+
+
+def test_show_and_set_on_a_2_3_2_robot(jazzy_router_lab: tuple[Any, Router], env: Path,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """`gps router show|set` through a husarion_ugv 2.3.2 robot: the router forwards NMEA to it, as
+    through a Humble robot."""
+    lab, router = jazzy_router_lab
+    base = ["-i", str(lab.inventory_path)]
+    code, doc, text = cli(capsys, *base, "gps", "router", "show", "-r", "r01", "--address", router.ip, "--json")
+    assert code == 0 and doc["robots"][0]["data"]["forwarding"] is False, text
+    try:
+        code, doc, text = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip,
+                              "--enable", "--sentences", "GPGGA,GPRMC", "--yes", "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed", text
+        got = arrives(lab)
+        assert "$GPGGA," in got and "$GPRMC," in got and "$GPGSA" not in got
+    finally:
+        code, doc, text = cli(capsys, *base, "gps", "router", "set", "-r", "r01", "--address", router.ip,
+                              "--disable", "--yes", "--json")
+        assert code == 0, text

@@ -49,9 +49,15 @@ def _put_back(lab: Any, name: str, compose: str, backups: set[str]) -> None:
         lab.sh(name, "rmdir /home/husarion/.panther-ops/backups /home/husarion/.panther-ops 2>/dev/null; true")
 
 
+def lab_of(request: pytest.FixtureRequest, version: str) -> Any:
+    """The lab with a robot on ``version``: the shared 5-robot lab, jazzy_lab for 2.3.2."""
+    return request.getfixturevalue("jazzy_lab" if version == "2.3.2" else "lab")
+
+
 @pytest.fixture
-def python_robot(lab: Any, request: pytest.FixtureRequest) -> Iterator[str]:
+def python_robot(request: pytest.FixtureRequest) -> Iterator[str]:
     """A robot whose driver image is the Python stand-in; put back as found afterwards."""
+    lab = lab_of(request, request.param)
     name = robot_of(lab, request.param)
     compose, backups = lab.read(name, COMPOSE), _backups(lab, name)
     use_python_image(lab, name)
@@ -61,9 +67,10 @@ def python_robot(lab: Any, request: pytest.FixtureRequest) -> Iterator[str]:
     lab.compose(name, "up", "-d")
 
 
-@pytest.mark.parametrize("python_robot", ["2.1.1", "2.2.2"], indirect=True)
-def test_deploy_runs_the_manager_and_remove_restores_compose(lab: Any, python_robot: str,
+@pytest.mark.parametrize("python_robot", ["2.1.1", "2.2.2", "2.3.2"], indirect=True)
+def test_deploy_runs_the_manager_and_remove_restores_compose(request: pytest.FixtureRequest, python_robot: str,
                                                              capsys: pytest.CaptureFixture[str]) -> None:
+    lab = lab_of(request, request.node.callspec.params["python_robot"])
     name, inv = python_robot, str(lab.inventory_path)
     robot = lab.robot(name)
     version = build_bundle().version

@@ -6,7 +6,7 @@
   stand-in records ``sudo shutdown now`` and goes silent (nothing is powered off for real).
 * `manager deploy` (ROS 2 mode) on a robot whose image has neither paramiko nor ssh is refused
   (exit 2) naming what would be lost; nothing is written.
-* `lights test` calls the service of the robot's stack, under its namespace, on 2.0, 2.1 and 2.2,
+* `lights test` calls the service of the robot's stack, under its namespace, on 2.0, 2.1, 2.2 and 2.3.2,
   and judges the lights controller's answer (the lab's driver stand-in answers only its release's
   service name and type, from the image's /version.txt, as the real controller does).
 
@@ -156,9 +156,13 @@ def test_deploy_is_refused_where_the_image_cannot_shut_user_computers_down(
     ("2.0.4", "/panther/lights/controller/set/animation", "panther_msgs/srv/SetLEDAnimation"),
     ("2.1.1", "/panther/lights/set_animation", "panther_msgs/srv/SetLEDAnimation"),
     ("2.2.2", "/panther/lights/set_animation", "husarion_ugv_msgs/srv/SetLEDAnimation"),
+    # husarion_ugv_ros@2.3.2:husarion_ugv_lights/src/lights_controller_node.cpp: 2.2's service, on Jazzy
+    ("2.3.2", "/panther/lights/set_animation", "husarion_ugv_msgs/srv/SetLEDAnimation"),
 ])
 def test_lights_test_calls_the_stacks_service_under_its_namespace(
-        lab: Any, capsys: pytest.CaptureFixture[str], version: str, service: str, srv_type: str) -> None:
+        request: pytest.FixtureRequest, capsys: pytest.CaptureFixture[str], version: str, service: str,
+        srv_type: str) -> None:
+    lab = request.getfixturevalue("jazzy_lab" if version == "2.3.2" else "lab")
     name = robot_of(lab, version)
     robot = lab.robot(name)
     code, doc, out, err = run_cli(capsys, "-i", str(lab.inventory_path), "lights", "test", "9", "--repeating",
@@ -182,3 +186,16 @@ def test_lights_test_calls_the_stacks_service_under_its_namespace(
         cp = lab.docker(name, "exec", robot.driver_container, "/ros_entrypoint.sh", "timeout", "2", "ros2", "service",
                         "call", other, srv_type, "{animation: {id: 9, param: ''}, repeating: false}")
         assert cp.returncode != 0 and "response:" not in cp.stdout, cp.stdout
+
+
+def test_lights_test_knows_the_animations_only_2_3_2_has(jazzy_lab: Any, capsys: pytest.CaptureFixture[str]) -> None:
+    """16 GOAL_FAILED and 17 FLOOD_LIGHT are stock animations from husarion_ugv 2.3.2 on
+    (husarion_ugv_ros@2.3.2:husarion_ugv_lights/config/panther_animations.yaml): the 2.3.2 robot's
+    controller plays 16, the 2.2.2 robot's refuses it."""
+    humble, jazzy = robot_of(jazzy_lab, "2.2.2"), robot_of(jazzy_lab, "2.3.2")
+    code, doc, out, err = run_cli(capsys, "-i", str(jazzy_lab.inventory_path), "lights", "test", "16", "-r", humble,
+                                  "-r", jazzy, "--json")
+    by = {r["robot"]: r for r in doc["robots"]}
+    assert code == 3, out + err
+    assert by[jazzy]["outcome"] == "changed", by[jazzy]
+    assert by[humble]["outcome"] == "failed" and "No animation with ID: 16" in by[humble]["message"]

@@ -32,18 +32,20 @@ HOSTS_21 = "/home/husarion/config/panther_manager/config/shutdown_hosts_config.y
 HOSTS_22 = "/home/husarion/config/husarion_ugv_manager/config/shutdown_hosts.yaml"
 C1_PASSWORD = "c1-lab-password"
 H1_SECRET = "h1-lab-secret"
+H3_SECRET = "h3-lab-secret"
 STANDIN_TARGETS = {"/sbin/shutdown", "/sbin/poweroff", "/sbin/reboot"}
 
 
 # ---------------------------------------------------------------------------------------------
-# the lab: r01 (2.1.1) and r02 (2.2.2) with their LANs, r03 (2.1.1) for the pipeline test
+# the lab: r01 (2.1.1) and r02 (2.2.2) with their LANs, r03 (2.1.1) for the pipeline test, r04 (2.3.2)
+# with its LAN
 # ---------------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def slab() -> Iterator[Lab]:
     why = missing_requirements(docker=True)
     if why:
         pytest.skip("simulated robot lab unavailable: " + "; ".join(why))
-    lab = Lab(3, docker=True, images=("2.1.1", "2.2", "2.1.1"), ephemeral=True).up()
+    lab = Lab(4, docker=True, images=("2.1.1", "2.2", "2.1.1", "2.3.2"), ephemeral=True).up()
     try:
         lab.add_computers([
             # r01's LAN (SSH era)
@@ -54,6 +56,8 @@ def slab() -> Iterator[Lab]:
             # r02's LAN (HTTP era)
             ComputerSpec("h1", behind="r02", http=HttpService(3003, H1_SECRET), poweroff_delay=0.5),
             ComputerSpec("h2", behind="r02"),  # no husarion-shutdown
+            # r04's LAN: husarion_ugv 2.3.2 (Jazzy), the same HTTP shutdown as 2.2
+            ComputerSpec("h3", behind="r04", http=HttpService(3003, H3_SECRET)),
             # the lab bridge, reachable from here: `shutdown --hosts FILE`
             *(ComputerSpec(f"d{i}", sudo_rule=True, poweroff_delay=float(i)) for i in range(1, 5)),
             ComputerSpec("d5", poweroff_delay=5.0, http=HttpService(3003, "d5-lab-secret")),
@@ -371,6 +375,26 @@ def test_check_http_secret(slab: Lab, capsys: pytest.CaptureFixture[str]) -> Non
 # ---------------------------------------------------------------------------------------------
 # shutdown --hosts FILE (from here): side by side
 # ---------------------------------------------------------------------------------------------
+def test_check_and_list_on_a_2_3_2_robot(slab: Lab, capsys: pytest.CaptureFixture[str]) -> None:
+    """husarion_ugv 2.3.2 keeps 2.2's shutdown hosts file and HTTP shutdown (husarion_ugv_ros@2.3.2:
+    husarion_ugv_manager/config/shutdown_hosts.yaml): `shutdown hosts list` and `shutdown check` on
+    a 2.3.2 robot read its file and check its LAN host as on 2.2.2, nothing powered off."""
+    lab = slab
+    before = lab.read("r04", HOSTS_22)
+    h3 = ip(lab, "h3")
+    try:
+        lab.write("r04", HOSTS_22, f"hosts:\n  - ip: {h3}\n    port: 3003\n    secret: {H3_SECRET}\n")
+        code, doc, out, err = cli(capsys, lab, "shutdown", "hosts", "list", "-r", "r04", "--json")
+        assert code == 0, out + err
+        assert HOSTS_22 in doc["robots"][0]["message"]
+        code, doc, out, err = cli(capsys, lab, "shutdown", "check", "-r", "r04", "--json")
+        (row,) = doc["robots"][0]["data"]["hosts"]
+        assert code == 0 and row["ok"] is True and row["step"] == "ok", out + err
+        assert H3_SECRET not in out + err and lab.power_calls("h3") == []
+    finally:
+        lab.write("r04", HOSTS_22, before)
+
+
 def test_shutdown_hosts_file_side_by_side(slab: Lab, tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                           monkeypatch: pytest.MonkeyPatch) -> None:
     lab = slab
@@ -509,3 +533,20 @@ def test_shutdown_hosts_via_the_robot(r01_ready: Lab, c1_setup: Any, tmp_path: P
     finally:
         for n in ("c1", "c2"):
             lab.power_on(n)
+
+
+def test_shutdown_hosts_via_a_2_3_2_robot(slab: Lab, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """`shutdown --hosts FILE --via r04`: a husarion_ugv 2.3.2 robot reaches its LAN's HTTP host
+    (husarion-shutdown, the secret from the environment) as a 2.2 robot does."""
+    lab = slab
+    hosts = tmp_path / "lan.yaml"
+    hosts.write_text(f"hosts:\n  - ip: {ip(lab, 'h3')}\n    port: 3003\n    secret: {{env: H3_SECRET}}\n")
+    monkeypatch.setenv("H3_SECRET", H3_SECRET)
+    try:
+        code, doc, out, err = cli(capsys, lab, "shutdown", "--hosts", str(hosts), "--via", "r04", "--yes", "--json")
+        (row,) = doc["robots"]
+        assert code == 0 and row["outcome"] == "changed", out + err
+        assert len(lab.power_calls("h3")) >= 1 and H3_SECRET not in out + err
+    finally:
+        lab.power_on("h3")

@@ -52,6 +52,8 @@ def get(fleet: Fleet, key: KeyArg) -> int:
 
     def task(c: Any) -> RobotResult:
         info = read_arg(c, key)
+        if info.get("unavailable"):
+            return RobotResult(c.robot.name, Outcome.SKIPPED, str(info["unavailable"]), data=info)
         return RobotResult(c.robot.name, Outcome.OK, f"{key} = {info['value']} ({info['source']}; {info['stack']})",
                            data=info)
 

@@ -15,6 +15,10 @@ def print_state(fleet: FleetResult) -> None:
         shown = ("[red]triggered[/]" if e_stop is True else "[green]released[/]" if e_stop is False
                  else result_cell(r))
         pubs = r.data.get("cmd_vel_publishers")
+        mux = r.data.get("twist_mux_publishers")  # husarion_ugv 2.3.2: each input of the twist mux
+        if isinstance(mux, dict):
+            ns = str(r.data.get("namespace", "/")).rstrip("/")
+            pubs = [f"{node} ({topic.removeprefix(ns + '/')})" for topic, nodes in mux.items() for node in nodes]
         note = "recorded (demo robot)" if r.data.get("recorded") else ("" if e_stop is not None else r.message)
         table.add_row(esc(r.robot), shown, esc(", ".join(pubs) if pubs else ("none" if pubs == [] else "-")),
                       esc(r.data.get("namespace", "-")), esc(note))

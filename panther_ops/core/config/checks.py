@@ -9,7 +9,9 @@ from panther_ops.core.robot.launch_args import validate_arg
 from panther_ops.core.stack import stack_from_version
 from panther_ops.errors import UsageError
 
-REPRESENTATIVE = ("2.0.0", "2.0.4", "2.1.0", "2.1.1", "2.2.0", "2.2.2")
+REPRESENTATIVE = ("2.0.0", "2.0.4", "2.1.0", "2.1.1", "2.2.0", "2.2.2", "2.3.0", "2.3.1", "2.3.2")
+"""A version of every generation and the last of each release line (`stack.LINES`): a key or value
+that one of them accepts passes the robot-less check (tests/config/test_checks_versions.py)."""
 
 
 def precheck_key(key: str, *, known: bool = True) -> None:

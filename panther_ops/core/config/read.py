@@ -13,7 +13,7 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.kinds import FileKind
 from panther_ops.core.robot.controller import ControllerConfig
 from panther_ops.core.robot.files import config_file
-from panther_ops.core.robot.launch_args import spec
+from panther_ops.core.robot.launch_args import spec, unavailable_text
 from panther_ops.core.robot.push import Bundle
 from panther_ops.core.robot.read import read_compose, read_config
 
@@ -40,7 +40,9 @@ def read_and_plan_push(ctx: RobotContext, kind: FileKind, bundle: Bundle, *, for
 
 
 def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
-    """``config get KEY``: the value in the command, or the stack's default."""
+    """``config get KEY``: the value in the command, or the stack's default; a launch argument the
+    robot's release does not declare (and its command does not set) has no value there:
+    ``value`` None and ``unavailable`` saying which releases have it."""
     from panther_ops.core.robot.robot_model import robot_model_of, wheel_type_of
 
     cfg = read_config(ctx)
@@ -65,6 +67,9 @@ def read_arg(ctx: RobotContext, key: str) -> dict[str, Any]:
     for n in (name, *s.all_names()):
         if n in args:
             return {"key": key, "name": n, "value": args[n], "source": "compose.yaml", "stack": cfg.stack.label()}
+    if not s.available(cfg.stack):
+        return {"key": key, "name": name, "value": None, "source": None, "stack": cfg.stack.label(),
+                "unavailable": unavailable_text(s, cfg.stack)}
     if key == "namespace":  # the launch files' default: ROBOT_NAMESPACE of the compose environment or env_file
         from panther_ops.core.robot.namespace import driver_namespace
 

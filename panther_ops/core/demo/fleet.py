@@ -203,12 +203,17 @@ def _ros_answers(robot: DemoRobot) -> dict[str, object]:
     node = "twist_mux_controller" if jazzy else "drive_controller"
     pubs = "".join(f"Node name: {node}\nNode namespace: /\nTopic type: {kind}\n"
                    "Endpoint type: PUBLISHER\n\n" for node in robot.cmd_vel_publishers)
+    # and the mux's other inputs, manual/cmd_vel and autonomous/cmd_vel, have no publisher here
+    mux = {f"publishers_{i}": (f"Type: {kind}\n\nPublisher count: 0\n\nSubscription count: 1\n\n"
+                               f"Node name: {node}\nNode namespace: /panther\nTopic type: {kind}\n"
+                               "Endpoint type: SUBSCRIPTION\n") for i in ("manual", "autonomous")}
     return {
         "namespace": "/panther",
         "status": f"data: {'true' if robot.e_stop else 'false'}\n---\n",
         "publishers": (f"Type: {kind}\n\nPublisher count: {len(robot.cmd_vel_publishers)}\n\n{pubs}"
                        f"Subscription count: 1\n\nNode name: {node}\nNode namespace: /panther\n"
                        f"Topic type: {kind}\nEndpoint type: SUBSCRIPTION\n"),
+        **(mux if jazzy else {}),
         **({} if robot.webui_running is None else {"webui": _webui_answers(robot.webui_running)}),
     }
 

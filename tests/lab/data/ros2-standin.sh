@@ -49,6 +49,19 @@
 # On 2.3.2 <ns>/cmd_vel is the twist mux's input of priority 1 and carries geometry_msgs/msg/TwistStamped,
 # subscribed by twist_mux_controller (husarion_ugv_ros@2.3.2:ROS_API.md, husarion_ugv_controller/config/
 # WH01_controller.yaml); `ros2 topic info -v` says so.
+# The mux's other inputs are <ns>/manual/cmd_vel (priority 100) and <ns>/autonomous/cmd_vel (10), each
+# with a 0.2 s timeout (same file): `ros2 topic pub` registers on them too (/var/lib/ros2-standin/
+# manual_cmd_vel/<node>, autonomous_cmd_vel/<node>), and `topic info -v` lists each input's publishers.
+# The 2.3.2 E-stop reset rule: the driver refuses a reset while the last velocity commands are not zero
+# (husarion_ugv_ros@2.3.2:husarion_ugv_hardware_interfaces/src/robot_system/system_e_stop.cpp
+# EStop::ResetEStop, ZeroVelocityCheck = ugv_system.cpp AreVelocityCommandsNearZero), with that file's
+# message; the last command is the mux's: the highest-priority input with a message within its timeout,
+# else zero (husarion/husarion_controllers:twist_mux_controller/src/twist_mux_controller.cpp
+# update_reference_from_subscribers). A running `ros2 topic pub --rate R` (R >= 5) never times out: the
+# active input is the highest one with a live publisher, and its velocity is the one that publisher sends
+# (its message's x/y/z, kept in velocity/<node>). Publishers of zero velocity do not block the reset. On
+# success the real service answers success=True with an empty message (system_ros_interface.cpp
+# CallbackWrapper), and it does not look at the E-stop's state first (ResetEStop resets the GPIO anyway).
 #
 # The GPS fix (sensor_msgs/msg/NavSatFix), published by the lab's NMEA driver stand-in
 # (nmea-listen: in the nmea-gps service's container, or started by this driver's launch):
@@ -105,9 +118,10 @@ echo_fix() {  # $1 the topic: the next NavSatFix nmea-listen publishes on it, el
     wait_forever
 }
 
-live_publishers() {
-    [ -d "$STATE/cmd_vel" ] || return 0
-    for f in "$STATE"/cmd_vel/*; do
+live_publishers() {  # $1 the registry (default cmd_vel; 2.3.2 also manual_cmd_vel, autonomous_cmd_vel)
+    d=$STATE/${1:-cmd_vel}
+    [ -d "$d" ] || return 0
+    for f in "$d"/*; do
         [ -f "$f" ] || continue
         pid=$(cat "$f")
         if kill -0 "$pid" 2>/dev/null; then
@@ -122,6 +136,33 @@ e_stop_state() {
     state=true
     [ -f "$STATE/e_stop" ] && read -r state < "$STATE/e_stop"
     echo "$state"
+}
+
+mux_input() {  # 2.3.2: the registry of the twist mux input topic $1, else nothing
+    [ "$(release)" = 2.3.2 ] || return 0
+    case $1 in
+        "$P/manual/cmd_vel") echo manual_cmd_vel ;;
+        "$P/autonomous/cmd_vel") echo autonomous_cmd_vel ;;
+        "$P/cmd_vel") echo cmd_vel ;;
+    esac
+}
+
+nonzero() {  # 1 when a velocity (x, y or z) in the message $1 is not zero, else 0
+    printf '%s\n' "$1" | grep -o '[xyz]: *[-+0-9.eE]*' | awk -F': *' '$2 + 0 != 0 { n = 1 } END { print n + 0 }'
+}
+
+mux_velocity_nonzero() {  # 2.3.2: whether the mux's last command is not zero (its highest live input's)
+    for reg in manual_cmd_vel autonomous_cmd_vel cmd_vel; do
+        pubs=$(live_publishers "$reg")
+        [ -n "$pubs" ] || continue
+        for p in $pubs; do
+            v=0
+            [ -f "$STATE/velocity/$p" ] && read -r v < "$STATE/velocity/$p"
+            [ "$v" = 1 ] && return 0
+        done
+        return 1
+    done
+    return 1
 }
 
 set_e_stop() {
@@ -205,11 +246,13 @@ case "${1:-}" in
                 exit 0
                 ;;
             info)
-                if [ "$topic" != "$P/cmd_vel" ]; then
+                reg=$(mux_input "$topic")
+                [ "$topic" = "$P/cmd_vel" ] && reg=cmd_vel
+                if [ -z "$reg" ]; then
                     echo "Unknown topic '$topic'" >&2
                     exit 1
                 fi
-                pubs=$(live_publishers)
+                pubs=$(live_publishers "$reg")
                 n=0
                 for p in $pubs; do n=$((n + 1)); done
                 type=geometry_msgs/msg/Twist sub=drive_controller
@@ -231,11 +274,15 @@ case "${1:-}" in
                 exit 0
                 ;;
             pub)
-                if [ "$topic" = "$P/cmd_vel" ]; then
-                    mkdir -p "$STATE/cmd_vel"
+                reg=$(mux_input "$topic")
+                [ "$topic" = "$P/cmd_vel" ] && reg=cmd_vel
+                if [ -n "$reg" ]; then
+                    mkdir -p "$STATE/$reg" "$STATE/velocity"
                     node="_ros2cli_$$"
-                    echo "$$" > "$STATE/cmd_vel/$node"
-                    trap 'rm -f "$STATE/cmd_vel/$node"; exit 0' INT TERM
+                    eval "msg=\${$#}"  # the message: the last argument
+                    nonzero "$msg" > "$STATE/velocity/$node"
+                    echo "$$" > "$STATE/$reg/$node"
+                    trap 'rm -f "$STATE/$reg/$node" "$STATE/velocity/$node"; exit 0' INT TERM
                     echo "publisher: beginning loop"
                     while :; do sleep 1; done
                 fi
@@ -254,7 +301,14 @@ case "${1:-}" in
                     exit 0
                     ;;
                 "$P/hardware/e_stop_reset")
-                    if [ "$(e_stop_state)" = false ]; then
+                    if [ "$(release)" = 2.3.2 ]; then
+                        if mux_velocity_nonzero; then
+                            respond False "Cannot reset the E-stop: the last velocity commands are not zero. Ensure that the controller is sending zero velocity commands or not sending any velocity commands before attempting to reset the E-stop."
+                        else
+                            set_e_stop false
+                            respond True ""
+                        fi
+                    elif [ "$(e_stop_state)" = false ]; then
                         respond True "E-stop is not active, reset is not needed"
                     elif [ -n "$(live_publishers)" ]; then
                         respond False "E-stop reset failed, some messages are published on the cmd_vel topic"

@@ -4,7 +4,8 @@ hardware/e_stop, the trigger/reset services and `topic info -v cmd_vel` with its
 file of the container; `ros2 topic pub` registers a cmd_vel publisher while it runs).
 
 The fleet of 30 robots cycles the stacks 2.0.4 (namespace from the launch argument), 2.1.1
-(ROBOT_NAMESPACE in compose.yaml) and 2.2.2 (ROBOT_NAMESPACE from the env_file)."""
+(ROBOT_NAMESPACE in compose.yaml), 2.2.2 (ROBOT_NAMESPACE from the env_file) and 2.3.2 (ROS 2 Jazzy:
+the twist mux's inputs, and the driver's reset refused while the last velocity command is not zero)."""
 
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ FLEET = 30
 
 @pytest.fixture(scope="module")
 def fleet(lab_factory: Any) -> Any:
-    return lab_factory(FLEET, docker=True, images=("2.0", "2.1.1", "2.2"))
+    return lab_factory(FLEET, docker=True, images=("2.0", "2.1.1", "2.2", "2.3.2"))
 
 
 def cli(capsys: pytest.CaptureFixture[str], lab: Any, *argv: str) -> tuple[int, dict[str, Any]]:
@@ -42,31 +43,42 @@ def e_stop_file(lab: Any, name: str) -> str:
     return str(cp.stdout.strip())
 
 
-def start_publisher(lab: Any, name: str) -> str:
-    """`ros2 topic pub` on <ns>/cmd_vel in the driver container; returns its node name."""
+def start_publisher(lab: Any, name: str, topic: str = "/panther/cmd_vel", kind: str = "geometry_msgs/msg/Twist",
+                    message: str = "{linear: {x: 0.1}}") -> str:
+    """`ros2 topic pub` on ``topic`` in the driver container; returns its node name."""
     robot = lab.robot(name)
+    registry = f"{STATE}/{topic.removeprefix('/panther/').replace('/', '_')}"
+    before = _registered(lab, name, registry)
     lab.docker(name, "exec", "-d", robot.driver_container, "ros2", "topic", "pub", "--rate", "10",
-               "/panther/cmd_vel", "geometry_msgs/msg/Twist", "{linear: {x: 0.1}}", check=True)
+               topic, kind, message, check=True)
     deadline = time.monotonic() + 5
     while time.monotonic() < deadline:
-        cp = lab.docker(name, "exec", robot.driver_container, "sh", "-c", f"ls {STATE}/cmd_vel 2>/dev/null")
-        if cp.stdout.strip():
-            return str(cp.stdout.split()[0])
+        new = _registered(lab, name, registry) - before
+        if new:
+            return new.pop()
         time.sleep(0.1)
-    raise AssertionError(f"{name}: the cmd_vel publisher did not start")
+    raise AssertionError(f"{name}: the publisher on {topic} did not start")
+
+
+def _registered(lab: Any, name: str, registry: str) -> set[str]:
+    cp = lab.docker(name, "exec", lab.robot(name).driver_container, "sh", "-c", f"ls {registry} 2>/dev/null")
+    return set(cp.stdout.split())
+
+
+REGISTRIES = " ".join(f"{STATE}/{r}/*" for r in ("cmd_vel", "manual_cmd_vel", "autonomous_cmd_vel"))
 
 
 def stop_publishers(lab: Any, name: str) -> None:
     robot = lab.robot(name)
     lab.docker(name, "exec", robot.driver_container, "sh", "-c",
-               f"for f in {STATE}/cmd_vel/*; do [ -f \"$f\" ] && kill $(cat \"$f\"); done; true", check=True)
+               f"for f in {REGISTRIES}; do [ -f \"$f\" ] && kill $(cat \"$f\"); done; true", check=True)
     deadline = time.monotonic() + 5
     while time.monotonic() < deadline:
-        cp = lab.docker(name, "exec", robot.driver_container, "sh", "-c", f"ls {STATE}/cmd_vel 2>/dev/null")
+        cp = lab.docker(name, "exec", robot.driver_container, "sh", "-c", f"ls {REGISTRIES} 2>/dev/null")
         if not cp.stdout.strip():
             return
         time.sleep(0.1)
-    raise AssertionError(f"{name}: the cmd_vel publisher did not stop")
+    raise AssertionError(f"{name}: the cmd_vel publishers did not stop")
 
 
 def test_status_in_each_stack_namespace(fleet: Any, capsys: pytest.CaptureFixture[str]) -> None:
@@ -191,3 +203,56 @@ def test_trigger_goes_on_where_a_robot_is_unreachable_or_its_driver_stopped(flee
     finally:
         fleet.link_up(gone)
         assert fleet.compose(stopped, "start", fleet.robot(stopped).driver_container).returncode == 0
+
+
+STAMPED = "geometry_msgs/msg/TwistStamped"
+
+
+def test_jazzy_reset_refused_while_the_last_velocity_is_not_zero(fleet: Any,
+                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    """husarion_ugv 2.3.2 (fleet.robots[3]): the driver refuses a reset while the twist mux's last
+    command is not zero (husarion_ugv_ros@2.3.2:husarion_ugv_hardware_interfaces/src/robot_system/
+    system_e_stop.cpp), the mux forwarding its highest-priority live input; publishers of zero
+    velocity do not block it. panther-ops names the publishers of the mux inputs, lets the driver
+    judge, and on its refusal says which publishers to stop."""
+    name = fleet.robots[3].name
+    assert fleet.robot(name).stack.key == "2.3.2"
+    assert cli(capsys, fleet, "estop", "trigger", "-r", name, "--json")[0] == 0
+    manual = start_publisher(fleet, name, "/panther/manual/cmd_vel", STAMPED, "{twist: {linear: {x: 0.0}}}")
+    try:
+        code, doc = cli(capsys, fleet, "estop", "status", "-r", name, "--json")
+        data = doc["robots"][0]["data"]
+        assert code == 0 and data["cmd_vel_publishers"] == [], doc
+        assert data["twist_mux_publishers"] == {"/panther/manual/cmd_vel": [f"/{manual}"],
+                                                "/panther/autonomous/cmd_vel": [], "/panther/cmd_vel": []}
+        code, _, out, _ = run_cli(capsys, "-i", str(fleet.inventory_path), "estop", "status", "-r", name)
+        assert code == 0 and f"/{manual} (manual/cmd_vel)" in out, out  # the table names the mux input
+        # a publisher of zero velocity (as joy2twist is, idle) does not block the reset
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed", doc
+        assert doc["robots"][0]["message"] == "E-stop reset" and e_stop_file(fleet, name) == "false"
+
+        # a moving command on a lower input: the mux forwards manual/cmd_vel's zero, the reset goes
+        assert cli(capsys, fleet, "estop", "trigger", "-r", name, "--json")[0] == 0
+        moving = start_publisher(fleet, name, "/panther/autonomous/cmd_vel", STAMPED, "{twist: {linear: {x: 0.3}}}")
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+        assert code == 0 and e_stop_file(fleet, name) == "false", doc
+
+        # manual/cmd_vel stops: the mux forwards autonomous/cmd_vel's 0.3 m/s and the driver refuses
+        assert cli(capsys, fleet, "estop", "trigger", "-r", name, "--json")[0] == 0
+        fleet.docker(name, "exec", fleet.robot(name).driver_container, "sh", "-c",
+                     f"kill $(cat {STATE}/manual_cmd_vel/{manual})", check=True)
+        deadline = time.monotonic() + 5
+        while manual in _registered(fleet, name, f"{STATE}/manual_cmd_vel") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+        r = doc["robots"][0]
+        assert code == 3 and r["outcome"] == "failed", doc
+        assert "refused: Cannot reset the E-stop: the last velocity commands are not zero" in r["message"]
+        assert f"stop /{moving} on /panther/autonomous/cmd_vel or make it send zero velocity" in r["message"]
+        assert e_stop_file(fleet, name) == "true"
+    finally:
+        stop_publishers(fleet, name)
+
+    code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+    assert code == 0 and doc["robots"][0]["outcome"] == "changed" and e_stop_file(fleet, name) == "false", doc

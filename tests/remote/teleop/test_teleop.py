@@ -30,23 +30,39 @@ def test_teleop_command_runs_the_keyboard_program_not_a_package_the_images_lack(
     python3 with rclpy (what every ROS 2 image has) through the image's entrypoint."""
     cmd = teleop_command("panther_ros", "/panther", 10.0)
     assert shlex.split(cmd.render(reveal=True)) == [
-        "docker", "exec", "-it", "panther_ros", "/ros_entrypoint.sh", "python3", "-c", PROGRAM, "/panther/cmd_vel", "10"]
+        "docker", "exec", "-it", "panther_ros", "/ros_entrypoint.sh", "python3", "-c", PROGRAM, "/panther/cmd_vel", "10",
+        "plain"]
     assert "teleop_twist_keyboard" not in cmd.render(reveal=True)
-    assert shlex.split(teleop_command("c", "/", 12.5).render(reveal=True))[-2:] == ["/cmd_vel", "12.5"]
+    assert shlex.split(teleop_command("c", "/", 12.5).render(reveal=True))[-3:] == ["/cmd_vel", "12.5", "plain"]
+    # husarion_ugv 2.3.2: stamped twists on the twist mux's manual input (husarion_ugv_ros@2.3.2:ROS_API.md)
+    jazzy = teleop_command("husarion_ugv_ros", "/panther", 10.0, mux=True)
+    assert shlex.split(jazzy.render(reveal=True))[-3:] == ["/panther/manual/cmd_vel", "10", "stamped"]
 
 
-def _run_program(tmp_path: Path, keys: list[tuple[bytes, float]]) -> tuple[int, str, list[list[str]], list[str]]:
+def _run_program(tmp_path: Path, keys: list[tuple[bytes, float]], args: tuple[str, ...] = ("/panther/cmd_vel", "10"),
+                 registry: str = "cmd_vel") -> tuple[int, str, list[list[str]], list[str]]:
     """PROGRAM on a pseudo-terminal with the lab's rclpy stand-in: (exit, output, published rows,
     publishers registered at the end)."""
     state = tmp_path / "ros2-standin"
     env = {**os.environ, "PYTHONPATH": str(RCLPY_STANDIN), "ROS2_STANDIN_STATE": str(state),
            "ROBOT_NAMESPACE": "panther", "PYTHONDONTWRITEBYTECODE": "1"}
-    code, out = keys_on_pty([sys.executable, "-c", PROGRAM, "/panther/cmd_vel", "10"], keys, ready=BANNER,
-                            timeout=20, env=env)
-    log = state / "cmd_vel.log"
+    code, out = keys_on_pty([sys.executable, "-c", PROGRAM, *args], keys, ready=BANNER, timeout=20, env=env)
+    log = state / f"{registry}.log"
     rows = [line.split() for line in log.read_text().splitlines()] if log.exists() else []
-    left = sorted(p.name for p in (state / "cmd_vel").iterdir()) if (state / "cmd_vel").is_dir() else []
+    left = sorted(p.name for p in (state / registry).iterdir()) if (state / registry).is_dir() else []
     return code, out, rows, left
+
+
+def test_keyboard_program_on_jazzy_publishes_stamped_twists_on_the_manual_input(tmp_path: Path) -> None:
+    """husarion_ugv 2.3.2's twist mux subscribes TwistStamped on manual/cmd_vel (priority 100): the
+    program publishes there, the keys' velocities in the stamped message's twist; a zero at the end."""
+    code, out, rows, left = _run_program(tmp_path, [(b"i", 1.0), (b"k", 0.5), (b"\x03", 0.5)],
+                                         ("/panther/manual/cmd_vel", "10", "stamped"), "manual_cmd_vel")
+    assert code == 0, out
+    assert f"{BANNER} /panther/manual/cmd_vel at 10 Hz" in out
+    moves = [(float(r[1]), float(r[2])) for r in rows]
+    assert (0.5, 0.0) in moves and moves[-1] == (0.0, 0.0) and len(rows) >= 10
+    assert left == [] and not (tmp_path / "ros2-standin" / "cmd_vel.log").exists()
 
 
 def test_keyboard_program_publishes_the_keys_at_the_rate_and_stops_the_robot_at_the_end(tmp_path: Path) -> None:
@@ -81,9 +97,10 @@ def _frame(data: bytes) -> bytes:
 class DriverAnswers:
     """A robot's transport answering the driver container's checks (E-stop, cmd_vel, keyboard)."""
 
-    def __init__(self, keyboard: str, status: int) -> None:
-        self.text = ("@@ns /panther\n@@status\ndata: false\n---\n@@exit 0\n@@publishers\nType: geometry_msgs/msg/Twist"
-                     "\n\nPublisher count: 0\n\nSubscription count: 1\n@@exit 0\n"
+    def __init__(self, keyboard: str, status: int, publishers: str | None = None) -> None:
+        publishers = publishers or ("@@publishers\nType: geometry_msgs/msg/Twist\n\nPublisher count: 0\n\n"
+                                    "Subscription count: 1\n@@exit 0\n")
+        self.text = ("@@ns /panther\n@@status\ndata: false\n---\n@@exit 0\n" + publishers +
                      f"@@keyboard\n{keyboard}\n@@exit {status}\n")
         self.commands: list[str] = []
 
@@ -105,6 +122,28 @@ def test_refused_before_it_starts_when_the_driver_image_lacks_python3_or_rclpy()
     ok = prepare(SimpleNamespace(robot=SimpleNamespace(name="r1", transport="ssh", namespace=None),  # type: ignore[arg-type]
                                  transport=DriverAnswers("", 0)), 10.0)
     assert ok.container == "panther_ros" and ok.namespace == "/panther"
+    assert list(ok.command.argv[-3:]) == ["/panther/cmd_vel", "10", "plain"]
+
+
+def _info(kind: str, publishers: list[str]) -> str:
+    nodes = "".join(f"Node name: {p}\nNode namespace: /panther\nTopic type: {kind}\nEndpoint type: PUBLISHER\n\n"
+                    for p in publishers)
+    return (f"Type: {kind}\n\nPublisher count: {len(publishers)}\n\n{nodes}Subscription count: 1\n\n"
+            f"Node name: twist_mux_controller\nNode namespace: /panther\nTopic type: {kind}\n"
+            "Endpoint type: SUBSCRIPTION\n")
+
+
+def test_on_a_jazzy_robot_it_drives_the_twist_mux_manual_input() -> None:
+    """husarion_ugv 2.3.2 (twist_mux_controller subscribes cmd_vel): stamped twists on manual/cmd_vel,
+    and the gamepad's joy2twist already there is named in the warning."""
+    kind = "geometry_msgs/msg/TwistStamped"
+    pubs = (f"@@publishers\n{_info(kind, [])}@@exit 0\n@@publishers_manual\n{_info(kind, ['joy2twist_node'])}"
+            f"@@exit 0\n@@publishers_autonomous\n{_info(kind, [])}@@exit 0\n")
+    ctx: Any = SimpleNamespace(robot=SimpleNamespace(name="r1", transport="ssh", namespace=None),
+                               transport=DriverAnswers("", 0, pubs))
+    plan = prepare(ctx, 10.0)
+    assert list(plan.command.argv[-3:]) == ["/panther/manual/cmd_vel", "10", "stamped"]
+    assert plan.warnings and "/panther/joy2twist_node on /panther/manual/cmd_vel" in plan.warnings[0]
 
 
 def test_rate_below_10_hz_one_robot_and_demo_skipped(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -31,7 +31,7 @@ LOG = "/var/lib/ros2-standin/cmd_vel.log"
 
 @pytest.fixture(scope="module")
 def tlab(lab_factory: Any) -> Any:
-    return lab_factory(2, docker=True, images=("2.1.1", "2.2"))
+    return lab_factory(3, docker=True, images=("2.1.1", "2.2", "2.3.2"))
 
 
 @pytest.fixture(scope="module")
@@ -84,14 +84,21 @@ def test_refused_naming_python3_on_an_image_without_it(tlab: Any, capsys: pytest
     assert cp.returncode == 1 and "Package 'teleop_twist_keyboard' not found" in cp.stderr
 
 
-@pytest.mark.parametrize("name", ["r01", "r02"])  # 2.1.1 (panther_ros), 2.2.2 (husarion_ugv_ros)
-def test_keys_reach_the_robot_at_10_hz(python_drivers: Any, name: str) -> None:
+@pytest.mark.parametrize(("name", "registry"), [
+    ("r01", "cmd_vel"),  # 2.1.1 (panther_ros)
+    ("r02", "cmd_vel"),  # 2.2.2 (husarion_ugv_ros)
+    ("r03", "manual_cmd_vel"),  # 2.3.2 (Jazzy): stamped twists on the twist mux's manual input
+])
+def test_keys_reach_the_robot_at_10_hz(python_drivers: Any, name: str, registry: str) -> None:
     tlab = python_drivers
+    log = f"/var/lib/ros2-standin/{registry}.log"
     assert main(["-i", str(tlab.inventory_path), "estop", "reset", "-r", name, "--yes"]) == 0
-    in_driver(tlab, name, f"rm -f {LOG}")
+    in_driver(tlab, name, f"rm -f {log}")
     code, out = drive(tlab, name, [(b"i", 2.0), (b"j", 1.0), (b"k", 0.5), (b"\x03", 1.0)])
     assert code == 0, out
-    rows = [line.split() for line in in_driver(tlab, name, f"cat {LOG}").splitlines()]
+    topic = "/panther/manual/cmd_vel" if registry == "manual_cmd_vel" else "/panther/cmd_vel"
+    assert f"{BANNER} {topic} at 10 Hz" in out
+    rows = [line.split() for line in in_driver(tlab, name, f"cat {log}").splitlines()]
     times = [float(r[0]) for r in rows]
     moves = [(float(r[1]), float(r[2])) for r in rows]
     span = times[-1] - times[0]
@@ -103,7 +110,7 @@ def test_keys_reach_the_robot_at_10_hz(python_drivers: Any, name: str) -> None:
     assert (0.5, 0.0) in seen and (0.0, 1.0) in seen and seen[-1] == (0.0, 0.0)
     assert seen.index((0.5, 0.0)) < seen.index((0.0, 1.0))
     # the publisher is gone once teleop ended
-    assert in_driver(tlab, name, "ls /var/lib/ros2-standin/cmd_vel/ 2>/dev/null").strip() == ""
+    assert in_driver(tlab, name, f"ls /var/lib/ros2-standin/{registry}/ 2>/dev/null").strip() == ""
 
 
 def test_warns_when_another_node_publishes(python_drivers: Any) -> None:

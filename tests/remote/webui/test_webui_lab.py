@@ -30,6 +30,7 @@ def wlab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Lab, Path]]
     with computers_lab(
         ComputerSpec("w1", behind="r01", password=W1_PASSWORD, admin="group", webui=True),  # sudo asks
         ComputerSpec("w2", behind="r02", admin="nopasswd", webui=True),
+        images=("2.1.1", "2.3.2"),  # r02: husarion_ugv 2.3.2 (Jazzy), its User Computer's WebUI as on Humble
     ) as lab:
         path = tmp_path_factory.mktemp("webui") / "inventory.yaml"
         yield lab, user_computer_inventory(lab, path, {"r01": "w1", "r02": "w2"})
@@ -203,7 +204,8 @@ def test_apply_converges_desired_webui_with_the_robots_namespace_then_changes_no
     assert r["outcome"] == "changed" and r["data"]["action"] == "webui"
     plan = {p["key"]: (p["current"], p["new"]) for p in r["data"]["webui"]["plan"]}
     assert plan["ros.namespace"] == ("", "panther") and plan["webui.port"] == ("8080", "8082")
-    assert "ROBOT_NAMESPACE in compose.yaml" in r["data"]["webui"]["namespace"]
+    # r02 runs husarion_ugv 2.3.2: ROBOT_NAMESPACE from the env_file its compose.yaml names, as on 2.2
+    assert "ROBOT_NAMESPACE in /home/husarion/config/common/.env" in r["data"]["webui"]["namespace"]
     assert "ros.namespace: (unset) -> panther" in r["message"] and r["message"].endswith("and restart it")
 
     before = snap_state(lab, "w2")

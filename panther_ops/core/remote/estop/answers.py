@@ -12,7 +12,8 @@ import re
 
 from panther_ops.core.containers.exec_output import MARK, Answers, Section, docker_stream, split
 
-__all__ = ["MARK", "Answers", "Section", "docker_stream", "e_stop_state", "publishers", "split", "trigger_response"]
+__all__ = ["MARK", "Answers", "Section", "docker_stream", "e_stop_state", "muxed", "publishers", "split",
+           "trigger_response"]
 
 _RESPONSE = re.compile(r"Trigger_Response\(success=(True|False), message=(['\"])(.*)\2\)\s*$", re.M)
 _DATA = re.compile(r"^data:\s*(true|false)\s*$", re.M | re.I)
@@ -51,3 +52,16 @@ def publishers(text: str) -> list[str] | None:
     if name is not None:
         nodes.append(f"/{name}")
     return nodes
+
+
+MUX = "twist_mux_controller"
+"""husarion_ugv 2.3.2's chainable twist mux: it subscribes cmd_vel and the other velocity inputs
+(husarion_ugv_ros@2.3.2:husarion_ugv_controller/config/WH01_controller.yaml, ROS_API.md)."""
+
+
+def muxed(text: str) -> bool:
+    """``ros2 topic info -v <ns>/cmd_vel``: whether the twist mux subscribes it (husarion_ugv 2.3.2)."""
+    if "Subscription count:" not in text:
+        return False
+    tail = text.split("Subscription count:", 1)[1]
+    return any(line.strip() == f"Node name: {MUX}" for line in tail.splitlines())

@@ -14,4 +14,4 @@ from panther_ops.results import RobotResult
 @executes(ResetEstop)
 def reset(ctx: RobotContext, plan: RobotPlan, step: ResetEstop, opts: ApplyOptions, write: Write) -> RobotResult:
     """The reset (a demo robot: skipped, it has no driver to call)."""
-    return reset_task(ctx)
+    return reset_task(ctx, plan.data)

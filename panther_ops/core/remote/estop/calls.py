@@ -3,7 +3,10 @@
 The driver's ROS API (panther_ros ROS_API.md; the same names from 2.0 to husarion_ugv 2.2):
 the topic ``<ns>/hardware/e_stop`` (std_msgs/Bool, true = triggered), the services
 ``<ns>/hardware/e_stop_trigger`` and ``<ns>/hardware/e_stop_reset`` (std_srvs/Trigger), and
-``<ns>/cmd_vel`` (whoever publishes on it blocks a reset: the manual's "Remote Control").
+``<ns>/cmd_vel`` (whoever publishes on it blocks a reset: the manual's "Remote Control"). On
+husarion_ugv 2.3.2 cmd_vel is one input of the twist mux (its subscriber), beside ``manual/cmd_vel``
+and ``autonomous/cmd_vel``: their publishers are asked for too (sections ``publishers_manual``,
+``publishers_autonomous``), and the driver alone judges a reset (`plan.plan_reset`).
 
 Per stack version only the way in differs: the driver's container (``panther_ros`` up to
 2.1, ``husarion_ugv_ros`` from 2.2; found among the running containers by compose service,
@@ -34,10 +37,12 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop import answers
 from panther_ops.core.remote.estop.plan import (
     E_STOP_TOPIC,
+    NONZERO_REFUSAL,
     RESET_SERVICE,
     ROS_TIMEOUT_S,
     TRIGGER_SERVICE,
     answer_tail,
+    nonzero_hint,
     plan_reset,
     state_of,
     state_text,
@@ -57,7 +62,17 @@ CONTAINER_SCRIPT = r"""t=$1 ns=$2; shift 2
     echo "@@$a"
     case $a in
         status) timeout "$t" ros2 topic echo --once "$p/hardware/e_stop" std_msgs/msg/Bool 2>&1 ;;
-        publishers) timeout "$t" ros2 topic info -v "$p/cmd_vel" 2>&1 ;;
+        publishers)
+            out=$(timeout "$t" ros2 topic info -v "$p/cmd_vel" 2>&1); s=$?
+            printf '%s\n' "$out"
+            case $out in *"Node name: twist_mux_controller"*)  # 2.3.2: the mux's other inputs too
+                for i in manual autonomous; do
+                    echo "@@exit $s"
+                    echo "@@publishers_$i"
+                    timeout "$t" ros2 topic info -v "$p/$i/cmd_vel" 2>&1; s=$?
+                done ;;
+            esac
+            (exit $s) ;;
         trigger) timeout "$t" ros2 service call "$p/hardware/e_stop_trigger" std_srvs/srv/Trigger 2>&1 ;;
         reset) timeout "$t" ros2 service call "$p/hardware/e_stop_reset" std_srvs/srv/Trigger 2>&1 ;;
         keyboard) timeout "$t" python3 -c 'import rclpy, geometry_msgs.msg, termios' 2>&1 ;;
@@ -102,7 +117,8 @@ def recorded(ctx: RobotContext, actions: tuple[str, ...]) -> answers.Answers:
                                hint="recreate the demo fleet: panther-ops demo init --force") from None
     except ValueError as exc:
         raise TransportError(ctx.robot.name, f"{DEMO_RECORDING}: not JSON ({exc})") from None
-    sections = {a: answers.Section(a, str(raw[a]), 0) for a in actions if a in raw}
+    asked = [k for k in raw if k in actions or (k.split("_")[0] == "publishers" and "publishers" in actions)]
+    sections = {a: answers.Section(a, str(raw[a]), 0) for a in asked}
     return answers.Answers(str(raw.get("namespace", "/")), sections)
 
 
@@ -129,12 +145,15 @@ def read_and_plan_reset(ctx: RobotContext) -> RobotPlan:
     return plan_reset(ctx.robot.name, state_of(ask(ctx, ("status", "publishers"))))
 
 
-def reset_task(ctx: RobotContext) -> RobotResult:
-    """`estop reset`, second phase: the reset service, then the E-stop read back."""
+def reset_task(ctx: RobotContext, planned: dict[str, Any] | None = None) -> RobotResult:
+    """`estop reset`, second phase: the reset service, then the E-stop read back. ``planned``:
+    the plan's reading (`State.to_json`), whose velocity publishers a refusal names."""
     if is_demo(ctx):
         return RobotResult(ctx.robot.name, Outcome.SKIPPED, "demo robot: no driver to call")
     got = ask(ctx, ("reset", "status"))
     result = _service_result(ctx, got, "reset", RESET_SERVICE, "E-stop reset")
+    if result.outcome is Outcome.FAILED and NONZERO_REFUSAL in str(result.data.get("response", "")):
+        result.message += "; " + nonzero_hint(planned or {})
     if result.outcome is Outcome.CHANGED:
         state = state_of(got)
         result.data.update(state.to_json())
@@ -158,4 +177,5 @@ def _service_result(ctx: RobotContext, got: answers.Answers, action: str, servic
     data.update(success=success, response=message)
     if not success:
         return RobotResult(ctx.robot.name, Outcome.FAILED, f"{name} refused: {message}", data=data)
-    return RobotResult(ctx.robot.name, Outcome.CHANGED, f"{done} ({message})", data=data)
+    # 2.3.2's driver answers a reset with an empty message (system_ros_interface.cpp CallbackWrapper)
+    return RobotResult(ctx.robot.name, Outcome.CHANGED, f"{done} ({message})" if message else done, data=data)

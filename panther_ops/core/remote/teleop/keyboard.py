@@ -7,7 +7,8 @@ python3 imports rclpy and geometry_msgs (refused, naming what is missing). Then 
 program of `program` (what ``teleop_twist_keyboard`` does; the images do not have that
 package) runs in the driver container (``docker exec -it``) on a pseudo-terminal of the
 robot's connection, publishing on the robot's ``cmd_vel`` every ``1/rate`` s (the manual's
-repeat_rate 10.0: the robot stops when no command arrived for 1 s; 10 Hz is the minimum).
+repeat_rate 10.0: the robot stops when no command arrived for 1 s; 10 Hz is the minimum); on
+husarion_ugv 2.3.2 (its twist mux subscribes cmd_vel) stamped twists on ``manual/cmd_vel``.
 """
 
 from __future__ import annotations
@@ -33,12 +34,18 @@ class TeleopPlan:
     warnings: tuple[str, ...]
 
 
-def teleop_command(container: str, namespace: str, rate: float) -> Command:
+MANUAL = "manual/cmd_vel"
+"""husarion_ugv 2.3.2: the twist mux's manual input (priority 100, as the gamepad's joy2twist:
+husarion_ugv_ros@2.3.2:husarion_ugv_controller/config/WH01_controller.yaml), TwistStamped."""
+
+
+def teleop_command(container: str, namespace: str, rate: float, mux: bool = False) -> Command:
     """``docker exec -it`` of the keyboard program (`program.PROGRAM`) through the image's
-    entrypoint (which sources ROS), publishing on <ns>/cmd_vel every 1/rate s."""
-    topic = f"{namespace.rstrip('/')}/{CMD_VEL}"
+    entrypoint (which sources ROS), publishing on <ns>/cmd_vel every 1/rate s; with the twist
+    mux (``mux``: 2.3.2), stamped twists on <ns>/manual/cmd_vel."""
+    topic = f"{namespace.rstrip('/')}/{MANUAL if mux else CMD_VEL}"
     return Command.of("docker", "exec", "-it", container, "/ros_entrypoint.sh", "python3", "-c", PROGRAM,
-                      topic, f"{rate:g}")
+                      topic, f"{rate:g}", "stamped" if mux else "plain")
 
 
 def missing_for_keyboard(section: Section | None) -> str | None:
@@ -81,7 +88,10 @@ def prepare(ctx: RobotContext, rate: float) -> TeleopPlan:
                                hint=f"panther-ops estop reset -r {ctx.robot.name} --yes (after checking the "
                                "robot's surroundings)")
     warnings: tuple[str, ...] = ()
-    if state.publishers:
+    if state.mux is not None and state.velocity_publishers():
+        warnings = (f"{', '.join(state.velocity_publishers())} already publish velocity: do not control the robot "
+                    "from different sources at the same time (the twist mux obeys manual/cmd_vel first)",)
+    elif state.publishers:
         warnings = (f"{', '.join(state.publishers)} already publishes on {state.topic(CMD_VEL)}: do not control "
                     "the robot from different sources at the same time",)
     if not got.container:
@@ -93,4 +103,5 @@ def prepare(ctx: RobotContext, rate: float) -> TeleopPlan:
             "there (python3 with rclpy and geometry_msgs, as every ROS 2 image has; the images have no "
             "teleop_twist_keyboard); nothing was started",
             hint="is the driver running the robot's own image? panther-ops driver status")
-    return TeleopPlan(got.container, got.namespace, teleop_command(got.container, got.namespace, rate), warnings)
+    command = teleop_command(got.container, got.namespace, rate, mux=state.mux is not None)
+    return TeleopPlan(got.container, got.namespace, command, warnings)

@@ -18,8 +18,12 @@ what the manual's command does, with only those:
 * Ctrl-C (or the end of input) ends it, after one zero Twist (the robot stops), as
   teleop_twist_keyboard does.
 
-Arguments: the absolute cmd_vel topic, the rate in Hz. `keyboard.prepare` checks first, in the
-same round trip as the E-stop, that the container's python3 imports rclpy and geometry_msgs.
+Arguments: the absolute cmd_vel topic, the rate in Hz, and ``stamped`` (husarion_ugv 2.3.2: its twist
+mux takes ``geometry_msgs/TwistStamped``, husarion_ugv_ros@2.3.2:ROS_API.md; the stamp is left zero,
+which the mux replaces by the time of arrival: husarion/husarion_controllers:twist_mux_controller/
+include/twist_mux_controller/twist_msg_subscriber.hpp) or ``plain`` (a ``Twist``, up to 2.3.1).
+`keyboard.prepare` checks first, in the same round trip as the E-stop, that the container's python3
+imports rclpy and geometry_msgs.
 """
 
 from __future__ import annotations
@@ -34,6 +38,9 @@ import rclpy
 from geometry_msgs.msg import Twist
 
 topic, rate = sys.argv[1], float(sys.argv[2])
+stamped = sys.argv[3:4] == ["stamped"]
+if stamped:
+    from geometry_msgs.msg import TwistStamped
 MOVES = {"u": (1, 1), "i": (1, 0), "o": (1, -1), "j": (0, 1), "l": (0, -1),
          "m": (-1, -1), ",": (-1, 0), ".": (-1, 1)}
 SCALE = {"q": (1.1, 1.1), "z": (0.9, 0.9), "w": (1.1, 1.0), "x": (0.9, 1.0), "e": (1.0, 1.1), "c": (1.0, 0.9)}
@@ -41,14 +48,15 @@ speed, turn = 0.5, 1.0
 move = (0, 0)
 rclpy.init()
 node = rclpy.create_node("NODE_NAME")
-pub = node.create_publisher(Twist, topic, 10)
+pub = node.create_publisher(TwistStamped if stamped else Twist, topic, 10)
 fd = sys.stdin.fileno()
 saved = termios.tcgetattr(fd) if os.isatty(fd) else None
 
 
 def send(x, z):
-    msg = Twist()
-    msg.linear.x, msg.angular.z = float(x), float(z)
+    msg = TwistStamped() if stamped else Twist()
+    twist = msg.twist if stamped else msg
+    twist.linear.x, twist.angular.z = float(x), float(z)
     pub.publish(msg)
 
 

@@ -15,6 +15,7 @@ from panther_ops.core.robot.launch_args.catalogue import (
     bool_word,
     check_arg_text,
     spec,
+    unavailable_text,
     validate_arg,
 )
 from panther_ops.core.robot.launch_args.rules import (
@@ -43,5 +44,6 @@ __all__ = [
     "check_args",
     "raise_for_errors",
     "spec",
+    "unavailable_text",
     "validate_arg",
 ]

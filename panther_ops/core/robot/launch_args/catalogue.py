@@ -130,7 +130,8 @@ def bool_word(stack: Stack, value: bool) -> str:
     return word if _ugv(stack) else word.capitalize()
 
 
-def _since_text(s: ArgSpec, stack: Stack) -> str:
+def unavailable_text(s: ArgSpec, stack: Stack) -> str:
+    """Why ``stack`` has no argument ``s``: the releases that declare it, and the robot's."""
     family = "husarion_ugv" if s.since >= _V2_2 else "panther_ros"
     return f"{s.key} needs {family} {s.availability()}; this robot runs {stack.label()}"
 
@@ -193,8 +194,8 @@ def validate_arg(
         warnings.append(f"on {stack.label()} the argument is called {name}")
     if not s.available(stack):
         if not force:
-            raise UnavailableArgError(_since_text(s, stack), hint=_replacement_hint(s, stack))
-        warnings.append(_since_text(s, stack) + " (forced)")
+            raise UnavailableArgError(unavailable_text(s, stack), hint=_replacement_hint(s, stack))
+        warnings.append(unavailable_text(s, stack) + " (forced)")
     normalised = _normalise(s, stack, value, force=force, warnings=warnings)
     if s.key == "launch_gamepad" and normalised == bool_word(stack, False) and stack.version >= GAMEPAD_ALWAYS_ON:
         message = (f"launch_gamepad:={normalised} has no effect on {stack.label()}: bringup includes "

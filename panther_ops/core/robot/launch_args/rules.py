@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from panther_ops.core.kinds.arg_catalogue import _ALIAS_NOTES, _BY_KEY, _BY_NAME, IMAGE_PREFIXES, ArgType, _ugv
-from panther_ops.core.robot.launch_args.catalogue import _TRUE, ArgConflictError, _since_text
+from panther_ops.core.robot.launch_args.catalogue import _TRUE, ArgConflictError, unavailable_text
 from panther_ops.core.stack import Stack
 
 if TYPE_CHECKING:
@@ -201,7 +201,7 @@ def check_args(
                 )
             )
         elif not s.available(stack):
-            findings.append(Finding("error", "unavailable-arg", _since_text(s, stack), (name,)))
+            findings.append(Finding("error", "unavailable-arg", unavailable_text(s, stack), (name,)))
         elif s.name_for(stack) != name:
             findings.append(
                 Finding(

@@ -13,7 +13,11 @@ stand-in (tests/lab/data/ros2-standin.sh) so `ros2 topic info` and the E-stop re
 A publisher on the driver's ``<ns>/cmd_vel`` (the launch's ``namespace:=`` of PID 1, else
 $ROBOT_NAMESPACE) is registered in ``$STATE/cmd_vel/<node>`` (its pid) until the node is
 destroyed, rclpy shut down or the process ends; each message published there is appended to
-``$STATE/cmd_vel.log`` as ``<uptime> <linear.x> <angular.z>``. $STATE is
+``$STATE/cmd_vel.log`` as ``<uptime> <linear.x> <angular.z>``. The twist mux inputs of
+husarion_ugv 2.3.2, ``<ns>/manual/cmd_vel`` and ``<ns>/autonomous/cmd_vel``, are registered and
+logged the same way in ``manual_cmd_vel/``, ``manual_cmd_vel.log`` (and ``autonomous_...``); a
+TwistStamped's twist is logged. Each publish also leaves ``$STATE/velocity/<node>``: 1 when the
+velocity is not zero, else 0 (the ros2 stand-in's 2.3.2 E-stop reset rule reads it). $STATE is
 /var/lib/ros2-standin (``ROS2_STANDIN_STATE`` overrides it, for tests without a container).
 Anything else of rclpy is missing here (AttributeError), not imitated.
 """
@@ -75,23 +79,33 @@ class Publisher:
         self.node = node
         self.topic = topic if topic.startswith("/") else f"{node.namespace.rstrip('/')}/{topic}"
         self.registered = ""
-        if self.topic == _driver_topic("cmd_vel"):
-            os.makedirs(os.path.join(_STATE, "cmd_vel"), exist_ok=True)
-            self.registered = os.path.join(_STATE, "cmd_vel", node.get_name())
-            with open(self.registered, "w") as f:
-                f.write(f"{os.getpid()}\n")
+        self.registry = ""
+        for name in ("cmd_vel", "manual/cmd_vel", "autonomous/cmd_vel"):
+            if self.topic == _driver_topic(name):
+                self.registry = name.replace("/", "_")
+                os.makedirs(os.path.join(_STATE, self.registry), exist_ok=True)
+                self.registered = os.path.join(_STATE, self.registry, node.get_name())
+                with open(self.registered, "w") as f:
+                    f.write(f"{os.getpid()}\n")
 
     def publish(self, msg: Any) -> None:
         if not _context["ok"]:
             raise RuntimeError("publish after rclpy.shutdown()")
         if self.registered:
-            with open(os.path.join(_STATE, "cmd_vel.log"), "a") as f:
-                f.write(f"{_uptime()} {float(msg.linear.x)!r} {float(msg.angular.z)!r}\n")
+            twist = getattr(msg, "twist", msg)
+            with open(os.path.join(_STATE, f"{self.registry}.log"), "a") as f:
+                f.write(f"{_uptime()} {float(twist.linear.x)!r} {float(twist.angular.z)!r}\n")
+            moving = any(float(v) != 0.0 for v in (twist.linear.x, twist.linear.y, twist.angular.z))
+            os.makedirs(os.path.join(_STATE, "velocity"), exist_ok=True)
+            with open(os.path.join(_STATE, "velocity", self.node.get_name()), "w") as f:
+                f.write(f"{int(moving)}\n")
 
     def destroy(self) -> None:
         if self.registered:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(self.registered)
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(os.path.join(_STATE, "velocity", self.node.get_name()))
             self.registered = ""
 
 
