@@ -21,7 +21,7 @@ from panther_ops.cli.output import ColorMode
 if TYPE_CHECKING:
     from typer.models import CommandInfo, TyperInfo
 
-HELP = """Fleet operations and configuration for Husarion Panther robots (ROS 2 Humble).
+HELP = """Fleet operations and configuration for Husarion Panther robots (ROS 2 Humble and Jazzy).
 
 Works on one robot or a whole fleet from an inventory (-i FILE|DIR, else
 $PANTHER_OPS_INVENTORY, else ./inventory/). Choose robots with --robot/-r (globs),
