@@ -49,10 +49,11 @@ def trigger(fleet: Fleet) -> int:
     "yes": "Reset without asking (needed when not interactive).",
     "dry_run": "Only check: state and cmd_vel publishers."})
 def reset(fleet: Fleet) -> int:
-    """Reset the E-stop (hardware/e_stop_reset). First checks every robot: a robot where a
-    node publishes on cmd_vel is refused, naming the node (the manual: a reset is impossible
-    while messages arrive); a robot whose E-stop is not triggered is left alone. Then names
-    each robot to be reset and asks (--yes), resets them and reads the E-stop back.
+    """Reset the E-stop (hardware/e_stop_reset). First checks every robot: its E-stop and the
+    nodes publishing velocity commands; a robot whose E-stop is not triggered is left alone.
+    Then names each robot to be reset and asks (--yes), resets them and reads the E-stop back.
+    The driver refuses a reset while the last velocity command is not zero (a node sending zero
+    does not block it); its refusal names the publishers to stop.
 
     \b
     Example:

@@ -14,7 +14,7 @@
 #   ros2 topic echo --once <ns>/hardware/e_stop            -> `data: true|false` then `---`
 #   ros2 service call <ns>/hardware/e_stop_trigger std_srvs/srv/Trigger
 #   ros2 service call <ns>/hardware/e_stop_reset std_srvs/srv/Trigger
-#       (refused, like the real driver, while something publishes on <ns>/cmd_vel)
+#       (refused, like the real driver, while the last velocity command is not zero: below)
 #   ros2 topic info -v <ns>/cmd_vel                         -> its publishers and subscriber
 #   ros2 topic pub [--rate R] <ns>/cmd_vel geometry_msgs/msg/Twist '{...}'
 #       a publisher (node `_ros2cli_<pid>`) registered while it runs (tests start it with
@@ -62,6 +62,21 @@
 # (its message's x/y/z, kept in velocity/<node>). Publishers of zero velocity do not block the reset. On
 # success the real service answers success=True with an empty message (system_ros_interface.cpp
 # CallbackWrapper), and it does not look at the E-stop's state first (ResetEStop resets the GPIO anyway).
+# The E-stop reset rule up to 2.2 is the same check behind the diff drive controller: the driver refuses
+# while the last velocity commands are not zero (panther_ros@2.1.1:panther_hardware_interfaces/src/
+# panther_system/panther_system_e_stop.cpp, @2.0.4: src/panther_system_e_stop.cpp, EStopPTH12X::ResetEStop
+# and EStopPTH10X::ResetEStop, the class by the driver's PANTHER_ROBOT_VERSION, default 1.0, PTH12X from 1.2:
+# panther_system.cpp; @2.0.0: panther_system.cpp PantherSystem::ResetEStop, the PTH10X message;
+# husarion_ugv_ros@2.2.2:husarion_ugv_hardware_interfaces/src/robot_system/system_e_stop.cpp EStop::ResetEStop,
+# the PTH12X message), each with its file's message. The last command is the controller's: the last
+# message on <ns>/cmd_vel if it came within cmd_vel_timeout, else zero (0.5 s: panther_ros@2.1.1 and
+# @2.0.4:panther_controller/config/WH01_controller.yaml; 0.2 s: husarion_ugv_ros@2.2.2:husarion_ugv_controller/
+# config/WH01_controller.yaml). A publisher started with `--rate R` (default 1, as ros2 topic pub's) sends
+# at its start and every 1/R s after (its start time from /proc/uptime, the message's x/y/z zero or not,
+# kept in velocity/<node>): the newest message of the running publishers is the last command (a stopped
+# one counts no more at once, where the real command lapses within the timeout). A publisher of
+# zeros never blocks the reset. Success: success=True with an empty message (CallbackWrapper: only an
+# exception sets it; the "E-stop is not active" line of GPIOControllerPTH12X::EStopReset goes to stdout).
 #
 # The GPS fix (sensor_msgs/msg/NavSatFix), published by the lab's NMEA driver stand-in
 # (nmea-listen: in the nmea-gps service's container, or started by this driver's launch):
@@ -157,12 +172,47 @@ mux_velocity_nonzero() {  # 2.3.2: whether the mux's last command is not zero (i
         [ -n "$pubs" ] || continue
         for p in $pubs; do
             v=0
-            [ -f "$STATE/velocity/$p" ] && read -r v < "$STATE/velocity/$p"
+            [ -f "$STATE/velocity/$p" ] && read -r v _ < "$STATE/velocity/$p"
             [ "$v" = 1 ] && return 0
         done
         return 1
     done
     return 1
+}
+
+cmd_vel_timeout() {  # up to 2.2: the diff drive controller's cmd_vel_timeout of the release (WH01_controller.yaml)
+    case $(release) in
+        2.0.* | 2.1.*) echo 0.5 ;;
+        *) echo 0.2 ;;
+    esac
+}
+
+last_velocity_nonzero() {  # up to 2.2: whether the controller's last command is not zero: the newest
+    # message of the live publishers on cmd_vel, within cmd_vel_timeout, else zero
+    now= _u=
+    read -r now _u < /proc/uptime
+    for p in $(live_publishers cmd_vel); do
+        [ -f "$STATE/velocity/$p" ] && echo "$(cat "$STATE/velocity/$p")"
+    done | awk -v now="$now" -v timeout="$(cmd_vel_timeout)" '
+        NF >= 3 { period = 1 / $2; age = now - $3; if (age < 0) age = 0
+                  age -= int(age / period) * period  # since its last message
+                  if (!seen || age < newest) { seen = 1; newest = age; v = $1 } }
+        END { exit !(seen && newest <= timeout && v == 1) }'
+}
+
+reset_refusal() {  # the release's message of a reset refused for a non-zero velocity command
+    case $(release) in
+        2.0.0) pth10x=1 ;;
+        2.0.* | 2.1.*)
+            version=$(tr '\000' '\n' < /proc/1/environ 2>/dev/null | sed -n 's/^PANTHER_ROBOT_VERSION=//p' | head -n 1)
+            pth10x=$(awk -v v="${version:-1.0}" 'BEGIN { print (v + 0 < 1.2) ? 1 : 0 }') ;;
+        *) pth10x=0 ;;
+    esac
+    if [ "$pth10x" = 1 ]; then
+        echo "Can't reset E-stop - last velocity commands are different than zero. Make sure that your controller sends zero commands before trying to reset E-stop."
+    else
+        echo "Cannot reset the E-stop: the last velocity commands are not zero. Ensure that the controller is sending zero velocity commands or not sending any velocity commands before attempting to reset the E-stop."
+    fi
 }
 
 set_e_stop() {
@@ -223,7 +273,10 @@ respond() {
     echo "requester: making request: std_srvs.srv.Trigger_Request()"
     echo
     echo "response:"
-    echo "std_srvs.srv.Trigger_Response(success=$1, message='$2')"
+    case $2 in  # as Python's repr prints the string (ros2 service call prints the response's repr)
+        *\'*) echo "std_srvs.srv.Trigger_Response(success=$1, message=\"$2\")" ;;
+        *) echo "std_srvs.srv.Trigger_Response(success=$1, message='$2')" ;;
+    esac
     echo
 }
 
@@ -280,7 +333,14 @@ case "${1:-}" in
                     mkdir -p "$STATE/$reg" "$STATE/velocity"
                     node="_ros2cli_$$"
                     eval "msg=\${$#}"  # the message: the last argument
-                    nonzero "$msg" > "$STATE/velocity/$node"
+                    rate=1 prev= start= _u=
+                    for a in "$@"; do
+                        case $prev in -r | --rate) rate=$a ;; esac
+                        case $a in --rate=*) rate=${a#--rate=} ;; esac
+                        prev=$a
+                    done
+                    read -r start _u < /proc/uptime
+                    echo "$(nonzero "$msg") $rate $start" > "$STATE/velocity/$node"
                     echo "$$" > "$STATE/$reg/$node"
                     trap 'rm -f "$STATE/$reg/$node" "$STATE/velocity/$node"; exit 0' INT TERM
                     echo "publisher: beginning loop"
@@ -308,13 +368,11 @@ case "${1:-}" in
                             set_e_stop false
                             respond True ""
                         fi
-                    elif [ "$(e_stop_state)" = false ]; then
-                        respond True "E-stop is not active, reset is not needed"
-                    elif [ -n "$(live_publishers)" ]; then
-                        respond False "E-stop reset failed, some messages are published on the cmd_vel topic"
+                    elif last_velocity_nonzero; then
+                        respond False "$(reset_refusal)"
                     else
                         set_e_stop false
-                        respond True "E-stop reset successful"
+                        respond True ""
                     fi
                     exit 0
                     ;;

@@ -11,8 +11,9 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.core.remote.estop import answers
+from panther_ops.core.remote.estop import answers, plan
 from panther_ops.core.remote.estop.calls import CONTAINER_SCRIPT, command
+from panther_ops.errors import RemoteStateError
 
 INFO_TWO = """Type: geometry_msgs/msg/Twist
 
@@ -40,6 +41,57 @@ Endpoint type: SUBSCRIPTION
 """
 
 
+# The drivers' refusals of a reset for a non-zero velocity command (panther_ros@2.1.1:panther_hardware_interfaces/
+# src/panther_system/panther_system_e_stop.cpp EStopPTH12X/EStopPTH10X::ResetEStop; husarion_ugv_ros@2.2.2:
+# husarion_ugv_hardware_interfaces/src/robot_system/system_e_stop.cpp EStop::ResetEStop has the PTH12X one)
+PTH12X_REFUSAL = ("Cannot reset the E-stop: the last velocity commands are not zero. Ensure that the controller is "
+                  "sending zero velocity commands or not sending any velocity commands before attempting to reset "
+                  "the E-stop.")
+PTH10X_REFUSAL = ("Can't reset E-stop - last velocity commands are different than zero. Make sure that your "
+                  "controller sends zero commands before trying to reset E-stop.")
+
+
+def _state(e_stop: str, info: str) -> plan.State:
+    return plan.state_of(answers.Answers("/panther", {"status": answers.Section("status", e_stop, 0),
+                                                      "publishers": answers.Section("publishers", info, 0)}))
+
+
+def test_reset_planned_whoever_publishes_the_driver_judges() -> None:
+    """Up to 2.2 a publisher on cmd_vel no longer refuses the reset in the plan: the driver refuses only
+    while the last velocity command is not zero, and a node sending zeros (idle joy2twist) does not block
+    it; the plan names the publishers."""
+    got = plan.plan_reset("r1", _state("data: true\n---\n", INFO_TWO))
+    assert [type(s).__name__ for s in got.steps] == ["ResetEstop"]
+    assert "the driver refuses it while the last velocity command is not zero" in got.summary
+    assert "/teleop_twist_keyboard on /panther/cmd_vel, /panther/joy2twist_node on /panther/cmd_vel" in got.summary
+    assert got.data["cmd_vel_publishers"] == ["/teleop_twist_keyboard", "/panther/joy2twist_node"]
+    none = "Type: geometry_msgs/msg/Twist\n\nPublisher count: 0\n\n" + INFO_TWO[INFO_TWO.index("Subscription count:"):]
+    nobody = plan.plan_reset("r1", _state("data: true\n---\n", none))
+    assert nobody.steps and "nobody publishes on /panther/cmd_vel" in nobody.summary
+    # not triggered: nothing to do, the publishers named
+    idle = plan.plan_reset("r1", _state("data: false\n---\n", INFO_TWO))
+    assert not idle.steps and idle.noop is not None and "nothing to reset" in idle.noop
+    assert "/teleop_twist_keyboard" in idle.noop
+    with pytest.raises(RemoteStateError, match="no message on /panther/hardware/e_stop"):
+        plan.plan_reset("r1", _state("waiting...", INFO_TWO))
+
+
+def test_a_velocity_refusal_is_told_apart_and_names_the_publishers_to_stop() -> None:
+    assert plan.refused_for_velocity(PTH12X_REFUSAL) and plan.refused_for_velocity(PTH10X_REFUSAL)
+    assert not plan.refused_for_velocity("Can't reset E-stop - motors are not powered.")
+    planned = _state("data: true\n---\n", INFO_TWO).to_json()
+    assert plan.nonzero_hint(planned) == ("stop /teleop_twist_keyboard on /panther/cmd_vel, /panther/joy2twist_node on "
+                                          "/panther/cmd_vel or make it send zero velocity, then reset again")
+    assert plan.nonzero_hint({"namespace": "/panther", "cmd_vel_publishers": []}) == (
+        "make every node publishing on /panther/cmd_vel stop or send zero velocity, then reset again")
+    mux = {"namespace": "/panther", "cmd_vel_publishers": [],
+           "twist_mux_publishers": {"/panther/manual/cmd_vel": ["/joy2twist"], "/panther/autonomous/cmd_vel": [],
+                                    "/panther/cmd_vel": []}}
+    assert plan.nonzero_hint(mux).startswith("stop /joy2twist on /panther/manual/cmd_vel or")
+    mux["twist_mux_publishers"] = {}
+    assert "/panther/manual/cmd_vel, /panther/autonomous/cmd_vel, /panther/cmd_vel stop" in plan.nonzero_hint(mux)
+
+
 def test_publishers_are_the_publishing_nodes_only() -> None:
     assert answers.publishers(INFO_TWO) == ["/teleop_twist_keyboard", "/panther/joy2twist_node"]
     assert answers.publishers("Type: x\n\nPublisher count: 0\n\nSubscription count: 0\n") == []
@@ -51,8 +103,9 @@ def test_e_stop_state_and_trigger_response() -> None:
     assert answers.e_stop_state("data: false\n---\n") is False
     assert answers.e_stop_state("waiting for service to become available...") is None
     text = ("requester: making request: std_srvs.srv.Trigger_Request()\n\nresponse:\n"
-            "std_srvs.srv.Trigger_Response(success=False, message='E-stop reset failed, some messages are published')\n")
-    assert answers.trigger_response(text) == (False, "E-stop reset failed, some messages are published")
+            "std_srvs.srv.Trigger_Response(success=False, message=\"Can't reset E-stop - last velocity commands are "
+            "different than zero. Make sure that your controller sends zero commands before trying to reset E-stop.\")\n")
+    assert answers.trigger_response(text) == (False, PTH10X_REFUSAL)
     assert answers.trigger_response("std_srvs.srv.Trigger_Response(success=True, message=\"it's done\")") == \
         (True, "it's done")
     assert answers.trigger_response("waiting for service to become available...") is None
@@ -109,12 +162,12 @@ def test_demo_fleet_answers_as_recorded(tmp_path: Path, capsys: pytest.CaptureFi
     code, doc = _cli(capsys, "-i", demo, "estop", "trigger", "--all", "--json")
     assert code == 0 and {r["outcome"] for r in doc["robots"]} == {"skipped"}
 
-    # reset: panther-02 refused (its publisher named), panther-03 has nothing to reset
+    # reset: the check runs on the recording (panther-03 has nothing to reset); a publisher does not refuse
+    # it (the driver judges the last velocity command), and a demo robot has no driver to call
     code, doc = _cli(capsys, "-i", demo, "estop", "reset", "--all", "--yes", "--json")
-    assert code == 3
+    assert code == 0, doc
     by = {r["robot"]: r for r in doc["robots"]}
-    assert by["panther-02"]["outcome"] == "failed" and "/teleop_twist_keyboard publishes on /panther/cmd_vel" in \
-        by["panther-02"]["message"]
+    assert by["panther-02"]["outcome"] == "skipped" and by["panther-02"]["message"] == "demo robot: no driver to call"
     assert by["panther-03"]["outcome"] == "ok" and "nothing to reset" in by["panther-03"]["message"]
     assert by["panther-01"]["outcome"] == "skipped"
 

@@ -3,10 +3,11 @@
 The driver's ROS API (panther_ros ROS_API.md; the same names from 2.0 to husarion_ugv 2.2):
 the topic ``<ns>/hardware/e_stop`` (std_msgs/Bool, true = triggered), the services
 ``<ns>/hardware/e_stop_trigger`` and ``<ns>/hardware/e_stop_reset`` (std_srvs/Trigger), and
-``<ns>/cmd_vel`` (whoever publishes on it blocks a reset: the manual's "Remote Control"). On
+``<ns>/cmd_vel`` (its publishers are named; the driver refuses a reset while the last velocity
+command is not zero, `plan`'s docstring gives each release's rule and source). On
 husarion_ugv 2.3.2 cmd_vel is one input of the twist mux (its subscriber), beside ``manual/cmd_vel``
 and ``autonomous/cmd_vel``: their publishers are asked for too (sections ``publishers_manual``,
-``publishers_autonomous``), and the driver alone judges a reset (`plan.plan_reset`).
+``publishers_autonomous``). On every release the driver alone judges a reset (`plan.plan_reset`).
 
 Per stack version only the way in differs: the driver's container (``panther_ros`` up to
 2.1, ``husarion_ugv_ros`` from 2.2; found among the running containers by compose service,
@@ -37,13 +38,13 @@ from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.remote.estop import answers
 from panther_ops.core.remote.estop.plan import (
     E_STOP_TOPIC,
-    NONZERO_REFUSAL,
     RESET_SERVICE,
     ROS_TIMEOUT_S,
     TRIGGER_SERVICE,
     answer_tail,
     nonzero_hint,
     plan_reset,
+    refused_for_velocity,
     state_of,
     state_text,
 )
@@ -152,7 +153,7 @@ def reset_task(ctx: RobotContext, planned: dict[str, Any] | None = None) -> Robo
         return RobotResult(ctx.robot.name, Outcome.SKIPPED, "demo robot: no driver to call")
     got = ask(ctx, ("reset", "status"))
     result = _service_result(ctx, got, "reset", RESET_SERVICE, "E-stop reset")
-    if result.outcome is Outcome.FAILED and NONZERO_REFUSAL in str(result.data.get("response", "")):
+    if result.outcome is Outcome.FAILED and refused_for_velocity(str(result.data.get("response", ""))):
         result.message += "; " + nonzero_hint(planned or {})
     if result.outcome is Outcome.CHANGED:
         state = state_of(got)
@@ -177,5 +178,7 @@ def _service_result(ctx: RobotContext, got: answers.Answers, action: str, servic
     data.update(success=success, response=message)
     if not success:
         return RobotResult(ctx.robot.name, Outcome.FAILED, f"{name} refused: {message}", data=data)
-    # 2.3.2's driver answers a reset with an empty message (system_ros_interface.cpp CallbackWrapper)
+    # the drivers answer a reset with an empty message (panther_ros@2.1.1:panther_hardware_interfaces/src/
+    # panther_system/panther_system_ros_interface.cpp, husarion_ugv_ros@2.3.2:.../system_ros_interface.cpp
+    # CallbackWrapper: only a refusal sets it)
     return RobotResult(ctx.robot.name, Outcome.CHANGED, f"{done} ({message})" if message else done, data=data)

@@ -1,18 +1,28 @@
-"""`estop reset`'s plan (pure): from the E-stop's state and the publishers of cmd_vel as the
-driver told them (`calls.py` asks), whether a reset is needed and possible. A node publishing on
-cmd_vel refuses the reset, naming the node (the manual: no reset while messages arrive); an
-E-stop not triggered is left alone. The reset itself is `apply.py`'s executor.
+"""`estop reset`'s plan (pure): from the E-stop's state and the velocity publishers as the
+driver told them (`calls.py` asks), whether a reset is needed. An E-stop not triggered is left
+alone; a triggered one is reset by the driver's service, and the driver alone judges it: the plan
+names the publishers, and a refusal comes back with the publishers to stop (`nonzero_hint`).
 
-husarion_ugv 2.3.2 (its twist mux subscribes cmd_vel): the driver refuses a reset while the last
-velocity commands are not zero (husarion_ugv_ros@2.3.2:husarion_ugv_hardware_interfaces/src/
-robot_system/system_e_stop.cpp `EStop::ResetEStop`, `ZeroVelocityCheck` =
-ugv_system.cpp `AreVelocityCommandsNearZero`), and the mux forwards the highest-priority input that
-had a message within its 0.2 s timeout, else zero (husarion/husarion_controllers:
-twist_mux_controller/src/twist_mux_controller.cpp; inputs manual/cmd_vel 100, autonomous/cmd_vel
-10, cmd_vel 1 in husarion_ugv_controller/config/WH01_controller.yaml). A publisher of zero
-velocity (joy2twist on manual/cmd_vel: bringup always runs it on 2.3.2) does not block it, so
-the plan does not refuse on publishers there: it names them, the driver judges, and its refusal
-comes back with the publishers to stop (`nonzero_hint`)."""
+The manual says "If some messages are being published to /cmd_vel while E-stop is triggered, it is
+impossible to reset it"; what every driver checks is the last velocity command (the hardware
+interface's wheel commands, the diff drive controller's output), refusing while it is not zero:
+* panther_ros 2.0.1-2.1.x: panther_ros@2.1.1:panther_hardware_interfaces/src/panther_system/
+  panther_system_e_stop.cpp (2.0.4: src/panther_system_e_stop.cpp) `EStopPTH12X::ResetEStop` /
+  `EStopPTH10X::ResetEStop` (`ZeroVelocityCheck` = panther_system.cpp `AreVelocityCommandsNearZero`),
+  the class by PANTHER_ROBOT_VERSION (1.2 and up: PTH12X); 2.0.0: panther_system.cpp
+  `PantherSystem::ResetEStop` (the PTH10X message);
+* husarion_ugv 2.2.x: husarion_ugv_ros@2.2.2:husarion_ugv_hardware_interfaces/src/robot_system/
+  system_e_stop.cpp `EStop::ResetEStop` (the PTH12X message);
+* husarion_ugv 2.3.2: the same file @2.3.2, behind the twist mux (its subscriber of cmd_vel), which
+  forwards the highest-priority input that had a message within its 0.2 s timeout, else zero
+  (husarion/husarion_controllers: twist_mux_controller/src/twist_mux_controller.cpp; inputs
+  manual/cmd_vel 100, autonomous/cmd_vel 10, cmd_vel 1 in husarion_ugv_controller/config/
+  WH01_controller.yaml).
+Up to 2.2 the diff drive controller drives the wheels from the last cmd_vel message and sends zero
+once none came within its ``cmd_vel_timeout`` (0.5 s: panther_ros@2.1.1:panther_controller/config/
+WH01_controller.yaml; 0.2 s: husarion_ugv_ros@2.2.2:husarion_ugv_controller/config/WH01_controller.yaml).
+A node publishing zero velocity (an idle joy2twist, a stopped planner) therefore never blocks a reset,
+and one that stopped publishing blocks it no longer than that timeout."""
 
 from __future__ import annotations
 
@@ -29,8 +39,10 @@ RESET_SERVICE = "hardware/e_stop_reset"
 CMD_VEL = "cmd_vel"
 MUX_INPUTS = ("manual/cmd_vel", "autonomous/cmd_vel", CMD_VEL)
 """The twist mux's velocity inputs on husarion_ugv 2.3.2, highest priority first (100, 10, 1)."""
-NONZERO_REFUSAL = "the last velocity commands are not zero"
-"""In the 2.3.2 driver's refusal of a reset (system_e_stop.cpp, `EStop::ResetEStop`)."""
+NONZERO_REFUSALS = ("the last velocity commands are not zero", "last velocity commands are different than zero")
+"""In the drivers' refusals of a reset for a non-zero velocity command: `EStopPTH12X::ResetEStop`
+(panther_ros 2.0.1-2.1.x), `EStop::ResetEStop` (husarion_ugv 2.2.x, 2.3.x), then `EStopPTH10X::ResetEStop`
+(panther_ros 2.0.1-2.1.x on a Panther before 1.2) and 2.0.0's `PantherSystem::ResetEStop`."""
 ROS_TIMEOUT_S = 10
 """Longest wait of one ROS 2 command on the robot (discovery included)."""
 
@@ -106,35 +118,35 @@ def state_text(state: State) -> str:
     return what
 
 
+def refused_for_velocity(message: str) -> bool:
+    """Whether a driver's answer is its refusal of a reset for a non-zero velocity command."""
+    return any(text in message for text in NONZERO_REFUSALS)
+
+
 def nonzero_hint(planned: dict[str, Any]) -> str:
-    """What to do when the 2.3.2 driver refused a reset for non-zero velocity: the publishers the
-    plan saw on the mux inputs (``planned``: `State.to_json`), else the inputs to look at."""
-    inputs: dict[str, list[str]] = planned.get("twist_mux_publishers") or {}
+    """What to do when the driver refused a reset for non-zero velocity: the publishers the plan
+    saw on the velocity inputs (``planned``: `State.to_json`), else the inputs to look at."""
+    mux: dict[str, list[str]] | None = planned.get("twist_mux_publishers")
+    ns = str(planned.get("namespace") or "/").rstrip("/")
+    inputs = mux if mux is not None else {f"{ns}/{CMD_VEL}": list(planned.get("cmd_vel_publishers") or [])}
     named = [f"{node} on {topic}" for topic, nodes in inputs.items() for node in nodes]
     if named:
         return f"stop {', '.join(named)} or make it send zero velocity, then reset again"
-    return ("make every node publishing on " + ", ".join(MUX_INPUTS)
-            + " stop or send zero velocity, then reset again")
+    topics = [f"{ns}/{t}" for t in MUX_INPUTS] if mux is not None else list(inputs)
+    return "make every node publishing on " + ", ".join(topics) + " stop or send zero velocity, then reset again"
 
 
 def plan_reset(robot: str, state: State) -> RobotPlan:
-    """`estop reset` on one robot: a reset when the E-stop is triggered and nobody publishes on
-    cmd_vel; nothing when it is not triggered; refused (RemoteStateError) otherwise."""
+    """`estop reset` on one robot: nothing when the E-stop is not triggered, else a reset, which the
+    driver refuses while the last velocity command is not zero (the plan names the publishers)."""
     if state.problems:
         raise RemoteStateError("; ".join(state.problems))
     data: dict[str, Any] = state.to_json()
     if state.triggered is False:
         return RobotPlan(robot, "", noop="E-stop not triggered: nothing to reset"
-                         + (f" ({state_text(state)})" if state.publishers else ""), data=data)
-    if state.mux is not None:
-        seen = state.velocity_publishers()
-        return RobotPlan(robot, "reset the E-stop (triggered; the driver refuses it while the last velocity command "
-                         "is not zero" + (f"; publishing: {', '.join(seen)})" if seen else
-                                          "; nobody publishes on its velocity inputs)"), data=data,
-                         steps=[ResetEstop()])
-    if state.publishers:
-        raise RemoteStateError(f"refused: {', '.join(state.publishers)} publishes on {state.topic(CMD_VEL)} "
-                               "(no reset while messages arrive)",
-                               hint=f"stop {state.publishers[0]}, then reset again")
-    return RobotPlan(robot, f"reset the E-stop (triggered; nobody publishes on {state.topic(CMD_VEL)})", data=data,
-                     steps=[ResetEstop()])
+                         + (f" ({state_text(state)})" if state.velocity_publishers() else ""), data=data)
+    seen = state.velocity_publishers()
+    where = "its velocity inputs" if state.mux is not None else state.topic(CMD_VEL)
+    return RobotPlan(robot, "reset the E-stop (triggered; the driver refuses it while the last velocity command "
+                     "is not zero" + (f"; publishing: {', '.join(seen)})" if seen else f"; nobody publishes on {where})"),
+                     data=data, steps=[ResetEstop()])
