@@ -119,8 +119,16 @@ def test_trigger_all_30_at_once(fleet: Any, capsys: pytest.CaptureFixture[str]) 
     assert code == 0 and [r["data"]["e_stop"] for r in doc["robots"]] == [True] * FLEET
 
 
+PTH12X_REFUSAL = "refused: Cannot reset the E-stop: the last velocity commands are not zero"
+"""panther_ros@2.1.1:panther_hardware_interfaces/src/panther_system/panther_system_e_stop.cpp EStopPTH12X::ResetEStop
+(the lab's Panthers are 1.2: PANTHER_ROBOT_VERSION), husarion_ugv_ros@2.2.2:husarion_ugv_hardware_interfaces/src/
+robot_system/system_e_stop.cpp EStop::ResetEStop."""
+
+
 def test_reset_refused_while_cmd_vel_publisher_then_accepted(fleet: Any,
                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """2.0.4: a node sending a moving command on cmd_vel: panther-ops names it and calls the reset,
+    the driver refuses it (the reset of a 2.2.2 robot in the same run goes); once it stopped, the reset goes."""
     one, other = fleet.robots[0].name, fleet.robots[2].name  # 2.0.4 and 2.2.2
     code, _ = cli(capsys, fleet, "estop", "trigger", "-r", one, "-r", other, "--json")
     assert code == 0
@@ -133,9 +141,10 @@ def test_reset_refused_while_cmd_vel_publisher_then_accepted(fleet: Any,
         assert code == 3, doc
         by = {r["robot"]: r for r in doc["robots"]}
         assert by[one]["outcome"] == "failed"
-        assert f"/{node} publishes on /panther/cmd_vel" in by[one]["message"]
+        assert PTH12X_REFUSAL in by[one]["message"], by[one]
+        assert f"stop /{node} on /panther/cmd_vel or make it send zero velocity" in by[one]["message"]
         assert by[other]["outcome"] == "changed" and by[other]["data"]["e_stop"] is False
-        assert e_stop_file(fleet, one) == "true"  # the reset service was not called
+        assert e_stop_file(fleet, one) == "true"  # the driver refused
         assert e_stop_file(fleet, other) == "false"
     finally:
         stop_publishers(fleet, one)
@@ -143,10 +152,60 @@ def test_reset_refused_while_cmd_vel_publisher_then_accepted(fleet: Any,
     code, doc = cli(capsys, fleet, "estop", "reset", "-r", one, "--yes", "--json")
     assert code == 0, doc
     assert doc["robots"][0]["outcome"] == "changed" and doc["robots"][0]["data"]["e_stop"] is False
+    assert doc["robots"][0]["message"] == "E-stop reset"  # the driver's answer: success, no message
     assert e_stop_file(fleet, one) == "false"
     # a second reset has nothing to do
     code, doc = cli(capsys, fleet, "estop", "reset", "-r", one, "--yes", "--json")
     assert code == 0 and doc["robots"][0]["outcome"] == "ok" and "nothing to reset" in doc["robots"][0]["message"]
+
+
+@pytest.mark.parametrize("index", [1, 2], ids=["2.1.1", "2.2.2"])
+def test_a_zero_publisher_does_not_block_the_reset_a_moving_one_does(fleet: Any, index: int,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """panther_ros 2.1.1 and husarion_ugv 2.2.2 refuse a reset only while the last velocity command is not
+    zero (the diff drive controller's output: the last cmd_vel message within cmd_vel_timeout, 0.5 s on 2.1.1,
+    0.2 s on 2.2.2; the publishers here send at 10 Hz): a node sending zeros (an idle joy2twist) does not
+    block it; a moving one does, and the refusal names the publishers to stop."""
+    name = fleet.robots[index].name
+    assert fleet.robot(name).stack.key == ("2.1.1", "2.2.2")[index - 1]
+    assert cli(capsys, fleet, "estop", "trigger", "-r", name, "--json")[0] == 0
+    zero = start_publisher(fleet, name, message="{linear: {x: 0.0}, angular: {z: 0.0}}")
+    try:
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--dry-run", "--json")
+        assert code == 0 and f"/{zero} on /panther/cmd_vel" in doc["robots"][0]["message"], doc
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+        r = doc["robots"][0]
+        assert code == 0 and r["outcome"] == "changed" and r["message"] == "E-stop reset", doc
+        assert e_stop_file(fleet, name) == "false"
+
+        # the zero publisher stops, a moving one starts (both at once: the last command is whichever message
+        # came last, as on the robot): the driver refuses, and the refusal names the publisher to stop
+        assert cli(capsys, fleet, "estop", "trigger", "-r", name, "--json")[0] == 0
+        _stop(fleet, name, zero)
+        moving = start_publisher(fleet, name, message="{linear: {x: 0.2}}")
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+        r = doc["robots"][0]
+        assert code == 3 and r["outcome"] == "failed", doc
+        assert PTH12X_REFUSAL in r["message"]
+        assert f"stop /{moving} on /panther/cmd_vel or make it send zero velocity, then reset again" in r["message"]
+        assert e_stop_file(fleet, name) == "true"
+
+        # the moving one stopped: the reset goes
+        _stop(fleet, name, moving)
+        code, doc = cli(capsys, fleet, "estop", "reset", "-r", name, "--yes", "--json")
+        assert code == 0 and doc["robots"][0]["outcome"] == "changed" and e_stop_file(fleet, name) == "false", doc
+    finally:
+        stop_publishers(fleet, name)
+
+
+def _stop(lab: Any, name: str, node: str) -> None:
+    """Stop the cmd_vel publisher ``node`` (its process killed, as Ctrl-C would) and wait until it is gone."""
+    lab.docker(name, "exec", lab.robot(name).driver_container, "sh", "-c", f"kill $(cat {STATE}/cmd_vel/{node})",
+               check=True)
+    deadline = time.monotonic() + 5
+    while node in _registered(lab, name, f"{STATE}/cmd_vel"):
+        assert time.monotonic() < deadline, f"{name}: {node} did not stop"
+        time.sleep(0.1)
 
 
 def test_driver_refuses_reset_when_a_publisher_starts_after_the_check(fleet: Any,
@@ -163,7 +222,8 @@ def test_driver_refuses_reset_when_a_publisher_starts_after_the_check(fleet: Any
         inv = load_inventory(str(fleet.inventory_path))
         res = run_fleet("estop reset", inv, inv.select([name], [], False), calls.reset_task).results[0]
         assert res.outcome.value == "failed"
-        assert "refused: E-stop reset failed, some messages are published on the cmd_vel topic" in res.message
+        assert PTH12X_REFUSAL in res.message
+        assert "make every node publishing on /panther/cmd_vel stop or send zero velocity" in res.message
         assert e_stop_file(fleet, name) == "true"
     finally:
         stop_publishers(fleet, name)

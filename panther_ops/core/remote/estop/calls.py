@@ -154,7 +154,7 @@ def reset_task(ctx: RobotContext, planned: dict[str, Any] | None = None) -> Robo
     got = ask(ctx, ("reset", "status"))
     result = _service_result(ctx, got, "reset", RESET_SERVICE, "E-stop reset")
     if result.outcome is Outcome.FAILED and refused_for_velocity(str(result.data.get("response", ""))):
-        result.message += "; " + nonzero_hint(planned or {})
+        result.message += "; " + nonzero_hint(planned or {"namespace": got.namespace})
     if result.outcome is Outcome.CHANGED:
         state = state_of(got)
         result.data.update(state.to_json())

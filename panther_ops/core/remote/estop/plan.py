@@ -147,6 +147,6 @@ def plan_reset(robot: str, state: State) -> RobotPlan:
                          + (f" ({state_text(state)})" if state.velocity_publishers() else ""), data=data)
     seen = state.velocity_publishers()
     where = "its velocity inputs" if state.mux is not None else state.topic(CMD_VEL)
+    who = f"publishing: {', '.join(seen)}" if seen else f"nobody publishes on {where}"
     return RobotPlan(robot, "reset the E-stop (triggered; the driver refuses it while the last velocity command "
-                     "is not zero" + (f"; publishing: {', '.join(seen)})" if seen else f"; nobody publishes on {where})"),
-                     data=data, steps=[ResetEstop()])
+                     f"is not zero; {who})", data=data, steps=[ResetEstop()])
