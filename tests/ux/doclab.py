@@ -129,7 +129,8 @@ def _crash_loop(lab: Lab) -> None:
 
 
 def _publisher(lab: Lab) -> None:
-    """docs/remote.md: on r01 a ``ros2 topic pub`` publishes on cmd_vel."""
+    """docs/remote.md: on r01 a ``ros2 topic pub`` publishes 0.1 m/s on cmd_vel at 10 Hz (a moving command:
+    the driver refuses a reset)."""
     from tests.remote.estop.test_estop_lab import start_publisher
 
     start_publisher(lab, "r01")
