@@ -73,7 +73,8 @@
 # @2.0.4:panther_controller/config/WH01_controller.yaml; 0.2 s: husarion_ugv_ros@2.2.2:husarion_ugv_controller/
 # config/WH01_controller.yaml). A publisher started with `--rate R` (default 1, as ros2 topic pub's) sends
 # at its start and every 1/R s after (its start time from /proc/uptime, the message's x/y/z zero or not,
-# kept in velocity/<node>): the newest message of the running publishers is the last command (a stopped
+# kept in velocity/<node> as `<0|1> <R> <start>`; the rclpy stand-in's publishers write `<0|1> 0 <time>` at
+# each message): the newest message of the running publishers is the last command (a stopped
 # one counts no more at once, where the real command lapses within the timeout). A publisher of
 # zeros never blocks the reset. Success: success=True with an empty message (CallbackWrapper: only an
 # exception sets it; the "E-stop is not active" line of GPIOControllerPTH12X::EStopReset goes to stdout).
@@ -194,8 +195,8 @@ last_velocity_nonzero() {  # up to 2.2: whether the controller's last command is
     for p in $(live_publishers cmd_vel); do
         [ -f "$STATE/velocity/$p" ] && echo "$(cat "$STATE/velocity/$p")"
     done | awk -v now="$now" -v timeout="$(cmd_vel_timeout)" '
-        NF >= 3 { period = 1 / $2; age = now - $3; if (age < 0) age = 0
-                  age -= int(age / period) * period  # since its last message
+        NF >= 3 { age = now - $3; if (age < 0) age = 0
+                  if ($2 > 0) { period = 1 / $2; age -= int(age / period) * period }  # since its last message
                   if (!seen || age < newest) { seen = 1; newest = age; v = $1 } }
         END { exit !(seen && newest <= timeout && v == 1) }'
 }

@@ -16,8 +16,9 @@ destroyed, rclpy shut down or the process ends; each message published there is 
 ``$STATE/cmd_vel.log`` as ``<uptime> <linear.x> <angular.z>``. The twist mux inputs of
 husarion_ugv 2.3.2, ``<ns>/manual/cmd_vel`` and ``<ns>/autonomous/cmd_vel``, are registered and
 logged the same way in ``manual_cmd_vel/``, ``manual_cmd_vel.log`` (and ``autonomous_...``); a
-TwistStamped's twist is logged. Each publish also leaves ``$STATE/velocity/<node>``: 1 when the
-velocity is not zero, else 0 (the ros2 stand-in's 2.3.2 E-stop reset rule reads it). $STATE is
+TwistStamped's twist is logged. Each publish also leaves ``$STATE/velocity/<node>``:
+``<1 when the velocity is not zero, else 0> 0 <uptime>`` (rate 0: one message, at that time; the ros2
+stand-in's E-stop reset rules read it: the newest message, within the controller's timeout). $STATE is
 /var/lib/ros2-standin (``ROS2_STANDIN_STATE`` overrides it, for tests without a container).
 Anything else of rclpy is missing here (AttributeError), not imitated.
 """
@@ -98,7 +99,7 @@ class Publisher:
             moving = any(float(v) != 0.0 for v in (twist.linear.x, twist.linear.y, twist.angular.z))
             os.makedirs(os.path.join(_STATE, "velocity"), exist_ok=True)
             with open(os.path.join(_STATE, "velocity", self.node.get_name()), "w") as f:
-                f.write(f"{int(moving)}\n")
+                f.write(f"{int(moving)} 0 {_uptime()}\n")
 
     def destroy(self) -> None:
         if self.registered:
