@@ -358,7 +358,9 @@ case "${1:-}" in
             case "${3:-}" in
                 "$P/hardware/e_stop_trigger")
                     set_e_stop true
-                    respond True "E-stop triggered successfully"
+                    # success carries no message: husarion_ugv_ros@2.2.2:husarion_ugv_hardware_interfaces/
+                    # src/robot_system/system_ros_interface.cpp (CallbackWrapper sets one only on an exception)
+                    respond True ""
                     exit 0
                     ;;
                 "$P/hardware/e_stop_reset")
