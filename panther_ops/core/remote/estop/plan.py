@@ -15,7 +15,8 @@ interface's wheel commands, the diff drive controller's output), refusing while 
   system_e_stop.cpp `EStop::ResetEStop` (the PTH12X message);
 * husarion_ugv 2.3.2: the same file @2.3.2, behind the twist mux (its subscriber of cmd_vel), which
   forwards the highest-priority input that had a message within its 0.2 s timeout, else zero
-  (husarion/husarion_controllers: twist_mux_controller/src/twist_mux_controller.cpp; inputs
+  (husarion/husarion_controllers@f4f78b7: twist_mux_controller/src/twist_mux_controller.cpp, the
+  mux's merge; 2.3.2 pins the later 2b2b37a in husarion_ugv/hardware_deps.repos; inputs
   manual/cmd_vel 100, autonomous/cmd_vel 10, cmd_vel 1 in husarion_ugv_controller/config/
   WH01_controller.yaml).
 Up to 2.2 the diff drive controller drives the wheels from the last cmd_vel message and sends zero

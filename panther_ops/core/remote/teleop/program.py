@@ -20,8 +20,10 @@ what the manual's command does, with only those:
 
 Arguments: the absolute cmd_vel topic, the rate in Hz, and ``stamped`` (husarion_ugv 2.3.2: its twist
 mux takes ``geometry_msgs/TwistStamped``, husarion_ugv_ros@2.3.2:ROS_API.md; the stamp is left zero,
-which the mux replaces by the time of arrival: husarion/husarion_controllers:twist_mux_controller/
-include/twist_mux_controller/twist_msg_subscriber.hpp) or ``plain`` (a ``Twist``, up to 2.3.1).
+which the mux replaces by the time of arrival: husarion/husarion_controllers@f4f78b7:twist_mux_controller/
+include/twist_mux_controller/twist_msg_subscriber.hpp, the mux's merge (#14); husarion_ugv_ros@2.3.2:
+husarion_ugv/hardware_deps.repos pins 2b2b37a, a later commit not in the mirror read here)
+or ``plain`` (a ``Twist``, up to 2.3.1).
 `keyboard.prepare` checks first, in the same round trip as the E-stop, that the container's python3
 imports rclpy and geometry_msgs.
 """
