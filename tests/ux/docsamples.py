@@ -88,8 +88,6 @@ NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
 """(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
 
 LAB_PAGES_NOT_YET: dict[str, str] = {
-    "gps.md": "needs a lab with the nmea-gps image and an NMEA sender on the robots' LAN, and the stand-in "
-              "router (tests/gps/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
     "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
                          "(tests/manager_ops/test_manager_lab.py)",
 }
@@ -241,6 +239,9 @@ def marks(block: ConsoleBlock) -> tuple[str, ...]:
     return (LAB if NEEDS_A_ROBOT[0][1] in reasons else AS_WRITTEN, *block.marks)
 
 
+READ_SECRET = re.compile(r"read -\w*s\w* ")
+"""A shell's ``read -s`` (a secret read without echo, e.g. the router's password): the lab's password typed."""
+
 _IN_PROCESS = threading.Lock()
 """The directories are filled by panther-ops run in this process (its cwd, sys.stdout): one at a time."""
 
@@ -290,7 +291,7 @@ class Reader:
         script = (f"cd \"$(cat {s}/cwd)\"; . {s}/env; (exit $(cat {s}/rc))\n{command}\n"
                   f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
         answers = tuple(m.group(1) for line in sample.output if (m := re.search(r"\[y/N\]: (\w+)$", line)))
-        password = self.password if "--ask-password" in sample.command else ""
+        password = self.password if "--ask-password" in sample.command or READ_SECRET.match(sample.command) else ""
         run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password)
         screen = Screen(10**6)  # a line the terminal wraps at its edge is one line (as copied from it)
         screen.feed(run.out)
