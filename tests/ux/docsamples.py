@@ -127,12 +127,14 @@ _VARIES = (
     (re.compile(r"\d{4}-\d\d-\d\d[T ]\d\d:\d\d(:\d\d(\.\d+)?)?(Z|[+-]\d\d:?\d\d)?"), "<time>"),
     (re.compile(r"\b\d{4}-\d\d-\d\d\b"), "<date>"),  # a date the terminal wrapped from its time
     (re.compile(r"\b\d\d:\d\d:\d\d\b"), "<clock>"),  # and the time on the next line
+    (re.compile(r"SHA256:[0-9a-f]{64}\b"), "SHA256:<fingerprint>"),  # a certificate's (the lab router's, made per lab)
     (re.compile(r"SHA256:[A-Za-z0-9+/]{43}"), "SHA256:<fingerprint>"),
     # the manager's build: a hash of its sources (docs/manager-deploy.md), new with every change to them
     (re.compile(r"\b(\d+\.\d+\.\d+)-[0-9a-f]{12}\b"), "\\1-<build>"),
     (re.compile(r"\bsha256 [0-9a-f]{12}\b"), "sha256 <digest>"),  # the digest of such a build's file
     (re.compile(r"[+-]?\d+(\.\d+)? ?(s|ms|GiB|MiB|KiB|B|%)(?!\w)"), "<n> \\2"),  # times, clock offsets, sizes
     (re.compile(r'"duration_s": \d+(\.\d+)?'), '"duration_s": <n>'),  # a JSON document's durations
+    (re.compile(r'"stamp": \d+(\.\d+)?'), '"stamp": <time>'),  # a ROS message's time (a NavSatFix's header)
     (re.compile(r"\b(\d+m )?\d+s\b"), "<uptime>"),
     (re.compile(r"[━─═]+"), "─"),  # a rule as long as a column that holds one of the above
     (LAB_SUBNET, "10.200.<lab>."),
