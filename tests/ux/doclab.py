@@ -161,6 +161,24 @@ def _publisher(lab: Lab) -> None:
     start_publisher(lab, "r01")
 
 
+def _publisher_stopped(lab: Lab) -> None:
+    """docs/remote.md, before teleop: r01's ``ros2 topic pub`` stopped."""
+    from tests.remote.estop.test_estop_lab import stop_publishers
+
+    stop_publishers(lab, "r01")
+
+
+def _python_driver(lab: Lab) -> None:
+    """docs/remote.md, teleop: r01's driver recreated from the lab's Python image (python3, the rclpy
+    stand-in; as tests/remote/teleop/test_teleop_lab.py does), its E-stop (triggered by a new driver) reset."""
+    from tests.lab.pyimage import use_python_image
+
+    use_python_image(lab, "r01")
+    cp = lab.compose("r01", "up", "-d", "--force-recreate", lab.robot("r01").driver_container)
+    assert cp.returncode == 0, cp.stderr
+    _panther_ops(lab, "estop", "reset", "-r", "r01", "--yes")
+
+
 def _host_key_changed(lab: Lab) -> None:
     """docs/results.md: r03 offers another host key than known_hosts holds."""
     lab.rotate_host_key("r03")
@@ -229,6 +247,8 @@ SCENES: dict[str, Callable[[Lab], None]] = {
     "r05-crash-loop": _crash_loop,
     "r03-host-key-changed": _host_key_changed,
     "r01-cmd-vel-publisher": _publisher,
+    "r01-publisher-stopped": _publisher_stopped,
+    "r01-python-driver": _python_driver,
     "r01-lan-listed": _r01_lan_listed,
     "user-computers": _user_computers,
     "r02-desired-webui": _desired_webui,

@@ -40,7 +40,7 @@ from pathlib import Path
 
 from .examples import DOC_FILES, NEEDS_A_ROBOT, ROOT, ConsoleBlock, Sample, console_blocks, needs_a_robot
 from .screen import Screen
-from .termrun import shell_on_pty
+from .termrun import keys_on_pty, shell_on_pty
 from .workspace import reader_workspace
 
 COLS = 80
@@ -81,11 +81,25 @@ NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
 }
 """(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
 
-NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
-    ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01"):
-        "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/remote/teleop/test_teleop_lab.py)",
-}
+NOT_YET_BLOCKS: dict[tuple[str, str], str] = {}
 """(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
+
+
+@dataclass(frozen=True)
+class Typed:
+    """Keys a reader types at a command's terminal (the command a session's leader on it, as in
+    an operator's shell): once ``ready`` shows, each key, then its pause (seconds)."""
+
+    ready: str
+    keys: tuple[tuple[str, float], ...]
+
+
+TYPED: dict[tuple[str, str], Typed] = {
+    # as tests/remote/teleop/test_teleop_lab.py drives it: forward, a faster speed, stop, Ctrl-C
+    ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01        # the lab's Python image (rclpy stand-in)"):
+        Typed("Reading from the keyboard and publishing on", (("i", 1.0), ("q", 0.5), ("k", 0.5), ("\x03", 1.0))),
+}
+"""(page, command) of samples whose reader types keys (teleop), and the keys."""
 
 LAB_PAGES_NOT_YET: dict[str, str] = {
     "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
@@ -252,7 +266,9 @@ class Reader:
     """One reader's directory and shell state, following one doc."""
 
     def __init__(self, root: Path, lab_dir: Path | None = None, subnets: dict[int, int] | None = None,
-                 password: str = "") -> None:
+                 password: str = "", page: str = "") -> None:
+        self.page = page
+        """The doc's name (TYPED)."""
         self.dir = root / "home"
         self.dir.mkdir()
         self.lab_dir = lab_dir
@@ -294,9 +310,13 @@ class Reader:
                   f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
         answers = tuple(m.group(1) for line in sample.output if (m := re.search(r"\[y/N\]: (\w+)$", line)))
         password = self.password if "--ask-password" in sample.command or READ_SECRET.match(sample.command) else ""
-        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password)
+        if (typed := TYPED.get((self.page, sample.command))) is not None:
+            _, out = keys_on_pty(["/bin/bash", "-c", script], [(k.encode(), pause) for k, pause in typed.keys],
+                                 ready=typed.ready, timeout=120, env=self.env, cols=COLS)
+        else:
+            out = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password).out
         screen = Screen(10**6)  # a line the terminal wraps at its edge is one line (as copied from it)
-        screen.feed(run.out)
+        screen.feed(out)
         lines = screen.text()
         while lines and not lines[-1]:
             lines.pop()
@@ -317,7 +337,7 @@ def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] 
     if lab_dir is not None:
         blocks = [b for b in blocks if LAB in b.marks or LAB_STANDIN in b.marks]
     with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
-        reader = Reader(Path(tmp), lab_dir, subnets, password)
+        reader = Reader(Path(tmp), lab_dir, subnets, password, doc.name)
         for block in reversed(_in_order(blocks, reader, skipped, diffs, doc, scene)):
             lines[block[0]:block[1]] = block[2]
     text = "\n".join(lines) + "\n"
