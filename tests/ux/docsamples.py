@@ -16,8 +16,9 @@ NEEDS_A_ROBOT). Their text is left as written.
 The lab mode (``follow(doc, lab)``; ``capture_docs.py --lab``; tests/ux/test_docs_samples_lab.py)
 runs the samples of a page's ```console lab blocks, in the page's order, on one lab of simulated
 robots brought up for the page (tests/ux/doclab.py: real sshd, dockerd and Compose v2), the lab's
-directory shown as ``lab/`` beside the reader. A lab sample that needs more than the lab (a real
-power-off, snapd, the router) is in a block marked ```console lab-standin: not run, listed with the
+directory shown as ``lab/`` beside the reader; the keys of a sample of TYPED (teleop) typed on its
+terminal. A lab sample that needs more than the lab (a real
+power-off, snapd) is in a block marked ```console lab-standin: not run, listed with the
 reason.
 
 What varies from run to run is normalised before comparing (:func:`comparable`), and only the
