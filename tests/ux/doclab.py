@@ -21,6 +21,7 @@ from pathlib import Path
 
 from tests.lab import Lab, missing_requirements
 from tests.lab.computers import ComputerSpec, HttpService, trust_on_robot
+from tests.lab.nmea import Sender
 
 from .docsamples import Outcome, follow
 
@@ -44,6 +45,8 @@ class Shape:
     jumps: dict[str, str] = field(default_factory=lambda: dict(JUMPS))
     computers: tuple[ComputerSpec, ...] = ()
     password: str = ""
+    prepare: Callable[[Lab], None] | None = None
+    """What else the page's lab holds, made once it is up (images, stand-ins of the robots' LAN)."""
 
 
 NUC_PASSWORD = "husarion"
@@ -70,7 +73,27 @@ REMOTE = Shape(3, jumps={}, computers=(
 """docs/remote.md: r01..r03 on 2.0.4, 2.1.1 and 2.2.2; User Computers with the snap stand-in behind
 r01 and r02, as tests/remote/webui/test_webui_lab.py builds them (no snapd: the stand-in)."""
 
+ROUTER_PASSWORD = "lab-rutx11-pass"
+
+
+def _gps_lab(lab: Lab) -> None:
+    """docs/gps.md: the nmea-gps stand-in image on the 2.0.4 robots (as tests/gps/test_gps_lab.py
+    imports it) and the RUTX11 stand-in on r01's LAN (tests/lab/router.py, as
+    tests/gps/test_gps_router_lab.py adds it: GNSS on, forwarding off, as delivered)."""
+    from tests.lab.nmea_image import use_nmea_image
+    from tests.lab.router import add_router
+
+    for robot in lab.robots:
+        if robot.stack.key == "2.0.4":
+            use_nmea_image(lab, robot.name)
+    add_router(lab, "r01", password=ROUTER_PASSWORD)
+
+
+GPS = Shape(password=ROUTER_PASSWORD, prepare=_gps_lab)
+"""docs/gps.md: the docs' lab with the nmea-gps image and r01's RUTX11 (the password typed at ``read -s``)."""
+
 SHAPES: dict[str, Shape] = {
+    "gps.md": GPS,
     "remote.md": REMOTE,
     "shutdown.md": SHUTDOWN,
 }
@@ -93,6 +116,8 @@ def page_lab(prefix: str | None = None, page: str = "") -> Iterator[Lab]:
             for name in (*lab.names, *lab.computer_names):  # rule 2: a power-off is the lab's stand-in
                 missing = POWER_OFF - set(lab.standins(name))
                 assert not missing, f"{name}: no power-off stand-in over {sorted(missing)}"
+        if shape.prepare is not None:
+            shape.prepare(lab)
         yield lab
     finally:
         lab.down()
@@ -136,6 +161,24 @@ def _publisher(lab: Lab) -> None:
     start_publisher(lab, "r01")
 
 
+def _publisher_stopped(lab: Lab) -> None:
+    """docs/remote.md, before teleop: r01's ``ros2 topic pub`` stopped."""
+    from tests.remote.estop.test_estop_lab import stop_publishers
+
+    stop_publishers(lab, "r01")
+
+
+def _python_driver(lab: Lab) -> None:
+    """docs/remote.md, teleop: r01's driver recreated from the lab's Python image (python3, the rclpy
+    stand-in; as tests/remote/teleop/test_teleop_lab.py does), its E-stop (triggered by a new driver) reset."""
+    from tests.lab.pyimage import use_python_image
+
+    use_python_image(lab, "r01")
+    cp = lab.compose("r01", "up", "-d", "--force-recreate", lab.robot("r01").driver_container)
+    assert cp.returncode == 0, cp.stderr
+    _panther_ops(lab, "estop", "reset", "-r", "r01", "--yes")
+
+
 def _host_key_changed(lab: Lab) -> None:
     """docs/results.md: r03 offers another host key than known_hosts holds."""
     lab.rotate_host_key("r03")
@@ -174,11 +217,38 @@ def _desired_webui(lab: Lab) -> None:
     lab.inventory_path.write_text(yaml.safe_dump(doc))
 
 
+GGA_AT = (52.2296756, 21.0122287)
+_SENDERS: dict[Path, list[Sender]] = {}
+"""The GGA senders a page's scene started, by lab: stopped by a later scene or when the page ends."""
+
+
+def _gga_to_r01_r03(lab: Lab) -> None:
+    """docs/gps.md: a GGA sentence at 52.2296756 21.0122287 every 0.5 s to r01's and r03's NMEA
+    port (5000), one a datagram, as tests/gps/test_gps_lab.py sends them (the NMEA driver reads
+    only the last sentence of a datagram)."""
+    from tests.lab.nmea import sentences
+
+    gga = (sentences(*GGA_AT)[0] + "\r\n").encode()
+    for name in ("r01", "r03"):
+        to = (lab.robot(name).ip, 5000)
+        _SENDERS.setdefault(lab.dir, []).append(Sender(lambda to=to: to, *GGA_AT, period=0.5, payload=lambda: gga).start())
+
+
+def _gga_stopped(lab: Lab) -> None:
+    """docs/gps.md, the router's part: no NMEA arrives at a robot but what its router forwards."""
+    for sender in _SENDERS.pop(lab.dir, []):
+        sender.stop()
+
+
 SCENES: dict[str, Callable[[Lab], None]] = {
+    "gga-to-r01-r03": _gga_to_r01_r03,
+    "gga-stopped": _gga_stopped,
     "r02-drift": _drift,
     "r05-crash-loop": _crash_loop,
     "r03-host-key-changed": _host_key_changed,
     "r01-cmd-vel-publisher": _publisher,
+    "r01-publisher-stopped": _publisher_stopped,
+    "r01-python-driver": _python_driver,
     "r01-lan-listed": _r01_lan_listed,
     "user-computers": _user_computers,
     "r02-desired-webui": _desired_webui,
@@ -189,5 +259,8 @@ SCENES: dict[str, Callable[[Lab], None]] = {
 def follow_on_lab(doc: Path, prefix: str | None = None) -> Outcome:
     """The page's lab samples run on a lab of their own (see docsamples.follow)."""
     with page_lab(prefix, doc.name) as lab:
-        return follow(doc, lab.dir, lambda name: SCENES[name](lab), subnets=shown_subnets(lab),
-                      password=SHAPES.get(doc.name, Shape()).password)
+        try:
+            return follow(doc, lab.dir, lambda name: SCENES[name](lab), subnets=shown_subnets(lab),
+                          password=SHAPES.get(doc.name, Shape()).password)
+        finally:
+            _gga_stopped(lab)

@@ -16,8 +16,9 @@ NEEDS_A_ROBOT). Their text is left as written.
 The lab mode (``follow(doc, lab)``; ``capture_docs.py --lab``; tests/ux/test_docs_samples_lab.py)
 runs the samples of a page's ```console lab blocks, in the page's order, on one lab of simulated
 robots brought up for the page (tests/ux/doclab.py: real sshd, dockerd and Compose v2), the lab's
-directory shown as ``lab/`` beside the reader. A lab sample that needs more than the lab (a real
-power-off, snapd, the router) is in a block marked ```console lab-standin: not run, listed with the
+directory shown as ``lab/`` beside the reader; the keys of a sample of TYPED (teleop) typed on its
+terminal. A lab sample that needs more than the lab (a real
+power-off, snapd) is in a block marked ```console lab-standin: not run, listed with the
 reason.
 
 What varies from run to run is normalised before comparing (:func:`comparable`), and only the
@@ -40,7 +41,7 @@ from pathlib import Path
 
 from .examples import DOC_FILES, NEEDS_A_ROBOT, ROOT, ConsoleBlock, Sample, console_blocks, needs_a_robot
 from .screen import Screen
-from .termrun import shell_on_pty
+from .termrun import keys_on_pty, shell_on_pty
 from .workspace import reader_workspace
 
 COLS = 80
@@ -81,15 +82,27 @@ NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
 }
 """(page, command) of lab samples the lab mode does not run yet, with the reason (listed, left as written)."""
 
-NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
-    ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01"):
-        "an interactive terminal and the lab's Python image with the rclpy stand-in (tests/remote/teleop/test_teleop_lab.py)",
-}
+NOT_YET_BLOCKS: dict[tuple[str, str], str] = {}
 """(page, first command of a block) of lab blocks the lab mode does not run yet: the reason."""
 
+
+@dataclass(frozen=True)
+class Typed:
+    """Keys a reader types at a command's terminal (the command a session's leader on it, as in
+    an operator's shell): once ``ready`` shows, each key, then its pause (seconds)."""
+
+    ready: str
+    keys: tuple[tuple[str, float], ...]
+
+
+TYPED: dict[tuple[str, str], Typed] = {
+    # as tests/remote/teleop/test_teleop_lab.py drives it: forward, a faster speed, stop, Ctrl-C
+    ("remote.md", "panther-ops -i lab/inventory.yaml teleop -r r01        # the lab's Python image (rclpy stand-in)"):
+        Typed("Reading from the keyboard and publishing on", (("i", 1.0), ("q", 0.5), ("k", 0.5), ("\x03", 1.0))),
+}
+"""(page, command) of samples whose reader types keys (teleop), and the keys."""
+
 LAB_PAGES_NOT_YET: dict[str, str] = {
-    "gps.md": "needs a lab with the nmea-gps image and an NMEA sender on the robots' LAN, and the stand-in "
-              "router (tests/gps/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
     "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
                          "(tests/manager_ops/test_manager_lab.py)",
 }
@@ -129,12 +142,14 @@ _VARIES = (
     (re.compile(r"\d{4}-\d\d-\d\d[T ]\d\d:\d\d(:\d\d(\.\d+)?)?(Z|[+-]\d\d:?\d\d)?"), "<time>"),
     (re.compile(r"\b\d{4}-\d\d-\d\d\b"), "<date>"),  # a date the terminal wrapped from its time
     (re.compile(r"\b\d\d:\d\d:\d\d\b"), "<clock>"),  # and the time on the next line
+    (re.compile(r"SHA256:[0-9a-f]{64}\b"), "SHA256:<fingerprint>"),  # a certificate's (the lab router's, made per lab)
     (re.compile(r"SHA256:[A-Za-z0-9+/]{43}"), "SHA256:<fingerprint>"),
     # the manager's build: a hash of its sources (docs/manager-deploy.md), new with every change to them
     (re.compile(r"\b(\d+\.\d+\.\d+)-[0-9a-f]{12}\b"), "\\1-<build>"),
     (re.compile(r"\bsha256 [0-9a-f]{12}\b"), "sha256 <digest>"),  # the digest of such a build's file
     (re.compile(r"[+-]?\d+(\.\d+)? ?(s|ms|GiB|MiB|KiB|B|%)(?!\w)"), "<n> \\2"),  # times, clock offsets, sizes
     (re.compile(r'"duration_s": \d+(\.\d+)?'), '"duration_s": <n>'),  # a JSON document's durations
+    (re.compile(r'"stamp": \d+(\.\d+)?'), '"stamp": <time>'),  # a ROS message's time (a NavSatFix's header)
     (re.compile(r"\b(\d+m )?\d+s\b"), "<uptime>"),
     (re.compile(r"[━─═]+"), "─"),  # a rule as long as a column that holds one of the above
     (LAB_SUBNET, "10.200.<lab>."),
@@ -241,6 +256,9 @@ def marks(block: ConsoleBlock) -> tuple[str, ...]:
     return (LAB if NEEDS_A_ROBOT[0][1] in reasons else AS_WRITTEN, *block.marks)
 
 
+READ_SECRET = re.compile(r"read -\w*s\w* ")
+"""A shell's ``read -s`` (a secret read without echo, e.g. the router's password): the lab's password typed."""
+
 _IN_PROCESS = threading.Lock()
 """The directories are filled by panther-ops run in this process (its cwd, sys.stdout): one at a time."""
 
@@ -249,7 +267,9 @@ class Reader:
     """One reader's directory and shell state, following one doc."""
 
     def __init__(self, root: Path, lab_dir: Path | None = None, subnets: dict[int, int] | None = None,
-                 password: str = "") -> None:
+                 password: str = "", page: str = "") -> None:
+        self.page = page
+        """The doc's name (TYPED)."""
         self.dir = root / "home"
         self.dir.mkdir()
         self.lab_dir = lab_dir
@@ -290,10 +310,14 @@ class Reader:
         script = (f"cd \"$(cat {s}/cwd)\"; . {s}/env; (exit $(cat {s}/rc))\n{command}\n"
                   f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
         answers = tuple(m.group(1) for line in sample.output if (m := re.search(r"\[y/N\]: (\w+)$", line)))
-        password = self.password if "--ask-password" in sample.command else ""
-        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password)
+        password = self.password if "--ask-password" in sample.command or READ_SECRET.match(sample.command) else ""
+        if (typed := TYPED.get((self.page, sample.command))) is not None:
+            _, out = keys_on_pty(["/bin/bash", "-c", script], [(k.encode(), pause) for k, pause in typed.keys],
+                                 ready=typed.ready, timeout=120, env=self.env, cols=COLS)
+        else:
+            out = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password).out
         screen = Screen(10**6)  # a line the terminal wraps at its edge is one line (as copied from it)
-        screen.feed(run.out)
+        screen.feed(out)
         lines = screen.text()
         while lines and not lines[-1]:
             lines.pop()
@@ -314,7 +338,7 @@ def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] 
     if lab_dir is not None:
         blocks = [b for b in blocks if LAB in b.marks or LAB_STANDIN in b.marks]
     with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
-        reader = Reader(Path(tmp), lab_dir, subnets, password)
+        reader = Reader(Path(tmp), lab_dir, subnets, password, doc.name)
         for block in reversed(_in_order(blocks, reader, skipped, diffs, doc, scene)):
             lines[block[0]:block[1]] = block[2]
     text = "\n".join(lines) + "\n"

@@ -161,6 +161,12 @@ def console_blocks(doc: Path) -> list[ConsoleBlock]:
     return out
 
 
+ROUTER = r"gps router (show|set) |gps (enable|status|watch) .*--router\b"
+"""A command that talks to the robot's RUTX11 (docs/gps.md's lab has a stand-in of it on r01's LAN)."""
+
+TELEOP = r"^panther-ops (-i \S+ )?teleop "
+"""Keyboard teleoperation (docs/remote.md's lab types its keys: tests/ux/docsamples.py, TYPED)."""
+
 NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"-i (lab|/root/\.cache/panther-ops-lab)|\br0\d\b|lab-r0\d|'lab-\*'",
      "runs on the lab's robots (docs/lab.md: sshd + dockerd + Compose v2), as shown"),
@@ -168,7 +174,7 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"--ask-password", "asks a password on the terminal (the lab's shutdown tests run it)"),
     (r"--ask-sudo-password", "asks the User Computers' sudo password on the terminal (tests/remote/webui/"
      "test_webui_lab.py gives it as $PANTHER_OPS_SUDO_PASSWORD)"),
-    (r"^panther-ops (-i \S+ )?teleop ", "drives a robot's driver container from an interactive terminal "
+    (TELEOP, "drives a robot's driver container from an interactive terminal "
      "(tests/remote/teleop/test_teleop_lab.py, on a pty)"),
     (r"^panther-ops shutdown --hosts (?!.*--dry-run)", "powers real computers off (the lab's shutdown tests)"),
     (r"shutdown robot .*--yes", "powers the robot off"),
@@ -176,12 +182,12 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
     (r"--remote|--pull\b", "asks Docker Hub (network)"),
     (r" -f\b| --follow\b", "follows a live container log (docker on the robot)"),
     (r"config rollback (?!--file ).*--to \d", "needs a backup id from that robot's `config history`"),
-    (r"\b[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),
+    (r"\b(?!(GP|GL|GN|GA|PQ)[A-Z]{3}\b)[A-Z]{4,}\b(?!=)", "a placeholder to fill in (e.g. ROBOT)"),  # not an NMEA id
     (r"reimage (flash|verify) ", "writes or reads a card in a reader (tests/reimage/test_reimage_flash_lab.py: loop devices)"),
     (r"reimage bmap ", "needs an OS image file (tests/reimage/test_reimage_bmap_lab.py builds a card image and maps it)"),
     (r"reimage restore ", "needs a backup archive of that robot (tests/reimage/test_reimage_restore_lab.py)"),
     (r"gps (listen|watch) ", "waits for NMEA from a sender on the robot's network (tests/gps/test_gps_listen.py sends it)"),
-    (r"gps router (show|set) |gps (enable|status|watch) .*--router\b",
+    (ROUTER,
      "talks to the robot's RUTX11 router (credentials, its REST API behind the robot's SSH; "
      "tests/gps/test_gps_router_lab.py runs it on the lab's stand-in router)"),
     (r"--install-completion", "installs into the user's shell (tests/ux/test_completion.py, in a throw-away HOME)"),
@@ -189,9 +195,10 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
 
-IN_THE_LAB = frozenset({r"--ask-password", r"shutdown robot .*--yes", r"shutdown setup "})
+IN_THE_LAB = frozenset({r"--ask-password", r"shutdown robot .*--yes", r"shutdown setup ", ROUTER, TELEOP})
 """Patterns of NEEDS_A_ROBOT the docs' lab runs (tests/ux/doclab.py: docs/shutdown.md's User
-Computers on the robots' LANs, the password typed at its prompt, the power-off stand-ins)."""
+Computers on the robots' LANs, the password typed at its prompt, the power-off stand-ins;
+docs/gps.md's RUTX11 stand-in on r01's LAN; keys typed on a terminal)."""
 
 EXPECTED_EXIT = {
     "panther-ops lights validate bad_animations.yaml": 2,

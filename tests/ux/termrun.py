@@ -257,12 +257,15 @@ def ctrl_c_typed(args: list[str], ready: Callable[[str], bool], *, cols: int = 1
 
 
 def keys_on_pty(argv: list[str], keys: list[tuple[bytes, float]], *, ready: str, timeout: float,
-                env: dict[str, str] | None = None) -> tuple[int, str]:
-    """Run ``argv`` as the child of a pseudo-terminal (its controlling terminal), wait up to
-    ``timeout`` seconds for ``ready`` in its output, then type ``keys`` (each one followed by its
-    pause, reading meanwhile) and wait for it to end: (exit code, everything it wrote)."""
+                env: dict[str, str] | None = None, cols: int | None = None) -> tuple[int, str]:
+    """Run ``argv`` as the child of a pseudo-terminal (its controlling terminal; ``cols`` wide
+    when given), wait up to ``timeout`` seconds for ``ready`` in its output, then type ``keys``
+    (each one followed by its pause, reading meanwhile) and wait for it to end: (exit code,
+    everything it wrote)."""
     pid, fd = pty.fork()
     if pid == 0:  # pragma: no cover - the child
+        if cols is not None:
+            fcntl.ioctl(0, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
         os.execve(argv[0], argv, os.environ if env is None else env)
     out = b""
 

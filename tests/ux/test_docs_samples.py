@@ -78,3 +78,23 @@ def test_the_lab_addresses_are_shown_as_on_an_idle_machine() -> None:
     back = {doc: real for real, doc in shown.items()}
     assert relabel(relabel(line, shown), back) == line
     assert relabel("110.200.7.1 10.2000.7.1", shown) == "110.200.7.1 10.2000.7.1"
+
+
+def test_the_reader_types_the_password_at_a_read_s_and_keys_at_a_terminal(tmp_path: Path) -> None:
+    """docs/gps.md's ``read -rsp`` of the router's password gets the page's password, unseen, and
+    carried to the next line; docs/remote.md's teleop gets its keys once its banner shows, on a
+    terminal of the docs' width that the command controls (a Ctrl-C is the terminal's)."""
+    from .docsamples import COLS, READ_SECRET, Reader
+    from .examples import Sample
+    from .termrun import keys_on_pty
+
+    reader = Reader(tmp_path, password="lab-secret", page="gps.md")
+    assert READ_SECRET.match("read -rsp 'router password: ' P; echo") and not READ_SECRET.match("readlink -s x")
+    assert reader.run(Sample(0, "read -rsp 'router password: ' P; echo; export P", ())) == ["router password:"]
+    assert reader.run(Sample(1, 'echo "${#P} ${P:0:3}"', ())) == ["10 lab"]
+    code, out = keys_on_pty(["/bin/bash", "-c", "stty size; echo ready; read -rn1 k; echo got $k; sleep 30"],
+                            [(b"i", 0.3), (b"\x03", 0.5)], ready="ready", timeout=20, env={"PATH": "/usr/bin:/bin"},
+                            cols=COLS)
+    lines = out.replace("\r", "").splitlines()
+    # the key echoed by the terminal, then read; the Ctrl-C the terminal's SIGINT to the command
+    assert (lines, code) == ([f"50 {COLS}", "ready", "igot i", "^C"], -2), out
