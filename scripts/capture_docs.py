@@ -16,10 +16,11 @@ simulated robots of the docs' shape is brought up (tests/ux/doclab.py: r01..r05,
 dockerd and Compose v2; docs/lab.md; or the page's own shape, e.g. shutdown.md's robots with
 User Computers on their LANs), the page's lab samples run on it in order with the same
 normalisation (the lab's addresses shown as on an idle machine, a password prompt answered with
-the lab's password, a teleop's keys typed), and it is torn down. A block marked ``scene=NAME`` first has the lab brought
-into the state its text describes (tests/ux/doclab.py: SCENES). Not run, and listed: blocks
-marked ```console lab-standin, lab samples that need more (Docker Hub, a card reader), and the pages and samples of docsamples.LAB_PAGES_NOT_YET and
-NOT_YET_IN_LAB (with the reason each).
+the lab's password, a teleop's keys typed), and it is torn down. A block marked ``scene=NAME``
+first has the lab brought into the state its text describes (tests/ux/doclab.py: SCENES). Not
+run, and listed: blocks marked ```console lab-standin, lab samples that need more (Docker Hub, a
+card reader), and the pages and samples of docsamples.LAB_PAGES_NOT_YET and NOT_YET_IN_LAB (with
+the reason each).
 
 Examples:
   python scripts/capture_docs.py                     # rewrite the samples that differ
