@@ -12,10 +12,12 @@ naming one runs on the lab actually up."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
+import time
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -174,7 +176,53 @@ def _desired_webui(lab: Lab) -> None:
     lab.inventory_path.write_text(yaml.safe_dump(doc))
 
 
-SCENES: dict[str, Callable[[Lab], None]] = {
+def _python_driver(lab: Lab) -> None:
+    """docs/manager-deploy.md: r03's (2.2.2) driver image has Python 3.10 (the lab's Python image under the
+    driver's tag, tests/lab/pyimage.py, as tests/manager_ops/test_manager_lab.py uses it), its driver recreated
+    from it."""
+    from tests.lab.pyimage import use_python_image
+
+    use_python_image(lab, "r03")
+    lab.compose("r03", "up", "-d", "--force-recreate", lab.robot("r03").driver_container)
+
+
+MANAGER_FIRST_STATUS = re.compile(r"^t=\s+0\.\d \w+: battery", re.M)
+"""The manager's first status line (the simulated robot at t=0; the next one comes 10 s later)."""
+
+
+def _manager_sim(lab: Lab) -> None:
+    """docs/manager-deploy.md: the manager deployed in simulation on r03 (``manager deploy --sim``, as
+    tests/manager_ops/test_manager_lab.py deploys it), its log up to its first status line: the log's
+    last lines are those until the status line of t=10 s."""
+    _panther_ops(lab, "manager", "deploy", "-r", "r03", "--sim", "--yes", "--settle", "2")
+    deadline = time.monotonic() + 60
+    while not MANAGER_FIRST_STATUS.search(log := _both(lab.docker("r03", "logs", "panther_ops_manager"))):
+        assert time.monotonic() < deadline, log
+        time.sleep(0.2)
+
+
+def _both(cp: subprocess.CompletedProcess[str]) -> str:
+    return f"{cp.stdout}{cp.stderr}"
+
+
+def _r02_write_lock_held(lab: Lab) -> Callable[[], None]:
+    """docs/output.md: another change holds r02's write lock (``~/.panther-ops/write.lock``, taken
+    with ``flock`` by a session of its own on the robot, as a second operator's write takes it):
+    r02's write waits for it. Released (the session's input closed) when the page is done."""
+    holder = subprocess.Popen(lab.ssh_argv("r02", "mkdir -p .panther-ops && flock .panther-ops/write.lock "
+                                                  "sh -c 'echo held; exec cat >/dev/null'"),
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    assert holder.stdout is not None and holder.stdout.readline() == "held\n"
+
+    def release() -> None:
+        assert holder.stdin is not None
+        holder.stdin.close()
+        holder.wait(timeout=30)
+
+    return release
+
+
+SCENES: dict[str, Callable[[Lab], Callable[[], None] | None]] = {
     "r02-drift": _drift,
     "r05-crash-loop": _crash_loop,
     "r03-host-key-changed": _host_key_changed,
@@ -182,12 +230,33 @@ SCENES: dict[str, Callable[[Lab], None]] = {
     "r01-lan-listed": _r01_lan_listed,
     "user-computers": _user_computers,
     "r02-desired-webui": _desired_webui,
+    "r03-python-driver": _python_driver,
+    "r03-manager-sim": _manager_sim,
+    "r02-write-lock-held": _r02_write_lock_held,
 }
-"""The states a page's text describes before a sample (```console lab scene=NAME)."""
+"""The states a page's text describes before a sample (```console lab scene=NAME); one that returns
+a function has it called when the page is done (the state let go)."""
+
+def _four_changed_r02_waits(shown: str) -> bool:
+    """After the plan (its diffs shown: the writes began), the live view: four robots changed, r02 alone
+    in its write for a second or more (it waits for its lock: scene r02-write-lock-held). (While
+    planning, a robot planned counts as done too.)"""
+    _, plan, applying = shown.partition("\nplan: ")
+    return bool(plan) and re.search(r"r02 +write +[1-9]\d*\.\d s\n4/5 robots done +4 changed", applying) is not None
+
+
+CTRL_C: dict[tuple[str, str], Callable[[str], bool]] = {
+    ("output.md", "panther-ops -i lab/inventory.yaml config set wheel_type WH04 --all --yes"): _four_changed_r02_waits,
+}
+"""(page, command) of a lab sample in which Ctrl-C is typed: once what the terminal shows says so."""
 
 
 def follow_on_lab(doc: Path, prefix: str | None = None) -> Outcome:
     """The page's lab samples run on a lab of their own (see docsamples.follow)."""
-    with page_lab(prefix, doc.name) as lab:
-        return follow(doc, lab.dir, lambda name: SCENES[name](lab), subnets=shown_subnets(lab),
-                      password=SHAPES.get(doc.name, Shape()).password)
+    with page_lab(prefix, doc.name) as lab, ExitStack() as undo:
+        def scene(name: str) -> None:
+            if (release := SCENES[name](lab)) is not None:
+                undo.callback(release)
+
+        return follow(doc, lab.dir, scene, subnets=shown_subnets(lab), password=SHAPES.get(doc.name, Shape()).password,
+                      ctrl_c=lambda command: CTRL_C.get((doc.name, command)))

@@ -61,9 +61,6 @@ text around it describes (tests/ux/doclab.py: SCENES, e.g. a driver in a crash l
 stays for the rest of the page, as it would for a reader."""
 
 NOT_YET_IN_LAB: dict[tuple[str, str], str] = {
-    ("output.md", "panther-ops -i lab/inventory.yaml config set wheel_type WH04 --all --yes"):
-        "a Ctrl-C in the middle of the change (tests/ux/test_interrupt.py checks it on the demo fleet); "
-        "the lab mode does not send one yet",
     ("driver.md", "panther-ops -i lab/inventory.yaml driver logs --all -n 1 --since 10m"):
         "r05's last line is the crash loop's, which of its lines depends on when it is read",
     ("driver.md", "panther-ops -i lab/inventory.yaml driver logs -r r05 -n 4      # the crash loop above"):
@@ -90,8 +87,6 @@ NOT_YET_BLOCKS: dict[tuple[str, str], str] = {
 LAB_PAGES_NOT_YET: dict[str, str] = {
     "gps.md": "needs a lab with the nmea-gps image and an NMEA sender on the robots' LAN, and the stand-in "
               "router (tests/gps/test_gps_*_lab.py build them); not a lab of the docs' shape yet",
-    "manager-deploy.md": "needs the manager image built and deployed in simulation on r03 "
-                         "(tests/manager_ops/test_manager_lab.py)",
 }
 """Pages whose lab samples need more than the docs' lab (tests/ux/doclab.py) and are not run yet:
 the reason (listed by ``capture_docs.py --lab --list``; their text is left as written)."""
@@ -249,7 +244,7 @@ class Reader:
     """One reader's directory and shell state, following one doc."""
 
     def __init__(self, root: Path, lab_dir: Path | None = None, subnets: dict[int, int] | None = None,
-                 password: str = "") -> None:
+                 password: str = "", ctrl_c: Callable[[str], Callable[[str], bool] | None] | None = None) -> None:
         self.dir = root / "home"
         self.dir.mkdir()
         self.lab_dir = lab_dir
@@ -258,6 +253,8 @@ class Reader:
         self.run_subnets = {doc: real for real, doc in self.shown_subnets.items()}
         self.password = password
         """Typed at a password prompt (``--ask-password``: the lab's User Computers' one)."""
+        self.ctrl_c = ctrl_c
+        """Per command, when to type Ctrl-C (on what the terminal shows so far), or None."""
         if lab_dir is not None:  # docs/lab.md: the docs write the lab's directory as lab/
             (self.dir / "lab").symlink_to(lab_dir)
         bin_dir = root / "bin"
@@ -291,7 +288,8 @@ class Reader:
                   f"__rc=$?; export -p > {s}/env; pwd > {s}/cwd; echo $__rc > {s}/rc; exit $__rc\n")
         answers = tuple(m.group(1) for line in sample.output if (m := re.search(r"\[y/N\]: (\w+)$", line)))
         password = self.password if "--ask-password" in sample.command else ""
-        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password)
+        run = shell_on_pty(script, cols=COLS, cwd=self.dir, env=self.env, answers=answers, password=password,
+                           ctrl_c=self.ctrl_c(sample.command) if self.ctrl_c else None)
         screen = Screen(10**6)  # a line the terminal wraps at its edge is one line (as copied from it)
         screen.feed(run.out)
         lines = screen.text()
@@ -301,12 +299,14 @@ class Reader:
 
 
 def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] | None = None, *,
-           subnets: dict[int, int] | None = None, password: str = "") -> Outcome:
+           subnets: dict[int, int] | None = None, password: str = "",
+           ctrl_c: Callable[[str], Callable[[str], bool] | None] | None = None) -> Outcome:
     """Run the samples of ``doc`` in order; the diffs, the skipped ones, and the doc rewritten.
     With ``lab_dir`` (a lab up for this page, tests/ux/doclab.py), the samples of its
     ```console lab blocks, on that lab, ``scene(NAME)`` called before a block marked
     ``scene=NAME``, its addresses shown as ``subnets`` says (see relabel), ``password`` typed at a
-    password prompt; the other blocks are left as they are."""
+    password prompt, Ctrl-C typed in a command once ``ctrl_c(command)(what the terminal shows)``
+    holds; the other blocks are left as they are."""
     lines = doc.read_text().splitlines()
     diffs: list[str] = []
     skipped: list[tuple[str, str, str]] = []
@@ -314,7 +314,7 @@ def follow(doc: Path, lab_dir: Path | None = None, scene: Callable[[str], None] 
     if lab_dir is not None:
         blocks = [b for b in blocks if LAB in b.marks or LAB_STANDIN in b.marks]
     with tempfile.TemporaryDirectory(prefix="panther-ops-docs-") as tmp:
-        reader = Reader(Path(tmp), lab_dir, subnets, password)
+        reader = Reader(Path(tmp), lab_dir, subnets, password, ctrl_c)
         for block in reversed(_in_order(blocks, reader, skipped, diffs, doc, scene)):
             lines[block[0]:block[1]] = block[2]
     text = "\n".join(lines) + "\n"
