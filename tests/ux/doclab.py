@@ -128,6 +128,30 @@ def _crash_loop(lab: Lab) -> None:
     assert launch in text, text
     lab.write("r05", compose, text.replace(launch, f"{launch} controller_config_path:=/nonexistent/ctrl.yaml", 1))
     lab.compose("r05", "up", "-d")
+    _loop_waits(lab, "r05", LOOP_RESTARTS)
+
+
+LOOP_RESTARTS = 8
+"""docker doubles a crash loop's delay before each restart (100 ms, 200 ms ... at most a minute): once
+the driver failed for the 8th time (restart count 8), it waits 12.8 s in ``restarting``."""
+
+
+def _loop_waits(lab: Lab, name: str, restarts: int) -> None:
+    """The defined point of a crash loop the page reads: the moment the driver failed once more and its
+    restart count reached ``restarts`` (state ``restarting``, the count just gone up), so that what is
+    read next sees it waiting to restart, not in one of its starts (a few hundred ms each)."""
+    container = lab.robot(name).driver_container
+    deadline = time.monotonic() + 120
+    last: tuple[str, int] | None = None
+    while time.monotonic() < deadline:
+        state, count = lab.docker(name, "inspect", "-f", "{{.State.Status}} {{.RestartCount}}", container,
+                                  check=True).stdout.split()
+        now = (state, int(count))
+        if state == "restarting" and now[1] >= restarts and last is not None and last != now:
+            return
+        last = now
+        time.sleep(0.05)
+    raise AssertionError(f"{name}: its crash loop did not reach {restarts} restarts in 120 s")
 
 
 def _publisher(lab: Lab) -> None:
@@ -222,6 +246,18 @@ def _r02_write_lock_held(lab: Lab) -> Callable[[], None]:
     return release
 
 
+def _r01_reinstalled(lab: Lab) -> None:
+    """docs/reimage.md: r01 customised (``config set wheel_type WH02``), backed up into lab/backups
+    (``reimage backup``), then "reinstalled" as tests/reimage/test_reimage_restore_lab.py reinstalls
+    it: a new host key, its config tree, key pair and customised compose file gone."""
+    from tests.reimage.test_reimage_restore_lab import COMPOSE, reinstall
+
+    factory = lab.read("r01", COMPOSE)
+    _panther_ops(lab, "config", "set", "wheel_type", "WH02", "-r", "r01", "--yes", "--settle", "1")
+    _panther_ops(lab, "reimage", "backup", "-r", "r01", "--out", str(lab.dir / "backups"))
+    reinstall(lab, factory)
+
+
 SCENES: dict[str, Callable[[Lab], Callable[[], None] | None]] = {
     "r02-drift": _drift,
     "r05-crash-loop": _crash_loop,
@@ -233,9 +269,11 @@ SCENES: dict[str, Callable[[Lab], Callable[[], None] | None]] = {
     "r03-python-driver": _python_driver,
     "r03-manager-sim": _manager_sim,
     "r02-write-lock-held": _r02_write_lock_held,
+    "r01-reinstalled": _r01_reinstalled,
 }
 """The states a page's text describes before a sample (```console lab scene=NAME); one that returns
 a function has it called when the page is done (the state let go)."""
+
 
 def _four_changed_r02_waits(shown: str) -> bool:
     """After the plan (its diffs shown: the writes began), the live view: four robots changed, r02 alone

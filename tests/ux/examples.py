@@ -189,9 +189,10 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
 
-IN_THE_LAB = frozenset({r"--ask-password", r"shutdown robot .*--yes", r"shutdown setup "})
+IN_THE_LAB = frozenset({r"--ask-password", r"shutdown robot .*--yes", r"shutdown setup ", r"reimage restore "})
 """Patterns of NEEDS_A_ROBOT the docs' lab runs (tests/ux/doclab.py: docs/shutdown.md's User
-Computers on the robots' LANs, the password typed at its prompt, the power-off stand-ins)."""
+Computers on the robots' LANs, the password typed at its prompt, the power-off stand-ins;
+docs/reimage.md's backup archive of a lab robot, reinstalled)."""
 
 EXPECTED_EXIT = {
     "panther-ops lights validate bad_animations.yaml": 2,
