@@ -119,6 +119,8 @@ _VARIES = (
     # the manager's build: a hash of its sources (docs/manager-deploy.md), new with every change to them
     (re.compile(r"\b(\d+\.\d+\.\d+)-[0-9a-f]{12}\b"), "\\1-<build>"),
     (re.compile(r"\bsha256 [0-9a-f]{12}\b"), "sha256 <digest>"),  # the digest of such a build's file
+    # a simulated run's time in the manager's log (real time: its first tick at 0.0 or 0.1 s, by the load)
+    (re.compile(r"^t= *\d+\.\d(?= )"), "t=<sim time>"),
     (re.compile(r"[+-]?\d+(\.\d+)? ?(s|ms|GiB|MiB|KiB|B|%)(?!\w)"), "<n> \\2"),  # times, clock offsets, sizes
     (re.compile(r'"duration_s": \d+(\.\d+)?'), '"duration_s": <n>'),  # a JSON document's durations
     (re.compile(r"\b(\d+m )?\d+s\b"), "<uptime>"),
