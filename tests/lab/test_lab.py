@@ -155,7 +155,7 @@ def test_standin_fails_on_missing_config_file(lab: Lab) -> None:
     # a missing absolute path: error and exit 1, as the real launch does
     bad = lab.docker(name, "run", "--rm", image, *launch, "controller_config_path:=/nonexistent.yaml")
     assert bad.returncode == 1
-    assert "file not found: '/nonexistent.yaml'" in bad.stderr
+    assert "file not found: '/nonexistent.yaml'" in bad.stdout  # the launch logs on stdout
     # $(find ...) values, empty values and existing paths are accepted: it keeps running
     ok = lab.docker(
         name,
@@ -195,7 +195,7 @@ def test_standin_fails_on_missing_config_file(lab: Lab) -> None:
 
         assert wait_until(failed, 5)
         logs = lab.docker(name, "logs", "panther_ros")
-        assert "file not found: '/nonexistent.yaml'" in logs.stderr
+        assert "file not found: '/nonexistent.yaml'" in logs.stdout
     finally:
         lab.write(name, "/home/husarion/compose.yaml", original)
         lab.compose(name, "up", "-d")

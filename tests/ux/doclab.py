@@ -12,10 +12,12 @@ naming one runs on the lab actually up."""
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
+import time
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -151,6 +153,31 @@ def _crash_loop(lab: Lab) -> None:
     assert launch in text, text
     lab.write("r05", compose, text.replace(launch, f"{launch} controller_config_path:=/nonexistent/ctrl.yaml", 1))
     lab.compose("r05", "up", "-d")
+    _loop_waits(lab, "r05", LOOP_RESTARTS)
+
+
+LOOP_RESTARTS = 9
+"""docker doubles a crash loop's delay before each restart (100 ms, 200 ms ... at most a minute): once
+the driver failed for the 9th time (restart count 9), it waits 25.6 s in ``restarting`` (room for a
+loaded machine: the page reads it within a few seconds)."""
+
+
+def _loop_waits(lab: Lab, name: str, restarts: int) -> None:
+    """The defined point of a crash loop the page reads: the moment the driver failed once more and its
+    restart count reached ``restarts`` (state ``restarting``, the count just gone up), so that what is
+    read next sees it waiting to restart, not in one of its starts (a few hundred ms each)."""
+    container = lab.robot(name).driver_container
+    deadline = time.monotonic() + 120
+    last: tuple[str, int] | None = None
+    while time.monotonic() < deadline:
+        state, count = lab.docker(name, "inspect", "-f", "{{.State.Status}} {{.RestartCount}}", container,
+                                  check=True).stdout.split()
+        now = (state, int(count))
+        if state == "restarting" and now[1] >= restarts and last is not None and last != now:
+            return
+        last = now
+        time.sleep(0.05)
+    raise AssertionError(f"{name}: its crash loop did not reach {restarts} restarts in 120 s")
 
 
 def _publisher(lab: Lab) -> None:
@@ -168,15 +195,26 @@ def _publisher_stopped(lab: Lab) -> None:
     stop_publishers(lab, "r01")
 
 
-def _python_driver(lab: Lab) -> None:
-    """docs/remote.md, teleop: r01's driver recreated from the lab's Python image (python3, the rclpy
-    stand-in; as tests/remote/teleop/test_teleop_lab.py does), its E-stop (triggered by a new driver) reset."""
+def _on_python_image(lab: Lab, name: str) -> None:
+    """The robot's driver recreated from the lab's Python image (python3, the rclpy stand-in; the
+    lab's Python image under the driver's tag, tests/lab/pyimage.py), as
+    tests/remote/teleop/test_teleop_lab.py and tests/manager_ops/test_manager_lab.py do."""
     from tests.lab.pyimage import use_python_image
 
-    use_python_image(lab, "r01")
-    cp = lab.compose("r01", "up", "-d", "--force-recreate", lab.robot("r01").driver_container)
+    use_python_image(lab, name)
+    cp = lab.compose(name, "up", "-d", "--force-recreate", lab.robot(name).driver_container)
     assert cp.returncode == 0, cp.stderr
+
+
+def _r01_python_driver(lab: Lab) -> None:
+    """docs/remote.md, teleop: r01 on the Python image, its E-stop (triggered by a new driver) reset."""
+    _on_python_image(lab, "r01")
     _panther_ops(lab, "estop", "reset", "-r", "r01", "--yes")
+
+
+def _r03_python_driver(lab: Lab) -> None:
+    """docs/manager-deploy.md: r03 (2.2.2) on the Python image (Python 3.10 for the manager)."""
+    _on_python_image(lab, "r03")
 
 
 def _host_key_changed(lab: Lab) -> None:
@@ -240,7 +278,55 @@ def _gga_stopped(lab: Lab) -> None:
         sender.stop()
 
 
-SCENES: dict[str, Callable[[Lab], None]] = {
+MANAGER_FIRST_STATUS = re.compile(r"^t=\s+0\.\d \w+: battery", re.M)
+"""The manager's first status line (the simulated robot at t=0; the next one comes 10 s later)."""
+
+
+def _manager_sim(lab: Lab) -> None:
+    """docs/manager-deploy.md: the manager deployed in simulation on r03 (``manager deploy --sim``, as
+    tests/manager_ops/test_manager_lab.py deploys it), its log up to its first status line (t=0; the page
+    shows the log's start, which later lines do not change)."""
+    _panther_ops(lab, "manager", "deploy", "-r", "r03", "--sim", "--yes", "--settle", "2")
+    deadline = time.monotonic() + 60
+    while not MANAGER_FIRST_STATUS.search(log := _both(lab.docker("r03", "logs", "panther_ops_manager"))):
+        assert time.monotonic() < deadline, log
+        time.sleep(0.2)
+
+
+def _both(cp: subprocess.CompletedProcess[str]) -> str:
+    return f"{cp.stdout}{cp.stderr}"
+
+
+def _r02_write_lock_held(lab: Lab) -> Callable[[], None]:
+    """docs/output.md: another change holds r02's write lock (``~/.panther-ops/write.lock``, taken
+    with ``flock`` by a session of its own on the robot, as a second operator's write takes it):
+    r02's write waits for it. Released (the session's input closed) when the page is done."""
+    holder = subprocess.Popen(lab.ssh_argv("r02", "mkdir -p .panther-ops && flock .panther-ops/write.lock "
+                                                  "sh -c 'echo held; exec cat >/dev/null'"),
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    assert holder.stdout is not None and holder.stdout.readline() == "held\n"
+
+    def release() -> None:
+        assert holder.stdin is not None
+        holder.stdin.close()
+        holder.wait(timeout=30)
+
+    return release
+
+
+def _r01_reinstalled(lab: Lab) -> None:
+    """docs/reimage.md: r01 customised (``config set wheel_type WH02``), backed up into lab/backups
+    (``reimage backup``), then "reinstalled" as tests/reimage/test_reimage_restore_lab.py reinstalls
+    it: a new host key, its config tree, key pair and customised compose file gone."""
+    from tests.reimage.test_reimage_restore_lab import COMPOSE, reinstall
+
+    factory = lab.read("r01", COMPOSE)
+    _panther_ops(lab, "config", "set", "wheel_type", "WH02", "-r", "r01", "--yes", "--settle", "1")
+    _panther_ops(lab, "reimage", "backup", "-r", "r01", "--out", str(lab.dir / "backups"))
+    reinstall(lab, factory)
+
+
+SCENES: dict[str, Callable[[Lab], Callable[[], None] | None]] = {
     "gga-to-r01-r03": _gga_to_r01_r03,
     "gga-stopped": _gga_stopped,
     "r02-drift": _drift,
@@ -248,19 +334,41 @@ SCENES: dict[str, Callable[[Lab], None]] = {
     "r03-host-key-changed": _host_key_changed,
     "r01-cmd-vel-publisher": _publisher,
     "r01-publisher-stopped": _publisher_stopped,
-    "r01-python-driver": _python_driver,
+    "r01-python-driver": _r01_python_driver,
     "r01-lan-listed": _r01_lan_listed,
     "user-computers": _user_computers,
     "r02-desired-webui": _desired_webui,
+    "r03-python-driver": _r03_python_driver,
+    "r03-manager-sim": _manager_sim,
+    "r02-write-lock-held": _r02_write_lock_held,
+    "r01-reinstalled": _r01_reinstalled,
 }
-"""The states a page's text describes before a sample (```console lab scene=NAME)."""
+"""The states a page's text describes before a sample (```console lab scene=NAME); one that returns
+a function has it called when the page is done (the state let go)."""
+
+
+def _four_changed_r02_waits(shown: str) -> bool:
+    """After the plan (its diffs shown: the writes began), the live view: four robots changed, r02 alone
+    in its write for a second or more (it waits for its lock: scene r02-write-lock-held). (While
+    planning, a robot planned counts as done too.)"""
+    _, plan, applying = shown.partition("\nplan: ")
+    return bool(plan) and re.search(r"r02 +write +[1-9]\d*\.\d s\n4/5 robots done +4 changed", applying) is not None
+
+
+CTRL_C: dict[tuple[str, str], Callable[[str], bool]] = {
+    ("output.md", "panther-ops -i lab/inventory.yaml config set wheel_type WH04 --all --yes"): _four_changed_r02_waits,
+}
+"""(page, command) of a lab sample in which Ctrl-C is typed: once what the terminal shows says so."""
 
 
 def follow_on_lab(doc: Path, prefix: str | None = None) -> Outcome:
     """The page's lab samples run on a lab of their own (see docsamples.follow)."""
-    with page_lab(prefix, doc.name) as lab:
-        try:
-            return follow(doc, lab.dir, lambda name: SCENES[name](lab), subnets=shown_subnets(lab),
-                          password=SHAPES.get(doc.name, Shape()).password)
-        finally:
-            _gga_stopped(lab)
+    with page_lab(prefix, doc.name) as lab, ExitStack() as undo:
+        undo.callback(_gga_stopped, lab)
+
+        def scene(name: str) -> None:
+            if (release := SCENES[name](lab)) is not None:
+                undo.callback(release)
+
+        return follow(doc, lab.dir, scene, subnets=shown_subnets(lab), password=SHAPES.get(doc.name, Shape()).password,
+                      ctrl_c=lambda command: CTRL_C.get((doc.name, command)))

@@ -195,10 +195,12 @@ NEEDS_A_ROBOT: tuple[tuple[str, str], ...] = (
 )
 """An example matching the pattern needs more than the demo fleet: the reason."""
 
-IN_THE_LAB = frozenset({r"--ask-password", r"shutdown robot .*--yes", r"shutdown setup ", ROUTER, TELEOP})
+IN_THE_LAB = frozenset({r"--ask-password", r"shutdown robot .*--yes", r"shutdown setup ", ROUTER, TELEOP,
+                        r"reimage restore "})
 """Patterns of NEEDS_A_ROBOT the docs' lab runs (tests/ux/doclab.py: docs/shutdown.md's User
 Computers on the robots' LANs, the password typed at its prompt, the power-off stand-ins;
-docs/gps.md's RUTX11 stand-in on r01's LAN; keys typed on a terminal)."""
+docs/gps.md's RUTX11 stand-in on r01's LAN; keys typed on a terminal; docs/reimage.md's backup
+archive of a lab robot, reinstalled)."""
 
 EXPECTED_EXIT = {
     "panther-ops lights validate bad_animations.yaml": 2,

@@ -82,27 +82,38 @@ QUESTION = re.compile(r"\[y/N\]: $")
 
 
 def shell_on_pty(script: str, *, cols: int, cwd: Path, env: dict[str, str], timeout: float = 120,
-                 answers: tuple[str, ...] = (), password: str = "") -> Run:
+                 answers: tuple[str, ...] = (), password: str = "", ctrl_c: Callable[[str], bool] | None = None) -> Run:
     """``bash -c script`` with stdin, stdout and stderr on one pseudo-terminal ``cols`` wide, as
     an operator's shell runs a command line, in exactly the environment ``env``; ``Run.out`` is
     everything the terminal was sent. As a person at that terminal: ``answers`` typed (and Enter)
     one by one when a question (``[y/N]: ``) shows, echoed after it; ``password`` typed once the
     terminal's echo is off, at a password prompt (the command runs in a session of its own, so
-    that getpass asks this terminal, never the one this runs from)."""
+    that getpass asks this terminal, never the one this runs from); with ``ctrl_c``, Ctrl-C typed
+    once ``ctrl_c(output so far, plain)`` holds (the terminal is then the session's controlling
+    one: it sends SIGINT to the command and echoes ``^C``, as an operator's terminal does)."""
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, cols, 0, 0))
     with tempfile.TemporaryFile() as unused:
         return _pty_run(["bash", "-c", script], master, slave, unused, cwd=cwd, env=env, timeout=timeout,
                         stdout_pipe=False, stderr_pipe=False, typed="", password=password, answers=answers,
-                        session=True)
+                        session=True, ctrl_c=ctrl_c)
+
+
+def _terminal_of_its_session() -> None:
+    """In the child (its own session) before exec: the terminal on stdin becomes the session's
+    controlling terminal, SIGINT as an operator's shell starts a command (:func:`_ctrl_c_as_on_a_terminal`)."""
+    fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+    _ctrl_c_as_on_a_terminal()
 
 
 def _pty_run(argv: list[str], master: int, slave: int, piped_out: IO[bytes], *, cwd: Path | None,
              env: dict[str, str], timeout: float, stdout_pipe: bool, stderr_pipe: bool, typed: str,
-             password: str = "", answers: tuple[str, ...] = (), session: bool = False) -> Run:
+             password: str = "", answers: tuple[str, ...] = (), session: bool = False,
+             ctrl_c: Callable[[str], bool] | None = None) -> Run:
     p = subprocess.Popen(argv, cwd=cwd, env=env,
                          stdin=slave, stdout=piped_out if stdout_pipe else slave,
-                         stderr=piped_out if stderr_pipe else slave, close_fds=True, start_new_session=session)
+                         stderr=piped_out if stderr_pipe else slave, close_fds=True, start_new_session=session,
+                         preexec_fn=_terminal_of_its_session if ctrl_c else None)  # noqa: PLW1509 (two calls)
     os.close(slave)
     if typed:  # held by the terminal until the process reads its input
         os.write(master, typed.encode())
@@ -110,8 +121,11 @@ def _pty_run(argv: list[str], master: int, slave: int, piped_out: IO[bytes], *, 
     to_type = list(answers)
     quiet_since = time.monotonic()
     while True:
-        polling = bool(password or to_type)  # a person watching the terminal, to type
+        polling = bool(password or to_type or ctrl_c)  # a person watching the terminal, to type
         ready, _, _ = select.select([master], [], [], 0.05 if polling else timeout)
+        if ctrl_c and ctrl_c(plain(b"".join(chunks).decode(errors="replace"))):
+            os.write(master, b"\x03")
+            ctrl_c = None
         if password and not termios.tcgetattr(master)[3] & termios.ECHO:  # the prompt turned echo off
             os.write(master, f"{password}\n".encode())
             password = ""

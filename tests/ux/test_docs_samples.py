@@ -98,3 +98,14 @@ def test_the_reader_types_the_password_at_a_read_s_and_keys_at_a_terminal(tmp_pa
     lines = out.replace("\r", "").splitlines()
     # the key echoed by the terminal, then read; the Ctrl-C the terminal's SIGINT to the command
     assert (lines, code) == ([f"50 {COLS}", "ready", "igot i", "^C"], -2), out
+
+
+def test_a_labs_host_keys_and_the_managers_sim_time_vary_the_rest_does_not() -> None:
+    """A lab makes new host keys each time it comes up, and a simulated run's time stamps (real time)
+    differ by a tenth with the machine's load: not a difference; another address or call is."""
+    key = "ssh-ed25519 AAAAC3NzaC1lZDI1NTE5AAAAI"
+    doc = [f"+10.200.100.11 {key}KQJcjx2sVoxkjSPj21aVL0hZTuYNAAERYZGifBdGtnP", "t=    0.0 call hardware/fan_enable(data=True) -> ok"]
+    run = [f"+10.200.100.11 {key}Lw1lvsM8zQ2ZPwuG/V8SuVFoShn1wwezpkMhXhvMEOx", "t=    0.1 call hardware/fan_enable(data=True) -> ok"]
+    assert matches(doc, run)
+    assert not matches(doc, [run[0].replace(".11 ", ".12 "), run[1]])
+    assert not matches(doc, [run[0], run[1].replace("True", "False")])

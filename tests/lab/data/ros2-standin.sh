@@ -4,8 +4,8 @@
 # Records its arguments (stdout, so `docker logs` shows them, and /var/log/ros2-standin.log
 # in the container). `ros2 launch` / `ros2 run` keep running like the driver and end at once
 # on SIGINT/SIGTERM. Like the real launch, it fails (exit 1) when an argument `*_path:=` or
-# `*_file:=` names an absolute path that does not exist in the container; values such as
-# `$(find pkg)/...` or empty ones are accepted.
+# `*_file:=` names an absolute path that does not exist in the container, its error on stdout
+# with the launch's other log lines; values such as `$(find pkg)/...` or empty ones are accepted.
 #
 # The driver's E-stop API (panther_ros ROS_API.md), answered in the driver's namespace (the
 # launch's `namespace:=` argument of PID 1, else $ROBOT_NAMESPACE) with the state in a file
@@ -424,7 +424,9 @@ for a in "$@"; do
     case "$val" in
         /*)
             if [ ! -e "$val" ]; then
-                echo "[ERROR] [launch]: Caught exception in launch (see debug for traceback): file not found: '$val' (launch argument '$key')" >&2
+                # on stdout, as the real launch's own log lines (its screen handler is a StreamHandler on
+                # sys.stdout: ros2/launch launch/launch/logging/__init__.py, get_screen_handler)
+                echo "[ERROR] [launch]: Caught exception in launch (see debug for traceback): file not found: '$val' (launch argument '$key')"
                 missing=1
             fi
             ;;
