@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
+from panther_ops.errors import OpsError
 from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command, CommandResult
 from panther_ops.transport.conversation import Conversation, Pipe
@@ -96,6 +97,11 @@ def stage_input(backup_dir: str, manifest: dict[str, Any], status: str, files: l
     return scripts_apply.request([backup_dir, status, str(len(archive)), validate, *args]) + archive
 
 
+class SessionClosed(OpsError):
+    """A write handed to a session that was dropped first (:meth:`Session.close`: the run was
+    interrupted, or its connection closed): nothing was staged, nothing written."""
+
+
 class Session:
     """One write on a robot (see the module's text). Made by ``Transport.session``."""
 
@@ -141,8 +147,11 @@ class Session:
 
     def stage(self, data: bytes) -> None:
         """Send the write (:func:`stage_input`): the robot stages it and waits for :meth:`go`."""
-        if self.staged or self.ended:
+        if self.staged:
             raise RuntimeError("a session stages one write")
+        if self.ended:  # dropped before its write came (Ctrl-C closes the run's connections)
+            raise SessionClosed("the write session was closed before the write was staged (the run was "
+                                "interrupted or its connection closed): nothing was written")
         conv = self._conversation()
         conv.pipe.resume_timeout()
         self._step(lambda: conv.send(data))
