@@ -16,11 +16,11 @@ from typing import Any
 import pytest
 
 from panther_ops.cli.app import main
-from panther_ops.errors import OpsError
 from panther_ops.core.config.read import read_and_plan_args
 from panther_ops.core.fleet.inventory_file import load_inventory
 from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import Connections, RobotContext
+from panther_ops.errors import OpsError
 from panther_ops.testing import FakeRobot, FakeTransport
 from panther_ops.transport import scripts_apply
 from panther_ops.transport.base import Command
