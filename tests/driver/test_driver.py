@@ -231,6 +231,14 @@ def test_drift_and_restarts_are_warnings() -> None:
     assert "launch command differs" in text and "restarted 2 time(s)" in text
 
 
+def test_a_restarted_running_driver_names_no_exit_code() -> None:
+    """docker sets a container's ExitCode to 0 when it starts it again (seen on the lab's dockerd,
+    r05's crash loop read between two starts): a running container's code is not its crash's."""
+    v = describe_container(attrs(RestartCount=3), compose_image=None, compose_argv=None, now=NOW)
+    assert v.healthy
+    assert v.warnings == ["restarted 3 time(s) since it was created: panther-ops driver logs shows why it stopped"]
+
+
 @pytest.mark.parametrize(("state", "problem"), [
     ({"Status": "exited", "Running": False, "ExitCode": 137}, "exited (exit code 137)"),
     ({"Status": "restarting", "Running": True, "Restarting": True, "ExitCode": 1}, "restarting (exit code 1"),

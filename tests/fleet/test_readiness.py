@@ -34,10 +34,16 @@ def test_a_crash_fails_whatever_the_window() -> None:
     restarting = Sample(1.0, "restarting", restarting=True, exit_code=1, started_at=T0)
     assert judge([up(0.0), restarting])[0] == FAILED
     # restart: always brought it back between two looks: the count, or a new StartedAt, tells
-    assert judge([up(0.0), up(5.0, restart_count=1, exit_code=1)]) == (
+    # (docker sets a container's ExitCode to 0 when it starts it again: a running look's says nothing)
+    gone = "running again: its exit code is gone once docker starts it; `driver logs` shows why it stopped"
+    assert judge([up(0.0), up(5.0, restart_count=1, exit_code=0)]) == (
+        FAILED, f"container restarted 1 time(s) after recreate ({gone})")
+    assert judge([up(0.0), up(5.0, started="2026-11-27T08:00:01.3Z", exit_code=0)]) == (
+        FAILED, f"container started again after recreate ({gone})")
+    # a look between two starts saw the crash's code: that one is named
+    crashed = Sample(1.0, "restarting", restarting=True, restart_count=1, exit_code=1, started_at=T0)
+    assert judge([up(0.0), crashed, up(2.0, restart_count=1, exit_code=0)]) == (
         FAILED, "container restarted 1 time(s) after recreate (exit code 1)")
-    assert judge([up(0.0), up(5.0, started="2026-11-27T08:00:01.3Z")]) == (
-        FAILED, "container started again after recreate (exit code None)")
 
 
 def test_a_healthcheck_where_the_compose_has_one() -> None:
@@ -75,6 +81,7 @@ def test_the_watch_ends_when_ready_and_fails_on_a_late_crash(monkeypatch: Any) -
     assert watch_services(engine, plan, 30.0, "/home/husarion") is None
     assert 4 <= engine.looks <= 8  # ended at the window, not at --settle (30 s)
     crash = [{"Status": "running", "StartedAt": T0}] * 2 + [{"Status": "running", "StartedAt": T0, "n": 1,
-                                                               "ExitCode": 1}]
+                                                               "ExitCode": 0}]  # started again between looks
     assert watch_services(_Engine([dict(s) for s in crash]), plan, 30.0, "/home/husarion") == (
-        "service panther_ros: container restarted 1 time(s) after recreate (exit code 1)")
+        "service panther_ros: container restarted 1 time(s) after recreate (running again: its exit code is "
+        "gone once docker starts it; `driver logs` shows why it stopped)")

@@ -110,8 +110,9 @@ def describe_container(attrs: Mapping[str, Any], *, compose_image: str | None, c
         view.warnings.append("the container's launch command differs from compose.yaml's: recreate it "
                              "(panther-ops driver restart); running: " + " ".join(cmd))
     if data["restart_count"] and running:
-        view.warnings.append(f"restarted {data['restart_count']} time(s) since it was created "
-                             f"(last exit code {state.get('ExitCode')}): see panther-ops driver logs")
+        # no exit code: docker sets a container's to 0 when it starts it again
+        view.warnings.append(f"restarted {data['restart_count']} time(s) since it was created: "
+                             "panther-ops driver logs shows why it stopped")
     if health == "unhealthy":
         view.healthy = False
         view.problem = "unhealthy (healthcheck failing)"

@@ -77,6 +77,16 @@ def sample_of(attrs: Mapping[str, Any], at: float) -> Sample:
                   state.get("ExitCode"), health.get("Status") if isinstance(health, Mapping) else None)
 
 
+def _last_exit(samples: Sequence[Sample]) -> str:
+    """The exit code of the crash a container restarted from, as far as the looks saw it: docker
+    sets ``State.ExitCode`` to 0 when it starts the container again, so a running container's is
+    not its crash's; a look that saw it exited or restarting holds the real one."""
+    for s in reversed(samples):
+        if s.status not in ("running", "created") or s.restarting:
+            return f"exit code {s.exit_code}"
+    return "running again: its exit code is gone once docker starts it; `driver logs` shows why it stopped"
+
+
 def judge(samples: Sequence[Sample], min_stable_s: float = MIN_STABLE_S) -> tuple[str, str]:
     """``(READY|WAIT|FAILED, problem)`` for a container's samples, oldest first."""
     if not samples:
@@ -85,12 +95,12 @@ def judge(samples: Sequence[Sample], min_stable_s: float = MIN_STABLE_S) -> tupl
     if last.status not in ("running", "created") or last.restarting:
         return FAILED, f"container {last.status} (exit code {last.exit_code}) after recreate"
     if last.restart_count > 0:  # a recreated container starts at 0; restart: always hides crashes
-        return FAILED, f"container restarted {last.restart_count} time(s) after recreate (exit code {last.exit_code})"
+        return FAILED, f"container restarted {last.restart_count} time(s) after recreate ({_last_exit(samples)})"
     if last.health == "unhealthy":
         return FAILED, "container unhealthy after recreate"
     running = [s for s in samples if s.status == "running"]
     if any(s.started_at != last.started_at for s in running):
-        return FAILED, f"container started again after recreate (exit code {last.exit_code})"
+        return FAILED, f"container started again after recreate ({_last_exit(samples)})"
     if last.status != "running":
         return WAIT, ""
     if last.health == "healthy":
