@@ -92,7 +92,7 @@ def test_the_reader_types_the_password_at_a_read_s_and_keys_at_a_terminal(tmp_pa
     assert READ_SECRET.match("read -rsp 'router password: ' P; echo") and not READ_SECRET.match("readlink -s x")
     assert reader.run(Sample(0, "read -rsp 'router password: ' P; echo; export P", ())) == ["router password:"]
     assert reader.run(Sample(1, 'echo "${#P} ${P:0:3}"', ())) == ["10 lab"]
-    code, out = keys_on_pty(["/bin/bash", "-c", "stty size; echo ready; read -rn1 k; echo got $k; sleep 30"],
+    code, out = keys_on_pty(["/bin/bash", "-c", "stty size; echo ready; read -rn1 k; echo got $k; exec sleep 30"],
                             [(b"i", 0.3), (b"\x03", 0.5)], ready="ready", timeout=20, env={"PATH": "/usr/bin:/bin"},
                             cols=COLS)
     lines = out.replace("\r", "").splitlines()
