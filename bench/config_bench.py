@@ -297,7 +297,8 @@ def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wan
     ssh_cfg = str(lab.ssh_config_path)
     floor = " ".join(f"ssh -F {shlex.quote(ssh_cfg)} {r.name} {shlex.quote(FLOOR_REMOTE)} &" for r in lab.robots
                      if not r.jump)
-    floor_argv = ["sh", "-c", f"{floor} wait"]  # each file is checked afterwards
+    (work / "floor.sh").write_text(f"{floor} wait\n")  # a file: at 300 robots one argument would exceed 128 KiB
+    floor_argv = ["sh", str(work / "floor.sh")]  # each file is checked afterwards
     ansible_env = {"ANSIBLE_CONFIG": str(work / "ansible.cfg"), "ANSIBLE_HOME": str(work / "ansible-home"),
                    "ANSIBLE_NOCOLOR": "1"}
     tools = [
