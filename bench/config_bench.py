@@ -36,6 +36,12 @@ sshd logs. A timed run during which the machine spent more than --max-other-cpu 
 (default 0.5) on neither the tool, the robots nor the relays is discarded and repeated (up
 to --retries times). A lab is brought up per size and RTT and always torn down.
 
+Fleets of hundreds (issue 29): sizes up to the lab's 960; without the default path the lab
+runs no dockerd. Ansible runs with forks = N (--ansible-forks caps it), pyinfra --parallel N,
+panther-ops at its default --forks and at each of --po-forks. Each timed run also reports the
+peak memory of the tool's process tree (a memory cgroup of its own) and its CPU per robot
+(bench/README.md).
+
 Needs root (the lab). Ansible and pyinfra come from bench/requirements.txt, installed into
 their own venv (default /root/.cache/panther-ops-bench-venv, created or reused); panther-ops
 is this checkout installed as users install it, from a wheel, into a venv of its own
