@@ -36,6 +36,12 @@ sshd logs. A timed run during which the machine spent more than --max-other-cpu 
 (default 0.5) on neither the tool, the robots nor the relays is discarded and repeated (up
 to --retries times). A lab is brought up per size and RTT and always torn down.
 
+Fleets of hundreds (issue 29): sizes up to the lab's 960; without the default path the lab
+runs no dockerd. Ansible runs with forks = N (--ansible-forks caps it), pyinfra --parallel N,
+panther-ops at its default --forks and at each of --po-forks. Each timed run also reports the
+peak memory of the tool's process tree (a memory cgroup of its own) and its CPU per robot
+(bench/README.md).
+
 Needs root (the lab). Ansible and pyinfra come from bench/requirements.txt, installed into
 their own venv (default /root/.cache/panther-ops-bench-venv, created or reused); panther-ops
 is this checkout installed as users install it, from a wheel, into a venv of its own
@@ -45,6 +51,7 @@ is this checkout installed as users install it, from a wheel, into a venv of its
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import json
 import os
@@ -55,6 +62,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -69,8 +77,16 @@ USER = "husarion"
 # issue #12: --no-restart at 150 ms <= 0.8x the floor and <= 0.6x pyinfra; at 0 ms <= 0.7x
 # pyinfra and <= 0.15x Ansible.
 TARGETS = {150.0: {"floor": 0.8, "pyinfra": 0.6}, 0.0: {"pyinfra": 0.7, "ansible": 0.15}}
+# issue #29: at 100 robots and more, 150 ms: <= 0.6x pyinfra and <= 0.15x Ansible (10 robots: <= 0.8x the floor)
+TARGETS_HUNDREDS = {150.0: {"pyinfra": 0.6, "ansible": 0.15}}
+
+
+def targets(robots: int, rtt_ms: float) -> dict[str, float]:
+    return (TARGETS_HUNDREDS if robots >= 100 else TARGETS).get(rtt_ms, {})
 ALL_TOOLS = "panther-ops,panther-ops-no-restart,floor,pyinfra,ansible"
 RUN_TIMEOUT = 180.0
+DEFAULT_FORKS = 32  # panther-ops' default --forks (docs/inventory.md)
+MAX_ROBOTS = 960  # the lab's limit (docs/lab.md, "A lab of hundreds")
 
 # The driver's launch line: `    command: ros2 launch panther_bringup bringup.launch.py ...` (2.0/2.1)
 # or `... husarion_ugv_bringup ...` (2.2). Ansible's regexp (Python re, MULTILINE): appends
@@ -240,7 +256,13 @@ class Tool:
 
 
 def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wanted: list[str],
-               also: tuple[tuple[str, str], ...] = ()) -> list[Tool]:
+               also: tuple[tuple[str, str], ...] = (), ansible_forks: int | None = None,
+               po_forks: tuple[int, ...] = ()) -> list[Tool]:
+    """The tools for a lab of ``n`` robots, each at its best documented settings for that size:
+    Ansible forks = n (or ``ansible_forks`` where the machine cannot hold n), pipelining,
+    ControlPersist; pyinfra ``--parallel n``; panther-ops at its default ``--forks`` (32) and,
+    for each of ``po_forks`` that works on a different number of robots at once at this size,
+    ``--forks K`` beside it."""
     inv = str(lab.inventory_path)
     key = str(lab.identity_file)
     known = str(lab.known_hosts_path)
@@ -258,7 +280,7 @@ def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wan
     cp_dir = work / "cp"
     (work / "ansible.cfg").write_text(
         "[defaults]\n"
-        f"forks = {n}\n"
+        f"forks = {min(n, ansible_forks or n)}\n"
         "gathering = explicit\n"
         "host_key_checking = True\n"
         "interpreter_python = /usr/bin/python3\n"
@@ -287,7 +309,8 @@ def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wan
     ssh_cfg = str(lab.ssh_config_path)
     floor = " ".join(f"ssh -F {shlex.quote(ssh_cfg)} {r.name} {shlex.quote(FLOOR_REMOTE)} &" for r in lab.robots
                      if not r.jump)
-    floor_argv = ["sh", "-c", f"{floor} wait"]  # each file is checked afterwards
+    (work / "floor.sh").write_text(f"{floor} wait\n")  # a file: at 300 robots one argument would exceed 128 KiB
+    floor_argv = ["sh", str(work / "floor.sh")]  # each file is checked afterwards
     ansible_env = {"ANSIBLE_CONFIG": str(work / "ansible.cfg"), "ANSIBLE_HOME": str(work / "ansible-home"),
                    "ANSIBLE_NOCOLOR": "1"}
     tools = [
@@ -296,9 +319,14 @@ def make_tools(lab: Any, n: int, work: Path, bindir: Path, panther_ops: str, wan
         Tool("floor", "floor: ssh + sed -i, all at once", floor_argv),
         Tool("pyinfra", "pyinfra", [str(bindir / "pyinfra"), "-y", "--parallel", str(n),
                                     str(work / "inventory.py"), str(work / "deploy.py")]),
-        Tool("ansible", "ansible (pipelining)", [str(bindir / "ansible-playbook"), "-i", str(work / "hosts.ini"),
-                                                 str(work / "play.yml")], ansible_env, cp_dir),
+        Tool("ansible", f"ansible (pipelining, forks {min(n, ansible_forks or n)})",
+             [str(bindir / "ansible-playbook"), "-i", str(work / "hosts.ini"), str(work / "play.yml")],
+             ansible_env, cp_dir),
     ]
+    for k in po_forks:  # panther-ops at another --forks (the default is 32)
+        if min(k, n) != min(DEFAULT_FORKS, n) and "panther-ops-no-restart" in wanted:
+            tools.append(Tool(f"panther-ops-no-restart@forks{k}", f"panther-ops --no-restart --forks {k}",
+                              [*po, "--no-restart", "--forks", str(k)]))
     for label, exe in also:  # other builds of panther-ops, timed in the same lab, in turn with this one
         alt = [exe, *po[1:]]
         if "panther-ops" in wanted:
@@ -459,6 +487,79 @@ class Run:
     """Machine CPU in the run that neither the tool, the robots nor the relays used (other work, the kernel)."""
     steal: float = 0.0
     relay_cpu: float = 0.0
+    mem_peak: int | None = None
+    """Peak memory of the tool's process tree in bytes: its own memory cgroup's peak (None without one)."""
+    rss_sum: int | None = None
+    """Sum over the tree's processes of each one's peak RSS (VmHWM), sampled: shared pages counted in
+    every process that maps them, so an upper bound."""
+
+
+MEMCG_ROOT = Path("/sys/fs/cgroup/memory")
+
+
+class MemoryCgroup:
+    """A fresh cgroup v1 memory group for one timed run: the tool's process enters it before it
+    execs, so everything it starts (forks, ssh clients, Ansible's ControlPersist masters) is in
+    it. ``memory.max_usage_in_bytes`` is then the run's peak, each page counted once: anonymous
+    memory plus the page cache the run itself brought in (files already cached, e.g. the
+    interpreter and libraries read by an earlier run, stay charged where they were first read).
+    On a cgroup v2 machine ``memory.peak`` means the same. None where neither is writable."""
+
+    def __init__(self, name: str) -> None:
+        self.path: Path | None = None
+        for root, peak in ((MEMCG_ROOT, "memory.max_usage_in_bytes"), (Path("/sys/fs/cgroup"), "memory.peak")):
+            if (root / peak).exists() or (root / "cgroup.controllers").exists():
+                try:
+                    path = root / name
+                    path.mkdir(exist_ok=True)
+                except OSError:
+                    continue
+                if (path / peak).exists():
+                    self.path, self.peak_file = path, peak
+                    break
+                path.rmdir()
+
+    def wrap(self, argv: list[str]) -> list[str]:
+        """``argv`` started inside the group: a shell enters it, then execs the tool (no fork)."""
+        if self.path is None:
+            return argv
+        return ["sh", "-c", 'echo $$ > "$0" && exec "$@"', str(self.path / "cgroup.procs"), *argv]
+
+    def peak(self) -> int | None:
+        return None if self.path is None else int((self.path / self.peak_file).read_text())
+
+    def sample_hwm(self, stop: threading.Event, interval: float = 0.2) -> dict[int, int]:
+        """Until ``stop``: every ``interval`` s, each process's VmHWM (kB) in the group, the last seen per PID."""
+        seen: dict[int, int] = {}
+        while self.path is not None:
+            try:
+                pids = [int(x) for x in (self.path / "cgroup.procs").read_text().split()]
+            except OSError:
+                pids = []
+            for pid in pids:
+                try:
+                    status = Path(f"/proc/{pid}/status").read_text()
+                except OSError:
+                    continue
+                m = re.search(r"^VmHWM:\s+(\d+) kB", status, re.M)
+                if m:
+                    seen[pid] = max(seen.get(pid, 0), int(m.group(1)))
+            if stop.wait(interval):
+                break
+        return seen
+
+    def remove(self) -> None:
+        if self.path is None:
+            return
+        for _ in range(100):  # the last processes (ssh masters) may still be exiting
+            try:
+                self.path.rmdir()
+                return
+            except OSError:
+                for pid in (self.path / "cgroup.procs").read_text().split():
+                    with contextlib.suppress(ProcessLookupError):
+                        os.kill(int(pid), 9)
+                time.sleep(0.05)
 
 
 def run_tool(tool: Tool, fleet: Fleet, work: Path, tag: str) -> Run:
@@ -471,21 +572,33 @@ def run_tool(tool: Tool, fleet: Fleet, work: Path, tag: str) -> Run:
     busy0, steal0 = machine_cpu()
     env = {**os.environ, **tool.env}
     out = work / f"{tool.key}-{tag}.log"
-    with open(out, "wb") as fo:
-        t0 = time.perf_counter()
-        p = subprocess.Popen(tool.argv, stdin=subprocess.DEVNULL, stdout=fo, stderr=subprocess.STDOUT, env=env,
-                             cwd=work)
-        try:
-            _, status, ru = os.wait4(p.pid, 0)
-        except BaseException:
-            p.kill()
-            p.wait()
-            raise
-        wall = time.perf_counter() - t0
-        busy1, steal1 = machine_cpu()
-        p.returncode = os.waitstatus_to_exitcode(status)
-    if tool.ansible_cp_dir is not None:
-        close_control_masters(tool.ansible_cp_dir)
+    memcg = MemoryCgroup(f"config-bench-{os.getpid()}-{tool.key.replace('@', '-')}-{tag}")
+    stop = threading.Event()
+    hwm: dict[int, int] = {}
+    sampler = threading.Thread(target=lambda: hwm.update(memcg.sample_hwm(stop)), daemon=True)
+    try:
+        sampler.start()
+        with open(out, "wb") as fo:
+            t0 = time.perf_counter()
+            p = subprocess.Popen(memcg.wrap(tool.argv), stdin=subprocess.DEVNULL, stdout=fo, stderr=subprocess.STDOUT,
+                                 env=env, cwd=work)
+            try:
+                _, status, ru = os.wait4(p.pid, 0)
+            except BaseException:
+                p.kill()
+                p.wait()
+                raise
+            wall = time.perf_counter() - t0
+            busy1, steal1 = machine_cpu()
+            p.returncode = os.waitstatus_to_exitcode(status)
+        if tool.ansible_cp_dir is not None:
+            close_control_masters(tool.ansible_cp_dir)
+        mem_peak = memcg.peak()
+    finally:
+        stop.set()
+        sampler.join()
+        memcg.remove()
+    rss_sum = sum(hwm.values()) * 1024 if memcg.path is not None else None
     if p.returncode != 0:
         tail = out.read_text(errors="replace")[-3000:]
         raise RuntimeError(f"{tool.label} exited {p.returncode}:\n{tail}")
@@ -497,12 +610,14 @@ def run_tool(tool: Tool, fleet: Fleet, work: Path, tag: str) -> Run:
     conns, execs = fleet.sessions(since)
     cpu = ru.ru_utime + ru.ru_stime
     other = None if robot_cpu is None else max(0.0, busy1 - busy0 - cpu - robot_cpu - relay)
-    return Run(wall, cpu, robot_cpu, conns, execs, other, steal1 - steal0, relay)
+    return Run(wall, cpu, robot_cpu, conns, execs, other, steal1 - steal0, relay, mem_peak, rss_sum)
 
 
 def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wanted: list[str]) -> dict[str, Any]:
     from tests.lab import Lab
 
+    # docker only where a tool recreates the driver (panther-ops' default path); a lab of hundreds
+    # runs without (docs/lab.md), and --no-restart, the floor, pyinfra and Ansible never touch it
     lab = Lab(n, docker="panther-ops" in wanted, images=("2.1.1",), prefix=args.prefix, ephemeral=True,
               rtt_ms=rtt)
     work = Path(tempfile.mkdtemp(prefix=f"panther-ops-config-bench-{n}-"))
@@ -512,7 +627,8 @@ def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wante
         lab.up()
         log(f"N={n} RTT {rtt:g} ms: lab {lab.prefix} up in {time.perf_counter() - t:.2f} s")
         fleet = Fleet(lab)
-        tools = make_tools(lab, n, work, bindir, args.panther_ops, wanted, args.also)
+        tools = make_tools(lab, n, work, bindir, args.panther_ops, wanted, args.also, args.ansible_forks,
+                           args.po_forks)
         for tool in tools:  # untimed: warm-up + correctness + idempotence
             fleet.reset()
             run_tool(tool, fleet, work, "warmup")
@@ -540,8 +656,10 @@ def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wante
                         f"processes used {r.other_cpu:.2f} s CPU meanwhile; again")
                 runs[tool.key].append(r)
                 rcpu = "?" if r.robot_cpu is None else f"{r.robot_cpu:.2f}"
-                log(f"N={n} run {rep + 1}/{args.repeat}: {tool.label:24s} {r.wall:6.2f} s "
-                    f"(cpu {r.cpu:.2f} s tool + {rcpu} s robots, {r.conns:g} conn + {r.execs:g} exec per robot)")
+                mem = "?" if r.mem_peak is None else f"{r.mem_peak / 2**20:.0f} MB"
+                log(f"N={n} RTT {rtt:g} run {rep + 1}/{args.repeat}: {tool.label:24s} {r.wall:6.2f} s "
+                    f"(cpu {r.cpu:.2f} s tool + {rcpu} s robots, {r.conns:g} conn + {r.execs:g} exec per robot, "
+                    f"peak memory {mem}, sum of peak RSS {(r.rss_sum or 0) / 2**20:.0f} MB)")
         for tool in tools:
             rs = runs[tool.key]
             walls = [r.wall for r in rs]
@@ -553,6 +671,11 @@ def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wante
                 "max_s": max(walls),
                 "runs_s": walls,
                 "cpu_median_s": statistics.median(r.cpu for r in rs),
+                "cpu_per_robot_ms": statistics.median(r.cpu for r in rs) / n * 1000,
+                "mem_peak_mb": (None if any(r.mem_peak is None for r in rs)
+                                else statistics.median(r.mem_peak for r in rs) / 2**20),
+                "rss_sum_mb": (None if any(r.rss_sum is None for r in rs)
+                               else statistics.median(r.rss_sum for r in rs) / 2**20),
                 "robot_cpu_median_s": (None if any(r.robot_cpu is None for r in rs)
                                        else statistics.median(r.robot_cpu for r in rs)),
                 "relay_cpu_median_s": statistics.median(r.relay_cpu for r in rs),
@@ -581,12 +704,12 @@ def bench_size(n: int, rtt: float, args: argparse.Namespace, bindir: Path, wante
 # ---------------------------------------------------------------------------------------
 # report
 # ---------------------------------------------------------------------------------------
-def ratios(size: dict[str, Any]) -> dict[str, float]:
-    """panther-ops --no-restart's median wall time over the others'."""
+def ratios(size: dict[str, Any], key: str = "panther-ops-no-restart") -> dict[str, float]:
+    """panther-ops --no-restart's (or the tool ``key``'s) median wall time over the others'."""
     tools = size["tools"]
     out = {}
-    if "panther-ops-no-restart" in tools:
-        po = tools["panther-ops-no-restart"]["median_s"]
+    if key in tools:
+        po = tools[key]["median_s"]
         for other in ("floor", "pyinfra", "ansible"):
             if other in tools:
                 out[other] = po / tools[other]["median_s"]
@@ -594,9 +717,9 @@ def ratios(size: dict[str, Any]) -> dict[str, float]:
 
 
 def table(doc: dict[str, Any]) -> str:
-    rows = ["| robots | RTT | tool | median wall | min–max | round trips | CPU tool | CPU robots | CPU relays "
-            "| conn + exec per robot | × floor | × pyinfra | × Ansible |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    rows = ["| robots | RTT | tool | median wall | min–max | round trips | CPU tool | CPU tool / robot | peak memory "
+            "| sum of peak RSS | CPU robots | CPU relays | conn + exec per robot | × floor | × pyinfra | × Ansible |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for size in doc["sizes"]:
         tools = size["tools"]
         bases = {k: tools.get(k, {}).get("median_s") for k in ("floor", "pyinfra", "ansible")}
@@ -604,22 +727,27 @@ def table(doc: dict[str, Any]) -> str:
             rel = [f"{t['median_s'] / b:.2f}" if b else "-" for b in bases.values()]
             rcpu = "?" if t["robot_cpu_median_s"] is None else f"{t['robot_cpu_median_s']:.2f} s"
             rt = "-" if t["round_trips"] is None else f"{t['round_trips']:.1f}"
+            mem = "?" if t.get("mem_peak_mb") is None else f"{t['mem_peak_mb']:.0f} MB"
+            rss = "?" if t.get("rss_sum_mb") is None else f"{t['rss_sum_mb']:.0f} MB"
             rows.append(f"| {size['robots']} | {size['rtt_ms']:g} ms | {t['label']} | {t['median_s']:.2f} s | "
-                        f"{t['min_s']:.2f}–{t['max_s']:.2f} s | {rt} | {t['cpu_median_s']:.2f} s | {rcpu} | "
+                        f"{t['min_s']:.2f}–{t['max_s']:.2f} s | {rt} | {t['cpu_median_s']:.2f} s | "
+                        f"{t['cpu_per_robot_ms']:.1f} ms | {mem} | {rss} | {rcpu} | "
                         f"{t['relay_cpu_median_s']:.2f} s | {t['connections_per_robot']:g} + "
                         f"{t['exec_sessions_per_robot']:g} | {' | '.join(rel)} |")
     lines = ["\n".join(rows), ""]
     for size in doc["sizes"]:
-        r = ratios(size)
-        targets = TARGETS.get(size["rtt_ms"], {})
-        parts = []
-        for other, v in r.items():
-            goal = targets.get(other)
-            verdict = "" if goal is None else f" (target ≤ {goal}: {'met' if v <= goal else 'MISSED'})"
-            parts.append(f"{v:.2f}× {other}{verdict}")
-        if parts:
-            head = f"N={size['robots']} RTT {size['rtt_ms']:g} ms: panther-ops --no-restart = "
-            lines.append("- " + head + "; ".join(parts))
+        goals = targets(size["robots"], size["rtt_ms"])
+        for key, tool in size["tools"].items():  # panther-ops --no-restart, at each --forks timed
+            if not key.startswith("panther-ops-no-restart"):
+                continue
+            parts = []
+            for other, v in ratios(size, key).items():
+                goal = goals.get(other)
+                verdict = "" if goal is None else f" (target ≤ {goal}: {'met' if v <= goal else 'MISSED'})"
+                parts.append(f"{v:.2f}× {other}{verdict}")
+            if parts:
+                head = f"N={size['robots']} RTT {size['rtt_ms']:g} ms: {tool['label']} = "
+                lines.append("- " + head + "; ".join(parts))
     for s in doc["sizes"]:
         o, st = s.get("other_cpu_s"), s["steal_s"]
         if o is not None:
@@ -651,6 +779,9 @@ def main() -> int:
     ap.add_argument("--rtts", default="0,50,150", help="round trips in ms, comma separated (default 0,50,150)")
     ap.add_argument("--tools", default=ALL_TOOLS, help=f"subset of {ALL_TOOLS}")
     ap.add_argument("--json", action="store_true", help="print one JSON document instead of the table")
+    ap.add_argument("--out", type=Path, default=None,
+                    help="also write the JSON document to this file, after each size and RTT (a long run "
+                         "keeps what it measured if a later size fails)")
     ap.add_argument("--venv", type=Path, default=DEFAULT_VENV,
                     help=f"venv for ansible/pyinfra (default {DEFAULT_VENV})")
     ap.add_argument("--panther-ops", default=None,
@@ -664,7 +795,14 @@ def main() -> int:
     ap.add_argument("--max-other-cpu", type=float, default=0.5,
                     help="repeat a timed run during which other processes used more CPU seconds (default 0.5)")
     ap.add_argument("--retries", type=int, default=3, help="how often to repeat such a run (default 3)")
+    ap.add_argument("--ansible-forks", type=int, default=None,
+                    help="cap Ansible's forks (default: one per robot, its documented best for a fleet this "
+                         "size; cap it where the machine cannot hold that many workers)")
+    ap.add_argument("--po-forks", default="",
+                    help="also time panther-ops --no-restart with these --forks, comma separated (e.g. 100,300), "
+                         "beside its default 32, where they change how many robots are worked on at once")
     args = ap.parse_args()
+    args.po_forks = tuple(int(k) for k in args.po_forks.split(",") if k.strip())
     args.also = tuple(tuple(a.split("=", 1)) for a in args.also)
     if any(len(a) != 2 or not a[0] or not a[1] for a in args.also):
         log("config_bench: --also takes LABEL=EXE")
@@ -675,8 +813,8 @@ def main() -> int:
     if os.geteuid() != 0:
         log("config_bench: the lab needs root")
         return 2
-    if args.repeat < 1 or not sizes or any(not 1 <= n <= 99 for n in sizes):
-        log("config_bench: --repeat ≥ 1 and sizes within 1..99")
+    if args.repeat < 1 or not sizes or any(not 1 <= n <= MAX_ROBOTS for n in sizes):
+        log(f"config_bench: --repeat ≥ 1 and sizes within 1..{MAX_ROBOTS}")
         return 2
     ensure_project_python()
     sys.path.insert(0, str(REPO))
@@ -711,6 +849,8 @@ def main() -> int:
     for n in sizes:
         for rtt in rtts:
             doc["sizes"].append(bench_size(n, rtt, args, bindir, wanted))
+            if args.out is not None:
+                args.out.write_text(json.dumps(doc, indent=2) + "\n")
     doc["total_s"] = time.perf_counter() - t0
     for size in doc["sizes"]:
         size["ratios"] = ratios(size)
