@@ -88,7 +88,7 @@ Json = Annotated[bool, typer.Option("--json", help="One versioned JSON document 
 Forks = Annotated[
     Optional[int],  # noqa: UP045
     typer.Option("--forks", "-f", parser=whole_number(1, 500),
-                 help="Robots worked on at once, 1-500 (default: the inventory's settings.forks, else 32)."),
+                 help="Robots worked on at once, 1-500 (default: the inventory's settings.forks, else 100)."),
 ]
 Canary = Annotated[
     int, typer.Option("--canary", parser=whole_number(0), help="Run N robots first; stop if one of them fails.")

@@ -38,7 +38,7 @@ DEFAULT_KEYS = set(ROBOT_KEYS) - {"host", "root", "description"}
 SETTINGS_KEYS = {
     "ssh_config": "ssh_config file to read (default ~/.ssh/config)",
     "known_hosts": "known_hosts file(s) to verify host keys against (default ~/.ssh/known_hosts)",
-    "forks": "how many robots to work on at once (default 32)",
+    "forks": "how many robots to work on at once (default 100)",
     "command_timeout": "seconds a remote command may take (default 120)",
     "default_group": "the group read-only commands (status, config get, ...) answer for when none is chosen",
 }

@@ -22,7 +22,7 @@ from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
 from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
-from panther_ops.core.fleet.inventory import Inventory, Robot
+from panther_ops.core.fleet.inventory import DEFAULT_FORKS, Inventory, Robot
 from panther_ops.errors import OpsError, UnreachableError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 from panther_ops.transport.base import Transport
@@ -70,7 +70,7 @@ def phase_reporter(progress: Progress | None, robot: str) -> Callable[[str], Non
 
 @dataclass(frozen=True)
 class RunOptions:
-    forks: int = 32
+    forks: int = DEFAULT_FORKS
     canary: int = 0
     """Run this many robots first; if any of them fails, do not start the rest."""
     max_fail_pct: float | None = None
