@@ -425,7 +425,7 @@ for a in "$@"; do
         /*)
             if [ ! -e "$val" ]; then
                 # on stdout, as the real launch's own log lines (its screen handler is a StreamHandler on
-                # sys.stdout: ros2/launch launch/launch/logging/__init__.py, get_screen_handler)
+                # sys.stdout: ros2/launch@1.0.7 (Humble) and @3.4.3 (Jazzy): launch/launch/logging/__init__.py, get_screen_handler)
                 echo "[ERROR] [launch]: Caught exception in launch (see debug for traceback): file not found: '$val' (launch argument '$key')"
                 missing=1
             fi
