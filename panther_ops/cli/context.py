@@ -131,7 +131,8 @@ def run(
     from panther_ops.core.fleet.runner import RunOptions, run_fleet
 
     opts = RunOptions(forks=forks or inv.forks, canary=canary, max_fail_pct=max_fail)
-    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out) and len(chosen) > 1)
+    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out) and len(chosen) > 1,
+                             printing=not json_out)
     with progress.live():
         return run_fleet(command, inv, chosen, task, opts, progress)
 

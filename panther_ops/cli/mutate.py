@@ -142,7 +142,7 @@ def mutate(change: Change, inv: Inventory, chosen: list[Robot], options: ChangeO
     opts = RunOptions(forks=o.forks or inv.forks, canary=o.canary, max_fail_pct=o.max_fail)
     apply = ApplyOptions(restart=o.restart, settle_s=o.settle, command=command, sudo_password=o.sudo_password)
     early = yes and not dry_run  # no question: stage while planning
-    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out))
+    progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out), printing=not json_out)
     nothing = asking.nothing or "nothing was changed" + (" on any robot" if inv.subject == "robot" else "")
     with Connections(inv) as conns:
         with progress.live():

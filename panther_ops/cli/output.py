@@ -138,6 +138,7 @@ def console(stderr: bool = False) -> Any:
     return Console(
         file=stream(stderr),
         highlight=False,
+        emoji=False,  # text from robots and files is shown as it is: ":x:" stays ":x:"
         soft_wrap=False,
         width=None if terminal else PIPE_WIDTH,
         force_terminal=True if colour and not terminal else None,  # --color always in a pipe

@@ -39,9 +39,11 @@ def progress_wanted(json_out: bool) -> bool:
 class FleetProgress:
     """The ``Progress`` of a fleet command: phases as they come, results as they end."""
 
-    def __init__(self, robots: list[str], *, enabled: bool) -> None:
+    def __init__(self, robots: list[str], *, enabled: bool, printing: bool = True) -> None:
         self.robots = list(robots)
         self.enabled = enabled
+        self.printing = printing
+        """The run's end prints with rich (not ``--json``)."""
         self._lock = threading.Lock()
         self._current: dict[str, tuple[str, float]] = {}
         self._times: dict[str, dict[str, float]] = {r: {} for r in self.robots}
@@ -75,6 +77,8 @@ class FleetProgress:
     def live(self) -> Iterator[None]:
         """Show the live view while the block runs (nothing when not enabled)."""
         if not self.enabled:
+            if self.printing:  # made now, as the run's end needs it: a Ctrl-C's report then imports
+                console(stderr=True)  # nothing while the workers hold the CPU, and answers at once
             yield
             return
         from rich.live import Live

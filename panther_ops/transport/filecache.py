@@ -41,7 +41,12 @@ def parsed(kind: str, path: str, parse: Callable[[str], T]) -> T | None:
         with _lock:
             if key in _cache:
                 return _cache[key]  # type: ignore[return-value]
-        value = parse(path)
+        try:
+            value = parse(path)
+        except BaseException:
+            with _lock:  # nothing is left behind for a version that did not parse
+                _parsing.pop(key, None)
+            raise
         with _lock:
             _cache[key] = value
             _parsing.pop(key, None)

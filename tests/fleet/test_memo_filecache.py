@@ -235,3 +235,19 @@ def test_concurrent_connections_parse_a_file_once(tmp_path: Path) -> None:
     assert parse.calls == 1
     assert all(v is values[0] for v in values), "every connection gets the one parsed object"
     assert values[0] == [str(f)]
+
+
+def test_a_file_that_does_not_parse_is_parsed_again_and_leaves_nothing_behind(tmp_path: Path) -> None:
+    f = tmp_path / "known_hosts"
+    f.write_text("not a key\n")
+    calls: list[str] = []
+
+    def refuse(path: str) -> str:
+        calls.append(path)
+        raise ValueError(f"{path}: not a known_hosts line")
+
+    for _ in range(2):
+        with pytest.raises(ValueError, match="not a known_hosts line"):
+            filecache.parsed("known_hosts-bad", str(f), refuse)
+    assert len(calls) == 2, "a parse that raised is not remembered"
+    assert not [k for k in filecache._parsing if k[0] == "known_hosts-bad"], "no per-version lock left behind"

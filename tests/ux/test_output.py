@@ -139,3 +139,15 @@ def test_the_color_option_takes_a_value_before_the_command() -> None:
 def test_a_bad_color_value_is_a_usage_error(demo: Path) -> None:
     run = piped(["--color", "sometimes", "-i", str(demo), "status", "--all"])
     assert run.code == 2 and "sometimes" in run.err
+
+
+def test_text_from_robots_is_shown_as_it_is_no_emoji_codes(capsys: pytest.CaptureFixture[str]) -> None:
+    """A file or host name such as ``a:x:b`` is printed as written: rich's emoji codes are off."""
+    from panther_ops.cli.output import print_message
+    from panther_ops.cli.render import error, esc
+
+    print_message(f"robot said {esc('compose:x: and :thumbs_up:')}")
+    error("/home/husarion/:warning:.yaml: not found")
+    err = capsys.readouterr().err
+    assert "robot said compose:x: and :thumbs_up:" in err
+    assert "error /home/husarion/:warning:.yaml: not found" in err
