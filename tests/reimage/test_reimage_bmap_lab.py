@@ -124,7 +124,7 @@ def _mounts_and_matches(dev: str, card: dict[str, Path], tmp: Path, loop: MakeLo
     """Both partitions fsck clean and every file is byte-identical to the tree put in: the ext4
     root mounted (read-only); the FAT boot partition read with mtools from the partition's
     device (this machine's kernel has no vfat module to mount it with)."""
-    _sh("partx", "--update" if Path(f"{dev}p1").exists() else "--add", dev)
+    _sh("partx", "--update", dev)  # adds, resizes or drops each partition, whatever the kernel had
     subprocess.run(["fsck.fat", "-n", f"{dev}p1"], check=True, capture_output=True)
     subprocess.run(["e2fsck", "-fn", f"{dev}p2"], check=True, capture_output=True)
     for f in card["boot"].iterdir():

@@ -60,7 +60,7 @@ def loop(loop_ready: None, tmp_path: Path) -> Iterator[MakeLoop]:
         dev = _sh("losetup", "--find", "--show", *(["-P"] if partscan else []), str(backing)).strip()
         made.append(dev)
         if partscan and not list(Path(f"/sys/block/{Path(dev).name}").glob("*p1")):
-            _sh("partx", "--add", dev)  # where the kernel did not scan the table on attaching
+            _sh("partx", "--update", dev)  # where the kernel did not scan the table on attaching
         return dev
 
     make.mounts = mounts  # type: ignore[attr-defined]
