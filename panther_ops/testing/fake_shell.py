@@ -8,6 +8,7 @@ and wait, as the write session does between staging and the go-ahead.
 
 from __future__ import annotations
 
+import base64
 import hashlib
 import io
 import posixpath
@@ -163,8 +164,13 @@ class Shell:
         return (yield from _done(0))
 
     # -- the write session (scripts_apply) ----------------------------------------------
-    def _apply(self, p: Proc, _args: tuple[str, ...]) -> Body:
+    def _apply(self, p: Proc, args: tuple[str, ...]) -> Body:
         """scripts_apply.APPLY, step by step (see its text for the rules)."""
+        if args:  # the file the plan reads, first
+            f = self._file(args[0])
+            p.write(f"@@home {0 if f is not None else scripts.MISSING_EXIT} {self.robot.home}\n".encode())
+            p.write(base64.encodebytes(f.data) if f is not None else b"")
+            p.write(scripts_apply.READ_MARK)
         count = yield from p.readline()
         if count is None:
             return 0

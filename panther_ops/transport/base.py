@@ -132,10 +132,11 @@ class Transport(Protocol):
 
     def exists(self, path: str) -> bool: ...
 
-    def session(self, *, timeout: float | None = None) -> Session:
+    def session(self, *, timeout: float | None = None, read: str | None = None) -> Session:
         """Start a write session on the robot (:mod:`panther_ops.transport.session`): every write
         and every rollback goes through one, staged, then gone ahead with (the compare with what
-        the plan read and the renames, under the robot's write lock) or stopped."""
+        the plan read and the renames, under the robot's write lock) or stopped. ``read``: a
+        robot path the session reads first, for the plan (:meth:`Session.read`)."""
         ...
 
     def home(self) -> str:

@@ -69,6 +69,15 @@ class Conversation:
             self.out += data
         return True
 
+    def take_until(self, until: bytes) -> bytes | None:
+        """Read stdout until it ends with ``until`` and take what came before it out of the
+        output; None when the command closes stdout first (what it printed stays for :meth:`finish`)."""
+        if not self.read_until(until):
+            return None
+        head = bytes(self.out[:-len(until)])
+        del self.out[:]
+        return head
+
     def finish(self, stdin: bytes | None = None, until: bytes | None = None,
                answer: Callable[[bytes], bytes] | None = None) -> tuple[int, bytes, bytes]:
         """Send ``stdin``; if the output then ends with ``until``, send ``answer(output)``;
@@ -131,10 +140,10 @@ class Conversing:
         status, out, err = self.guard(command, timeout, lambda: conv.finish(stdin, until, answer))
         return self.result(command, conv.pipe, status, out, err, start)
 
-    def session(self, *, timeout: float | None = None) -> Session:
+    def session(self, *, timeout: float | None = None, read: str | None = None) -> Session:
         from panther_ops.transport.session import Session
 
-        s = Session(self, timeout, background=self._sessions_in_background)
+        s = Session(self, timeout, background=self._sessions_in_background, read=read)
         self._sessions.add(s)
         return s
 

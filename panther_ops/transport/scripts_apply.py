@@ -41,6 +41,8 @@ import tarfile
 import time
 from dataclasses import dataclass
 
+from panther_ops.transport.scripts import MISSING_EXIT, RESOLVE
+
 CHANGED_EXIT = 3
 """A file changed on the robot since the plan read it: nothing written."""
 REFUSED_EXIT = 5
@@ -113,11 +115,24 @@ _APPLY_FN = "apply_() { " + (
     'if [ -n "$st" ]; then printf "%s\\n" "$st" > "$w/status"; fi; exit 0'
 ) + "; }; "
 
-APPLY = (
+READ_MARK = b"@@read\n"
+"""Ends the read a session makes first (``APPLY`` given a path, :meth:`Session.read`)."""
+
+_READ_FIRST = (
+    'if [ $# -gt 0 ]; then ' + RESOLVE + 'if [ -f "$r$p" ]; then printf "@@home 0 %s\\n" "$HOME"; '
+    f'base64 -- "$r$p" || exit 1; else printf "@@home {MISSING_EXIT} %s\\n" "$HOME"; fi; printf "@@read\\n"; fi; '
+)
+
+APPLY = _READ_FIRST + (
     'IFS= read -r n || exit 0; case "$n" in ""|*[!0-9]*) echo "the write request is not a count" >&2; exit 1;; esac; '
     'set --; while [ "$n" -gt 0 ]; do IFS= read -r a || exit 0; set -- "$@" "$a"; n=$((n-1)); done; '
 ) + _APPLY_FN + 'apply_ "$@"'
-"""Stdin: the request (:func:`request`: the number of arguments, then one per line), the archive
+"""Given a path (``$1``, ``~/`` for the home), it first prints ``@@home 0 $HOME`` and the file in
+base64 (whose alphabet has no ``@``; ``@@home 44 $HOME`` alone when there is no such file), then
+``READ_MARK``: the
+read a plan makes of the file it will write, on the session's own command (one exec session
+per robot, :meth:`panther_ops.transport.session.Session.read`).
+Stdin: the request (:func:`request`: the number of arguments, then one per line), the archive
 (:func:`archive`), then, after ``STAGED_MARK``, ``GO`` or ``STOP``; the end of the input before
 the request ends it with nothing made. Arguments: $1 backup dir (absolute), $2 status to record
 once renamed (empty: later), $3 size of the archive, $4 index of the file to validate with docker

@@ -11,6 +11,12 @@ all it made; when its input ends without either (the connection died, :meth:`Ses
 it removes the staged files and records the attempt as abandoned. A rollback is the same:
 a session whose files are the change's in reverse, compared with what the change wrote.
 
+A session may be made to read one file first (``read=``: the file the plan reads and will
+write, compose.yaml): its command prints it before it waits for the write, and
+:meth:`Session.read` gives it as a plain read would. The plan's read and its write are then
+one command on the robot (one sshd exec session and one shell per robot, as the read alone
+would cost), where a separate read would start a second.
+
 Round trips: the command starts when the session is made (a transport may open it in the
 background, beside a read); :meth:`Session.stage` only sends; :meth:`Session.go` sends the
 go-ahead and reads to the end, since the robot reads it only once everything is staged,
@@ -20,6 +26,7 @@ round trip at the go-ahead.
 
 from __future__ import annotations
 
+import base64
 import hashlib
 import json
 import posixpath
@@ -105,10 +112,14 @@ class SessionClosed(OpsError):
 class Session:
     """One write on a robot (see the module's text). Made by ``Transport.session``."""
 
-    def __init__(self, carrier: Carrier, timeout: float | None = None, *, background: bool = False) -> None:
+    def __init__(self, carrier: Carrier, timeout: float | None = None, *, background: bool = False,
+                 read: str | None = None) -> None:
         self._carrier = carrier
         self._timeout = timeout
-        self.command = Command.sh(scripts_apply.APPLY)
+        self.reads = read
+        """The robot path this session reads first (:meth:`read`), or None."""
+        self.command = Command.sh(scripts_apply.APPLY, *([read] if read is not None else []))
+        self._read: CommandResult | None = None
         self._conv: Conversation | None = None
         self._failed: BaseException | None = None
         self._result: CommandResult | None = None
@@ -144,6 +155,33 @@ class Session:
     @property
     def ended(self) -> bool:
         return self._result is not None
+
+    def read(self) -> CommandResult:
+        """The file this session was made to read, as a ``run`` of ``scripts.READ_WITH_HOME``
+        gives it: $HOME on the first line, then the file's bytes (exit 44: no such file). The
+        same result each time; a command that ended before it had read gives its own result."""
+        if self._read is not None:
+            return self._read
+        if self.reads is None:
+            raise RuntimeError("this session was made to read nothing")
+        if self.ended:
+            raise SessionClosed("the write session was closed before its read (the run was interrupted or its "
+                                "connection closed)")
+        conv = self._conversation()
+        conv.pipe.resume_timeout()
+        head = self._step(lambda: conv.take_until(scripts_apply.READ_MARK))
+        if head is None:  # it ended before the read was done: its status and stderr say why
+            self._read = self._finish(None)
+            return self._read
+        conv.pipe.pause_timeout()
+        line, _, body = head[head.rfind(b"@@home "):].partition(b"\n")  # what a login script printed is not ours
+        status, _, home = line[len(b"@@home "):].partition(b" ")
+        if not status.isdigit():
+            raise OpsError(f"the robot's write session did not read {self.reads} as expected: {head[:200]!r}")
+        out = home + b"\n" + (base64.b64decode(body) if status == b"0" else b"")
+        self._read = CommandResult(str(self.command), int(status), out.decode(errors="replace"), "",
+                                   time.monotonic() - self._started, out)
+        return self._read
 
     def stage(self, data: bytes) -> None:
         """Send the write (:func:`stage_input`): the robot stages it and waits for :meth:`go`."""

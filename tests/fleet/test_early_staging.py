@@ -148,10 +148,11 @@ def test_planning_renames_nothing_even_when_every_robot_runs_at_once(
     assert [x.outcome for x in result.results] == [Outcome.CHANGED] * len(robots)
 
 
-def test_each_robot_opens_its_session_before_its_read(demo_connections: tuple[Inventory, Connections],
-                                                      monkeypatch: pytest.MonkeyPatch) -> None:
-    """The write session is opened when planning starts (a transport may open it in the
-    background, beside the read); a robot with nothing to write closes it unused."""
+def test_each_robot_opens_its_session_to_make_its_read(demo_connections: tuple[Inventory, Connections],
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    """The write session is opened when planning starts and reads the compose file for the
+    plan (no read of its own: one command per robot); a robot with nothing to write closes it
+    unused."""
     from panther_ops.transport import scripts
 
     inv, conns = demo_connections
@@ -162,7 +163,7 @@ def test_each_robot_opens_its_session_before_its_read(demo_connections: tuple[In
         session, run = t.session, t.run
 
         def spy_session(_s=session, _n=r.name, **kw: object) -> object:  # type: ignore[no-untyped-def]
-            order[_n].append("session")
+            order[_n].append(f"session reading {kw['read']}" if kw.get("read") else "session")
             return _s(**kw)
 
         def spy_run(command: object, _r=run, _n=r.name, **kw: object) -> object:  # type: ignore[no-untyped-def]
@@ -173,7 +174,7 @@ def test_each_robot_opens_its_session_before_its_read(demo_connections: tuple[In
         monkeypatch.setattr(t, "session", spy_session)
         monkeypatch.setattr(t, "run", spy_run)
     fp = plan_fleet("t", inv, robots, plan, conns, RunOptions(), stage=OPTS)
-    assert order == {r.name: ["session", "read"] for r in robots}
+    assert order == {r.name: [f"session reading {r.compose_file}"] for r in robots}
     unstage_fleet(fp, inv, robots, conns, RunOptions())
     again = plan_fleet("t", inv, robots, lambda ctx: RobotPlan(ctx.robot.name, "nothing", [], noop="so"), conns,
                        RunOptions(), stage=OPTS)

@@ -22,7 +22,7 @@ from panther_ops.core.fleet.pipeline import ApplyOptions, apply_plan
 from panther_ops.core.fleet.runner import Connections, RobotContext
 from panther_ops.errors import OpsError
 from panther_ops.testing import FakeRobot, FakeTransport
-from panther_ops.transport import scripts_apply
+from panther_ops.transport import scripts, scripts_apply
 from panther_ops.transport.base import Command
 from panther_ops.transport.conversation import Conversing
 from panther_ops.transport.local import LocalTransport
@@ -211,6 +211,48 @@ def test_a_session_stages_one_write(robot: Robot) -> None:
     session.stop()
 
 
+ODD = b"@@read\n@@home 0 /x\n@@staged\n\x00\xff no newline at the end"
+"""A file holding the session's own marks, a NUL and no last newline: read back byte for byte."""
+
+
+@pytest.mark.parametrize("path", [TARGET, "~/compose.yaml"])
+def test_a_session_reads_its_file_first_as_a_plain_read_would(robot: Robot, path: str) -> None:
+    robot.put(TARGET, ODD, 0o640)
+    plain = robot.transport.run(Command.sh(scripts.READ_WITH_HOME, path))
+    session = robot.transport.session(read=path)
+    res = session.read()
+    assert (res.exit_status, res.raw_stdout) == (plain.exit_status, plain.raw_stdout) == (0, f"{HOME}\n".encode() + ODD)
+    assert session.read() is res, "read once"
+    session.stage(write(ODD, b"new\n"))
+    assert session.go().exit_status == 0, "then the write, on the same command"
+    assert robot.get(TARGET) == b"new\n" and robot.get(f"{BACKUP}/files/0") == ODD
+
+
+def test_a_session_reading_a_missing_file_says_so_and_can_still_create_it(robot: Robot) -> None:
+    new = f"{HOME}/new.yaml"
+    session = robot.transport.session(read=new)
+    res = session.read()
+    assert (res.exit_status, res.raw_stdout) == (scripts.MISSING_EXIT, f"{HOME}\n".encode())
+    session.stage(stage_input(BACKUP, {}, "applied", [FileWrite(new, None, b"mine\n")], "t1"))
+    assert session.go().exit_status == 0 and robot.get(new) == b"mine\n"
+
+
+def test_a_session_that_read_and_is_dropped_renames_nothing(robot: Robot) -> None:
+    session = robot.transport.session(read=TARGET)
+    assert session.read().ok
+    session.close()
+    assert robot.get(TARGET) == b"old\n" and not any("/.panther-ops/" in p for p in robot.files())
+    with pytest.raises(SessionClosed):
+        session.stage(write(b"old\n", b"new\n"))
+
+
+def test_a_session_made_to_read_nothing_has_no_read(robot: Robot) -> None:
+    session = robot.transport.session()
+    with pytest.raises(RuntimeError):
+        session.read()
+    session.close()
+
+
 def test_the_request_refuses_newlines() -> None:
     with pytest.raises(ValueError):
         scripts_apply.request(["a\nb"])
@@ -235,9 +277,9 @@ class Counting(LocalTransport):
         self.calls.append("run")
         return super().run(command, **kw)
 
-    def session(self, *, timeout: float | None = None) -> Session:
-        self.calls.append("session")
-        return super().session(timeout=timeout)
+    def session(self, *, timeout: float | None = None, read: str | None = None) -> Session:
+        self.calls.append("session" if read is None else f"session reading {read}")
+        return super().session(timeout=timeout, read=read)
 
 
 @pytest.fixture
@@ -268,3 +310,28 @@ def test_the_transport_has_nine_members() -> None:
 
     members = {n for n in vars(Transport) if not n.startswith("_")} | set(Transport.__annotations__)
     assert members == {"name", "connect", "run", "read_file", "exists", "home", "docker", "session", "close"}
+
+
+def test_a_change_without_a_question_costs_one_command_on_the_robot(demo_ctx: RobotContext) -> None:
+    """Under --yes the write session made while the robot is planned reads compose.yaml for the
+    plan: the read and the write are one command (one sshd exec session on a real robot)."""
+    from panther_ops.core.fleet.changes import apply_fleet, plan_fleet
+    from panther_ops.core.fleet.runner import RunOptions
+    from panther_ops.transport.base import Transport
+
+    robot, inv, transport = demo_ctx.robot, demo_ctx.inventory, demo_ctx.transport
+
+    class Counted(Connections):
+        def get(self, robot: object) -> Transport:
+            return transport
+
+    apply = ApplyOptions(restart=False, command="t")
+    conns = Counted(inv)
+    fp = plan_fleet("t", inv, [robot], lambda ctx: read_and_plan_args(ctx, {"wheel_type": "WH04"}, []),
+                    conns, RunOptions(forks=1), stage=apply)
+    assert fp.staged and not fp.usage_errors
+    result = apply_fleet(fp, inv, [robot], conns, RunOptions(forks=1), apply)
+    assert [r.outcome.value for r in result.results] == ["changed"], result.results
+    assert transport.calls == [f"session reading {robot.compose_file}"]  # type: ignore[attr-defined]
+    compose = fp.plans[robot.name].edits[0].path
+    assert b"wheel_type:=WH04" in (transport.root / compose.lstrip("/")).read_bytes()  # type: ignore[attr-defined]

@@ -5,9 +5,11 @@ Phase 1 plans every targeted robot (reads only). A planning error that is the op
 written anywhere (exit 2). Phase 2, after the CLI showed the diffs and got confirmation,
 applies the plans through the pipeline on the same connections.
 
-When the command needs no confirmation (``--yes``), phase 1 also opens each robot's write
-session beside its read (a transport may open it in the background: no round trip of its
-own) and stages the write as soon as the plan is known: the backup and the new files wait
+When the command needs no confirmation (``--yes``), phase 1 also makes each robot's write
+session as its planning starts (a transport may open it in the background), made to read the
+robot's compose file first: the plan takes that read (``ctx.session``, `core/robot/read.py`),
+so the read and the write are one command on the robot. The write is staged as soon as the
+plan is known: the backup and the new files wait
 beside their targets while the rest of the fleet is still being planned, and nothing is
 renamed until phase 2 gives the go-ahead (one round trip: the staging only sent, the robot
 answers both at once). If phase 2 does not come for a robot (another robot's plan was
@@ -25,6 +27,7 @@ from panther_ops.core.fleet.inventory import Inventory, Robot
 from panther_ops.core.fleet.memo import Memo
 from panther_ops.core.fleet.pipeline import ApplyOptions, Staged, apply_plan, apply_staged, stage_plan, unstage
 from panther_ops.core.fleet.plan import RobotPlan
+from panther_ops.core.fleet.reading import compose_file
 from panther_ops.core.fleet.runner import Connections, Progress, RobotContext, RunOptions, run_fleet
 from panther_ops.errors import OpsError, UsageError
 from panther_ops.results import FleetResult, Outcome, RobotResult
@@ -79,7 +82,13 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
 
     def task(ctx: RobotContext) -> RobotResult:
         ctx.phase("plan")
-        session = ctx.transport.session() if stage is not None and not stage.dry_run else None
+        session = None
+        if stage is not None and not stage.dry_run:  # it reads the compose file for the plan (one command)
+            try:
+                path: str | None = compose_file(ctx)
+            except UsageError:  # the planner's read says so, as this robot's error
+                path = None
+            session = ctx.session = ctx.transport.session(read=path)
         try:
             try:
                 plan = planner(ctx)
@@ -92,6 +101,7 @@ def plan_fleet(command: str, inventory: Inventory, robots: list[Robot], planner:
                 fp.staged[ctx.robot.name] = stage_plan(ctx, plan, stage, session)  # gone away: no plan either
                 session = None
         finally:
+            ctx.session = None
             if session is not None:  # nothing to stage on it
                 session.close()
         fp.plans[ctx.robot.name] = plan

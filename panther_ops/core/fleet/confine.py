@@ -7,7 +7,7 @@ backup id (``config rollback --to``) names a directory under ``~/.panther-ops/ba
 A local file's backup (``config rollback --file FILE``) restores that one file and nothing
 else, whatever its manifest names. Anything else is refused with exit 2 naming the path.
 (The compose file's check, which needs the robot's transport for the demo case, is
-`core/robot/read.py`'s ``compose_file``.)
+`core/fleet/reading.py`'s ``compose_file``.)
 """
 
 from __future__ import annotations

@@ -9,12 +9,29 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
+from panther_ops.core.fleet.confine import compose_path_problem
 from panther_ops.core.fleet.reads import Need, NotRead, Reads
 from panther_ops.core.fleet.runner import RobotContext
+from panther_ops.errors import OpsError, UsageError
 
 T = TypeVar("T")
 
 FactReader = Callable[[RobotContext, str], Any]
+
+
+def compose_file(ctx: RobotContext) -> str:
+    """The robot's compose file as the inventory names it, once checked (UsageError otherwise)."""
+    path = ctx.robot.compose_file
+    problem = compose_path_problem(path)
+    if problem is not None:
+        raise UsageError(problem[0], hint=problem[1])
+    local_path = getattr(ctx.transport, "local_path", None)
+    if local_path is not None:  # a demo robot: the file must be inside the robot's directory, links resolved
+        try:
+            local_path(path)
+        except OpsError as exc:
+            raise UsageError(f"compose_file {path} leaves the robot's directory ({exc.message})") from None
+    return path
 
 
 def read_file(ctx: RobotContext, path: str) -> bytes | None:

@@ -20,12 +20,16 @@ import time
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from panther_ops.core.fleet.interrupt import FleetInterrupted, Interruption
 from panther_ops.core.fleet.inventory import DEFAULT_FORKS, Inventory, Robot
 from panther_ops.errors import OpsError, UnreachableError
 from panther_ops.results import FleetResult, Outcome, RobotResult
 from panther_ops.transport.base import Transport
+
+if TYPE_CHECKING:
+    from panther_ops.transport.session import Session
 
 log = logging.getLogger("panther_ops")
 
@@ -40,6 +44,9 @@ class RobotContext:
     warnings: list[str] = field(default_factory=list)
     on_phase: Callable[[str], None] | None = None
     """Told each phase the task enters (see :meth:`phase`)."""
+    session: Session | None = None
+    """The robot's write session, made while its plan is made (``changes.plan_fleet`` under
+    ``--yes``): it reads the compose file first, for the plan (`core/robot/read.py`)."""
 
     def phase(self, name: str) -> None:
         """Report the phase this robot's work has reached (one of :data:`PHASES`)."""

@@ -7,33 +7,24 @@ from __future__ import annotations
 
 import posixpath
 
-from panther_ops.core.fleet.confine import compose_path_problem
+from panther_ops.core.fleet.reading import compose_file
 from panther_ops.core.fleet.runner import RobotContext
 from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
-from panther_ops.errors import OpsError, RemoteStateError, TransportError, UsageError
+from panther_ops.errors import RemoteStateError, TransportError
 from panther_ops.transport import scripts
 from panther_ops.transport.base import Command
 
 
-def compose_file(ctx: RobotContext) -> str:
-    """The robot's compose file as the inventory names it, once checked (UsageError otherwise)."""
-    path = ctx.robot.compose_file
-    problem = compose_path_problem(path)
-    if problem is not None:
-        raise UsageError(problem[0], hint=problem[1])
-    local_path = getattr(ctx.transport, "local_path", None)
-    if local_path is not None:  # a demo robot: the file must be inside the robot's directory, links resolved
-        try:
-            local_path(path)
-        except OpsError as exc:
-            raise UsageError(f"compose_file {path} leaves the robot's directory ({exc.message})") from None
-    return path
-
-
 def read_compose(ctx: RobotContext) -> ComposeRead:
-    """Read the robot's compose.yaml and its user's home (one round trip, a plain ``run``)."""
+    """Read the robot's compose.yaml and its user's home (one round trip): the robot's write
+    session made for this plan reads it first (``ctx.session``, one command on the robot for
+    the read and the write), else a plain ``run``."""
     path = compose_file(ctx)
-    res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, path))
+    session = ctx.session
+    if session is not None and session.reads == path:
+        res = session.read()
+    else:
+        res = ctx.transport.run(Command.sh(scripts.READ_WITH_HOME, path))
     home, _, rest = res.raw_stdout.partition(b"\n")
     if path.startswith("~/"):
         path = posixpath.join(home.decode(), path[2:])
