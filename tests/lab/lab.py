@@ -896,27 +896,12 @@ class Lab:
     # ===================================================================================
     # operator files
     # ===================================================================================
-    def _inventory_robots(self) -> list[F.InventoryRobot]:
-        out = []
-        for r in sorted(self.st.robots.values(), key=lambda x: x.index):
-            if r.kind != "robot":
-                continue
-            out.append(
-                F.InventoryRobot(
-                    name=r.name,
-                    host=r.ip,
-                    port=22,
-                    groups=("lab", F.stack(r.image).group),
-                    jump=r.jump,
-                    host_key=" ".join(self._known_key(r).split()[:2]),
-                )
-            )
-        return out
-
     def _write_operator_files(self) -> None:
         with self._lock:
-            robots = self._inventory_robots()
-            _write(self.known_hosts_path, F.known_hosts(robots).encode(), 0o644)
+            states = [r for r in sorted(self.st.robots.values(), key=lambda x: x.index) if r.kind == "robot"]
+            robots = [self.robot(r.name) for r in states]
+            host_keys = {r.name: " ".join(self._known_key(r).split()[:2]) for r in states}
+            _write(self.known_hosts_path, F.known_hosts(robots, host_keys).encode(), 0o644)
             _write(
                 self.ssh_config_path, F.ssh_config(robots, self.identity_file, self.known_hosts_path).encode(), 0o644
             )
