@@ -12,7 +12,7 @@ import typer
 if TYPE_CHECKING:
     import threading
 
-    from panther_ops.cli.mutate import Asking, ChangeOptions
+    from panther_ops.cli.mutate import Asking
     from panther_ops.core.fleet.changes import Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.runner import Task
@@ -212,19 +212,10 @@ class Fleet:
         """A change through the pipeline (cli/mutate.py) on the robots chosen, or ``on`` the
         targets given; ``read_only``: only compare (a dry run that does not call itself one);
         ``verb`` (or all of ``asking``), ``drift_exit``, ``view``: see
-        :class:`~panther_ops.cli.mutate.Change`; ``sudo_password``: for steps that run sudo
-        beside the robot."""
+        :class:`~panther_ops.cli.mutate.Change`; ``restart``: when the command decides it (else
+        not ``--no-restart``); ``sudo_password``: for steps that run sudo beside the robot."""
         from panther_ops.cli.mutate import Asking, Change, mutate
 
         inv, chosen = on or self.targets(read_only)
         return mutate(Change(command, planner, asking or Asking(verb), read_only, drift_exit, view), inv, chosen,
-                      self.change_options(restart, sudo_password))
-
-    def change_options(self, restart: bool | None = None, sudo_password: Secret | None = None) -> ChangeOptions:
-        """The shared options of a change, as given (``restart``: when the command decides it)."""
-        from panther_ops.cli.mutate import ChangeOptions
-
-        return ChangeOptions(yes=self.yes, dry_run=self.dry_run,
-                             restart=not self.no_restart if restart is None else restart, settle=self.settle,
-                             json_out=self.json_out, forks=self.forks, canary=self.canary, max_fail=self.max_fail,
-                             sudo_password=sudo_password)
+                      self, restart=not self.no_restart if restart is None else restart, sudo_password=sudo_password)

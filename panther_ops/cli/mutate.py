@@ -11,6 +11,7 @@ import typer
 if TYPE_CHECKING:
     from collections.abc import Callable
 
+    from panther_ops.cli.context import Fleet
     from panther_ops.core.fleet.changes import FleetPlan, Planner
     from panther_ops.core.fleet.inventory import Inventory, Robot
     from panther_ops.core.fleet.plan import RobotPlan
@@ -71,22 +72,6 @@ def question(verb: str, subject: str, to_change: list[str], chosen: list[Robot])
 
 
 @dataclass(frozen=True)
-class ChangeOptions:
-    """The shared options of every change, built once from the command line (`Fleet.change`)."""
-
-    yes: bool = False
-    dry_run: bool = False
-    restart: bool = True
-    settle: float = 5.0
-    json_out: bool = False
-    forks: int | None = None
-    canary: int = 0
-    max_fail: float | None = None
-    sudo_password: Secret | None = None
-    """For a plan's steps that run sudo beside the robot (`apply`'s WebUI settings)."""
-
-
-@dataclass(frozen=True)
 class Asking:
     """How a change speaks before it acts; the defaults are those of a configuration change.
 
@@ -121,9 +106,13 @@ class Change:
     view: Callable[[FleetResult], None] | None = None
 
 
-def mutate(change: Change, inv: Inventory, chosen: list[Robot], options: ChangeOptions) -> int:
+def mutate(change: Change, inv: Inventory, chosen: list[Robot], given: Fleet, *, restart: bool,
+           sudo_password: Secret | None = None) -> int:
     """Plan every robot, show the diffs, confirm, apply through the pipeline (each plan's
-    steps by their executors, `core/fleet/steps.py`).
+    steps by their executors, `core/fleet/steps.py`), with the shared options ``given`` on the
+    command line (--yes, --dry-run, --settle, --json, --forks, --canary, --max-fail);
+    ``restart``: whether a changed file recreates its container; ``sudo_password``: for a
+    plan's steps that run sudo beside the robot (`apply`'s WebUI settings).
 
     Asked first (no ``--yes``), the plan is a table of every robot with the diffs under it;
     with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
@@ -137,10 +126,10 @@ def mutate(change: Change, inv: Inventory, chosen: list[Robot], options: ChangeO
     from panther_ops.core.fleet.pipeline import ApplyOptions
     from panther_ops.core.fleet.runner import Connections, RunOptions
 
-    command, o, asking = change.command, options, change.asking
+    command, o, asking = change.command, given, change.asking
     yes, dry_run, json_out = o.yes and not change.read_only, o.dry_run or change.read_only, o.json_out
     opts = RunOptions(forks=o.forks or inv.forks, canary=o.canary, max_fail_pct=o.max_fail)
-    apply = ApplyOptions(restart=o.restart, settle_s=o.settle, command=command, sudo_password=o.sudo_password)
+    apply = ApplyOptions(restart=restart, settle_s=o.settle, command=command, sudo_password=sudo_password)
     early = yes and not dry_run  # no question: stage while planning
     progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out), printing=not json_out)
     nothing = asking.nothing or "nothing was changed" + (" on any robot" if inv.subject == "robot" else "")

@@ -7,10 +7,15 @@ shape of every generated file can be checked without root.
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import yaml
+
+if TYPE_CHECKING:
+    from .lab import Robot
 
 REPO = Path(__file__).resolve().parents[2]
 TEMPLATES = REPO / "templates" / "compose"
@@ -441,21 +446,16 @@ def public_key_of(private_pem: bytes) -> str:
 # ---------------------------------------------------------------------------------------
 # Operator side: inventory.yaml, ssh_config, known_hosts
 # ---------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class InventoryRobot:
-    name: str
-    host: str
-    port: int
-    groups: tuple[str, ...]
-    jump: str | None
-    host_key: str  # "ssh-ed25519 AAAA..."
+def inventory_groups(robot: Robot) -> tuple[str, ...]:
+    """The inventory groups of a lab robot: ``lab`` and its stack's (``stack-2.2.2``)."""
+    return ("lab", robot.stack.group)
 
 
 def known_hosts_host(host: str, port: int) -> str:
     return host if port == 22 else f"[{host}]:{port}"
 
 
-def inventory_yaml(robots: list[InventoryRobot]) -> str:
+def inventory_yaml(robots: list[Robot]) -> str:
     lines = [
         "version: 1",
         "settings:",
@@ -465,7 +465,7 @@ def inventory_yaml(robots: list[InventoryRobot]) -> str:
         f"  user: {USER}",
         "  identity_file: id_ed25519",
         "groups:",
-        *(f"  {g}: {{}}" for g in dict.fromkeys(g for r in robots for g in r.groups)),
+        *(f"  {g}: {{}}" for g in dict.fromkeys(g for r in robots for g in inventory_groups(r))),
         "robots:",
     ]
     for r in robots:
@@ -473,18 +473,19 @@ def inventory_yaml(robots: list[InventoryRobot]) -> str:
             f"  {r.name}:",
             f"    host: {r.host}",
             f"    port: {r.port}",
-            f"    groups: [{', '.join(r.groups)}]",
+            f"    groups: [{', '.join(inventory_groups(r))}]",
         ]
         if r.jump:
             lines.append(f"    jump: {r.jump}")
     return "\n".join(lines) + "\n"
 
 
-def known_hosts(robots: list[InventoryRobot]) -> str:
-    return "".join(f"{known_hosts_host(r.host, r.port)} {r.host_key}\n" for r in robots)
+def known_hosts(robots: list[Robot], host_keys: Mapping[str, str]) -> str:
+    """``host_keys``: each robot's host key by name (``ssh-ed25519 AAAA...``)."""
+    return "".join(f"{known_hosts_host(r.host, r.port)} {host_keys[r.name]}\n" for r in robots)
 
 
-def ssh_config(robots: list[InventoryRobot], identity: Path, known: Path) -> str:
+def ssh_config(robots: list[Robot], identity: Path, known: Path) -> str:
     blocks = [f"# panther-ops test lab: ssh -F {identity.parent / 'ssh_config'} <robot>\n"]
     for r in robots:
         lines = [

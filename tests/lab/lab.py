@@ -144,6 +144,11 @@ def faketime_library() -> str | None:
     return found[0] if found else None
 
 
+def _in_lab_dir(name: str) -> property:
+    """A `Lab` property: the path of the lab directory's file ``name``."""
+    return property(lambda lab: lab.dir / name, doc=f"The lab directory's {name}.")
+
+
 def robot_name(i: int, n: int) -> str:
     """Name of robot `i` of a lab of `n`: r01..r99, or r001..r960 in a lab of 100 or more."""
     return f"r{i:02d}" if n < 100 else f"r{i:03d}"
@@ -306,26 +311,12 @@ class Lab:
     def dir(self) -> Path:
         return Path(self.st.dir)
 
-    @property
-    def inventory_path(self) -> Path:
-        return self.dir / "inventory.yaml"
-
-    @property
-    def ssh_config_path(self) -> Path:
-        return self.dir / "ssh_config"
-
-    @property
-    def known_hosts_path(self) -> Path:
-        return self.dir / "known_hosts"
-
-    @property
-    def identity_file(self) -> Path:
-        return self.dir / "id_ed25519"
-
-    @property
-    def identity_path(self) -> Path:
-        """Alias of identity_file."""
-        return self.identity_file
+    inventory_path = _in_lab_dir("inventory.yaml")
+    ssh_config_path = _in_lab_dir("ssh_config")
+    known_hosts_path = _in_lab_dir("known_hosts")
+    identity_file = _in_lab_dir("id_ed25519")
+    identity_path = identity_file
+    """Alias of identity_file."""
 
     @property
     def jump_robot(self) -> Robot | None:
@@ -905,27 +896,12 @@ class Lab:
     # ===================================================================================
     # operator files
     # ===================================================================================
-    def _inventory_robots(self) -> list[F.InventoryRobot]:
-        out = []
-        for r in sorted(self.st.robots.values(), key=lambda x: x.index):
-            if r.kind != "robot":
-                continue
-            out.append(
-                F.InventoryRobot(
-                    name=r.name,
-                    host=r.ip,
-                    port=22,
-                    groups=("lab", F.stack(r.image).group),
-                    jump=r.jump,
-                    host_key=" ".join(self._known_key(r).split()[:2]),
-                )
-            )
-        return out
-
     def _write_operator_files(self) -> None:
         with self._lock:
-            robots = self._inventory_robots()
-            _write(self.known_hosts_path, F.known_hosts(robots).encode(), 0o644)
+            states = [r for r in sorted(self.st.robots.values(), key=lambda x: x.index) if r.kind == "robot"]
+            robots = [self.robot(r.name) for r in states]
+            host_keys = {r.name: " ".join(self._known_key(r).split()[:2]) for r in states}
+            _write(self.known_hosts_path, F.known_hosts(robots, host_keys).encode(), 0o644)
             _write(
                 self.ssh_config_path, F.ssh_config(robots, self.identity_file, self.known_hosts_path).encode(), 0o644
             )

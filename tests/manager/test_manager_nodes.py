@@ -148,7 +148,7 @@ def test_shutdown_single_host_walks_its_states(io: FakeRobotIO, clock: ManualClo
     seen = []
     for _ in range(20):
         status = tick(node)
-        seen.append(node.machine.state.value if node.machine else None)
+        seen.append(node.work.state.value if node.work else None)
         if status != R:
             break
         clock.advance(0.1)
@@ -162,7 +162,7 @@ def test_shutdown_single_host_outcomes(io: FakeRobotIO, clock: ManualClock) -> N
     down = fake_backends(clock, up={})
     node = ShutdownSingleHost("gone", make_ctx(io, clock, backends=down), **host_ports())
     assert tick(node) == R and tick(node) == S  # not answering ping: skipped counts as done
-    assert node.machine is not None and node.machine.state.value == "SKIPPED"
+    assert node.work is not None and node.work.state.value == "SKIPPED"
 
     refused = fake_backends(clock, up={"192.0.2.3": True},
                             outcomes={"192.0.2.3": CommandOutcome(False, error="Connection refused")})
@@ -204,9 +204,9 @@ def test_shutdown_hosts_from_file_runs_hosts_side_by_side(io: FakeRobotIO, clock
     node = ShutdownHostsFromFile("hosts", make_ctx(io, clock, {"PATH": hosts}, backends),
                                  shutdown_hosts_file=Ref("PATH"))
     assert tick(node) == R
-    assert node.executor is not None and len(node.executor.machines) == 3
+    assert node.work is not None and len(node.work.machines) == 3
     assert tick(node) == R
-    states = [m.state.value for m in node.executor.machines]
+    states = [m.state.value for m in node.work.machines]
     assert states == ["COMMAND_EXECUTED", "SKIPPED", "COMMAND_EXECUTED"]  # same tick, both hosts
     status = R
     while status == R:

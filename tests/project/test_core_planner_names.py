@@ -37,16 +37,30 @@ def twice_defined(modules: dict[str, str]) -> dict[str, list[str]]:
     return {name: sorted(where[name]) for name in sorted(planners) if len(where[name]) > 1}
 
 
+SAMPLE = {
+    "gps/plan.py": "def plan_enable(raw, reads):\n    pass\ndef shared(cfg):\n    pass\ndef _own():\n    pass\n",
+    "gps/service.py": "def plan_enable(ctx: RobotContext):\n    return 1\ndef _own():\n    pass\n",
+    "gps/read.py": "def read_and_plan_enable(ctx):\n    pass\ndef shared(ctx):\n    pass\n"
+                   "def plan_task(ctx: RobotContext) -> None:\n    pass\n",
+    "gps/extra.py": "def plan_more(reads: Reads) -> None:\n    pass\ndef _plan_own():\n    pass\n",
+    "gps/status.py": "def status_task(ctx):\n    pass\nclass plan_x:\n    pass\n",
+    "webui/remote.py": "def status_task(ctx):\n    pass\ndef f():\n    def plan_x():\n        pass\n",
+    "sim/charging.py": "def plan_charge(action: str) -> int:\n    return 1\n",
+    "sim/__init__.py": "",
+    "fleet/changes.py": "def plan_fleet(command: str) -> None:\n    pass\n",
+    "fleet/plan.py": "",
+}
+"""A made-up core (path relative to core -> source) for both walks: a reader named as the
+planner it wraps (gps/service.py), a plan.py helper defined again (gps/read.py `shared`), a
+reader of its own name and one reading a robot (gps/read.py), a pure planner outside plan.py
+(gps/extra.py), a class and a nested function named plan_x, a function two modules define that
+is not a planner (status_task), a package that plans without a plan.py (sim), the engine's
+own planning piece (fleet/changes.py) and private functions."""
+
+
 def test_the_walk_finds_a_wrapper_named_as_its_planner_and_only_that() -> None:
-    modules = {
-        "gps/plan.py": "def plan_enable(raw, reads):\n    pass\ndef shared(cfg):\n    pass\ndef _own():\n    pass\n",
-        "gps/service.py": "def plan_enable(ctx):\n    return 1\ndef _own():\n    pass\n",
-        "gps/read.py": "def read_and_plan_enable(ctx):\n    pass\ndef shared(ctx):\n    pass\n",
-        "gps/status.py": "def status_task(ctx):\n    pass\nclass plan_x:\n    pass\n",
-        "webui/remote.py": "def status_task(ctx):\n    pass\ndef f():\n    def plan_x():\n        pass\n",
-    }
-    assert twice_defined(modules) == {"plan_enable": ["gps/plan.py", "gps/service.py"],
-                                      "shared": ["gps/plan.py", "gps/read.py"]}
+    assert twice_defined(SAMPLE) == {"plan_enable": ["gps/plan.py", "gps/service.py"],
+                                     "shared": ["gps/plan.py", "gps/read.py"]}
 
 
 def test_no_planner_of_core_is_defined_twice() -> None:
@@ -97,16 +111,7 @@ def misplaced(modules: dict[str, str]) -> tuple[list[str], list[str]]:
 
 
 def test_the_plan_module_walk_finds_what_it_should() -> None:
-    modules = {
-        "sim/charging.py": "def plan_charge(action: str) -> int:\n    return 1\n",
-        "sim/__init__.py": "",
-        "gps/plan.py": "def plan_enable(raw, reads):\n    pass\n",
-        "gps/read.py": "def plan_task(ctx: RobotContext) -> None:\n    pass\n",
-        "gps/extra.py": "def plan_more(reads: Reads) -> None:\n    pass\ndef _plan_own():\n    pass\n",
-        "fleet/changes.py": "def plan_fleet(command: str) -> None:\n    pass\n",
-        "fleet/plan.py": "",
-    }
-    assert misplaced(modules) == (["sim"], ["gps/extra.py: plan_more", "sim/charging.py: plan_charge"])
+    assert misplaced(SAMPLE) == (["sim"], ["gps/extra.py: plan_more", "sim/charging.py: plan_charge"])
 
 
 def test_every_core_package_that_plans_has_its_plan_module() -> None:

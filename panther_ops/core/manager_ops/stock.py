@@ -32,6 +32,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from panther_ops.manager.versions import by_release
+
 _NODE_DEFAULTS: dict[str, float | int] = {
     "lights.timer_frequency": 10.0, "battery.percent.window_len": 6, "battery.percent.threshold.low": 0.4,
     "battery.percent.threshold.critical": 0.1, "battery.animation_period.low": 30.0,
@@ -93,13 +95,7 @@ STOCK_2_2 = StockManager(
 
 def stock_manager(version: tuple[int, int, int]) -> StockManager:
     """The stock manager of a release (2.0.1 and later; deploy refuses 2.0.0)."""
-    if version >= (2, 2, 0):
-        return STOCK_2_2
-    if version >= (2, 1, 1):
-        return STOCK_2_1
-    if version >= (2, 0, 2):
-        return STOCK_2_0
-    return STOCK_2_0_1
+    return by_release(version, (((2, 2, 0), STOCK_2_2), ((2, 1, 1), STOCK_2_1), ((2, 0, 2), STOCK_2_0)), STOCK_2_0_1)
 
 
 INTENDED_DIFFERENCES = (

@@ -40,8 +40,7 @@ from panther_ops.manager.constants import (
     ANIMATION_ID_CONSTANTS_232,
     MUX_SOURCE_TOPIC,
 )
-
-Version = tuple[int, int, int]
+from panther_ops.manager.versions import Version, by_release
 
 
 @dataclass(frozen=True)
@@ -104,13 +103,8 @@ HUSARION_UGV_2_3_2 = RosInterfaces(
 
 def interfaces_for(version: Version) -> RosInterfaces:
     """The interfaces of a stack version (2.0.0 - 2.3.x)."""
-    if version >= (2, 3, 2):
-        return HUSARION_UGV_2_3_2
-    if version >= (2, 2, 0):
-        return HUSARION_UGV_2_2
-    if version >= (2, 1, 0):
-        return PANTHER_2_1
-    return PANTHER_2_0
+    return by_release(version, (((2, 3, 2), HUSARION_UGV_2_3_2), ((2, 2, 0), HUSARION_UGV_2_2),
+                                ((2, 1, 0), PANTHER_2_1)), PANTHER_2_0)
 
 
 def parse_stack(text: str) -> Version:

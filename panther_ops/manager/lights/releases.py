@@ -46,8 +46,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from panther_ops.manager.paths import LIGHTS, TEMPLATES
-
-Version = tuple[int, int, int]
+from panther_ops.manager.versions import Version, by_release
 
 _PANTHER_ROS_IMAGES = ("battery_critical", "battery_low", "strip01_purple", "strip01_red", "triangle01_blue",
                        "triangle01_cyan", "triangle01_green", "triangle01_orange", "triangle01_purple",
@@ -139,9 +138,7 @@ IMAGES_2_3_2 = (2, 3, 2)
 def release_for(version: Version) -> LightsRelease:
     """The lights rules of a stack version (2.0.x-2.1.x: panther_ros; 2.2.x-2.3.1: husarion_ugv;
     2.3.2+: husarion_ugv with 2.3.2's images)."""
-    if version >= IMAGES_2_3_2:
-        return HUSARION_UGV_2_3_2
-    return HUSARION_UGV_2_2 if version >= (2, 2, 0) else PANTHER_ROS
+    return by_release(version, ((IMAGES_2_3_2, HUSARION_UGV_2_3_2), ((2, 2, 0), HUSARION_UGV_2_2)), PANTHER_ROS)
 
 
 def release_of(types: Iterable[str]) -> LightsRelease:

@@ -7,7 +7,7 @@ commands run in the context's dispatcher, never in the tick.
 from __future__ import annotations
 
 from concurrent.futures import Future
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Generic, TypeVar
 
 from py_trees.common import Status
 
@@ -53,7 +53,37 @@ class _ShutdownLeaf(PortedLeaf):
         return self.ctx.shutdown
 
 
-class ShutdownSingleHost(_ShutdownLeaf):
+Work = TypeVar("Work", HostShutdown, ShutdownExecutor)
+
+
+class _StepLeaf(_ShutdownLeaf, Generic[Work]):
+    """A leaf whose work is one non-blocking state machine (``work``): started by `initialise`
+    (None when it cannot start: the feedback says why; the leaf then fails), advanced by each
+    `update`, dropped when the tree halts the leaf."""
+
+    work: Work | None = None
+
+    def initialise(self) -> None:
+        self.work = None
+        backends = self.backends()
+        if backends is not None:
+            self.work = self.start(backends)
+
+    def start(self, backends: ShutdownBackends) -> Work | None:
+        raise NotImplementedError
+
+    def update(self) -> Status:
+        return Status.FAILURE if self.work is None else self.step(self.work)
+
+    def step(self, work: Work) -> Status:
+        raise NotImplementedError
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID:
+            self.work = None
+
+
+class ShutdownSingleHost(_StepLeaf[HostShutdown]):
     """Shut one host down over SSH (or HTTP when a `secret` is given)."""
 
     PORTS: ClassVar[dict[str, PortSpec]] = {
@@ -67,11 +97,7 @@ class ShutdownSingleHost(_ShutdownLeaf):
     }
     ALIASES: ClassVar[dict[str, str]] = {"user": "username"}
 
-    def initialise(self) -> None:
-        self.machine: HostShutdown | None = None
-        backends = self.backends()
-        if backends is None:
-            return
+    def start(self, backends: ShutdownBackends) -> HostShutdown | None:
         try:
             host = ShutdownHost(
                 ip=self.port("ip"), username=self.port("username") or None, port=self.port("port"),
@@ -80,24 +106,18 @@ class ShutdownSingleHost(_ShutdownLeaf):
             )
         except ValueError as exc:
             self.feedback_message = str(exc)
-            return
-        self.machine = HostShutdown(host, backends, self.ctx.clock)
+            return None
+        return HostShutdown(host, backends, self.ctx.clock)
 
-    def update(self) -> Status:
-        if self.machine is None:
-            return Status.FAILURE
-        state = self.machine.step()
-        self.feedback_message = f"{self.machine.host.describe()}: {self.machine.message}"
+    def step(self, work: HostShutdown) -> Status:
+        state = work.step()
+        self.feedback_message = f"{work.host.describe()}: {work.message}"
         if state in (HostState.SUCCESS, HostState.SKIPPED):
             return Status.SUCCESS
         return Status.FAILURE if state is HostState.FAILURE else Status.RUNNING
 
-    def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
-            self.machine = None
 
-
-class ShutdownHostsFromFile(_ShutdownLeaf):
+class ShutdownHostsFromFile(_StepLeaf[ShutdownExecutor]):
     """Shut down every host of a YAML file, side by side; SUCCESS only if none failed."""
 
     PORTS: ClassVar[dict[str, PortSpec]] = {
@@ -105,37 +125,27 @@ class ShutdownHostsFromFile(_ShutdownLeaf):
     }
     ALIASES: ClassVar[dict[str, str]] = {"shutdown_host_file": "shutdown_hosts_file"}
 
-    def initialise(self) -> None:
-        self.executor: ShutdownExecutor | None = None
-        backends = self.backends()
-        if backends is None:
-            return
+    def start(self, backends: ShutdownBackends) -> ShutdownExecutor | None:
         path = self.port("shutdown_hosts_file")
         try:
             hosts_file = load_shutdown_hosts(path)
         except ShutdownHostsError as exc:
             self.feedback_message = str(exc)
-            return
+            return None
         self.problems = hosts_file.problems
         if not hosts_file.hosts:
             self.feedback_message = f"{path}: no hosts to shut down"
-            return
-        self.executor = ShutdownExecutor(hosts_file.hosts, backends, self.ctx.clock)
+            return None
+        return ShutdownExecutor(hosts_file.hosts, backends, self.ctx.clock)
 
-    def update(self) -> Status:
-        if self.executor is None:
-            return Status.FAILURE
-        done = self.executor.step()
-        results = self.executor.results()
+    def step(self, work: ShutdownExecutor) -> Status:
+        done = work.step()
+        results = work.results()
         self.feedback_message = "; ".join(f"{r.host.describe()}: {r.state.value} ({r.message})"
                                           for r in results)
         if not done:
             return Status.RUNNING
-        return Status.FAILURE if self.executor.failed else Status.SUCCESS
-
-    def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
-            self.executor = None
+        return Status.FAILURE if work.failed else Status.SUCCESS
 
 
 class ExecuteCommand(_ShutdownLeaf):
