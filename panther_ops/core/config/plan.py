@@ -57,20 +57,17 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
     the old one (``everywhere``: changes them in the same plan, see namespace_follow).
     """
     model = None
+    asked = (tuple((k, value_text(v)) for k, v in sets.items()), tuple(unsets))
     if "wheel_type" in sets or "wheel_type" in unsets:
-        from panther_ops.core.robot.robot_model import env_robot_model, robot_model_of
-        from panther_ops.core.robot.wheel_change import migrate
-
-        cfg = parse_config(raw, reads.stack)
-        model = env_robot_model(reads, cfg.stack)  # WH05 is the Lynx wheel: the model decides
-        running = str(sets.get("robot_model") or robot_model_of(reads, cfg))  # and the default wheel type
-        new_wheel = (str(sets["wheel_type"]) if "wheel_type" in sets
-                     else spec("wheel_type").default_for(cfg.stack, running))
-        change = migrate(reads, cfg, new_wheel, running)
-        if change is not None:
+        # the same for every robot with this compose.yaml and these files (the check reads
+        # nothing else): planned once, as the edit below
+        seen = (raw, reads.stack, tuple(sorted(reads.files.items())), asked)
+        model, migrates = _WHEEL.get(seen, lambda: _wheel_check(_looked_at(raw, reads.stack), reads, sets)[:2])
+        if migrates:  # a controller file to carry over: this robot's own plan, on a parse of its own
+            model, _, change, cfg = _wheel_check(parse_config(raw, reads.stack), reads, sets)
+            assert change is not None
             return _plan_wheel_change(reads, cfg, change, sets, unsets, force, model)
-    key = (raw, reads.stack, tuple((k, value_text(v)) for k, v in sets.items()), tuple(unsets), force,
-           everywhere, model)
+    key = (raw, reads.stack, *asked, force, everywhere, model)
     out = _ARGS.get(key, lambda: _edit_args_of(raw, reads.stack, sets, unsets, force, everywhere, model))
     edits = [FileEdit(raw.path, raw.before, out.after, raw.mode)] if out.after != raw.before else []
     warnings, summary = list(out.warnings), out.summary
@@ -88,6 +85,32 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
     plan.data["stack"] = out.stack
     plan.home = raw.home
     return plan
+
+
+_WHEEL: Memo[tuple[str, bool]] = Memo()
+_PARSED: Memo[RobotConfig] = Memo()
+
+
+def _looked_at(raw: ComposeRead, stack_setting: str) -> RobotConfig:
+    """compose.yaml parsed once for every robot that has it, only to be looked at (the wheel
+    check reads it again after each file it asks for); a plan that edits parses its own."""
+    return _PARSED.get((raw, stack_setting), lambda: parse_config(raw, stack_setting))
+
+
+def _wheel_check(cfg: RobotConfig, reads: Reads, sets: Mapping[str, Any]) -> tuple[str, bool, WheelChange | None,
+                                                                                  RobotConfig]:
+    """What a wheel type change needs to know of the robot: ROBOT_MODEL_NAME's model (WH05
+    is the Lynx wheel: the model decides, and the default wheel type), whether a controller
+    file must be carried over to the new type, and that migration (`wheel_change.migrate`,
+    which only looks at ``cfg``)."""
+    from panther_ops.core.robot.robot_model import env_robot_model, robot_model_of
+    from panther_ops.core.robot.wheel_change import migrate
+
+    model = env_robot_model(reads, cfg.stack)
+    running = str(sets.get("robot_model") or robot_model_of(reads, cfg))
+    new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack, running)
+    change = migrate(reads, cfg, new_wheel, running)
+    return model, change is not None, change, cfg
 
 
 def _plan_wheel_change(reads: Reads, cfg: RobotConfig, change: WheelChange, sets: Mapping[str, Any],
