@@ -217,5 +217,6 @@ class Fleet:
         from panther_ops.cli.mutate import Asking, Change, mutate
 
         inv, chosen = on or self.targets(read_only)
-        return mutate(Change(command, planner, asking or Asking(verb), read_only, drift_exit, view), inv, chosen,
-                      self, restart=not self.no_restart if restart is None else restart, sudo_password=sudo_password)
+        return mutate(Change(command, planner, asking or Asking(verb), read_only, drift_exit, view,
+                             restart=not self.no_restart if restart is None else restart,
+                             sudo_password=sudo_password), inv, chosen, self)

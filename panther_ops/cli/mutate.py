@@ -96,7 +96,9 @@ class Change:
     diff``): the plan is shown as a dry run's, without speaking of one; ``drift_exit``: a
     comparison's exit code says whether a robot would change (``config diff --exit-code``: 6,
     docs/results.md); ``view``: how the results of the change are shown (default: the generic
-    table; a plan or a dry run is always the table)."""
+    table; a plan or a dry run is always the table); ``restart``: whether a changed file
+    recreates its container; ``sudo_password``: for a plan's steps that run sudo beside the
+    robot (`apply`'s WebUI settings)."""
 
     command: str
     planner: Planner
@@ -104,15 +106,14 @@ class Change:
     read_only: bool = False
     drift_exit: bool = False
     view: Callable[[FleetResult], None] | None = None
+    restart: bool = True
+    sudo_password: Secret | None = None
 
 
-def mutate(change: Change, inv: Inventory, chosen: list[Robot], given: Fleet, *, restart: bool,
-           sudo_password: Secret | None = None) -> int:
+def mutate(change: Change, inv: Inventory, chosen: list[Robot], given: Fleet) -> int:
     """Plan every robot, show the diffs, confirm, apply through the pipeline (each plan's
     steps by their executors, `core/fleet/steps.py`), with the shared options ``given`` on the
-    command line (--yes, --dry-run, --settle, --json, --forks, --canary, --max-fail);
-    ``restart``: whether a changed file recreates its container; ``sudo_password``: for a
-    plan's steps that run sudo beside the robot (`apply`'s WebUI settings).
+    command line (--yes, --dry-run, --settle, --json, --forks, --canary, --max-fail).
 
     Asked first (no ``--yes``), the plan is a table of every robot with the diffs under it;
     with ``--yes`` nothing waits on it, so only its diffs are shown before the changes are
@@ -129,7 +130,8 @@ def mutate(change: Change, inv: Inventory, chosen: list[Robot], given: Fleet, *,
     command, o, asking = change.command, given, change.asking
     yes, dry_run, json_out = o.yes and not change.read_only, o.dry_run or change.read_only, o.json_out
     opts = RunOptions(forks=o.forks or inv.forks, canary=o.canary, max_fail_pct=o.max_fail)
-    apply = ApplyOptions(restart=restart, settle_s=o.settle, command=command, sudo_password=sudo_password)
+    apply = ApplyOptions(restart=change.restart, settle_s=o.settle, command=command,
+                         sudo_password=change.sudo_password)
     early = yes and not dry_run  # no question: stage while planning
     progress = FleetProgress([r.name for r in chosen], enabled=progress_wanted(json_out), printing=not json_out)
     nothing = asking.nothing or "nothing was changed" + (" on any robot" if inv.subject == "robot" else "")
