@@ -62,9 +62,10 @@ def plan_args(raw: ComposeRead, reads: Reads, sets: Mapping[str, Any], unsets: l
         # the same for every robot with this compose.yaml and these files (the check reads
         # nothing else): planned once, as the edit below
         seen = (raw, reads.stack, tuple(sorted(reads.files.items())), asked)
-        model, migrates = _WHEEL.get(seen, lambda: _wheel_check(_looked_at(raw, reads.stack), reads, sets)[:2])
+        model, migrates = _WHEEL.get(seen, lambda: _wheel_outcome(_looked_at(raw, reads.stack), reads, sets))
         if migrates:  # a controller file to carry over: this robot's own plan, on a parse of its own
-            model, _, change, cfg = _wheel_check(parse_config(raw, reads.stack), reads, sets)
+            cfg = parse_config(raw, reads.stack)
+            model, change = _wheel_check(cfg, reads, sets)
             assert change is not None
             return _plan_wheel_change(reads, cfg, change, sets, unsets, force, model)
     key = (raw, reads.stack, *asked, force, everywhere, model)
@@ -97,11 +98,16 @@ def _looked_at(raw: ComposeRead, stack_setting: str) -> RobotConfig:
     return _PARSED.get((raw, stack_setting), lambda: parse_config(raw, stack_setting))
 
 
-def _wheel_check(cfg: RobotConfig, reads: Reads, sets: Mapping[str, Any]) -> tuple[str, bool, WheelChange | None,
-                                                                                  RobotConfig]:
+def _wheel_outcome(cfg: RobotConfig, reads: Reads, sets: Mapping[str, Any]) -> tuple[str, bool]:
+    """:func:`_wheel_check`'s model, and whether a controller file migrates (shared)."""
+    model, change = _wheel_check(cfg, reads, sets)
+    return model, change is not None
+
+
+def _wheel_check(cfg: RobotConfig, reads: Reads, sets: Mapping[str, Any]) -> tuple[str, WheelChange | None]:
     """What a wheel type change needs to know of the robot: ROBOT_MODEL_NAME's model (WH05
-    is the Lynx wheel: the model decides, and the default wheel type), whether a controller
-    file must be carried over to the new type, and that migration (`wheel_change.migrate`,
+    is the Lynx wheel: the model decides, and the default wheel type), and the migration of
+    a controller file to the new type, if one must be carried over (`wheel_change.migrate`,
     which only looks at ``cfg``)."""
     from panther_ops.core.robot.robot_model import env_robot_model, robot_model_of
     from panther_ops.core.robot.wheel_change import migrate
@@ -109,8 +115,7 @@ def _wheel_check(cfg: RobotConfig, reads: Reads, sets: Mapping[str, Any]) -> tup
     model = env_robot_model(reads, cfg.stack)
     running = str(sets.get("robot_model") or robot_model_of(reads, cfg))
     new_wheel = str(sets["wheel_type"]) if "wheel_type" in sets else spec("wheel_type").default_for(cfg.stack, running)
-    change = migrate(reads, cfg, new_wheel, running)
-    return model, change is not None, change, cfg
+    return model, migrate(reads, cfg, new_wheel, running)
 
 
 def _plan_wheel_change(reads: Reads, cfg: RobotConfig, change: WheelChange, sets: Mapping[str, Any],
