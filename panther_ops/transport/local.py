@@ -99,10 +99,10 @@ class _ProcessPipe:
         self.proc = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                      stderr=subprocess.PIPE, env=env, cwd=cwd, start_new_session=True)
         self.err = bytearray()
-        self._drain = threading.Thread(target=self._read_stderr, daemon=True)
+        self._drain = threading.Thread(target=self._read_stderr, name="local command stderr", daemon=True)
         self._drain.start()
         self._writes: queue.SimpleQueue[bytes | None] = queue.SimpleQueue()
-        self._writer = threading.Thread(target=self._write_stdin, daemon=True)
+        self._writer = threading.Thread(target=self._write_stdin, name="local command stdin", daemon=True)
         self._writer.start()
         self.timeout = timeout
         self._timer: threading.Timer | None = None
@@ -170,6 +170,7 @@ class _ProcessPipe:
                 self.kill()
                 self.proc.wait()
         self._writer.join(timeout=5)
+        self._drain.join(timeout=5)  # its end of stderr is read to the end before the fd is closed (and reused)
         assert self.proc.stdout is not None and self.proc.stderr is not None
         self.proc.stdout.close()
         self.proc.stderr.close()

@@ -191,3 +191,31 @@ def test_a_session_waits_past_its_timeout(robot: LocalTransport) -> None:
     res = session.go()
     assert (res.exit_status, res.stderr) == (0, "")
     assert (robot.root / "home" / "husarion" / "a.txt").read_bytes() == b"new\n"
+
+
+def test_a_session_closed_at_once_lets_its_stderr_reader_finish_first(robot: LocalTransport,
+                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    """Closing a command's pipe waits for the thread that reads its stderr to reach the end
+    before the descriptor is closed: else the thread reads a closed (or reused) descriptor.
+    The reader is made late on purpose (its reads wait 0.3 s), so the order is not left to chance."""
+    import os
+    import threading
+
+    real_read = os.read
+
+    def late_read(fd: int, n: int) -> bytes:
+        if threading.current_thread().name.endswith("stderr"):
+            time.sleep(0.3)
+        return real_read(fd, n)
+
+    failures: list[BaseException | None] = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: failures.append(args.exc_value))
+    monkeypatch.setattr(os, "read", late_read)
+    (robot.root / "home/husarion/compose.yaml").write_bytes(b"services: {}\n")
+    session = robot.session(read="~/compose.yaml")
+    assert session.read().stdout.endswith("services: {}\n")  # after the home directory
+    session.close()
+    for thread in threading.enumerate():  # a reader still running now would fail after the test
+        if thread.name.endswith("stderr"):
+            thread.join(timeout=2)
+    assert failures == []
