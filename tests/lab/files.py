@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 
 import yaml
 
+from panther_ops.transport.hostkeys import known_hosts_name
+
 if TYPE_CHECKING:
     from .lab import Robot
 
@@ -451,10 +453,6 @@ def inventory_groups(robot: Robot) -> tuple[str, ...]:
     return ("lab", robot.stack.group)
 
 
-def known_hosts_host(host: str, port: int) -> str:
-    return host if port == 22 else f"[{host}]:{port}"
-
-
 def inventory_yaml(robots: list[Robot]) -> str:
     lines = [
         "version: 1",
@@ -482,7 +480,7 @@ def inventory_yaml(robots: list[Robot]) -> str:
 
 def known_hosts(robots: list[Robot], host_keys: Mapping[str, str]) -> str:
     """``host_keys``: each robot's host key by name (``ssh-ed25519 AAAA...``)."""
-    return "".join(f"{known_hosts_host(r.host, r.port)} {host_keys[r.name]}\n" for r in robots)
+    return "".join(f"{known_hosts_name(r.host, r.port)} {host_keys[r.name]}\n" for r in robots)
 
 
 def ssh_config(robots: list[Robot], identity: Path, known: Path) -> str:

@@ -65,6 +65,10 @@ class StockManager:
     ignored: tuple[str, ...] = ()
     """Keys in its files that its nodes do not read."""
 
+    def carried(self, notes: list[str] | tuple[str, ...] = ()) -> CarriedParams:
+        """This release's stock values, as what a robot carries over (its own could not be read)."""
+        return CarriedParams(dict(self.values), f"the stock values of {self.releases} ({self.source})", tuple(notes))
+
     def paths(self) -> list[str]:
         """The files as ``$(find <package>)/...`` (resolved in the image)."""
         return [f"$(find {self.package})/{f}" for f in self.files]
@@ -146,7 +150,7 @@ def robot_params(stock: StockManager, texts: Mapping[str, str | None] | None, im
     from panther_ops.manager.config import param_targets
 
     if texts is None:
-        return CarriedParams(dict(stock.values), f"the stock values of {stock.releases} ({stock.source})")
+        return stock.carried()
     values = dict(_NODE_DEFAULTS)
     notes: list[str] = []
     read: list[str] = []
@@ -159,16 +163,14 @@ def robot_params(stock: StockManager, texts: Mapping[str, str | None] | None, im
             found = _node_params(text)
         except ValueError as exc:
             notes.append(f"{path} in {image}: {exc}; the stock values of {stock.releases} are used")
-            return CarriedParams(dict(stock.values), f"the stock values of {stock.releases} ({stock.source})",
-                                 tuple(notes))
+            return stock.carried(notes)
         read.append(path)
         for name, value in found.items():
             key = stock.renamed.get(name, name)
             if name not in stock.ignored and key in values:
                 values[key] = value
     if not read:
-        return CarriedParams(dict(stock.values), f"the stock values of {stock.releases} ({stock.source})",
-                             tuple(notes))
+        return stock.carried(notes)
     for path in stock.paths():  # a file the image lacks: that file's stock values
         if path not in read:
             section = "lights" if "light" in path else "safety"
