@@ -10,6 +10,7 @@ import subprocess
 import threading
 import time
 from collections.abc import Iterator
+from concurrent.futures import Future
 from pathlib import Path
 from typing import Any, ClassVar
 from urllib.parse import parse_qs, urlparse
@@ -143,6 +144,50 @@ def test_executor_steps_never_block_on_slow_pings() -> None:
         assert executor.results()[0].state is HostState.SKIPPED
     finally:
         backends.close()
+
+
+class HeldDispatcher:
+    """Test double of a dispatcher whose jobs finish only when the test lets them (`finish`)."""
+
+    def __init__(self) -> None:
+        self.held: list[tuple[Any, Future[Any]]] = []
+
+    def submit(self, fn: Any) -> Future[Any]:
+        future: Future[Any] = Future()
+        self.held.append((fn, future))
+        return future
+
+    def finish(self) -> None:
+        held, self.held = self.held, []
+        for fn, future in held:
+            future.set_result(fn())
+
+    def close(self) -> None:
+        return None
+
+
+@pytest.mark.parametrize(("answer", "state"), [(False, HostState.SUCCESS), (True, HostState.FAILURE)])
+def test_a_ping_on_its_way_at_the_time_limit_decides(answer: bool, state: HostState) -> None:
+    """As the stock ShutdownHost (ping, then look at the clock): a ping sent before the host's
+    time limit and answered after it is waited for, and its answer says whether the host went
+    down. A loaded robot whose pings take long does not fail a host that did go down."""
+    clock = ManualClock()
+    backends = fake_backends(clock, up={"192.0.2.3": True}, down_after=None)
+    dispatcher = HeldDispatcher()
+    backends.dispatcher = dispatcher
+    executor = ShutdownExecutor([ShutdownHost(ip="192.0.2.3", username="u", timeout=5.0)], backends, clock)
+    for _ in range(4):  # the first ping, the request, its answer: now pinging, one ping on its way
+        executor.step()
+        dispatcher.finish()
+    executor.step()
+    assert executor.results()[0].state is HostState.PINGING and len(dispatcher.held) == 1
+    clock.advance(6.0)  # past the limit while that ping is on its way
+    executor.step()
+    assert executor.results()[0].state is HostState.PINGING
+    backends.pinger.up["192.0.2.3"] = answer  # type: ignore[attr-defined]
+    dispatcher.finish()
+    executor.step()
+    assert executor.results()[0].state is state
 
 
 def real_backends(tmp_path: Path) -> ShutdownBackends:

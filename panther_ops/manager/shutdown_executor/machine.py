@@ -139,18 +139,26 @@ class HostShutdown:
         self.state, self.message = HostState.RESPONSE_RECEIVED, "response received"
 
     def _step_pinging(self, now: float) -> None:
-        if self._job is None:
-            if now - self.last_ping >= self.ping_interval:
-                ip = self.host.ip
-                self._submit(lambda: self.backends.pinger.is_reachable(ip))
-                self.last_ping = now
-        else:
+        """As the stock ShutdownHost's PINGING state: a ping's answer is looked at before the clock,
+        so a host is failed only by an echo that came back past its time limit; a ping on its way
+        at the limit is waited for, and past the limit the next one goes out at once
+        (husarion_ugv_ros@2.2.2:husarion_ugv_manager/include/husarion_ugv_manager/plugins/
+        shutdown_host.hpp, ``Call``: ``IsAvailable()``, then ``TimeoutExceeded``)."""
+        past = now - self.command_time > self.host.timeout
+        if self._job is not None:
             reachable = self._take(True)
+            if reachable is None:  # on its way: its answer decides
+                return
             if reachable is False:
                 self._end(HostState.SUCCESS, "host is down")
                 return
-        if now - self.command_time > self.host.timeout:
-            self._end(HostState.FAILURE, "Timeout exceeded: the host still answers ping")
+            if past:
+                self._end(HostState.FAILURE, "Timeout exceeded: the host still answers ping")
+                return
+        if past or now - self.last_ping >= self.ping_interval:
+            ip = self.host.ip
+            self._submit(lambda: self.backends.pinger.is_reachable(ip))
+            self.last_ping = now
 
     def result(self) -> HostResult:
         """The host's current result."""
