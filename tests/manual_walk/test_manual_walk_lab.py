@@ -26,6 +26,7 @@ from typing import Any
 import pytest
 import yaml
 
+from panther_ops.core.fleet.templates import template_path
 from tests.clirun import run_cli
 from tests.lab import Lab, missing_requirements
 from tests.lab.computers import ComputerSpec, HttpService
@@ -367,48 +368,29 @@ def test_07_simulation_gps_and_battery(walk: Walk, env: Path, version: str,
 # ---------------------------------------------------------------------------------------------
 # LED Animations: Defining Animations (a user animations file + its launch argument), test them
 # ---------------------------------------------------------------------------------------------
-MY_ANIMATIONS = """\
-# my_awesome_user_animations.yaml (the manual's example: stock images, one custom color)
-user_animations:
-  - id: 21
-    name: ANIMATION_1
-    priority: 2
-    animations:
-      - type: {pkg}::ImageAnimation
-        segments: all
-        animation:
-          image: $(find {pkg})/animations/{strip}
-          duration: 2
-          repeat: 2
-          color: 0xffff00
-  - id: 24
-    name: ANIMATION_4
-    priority: 3
-    animations:
-      - type: {pkg}::ImageAnimation
-        segments: front
-        animation:
-          image: $(find {pkg})/animations/{front}
-          duration: 2
-          repeat: 2
-      - type: {pkg}::ImageAnimation
-        segments: rear
-        animation:
-          image: $(find {pkg})/animations/{rear}
-          duration: 3
-          repeat: 1
-"""
+EXAMPLE = template_path("lights", "user_animations.example.yaml")
+"""The manual's user animations (ANIMATION_1: a stock image in a custom colour; ANIMATION_4: front
+and rear bumpers apart), as panther-ops ships them for panther_lights (2.0, 2.1)."""
+UGV_IMAGES = {"strip01_red.png": "panther/blinker.png", "triangle01_blue.png": "panther/estop_front.png",
+              "triangle01_red.png": "panther/estop_rear.png"}
+"""husarion_ugv_lights 2.2 ships other images than the manual's panther_lights ones."""
+
+
+def my_animations(version: str) -> str:
+    """The example as an operator of `version` writes it (2.2: its package and its images)."""
+    text = EXAMPLE.read_text()
+    if version != "2.2.2":
+        return text
+    for old, new in {"panther_lights": "husarion_ugv_lights", **UGV_IMAGES}.items():
+        text = text.replace(old, new)
+    return text
 
 
 @pytest.mark.parametrize("version", VERSIONS)
 def test_09_user_animations(walk: Walk, env: Path, version: str, capsys: pytest.CaptureFixture[str]) -> None:
     name = ROBOT[version]
-    pkg = "husarion_ugv_lights" if version == "2.2.2" else "panther_lights"
     mine = env / "my_awesome_user_animations.yaml"
-    # the manual's images are panther_lights' (2.0, 2.1); husarion_ugv_lights 2.2 ships others
-    images = (("panther/blinker.png", "panther/estop_front.png", "panther/estop_rear.png") if version == "2.2.2"
-              else ("strip01_red.png", "triangle01_blue.png", "triangle01_red.png"))
-    mine.write_text(MY_ANIMATIONS.format(pkg=pkg, strip=images[0], front=images[1], rear=images[2]))
+    mine.write_text(my_animations(version))
     code, doc, text = walk.cli(capsys, "lights", "test", "21", "-r", name, "--json")
     assert code != 0 and "No animation with ID: 21" in one(doc)["message"], text  # not there yet
     code, doc, text = walk.cli(capsys, "lights", "validate", str(mine), "--stack", version, "--json")
