@@ -28,7 +28,7 @@ from panther_ops.core.robot import arg_edits
 from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.core.robot.controller import ControllerConfig
 from panther_ops.core.stack import stack_from_version
-from panther_ops.core.yaml.document import Flow, Folded, Literal, Quoted, YamlDocument
+from panther_ops.core.yaml.document import Block, Flow, Quoted, YamlDocument
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = ROOT / "tests" / "golden" / "cases"
@@ -45,9 +45,9 @@ def _markers(value: Any) -> Any:
     """``{"$folded": "..."}`` / ``$literal`` / ``$flow`` / ``$quoted`` in case args -> markers."""
     if isinstance(value, dict):
         if set(value) == {"$folded"}:
-            return Folded(value["$folded"])
+            return Block(value["$folded"], ">")
         if set(value) == {"$literal"}:
-            return Literal(value["$literal"])
+            return Block(value["$literal"])
         if set(value) == {"$flow"}:
             return Flow(_markers(value["$flow"]))
         if set(value) == {"$quoted"}:

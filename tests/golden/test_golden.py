@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 from panther_ops.core.yaml.diff import unified_diff
-from panther_ops.core.yaml.document import Literal, YamlDocument
+from panther_ops.core.yaml.document import Block, YamlDocument
 from tests.golden.golden_ops import CASES, apply_case
 
 CASE_FILES = sorted(CASES.glob("*.yaml"))
@@ -32,7 +32,7 @@ def test_golden_case(case_file: Path) -> None:
     diff = unified_diff(outcome.before, outcome.after, case.get("path", case["input"]))
     if UPDATE:
         doc = YamlDocument(case_file.read_text(encoding="utf-8"), str(case_file))
-        doc.set("expect", Literal(diff))
+        doc.set("expect", Block(diff))
         case_file.write_text(doc.text, encoding="utf-8")
         return
     assert diff == case["expect"], f"{case_file.name}: {case.get('description', '')}"

@@ -21,7 +21,7 @@ import pytest
 from panther_ops.core.robot.compose import ComposeFile
 from panther_ops.core.yaml.diff import changed_lines, unified_diff
 from panther_ops.core.yaml.document import PathPart, YamlDocument
-from panther_ops.core.yaml.render import Folded
+from panther_ops.core.yaml.render import Block
 from panther_ops.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -177,7 +177,7 @@ def test_compose_volume_service_env_roundtrips(path: Path) -> None:
         assert compose.text() == text
     for vol in compose.list_volumes():
         assert compose.add_volume(vol.source or "", vol.target, vol.read_only) is False
-    assert compose.add_service("zz_test", {"image": "busybox:1", "command": Folded("sleep\n  infinity\n")}) is True
+    assert compose.add_service("zz_test", {"image": "busybox:1", "command": Block("sleep\n  infinity\n", ">")}) is True
     assert compose.remove_service("zz_test") is True
     assert compose.text() == text
     env_path = ("services", compose.driver_service(), "environment")

@@ -8,10 +8,9 @@ import pytest
 
 from panther_ops.core.yaml.document import (
     Alias,
+    Block,
     DocumentError,
     Flow,
-    Folded,
-    Literal,
     PathError,
     Quoted,
     YamlDocument,
@@ -221,7 +220,7 @@ def test_new_keys_go_after_the_last_entry_at_its_column() -> None:
 
 def test_new_service_is_separated_like_the_others() -> None:
     d = doc()
-    d.set("services.gps", {"image": "husarion/nmea-gps", "<<": Alias("common"), "command": Folded("a\n  b:=1\n")})
+    d.set("services.gps", {"image": "husarion/nmea-gps", "<<": Alias("common"), "command": Block("a\n  b:=1\n", ">")})
     assert d.text.endswith(
         "    image: busybox\n\n  gps:\n    image: husarion/nmea-gps\n    <<: *common\n    command: >\n      a\n        b:=1\n"
     )
@@ -338,10 +337,13 @@ def test_empty_document_and_missing_final_newline() -> None:
 def test_markers_render_styles() -> None:
     d = YamlDocument("a: 1\n")
     d.set("f", Flow([1, "x"]))
-    d.set("l", Literal("x\ny\n"))
+    d.set("l", Block("x\ny\n"))
+    d.set("g", Block("x\ny", ">"))
     d.set("q", Quoted("1", '"'))
-    assert d.text == 'a: 1\nf: [1, x]\nl: |\n  x\n  y\nq: "1"\n'
-    assert d.get("l") == "x\ny\n" and d.get("q") == "1"
+    assert d.text == 'a: 1\nf: [1, x]\nl: |\n  x\n  y\ng: >-\n  x\n  y\nq: "1"\n'
+    assert d.get("l") == "x\ny\n" and d.get("g") == "x y" and d.get("q") == "1"
+    with pytest.raises(ValueError, match=r"is '\|' or '>', not '\|-'"):
+        Block("x", "|-")
 
 
 def test_cannot_descend_into_a_scalar_or_past_the_end() -> None:

@@ -42,7 +42,7 @@ from panther_ops.core.parse.ros_names import RosNameError, namespace, topic_name
 from panther_ops.core.robot.launchcmd import shell_tokens
 from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family
-from panther_ops.core.yaml.render import Folded
+from panther_ops.core.yaml.render import Block
 
 MSG_TYPE = "sensor_msgs/msg/NavSatFix"
 DEVICE_NAMESPACE = "gps"
@@ -55,7 +55,7 @@ class TopicError(ValueError):
 
 
 def _words(command: Any) -> list[str]:
-    if isinstance(command, Folded):
+    if isinstance(command, Block):
         command = command.text
     if isinstance(command, list):
         return [str(w) for w in command]

@@ -46,7 +46,7 @@ from panther_ops.core.robot.edits import edit_args
 from panther_ops.core.robot.launch_args import bool_word, spec
 from panther_ops.core.robot.robot_config import ComposeRead, RobotConfig, parse_config
 from panther_ops.core.stack import Family
-from panther_ops.core.yaml.render import Folded
+from panther_ops.core.yaml.render import Block
 from panther_ops.errors import UsageError
 
 SERVICE = "nmea-gps"
@@ -123,7 +123,7 @@ def service_mapping(namespace: str, opts: GpsOptions) -> dict[str, Any]:
     else:
         command = (f"ros2 run nmea_navsat_driver nmea_socket_driver --ros-args\n-p ip:={opts.ip} -p port:={opts.port}"
                    f"\n-r __ns:=/{namespace}")
-    return {"image": IMAGE, "network_mode": "host", "restart": "always", "command": Folded(command)}
+    return {"image": IMAGE, "network_mode": "host", "restart": "always", "command": Block(command, ">")}
 
 
 def service_check(namespace: str, opts: GpsOptions) -> Verify:

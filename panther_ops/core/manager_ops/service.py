@@ -26,7 +26,7 @@ from panther_ops.core.robot.compose import Volume
 from panther_ops.core.robot.files import config_file
 from panther_ops.core.robot.robot_config import RobotConfig
 from panther_ops.core.stack import Family
-from panther_ops.core.yaml.render import Folded
+from panther_ops.core.yaml.render import Block
 from panther_ops.errors import UsageError
 
 EXISTS = "exists"
@@ -99,7 +99,7 @@ def service_spec(reads: Reads, cfg: RobotConfig, lay: Layout, settings: ManagerS
     if "security_opt" in driver and DBUS_SOCKET in volumes:
         mapping["security_opt"] = list(driver["security_opt"])
     mapping["volumes"] = list(volumes.values())
-    mapping["command"] = Folded("\n".join(argv) + "\n")
+    mapping["command"] = Block("\n".join(argv) + "\n", ">")
     return ServiceSpec(mapping, merge, hosts_file, hosts_source, command)
 
 

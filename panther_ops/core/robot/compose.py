@@ -249,7 +249,7 @@ class ComposeFile:
 
         Args:
             name: service name.
-            mapping: its settings; use `yamldoc.Folded` for a ``>`` command, `Quoted`, `Flow`...
+            mapping: its settings; use `yamldoc.Block(text, ">")` for a ``>`` command, `Quoted`, `Flow`...
             merge: an anchor to merge (``common-config`` -> ``<<: *common-config``), written
                 after ``image`` / ``container_name`` like the driver service does.
 

@@ -50,10 +50,9 @@ from panther_ops.core.yaml.paths import (
 )
 from panther_ops.core.yaml.render import (
     Alias,
+    Block,
     Flow,
-    Folded,
     Indentation,
-    Literal,
     Quoted,
     block_scalar_lines,
     is_collection,
@@ -77,11 +76,10 @@ from panther_ops.core.yaml.values import (
 __all__ = [
     "Alias",
     "AliasRef",
+    "Block",
     "DocumentError",
     "Flow",
-    "Folded",
     "Indentation",
-    "Literal",
     "NodeInfo",
     "PathError",
     "PathLike",
@@ -499,7 +497,7 @@ class YamlDocument(YamlNodes):
             and isinstance(old, ScalarNode)
             and not is_alias
             and not is_collection(value)
-            and not isinstance(value, Folded | Literal | Quoted | Alias)
+            and not isinstance(value, Block | Quoted | Alias)
             and same_value(original[0], value)
             and (original[2] is None or original[2] == old.style)
         ):
@@ -508,7 +506,7 @@ class YamlDocument(YamlNodes):
         if flow and isinstance(old, ScalarNode) and not is_alias and not is_collection(value):
             style = old.style if old.style in ("'", '"') else None
             inline: str | None = render_scalar(
-                value.text if isinstance(value, Folded | Literal) else value,
+                value.text if isinstance(value, Block) else value,
                 style=style,
                 raw=self._text[start:end],
                 flow=True,
@@ -518,7 +516,7 @@ class YamlDocument(YamlNodes):
         elif isinstance(old, ScalarNode) and not is_alias and not is_collection(value):
             style = old.style if old.style in ("'", '"') else None
             inline = render_scalar(value, style=style, raw=self._text[start:end]) if not isinstance(
-                value, Folded | Literal
+                value, Block
             ) else None
         elif isinstance(old, MappingNode | SequenceNode) and is_flow(old) and is_alias:
             inline = render_inline(value, flow=True)  # a copy in the style of the anchored value
@@ -537,7 +535,7 @@ class YamlDocument(YamlNodes):
                 self._commit(self._splice(start, end, inline), expected, parts)
             return
         # block rendering after the key's colon (or the item's dash)
-        if isinstance(value, Folded | Literal):
+        if isinstance(value, Block):
             header, lines = block_scalar_lines(value, base_col + max(self._indent.mapping, 2))
             self._commit(self._splice(head, end, " " + header + "\n" + "\n".join(lines)), expected, parts)
             return
@@ -559,7 +557,7 @@ class YamlDocument(YamlNodes):
         first = next((line for line in body.split("\n") if line.strip()), "")
         col = len(first) - len(first.lstrip(" ")) if first else self._bol(start) + 2 - self._bol(start)
         one_line = "\n" not in value.rstrip("\n")
-        marker: Folded | Literal = Folded(value) if old.style == ">" and one_line else Literal(value)
+        marker = Block(value, ">" if old.style == ">" and one_line else "|")
         new_header, lines = block_scalar_lines(marker, col)
         token = header.split("#", 1)[0].strip()
         keep = (

@@ -5,7 +5,7 @@ original text. This module produces those fragments: scalars (keeping the quotin
 the value they replace), block mappings and sequences at a given column with the
 indentation detected from the file, and flow collections for flow contexts.
 
-Markers let a caller choose a style for a new value: `Folded` / `Literal` block scalars,
+Markers let a caller choose a style for a new value: `Block` scalars (``|`` or ``>``),
 `Quoted` scalars, `Flow` collections and `Alias` (``*anchor``, e.g. the value of ``<<``).
 """
 
@@ -39,17 +39,16 @@ class Indentation:
 
 
 @dataclass(frozen=True)
-class Folded:
-    """A string to write as a folded block scalar (``>``): one output line per line of text."""
+class Block:
+    """A string to write as a block scalar: ``style`` ``|`` (literal: one output line per line of
+    text) or ``>`` (folded: its lines are folded into one when read)."""
 
     text: str
+    style: str = "|"
 
-
-@dataclass(frozen=True)
-class Literal:
-    """A string to write as a literal block scalar (``|``)."""
-
-    text: str
+    def __post_init__(self) -> None:
+        if self.style not in ("|", ">"):
+            raise ValueError(f"a block scalar's style is '|' or '>', not {self.style!r}")
 
 
 @dataclass(frozen=True)
@@ -74,7 +73,7 @@ class Alias:
     anchor: str
 
 
-Marker = Folded | Literal | Quoted | Flow | Alias
+Marker = Block | Quoted | Flow | Alias
 
 # YAML 1.1 readers (PyYAML, some tools) take these plain scalars as bool/null/number/sexagesimal.
 _YAML11_SPECIAL = re.compile(
@@ -219,14 +218,14 @@ def render_flow(value: Any) -> str:
         return "{" + inner + "}"
     if is_collection(value):
         return "[" + ", ".join(render_flow(v) for v in value) + "]"
-    if isinstance(value, Folded | Literal):
+    if isinstance(value, Block):
         return render_scalar(value.text, flow=True)
     return render_scalar(value, flow=True)
 
 
 def render_inline(value: Any, *, style: str | None = None, raw: str = "", flow: bool = False) -> str | None:
     """A one-line rendering of ``value``, or None when it needs block lines."""
-    if isinstance(value, Folded | Literal):
+    if isinstance(value, Block):
         return None
     if isinstance(value, Flow) or flow:
         return render_flow(value)
@@ -237,15 +236,14 @@ def render_inline(value: Any, *, style: str | None = None, raw: str = "", flow: 
     return render_scalar(value, style=style, raw=raw)
 
 
-def block_scalar_lines(value: Folded | Literal, col: int) -> tuple[str, list[str]]:
+def block_scalar_lines(value: Block, col: int) -> tuple[str, list[str]]:
     """Header (``>``, ``>-``, ``|``...) and content lines (at ``col``) of a block scalar."""
     text = value.text
-    indicator = ">" if isinstance(value, Folded) else "|"
     chomp = "" if text.endswith("\n") else "-"
     body = text[:-1] if text.endswith("\n") else text
     pad = " " * col
     lines = [pad + line if line else "" for line in body.split("\n")]
-    return indicator + chomp, lines
+    return value.style + chomp, lines
 
 
 def render_value_lines(value: Any, col: int, ind: Indentation) -> list[str]:
@@ -264,7 +262,7 @@ def render_value_lines(value: Any, col: int, ind: Indentation) -> list[str]:
 def render_entry(key: Any, value: Any, col: int, ind: Indentation) -> list[str]:
     """Lines of ``key: value`` with the key at ``col``."""
     head = " " * col + render_key(key) + ":"
-    if isinstance(value, Folded | Literal):
+    if isinstance(value, Block):
         header, body = block_scalar_lines(value, col + ind.mapping)
         return [f"{head} {header}", *body]
     inline = render_inline(value)
@@ -277,7 +275,7 @@ def render_item(value: Any, dash_col: int, ind: Indentation) -> list[str]:
     """Lines of a block sequence item ``- value`` with the dash at ``dash_col``."""
     prefix = " " * dash_col + "- "
     content_col = dash_col + 2
-    if isinstance(value, Folded | Literal):
+    if isinstance(value, Block):
         header, body = block_scalar_lines(value, content_col)
         return [prefix + header, *body]
     inline = render_inline(value)

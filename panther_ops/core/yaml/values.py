@@ -16,9 +16,8 @@ from ruamel.yaml.nodes import ScalarNode
 from panther_ops.core.yaml.paths import PathError, PathPart, as_index
 from panther_ops.core.yaml.render import (
     Alias,
+    Block,
     Flow,
-    Folded,
-    Literal,
     Quoted,
     block_scalar_lines,
     is_collection,
@@ -63,7 +62,7 @@ def plain_value(value: Any) -> Any:
     """A Python value as it reads back from YAML (tuples -> lists, markers -> content)."""
     if isinstance(value, Quoted):
         return value.text
-    if isinstance(value, Folded | Literal):
+    if isinstance(value, Block):
         return _block_value(value)
     if isinstance(value, Flow):
         return plain_value(value.value)
@@ -76,7 +75,7 @@ def plain_value(value: Any) -> Any:
     return value
 
 
-def _block_value(value: Folded | Literal) -> str:
+def _block_value(value: Block) -> str:
     """The string a rendered block scalar reads back as (folding applied)."""
     header, lines = block_scalar_lines(value, 2)
     node = thread_parser().compose("k: " + header + "\n" + "\n".join(lines) + "\n")
