@@ -702,11 +702,13 @@ class Lab:
 
         ``roles``: the name the started process is recorded under, then, where it is an nsenter
         or unshare that forks the program, the name of that child. A LabError naming `what` with
-        the end of `log` (default `out`) if the process ends first; on timeout, one naming it."""
+        the end of `log` (default `out`) if the process ends first; on timeout, one naming it.
+        The fork gets the same `timeout` as the readiness: under load (CI runs two suites side by
+        side) an nsenter once had not forked dockerd after 5 s, and the lab failed to build."""
         p = self._spawn(argv, out)
         self._record(r, roles[0], p.pid)
         if len(roles) > 1:
-            self._record(r, roles[1], wait_child(p.pid))
+            self._record(r, roles[1], wait_child(p.pid, timeout))  # a start as slow as the budget allows
 
         def up() -> bool:
             if p.poll() is not None:
